@@ -1,0 +1,26 @@
+#pragma once
+/// Reading and writing images. Writers go through a temporary file in the same directory and
+/// rename it into place, so a crash never leaves a half-written image under the final name.
+/// All functions throw std::runtime_error naming the path and the fault.
+#include <tessera/image.h>
+
+#include <string>
+
+namespace tessera {
+
+/// EXR, float32 channels R G B A, plus "variance" and "samples" when the image has them.
+void write_exr(const std::string& path, const Image& img);
+/// Reads R G B (A if present, else 1; variance/samples if present) from any EXR OpenEXR reads.
+Image read_exr(const std::string& path);
+
+struct ToneMap {
+  double exposure = 0.0;   ///< stops: pixel * 2^exposure before tone mapping
+  enum class Curve { Clamp, Reinhard, Aces } curve = Curve::Aces;
+};
+/// 8-bit sRGB PNG, RGBA (alpha straight from A). Tone map as documented in docs/physics.md.
+void write_png(const std::string& path, const Image& img, const ToneMap& tm = {});
+
+/// Apply exposure + curve + sRGB OETF to one linear value; result in [0, 1].
+double tonemap_channel(double v, const ToneMap& tm);
+
+}  // namespace tessera

@@ -1,0 +1,54 @@
+#pragma once
+/// SceneDesc: everything one render needs besides the field, as plain values. Built by the
+/// config module (from YAML) or by hand; core knows nothing of YAML.
+#include <tessera/camera.h>
+#include <tessera/integrator.h>
+#include <tessera/lights.h>
+#include <tessera/tiles.h>
+#include <tessera/transfer_function.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace tessera {
+
+/// World placement of the field's vertices: vertex (i,j,k) at origin + (i,j,k) * spacing.
+struct VolumeGeometry {
+  Vec3 origin{0.0};
+  Vec3 spacing{1.0};  ///< each component > 0
+};
+
+struct ImageDesc {
+  int width = 512, height = 512;
+  int spp = 16;                  ///< samples per pixel per render call
+  double target_error = 0.0;     ///< 0 = off (adaptive sampling; reserved)
+};
+
+struct RenderOptions {
+  std::uint64_t seed = 0;
+  std::uint64_t frame = 0;       ///< timestep / frame: part of every random stream
+  int tile = 8;                  ///< tile edge in pixels; 0 = scanline
+  TileOrder order = TileOrder::RowMajor;
+  int threads = 0;               ///< 0 = all hardware threads
+};
+
+struct SceneDesc {
+  VolumeGeometry geometry;
+  TransferFunction tf;
+  CameraDesc camera;
+  std::vector<RectLightDesc> rect_lights;
+  std::vector<SphereLightDesc> sphere_lights;
+  BackgroundDesc background;
+  IntegratorDesc integrator;
+  ImageDesc image;
+  RenderOptions options;
+};
+
+/// Axis-aligned world bounds of a field under a geometry: [origin, origin + (dims-1)*spacing].
+struct Bounds {
+  Vec3 lo{0.0}, hi{0.0};
+  Vec3 center() const { return 0.5 * (lo + hi); }
+  double radius() const;  ///< bounding-sphere radius, half the diagonal
+};
+
+}  // namespace tessera

@@ -1,0 +1,73 @@
+#pragma once
+/// Piecewise-linear transfer functions of the normalised value u in [0, 1], clamped at the
+/// ends. Stored inline (no heap) so that kernels can copy them; at most kMaxPoints points.
+#include <tessera/math.h>
+
+#include <type_traits>
+#include <vector>
+
+namespace tessera {
+
+inline constexpr int kMaxTfPoints = 64;
+
+/// Scalar TF. Points must have non-decreasing x (equal x allowed: a step). Empty = zero.
+class ScalarTF {
+ public:
+  ScalarTF() = default;
+  /// Throws std::invalid_argument if more than kMaxTfPoints points, x decreasing or non-finite.
+  ScalarTF(const std::vector<double>& xs, const std::vector<double>& vs);
+  static ScalarTF constant(double v) { return ScalarTF({0.0}, {v}); }
+
+  double eval(double u) const;
+  /// Exact maximum of the TF over [u0, u1] (u0 <= u1), from the end values and the points
+  /// strictly inside: a piecewise-linear function peaks at a point or an end.
+  double max_over(double u0, double u1) const;
+  double max_value() const;
+  bool is_zero() const;
+  int size() const { return m_n; }
+  double x(int i) const { return m_x[i]; }
+  double v(int i) const { return m_v[i]; }
+
+ private:
+  int m_n = 0;
+  double m_x[kMaxTfPoints] = {};
+  double m_v[kMaxTfPoints] = {};
+};
+
+/// RGB TF; same rules as ScalarTF.
+class ColorTF {
+ public:
+  ColorTF() = default;
+  ColorTF(const std::vector<double>& xs, const std::vector<Color>& vs);
+  static ColorTF constant(const Color& c) { return ColorTF({0.0}, {c}); }
+
+  Color eval(double u) const;
+  bool is_zero() const;
+  int size() const { return m_n; }
+
+ private:
+  int m_n = 0;
+  double m_x[kMaxTfPoints] = {};
+  Color m_v[kMaxTfPoints] = {};
+};
+
+/// Everything that maps a field value to optical properties (physics spec section 2).
+struct TransferFunction {
+  double lo = 0.0, hi = 1.0;       ///< value range mapped to u = 0 .. 1 (lo < hi)
+  double density_scale = 1.0;      ///< sigma_t = density_scale * opacity(u), 1/world unit
+  ScalarTF opacity;
+  ColorTF diffuse = ColorTF::constant(Color(1.0));
+  ColorTF specular;                ///< absent = zero
+  ScalarTF roughness = ScalarTF::constant(0.5);
+  ColorTF emission;                ///< absent = zero
+
+  /// u(v) = clamp((v - lo)/(hi - lo), 0, 1); NaN maps to 0 (no medium), see docs/physics.md.
+  double normalise(double v) const {
+    if (!(v == v)) return 0.0;
+    const double u = (v - lo) / (hi - lo);
+    return u <= 0.0 ? 0.0 : (u >= 1.0 ? 1.0 : u);
+  }
+};
+static_assert(std::is_trivially_copyable_v<TransferFunction>);
+
+}  // namespace tessera
