@@ -51,6 +51,7 @@ static_assert(std::is_trivially_copyable_v<FieldView>);
 /// lookup is a plain load. Converting to double is exact for every supported dtype.
 template <class T>
 struct TypedFieldView {
+  using value_type = T;
   const unsigned char* base;
   std::int64_t sx, sy, sz;
   double load(std::int64_t i, std::int64_t j, std::int64_t k) const {

@@ -15,7 +15,8 @@ namespace tessera {
 struct PixelSums {
   double r = 0, g = 0, b = 0, a = 0;
   double lum = 0, lum2 = 0;
-  std::uint64_t n = 0;
+  std::uint64_t n = 0;       ///< samples accumulated
+  std::uint64_t drawn = 0;   ///< samples drawn (accumulated + discarded): next sample index
 };
 
 class Film {

@@ -1,0 +1,59 @@
+#include <tessera/camera.h>
+
+#include "sampling/warp.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace tessera {
+namespace {
+bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace
+
+Camera::Camera(const CameraDesc& c, int width, int height) {
+  if (width < 1 || height < 1)
+    throw std::invalid_argument("camera: image size " + std::to_string(width) + "x" +
+                                std::to_string(height) + " must be at least 1x1");
+  if (!finite3(c.position) || !finite3(c.look_at) || !finite3(c.up))
+    throw std::invalid_argument("camera: position, look_at and up must be finite");
+  if (!(c.fov_deg > 0.0 && c.fov_deg < 180.0))
+    throw std::invalid_argument("camera: fov " + std::to_string(c.fov_deg) +
+                                " is outside (0, 180) degrees");
+  if (!(c.aperture >= 0.0) || !std::isfinite(c.aperture))
+    throw std::invalid_argument("camera: aperture must be finite and >= 0");
+  if (!(c.focus_distance >= 0.0) || !std::isfinite(c.focus_distance))
+    throw std::invalid_argument("camera: focus_distance must be finite and >= 0");
+  const Vec3 view = c.look_at - c.position;
+  const double dist = glm::length(view);
+  if (!(dist > 0.0)) throw std::invalid_argument("camera: position equals look_at");
+  m_forward = view / dist;
+  const double up_len = glm::length(c.up);
+  if (!(up_len > 0.0)) throw std::invalid_argument("camera: up is the zero vector");
+  const Vec3 r = glm::cross(m_forward, c.up / up_len);
+  if (glm::length(r) < 1e-9)
+    throw std::invalid_argument("camera: up is parallel to the view direction (look_at - position)");
+  m_right = glm::normalize(r);
+  m_up = glm::cross(m_right, m_forward);
+  m_pos = c.position;
+  m_tan_half = std::tan(0.5 * c.fov_deg * kPi / 180.0);
+  m_aspect = static_cast<double>(width) / height;
+  m_aperture = c.aperture;
+  m_focus = c.focus_distance > 0.0 ? c.focus_distance : dist;
+  m_width = width;
+  m_height = height;
+}
+
+Ray Camera::generate(double px, double py, double lx, double ly) const {
+  // Pinhole direction through the image-plane point.
+  const double sx = (2.0 * px / m_width - 1.0) * m_tan_half * m_aspect;
+  const double sy = (1.0 - 2.0 * py / m_height) * m_tan_half;
+  const Vec3 d = glm::normalize(m_forward + sx * m_right + sy * m_up);
+  if (m_aperture <= 0.0) return Ray{m_pos, d};
+  // Thin lens: every ray through the lens meets the pinhole ray on the focal plane.
+  const Vec3 focus_point = m_pos + d * (m_focus / glm::dot(d, m_forward));
+  const Vec2 lens = concentric_disk(lx, ly) * m_aperture;
+  const Vec3 o = m_pos + lens.x * m_right + lens.y * m_up;
+  return Ray{o, glm::normalize(focus_point - o)};
+}
+
+}  // namespace tessera

@@ -1,0 +1,42 @@
+#pragma once
+/// The background light: constant, gradient, or an equirectangular environment map with
+/// importance sampling proportional to luminance * sin(theta).
+///
+/// Envmap mapping (docs/physics.md): in the frame (s, t, n = up) of tessera::Frame(up),
+/// theta = acos(d.n) in [0, pi], phi = atan2(d.t, d.s) wrapped to [0, 2 pi);
+/// column = phi / (2 pi) * width, row = theta / pi * height (row 0 = the up pole). Texels are
+/// piecewise constant (nearest), so sampling pdf and evaluation agree exactly.
+#include <tessera/lights.h>
+#include <tessera/math.h>
+
+#include "sampling/distribution.h"
+
+namespace tessera {
+
+class Environment {
+ public:
+  Environment() = default;
+  /// Throws std::invalid_argument on an envmap type with no image or a non-finite texel.
+  explicit Environment(const BackgroundDesc& desc);
+
+  /// Radiance arriving along the direction -d, i.e. seen looking along unit d.
+  Color eval(const Vec3& d) const;
+  /// Sample a direction; returns radiance, sets *d and *pdf (solid angle). pdf 0 = failed.
+  Color sample(double u1, double u2, Vec3* d, double* pdf) const;
+  double pdf(const Vec3& d) const;
+  /// False when the background is black everywhere: it is then not a light to sample.
+  bool emits() const { return m_emits; }
+  bool visible() const { return m_visible; }
+
+ private:
+  BackgroundType m_type = BackgroundType::Constant;
+  Color m_color{0.0}, m_top{0.0}, m_middle{0.0}, m_bottom{0.0};
+  Frame m_frame{Vec3(0.0, 0.0, 1.0)};
+  bool m_emits = false, m_visible = true;
+  int m_w = 0, m_h = 0;
+  std::vector<Color> m_texels;
+  Distribution2D m_dist;
+  void to_uv(const Vec3& d, double* u, double* v) const;
+};
+
+}  // namespace tessera

@@ -1,0 +1,42 @@
+#include <tessera/film.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace tessera {
+
+Film::Film(int width, int height) : m_width(width), m_height(height) {
+  if (width < 1 || height < 1) throw std::invalid_argument("film must be at least 1x1");
+  m_px.assign(static_cast<std::size_t>(width) * height, PixelSums{});
+}
+
+void Film::clear() { m_px.assign(m_px.size(), PixelSums{}); }
+
+Image Film::resolve(bool with_variance, bool with_samples) const {
+  Image img;
+  img.width = m_width;
+  img.height = m_height;
+  const std::size_t n = m_px.size();
+  img.rgba.assign(n * 4, 0.0f);
+  if (with_variance) img.variance.assign(n, 0.0f);
+  if (with_samples) img.samples.assign(n, 0.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const PixelSums& p = m_px[i];
+    if (with_samples) img.samples[i] = static_cast<float>(p.n);
+    if (p.n == 0) continue;
+    const double inv = 1.0 / static_cast<double>(p.n);
+    img.rgba[4 * i + 0] = static_cast<float>(p.r * inv);
+    img.rgba[4 * i + 1] = static_cast<float>(p.g * inv);
+    img.rgba[4 * i + 2] = static_cast<float>(p.b * inv);
+    img.rgba[4 * i + 3] = static_cast<float>(p.a * inv);
+    if (with_variance && p.n > 1) {
+      // Unbiased sample variance of luminance, divided by n: variance of the pixel mean.
+      const double mean = p.lum * inv;
+      const double var = std::max(0.0, (p.lum2 - p.lum * mean) / static_cast<double>(p.n - 1));
+      img.variance[i] = static_cast<float>(var * inv);
+    }
+  }
+  return img;
+}
+
+}  // namespace tessera

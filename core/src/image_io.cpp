@@ -1,0 +1,267 @@
+/// EXR and PNG writers/readers and the display tone map.
+///
+/// Writers never produce a half-written file under the final name: they write
+/// `<path>.tmp.<pid>.<n>` in the same directory (so the rename stays on one file system), then
+/// std::rename it onto `path`. On any failure the temporary file is removed and a
+/// std::runtime_error names the path and the fault. The rename protects against a crashed or
+/// killed process, not against power loss (no fsync: in-situ output may be on a parallel file
+/// system where fsync per frame is expensive).
+#include <tessera/image_io.h>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <png.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace tessera {
+namespace {
+
+constexpr const char* k_rgba_names[4] = {"R", "G", "B", "A"};
+constexpr std::size_t k_px_stride = 4 * sizeof(float);  ///< interleaved RGBA float pixel
+
+/// A file name next to `path`, unique within this process and across processes.
+std::string temp_path_for(const std::string& path) {
+  static std::atomic<unsigned long> counter{0};
+  return path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
+         std::to_string(counter.fetch_add(1, std::memory_order_relaxed));
+}
+
+/// Runs write(tmp) and renames tmp onto path; on any failure removes tmp and throws with
+/// `what` ("write_exr") and the path.
+template <class WriteFn>
+void write_atomically(const char* what, const std::string& path, WriteFn&& write) {
+  const std::string tmp = temp_path_for(path);
+  std::string fault;
+  try {
+    write(tmp);
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (!ec) return;
+    fault = "cannot rename temporary file '" + tmp + "' into place: " + ec.message();
+  } catch (const std::exception& e) {
+    fault = e.what();
+  } catch (...) {
+    fault = "unknown error";
+  }
+  std::error_code ignored;
+  std::filesystem::remove(tmp, ignored);
+  throw std::runtime_error(std::string(what) + ": cannot write '" + path + "': " + fault);
+}
+
+/// Checks that the buffers match width x height; throws naming the mismatch.
+void validate(const char* what, const std::string& path, const Image& img) {
+  auto fail = [&](const std::string& fault) {
+    throw std::runtime_error(std::string(what) + ": cannot write '" + path + "': " + fault);
+  };
+  if (img.width <= 0 || img.height <= 0)
+    fail("image size " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+         " is empty (both must be > 0)");
+  const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
+  if (img.rgba.size() != n * 4)
+    fail("rgba has " + std::to_string(img.rgba.size()) + " floats, expected width*height*4 = " +
+         std::to_string(n * 4));
+  if (!img.variance.empty() && img.variance.size() != n)
+    fail("variance has " + std::to_string(img.variance.size()) +
+         " floats, expected 0 or width*height = " + std::to_string(n));
+  if (!img.samples.empty() && img.samples.size() != n)
+    fail("samples has " + std::to_string(img.samples.size()) +
+         " floats, expected 0 or width*height = " + std::to_string(n));
+}
+
+/// libpng error state: the message survives the longjmp out of libpng.
+struct PngError {
+  char message[256] = "unknown libpng error";
+};
+
+void png_on_error(png_structp png, png_const_charp msg) {
+  auto* err = static_cast<PngError*>(png_get_error_ptr(png));
+  std::snprintf(err->message, sizeof err->message, "%s", msg ? msg : "unknown libpng error");
+  png_longjmp(png, 1);
+}
+
+void png_on_warning(png_structp, png_const_charp) {}
+
+/// Encodes 8-bit RGBA rows into an open file. Only trivially destructible locals live here,
+/// because libpng reports errors by longjmp. Returns false with err.message set on failure.
+bool encode_png(std::FILE* file, int width, int height, const unsigned char* rgba8,
+                PngError& err) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_on_error,
+                                            png_on_warning);
+  if (!png) {
+    std::snprintf(err.message, sizeof err.message, "png_create_write_struct failed");
+    return false;
+  }
+  png_infop info = png_create_info_struct(png);
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    std::snprintf(err.message, sizeof err.message, "png_create_info_struct failed");
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_init_io(png, file);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
+               PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+  png_write_info(png, info);
+  const std::size_t row_bytes = static_cast<std::size_t>(width) * 4;
+  for (int y = 0; y < height; ++y) png_write_row(png, rgba8 + row_bytes * y);
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+/// read_exr without the path context; throws the bare fault.
+Image read_exr_pixels(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw std::runtime_error("file does not exist");
+  Imf::InputFile file(path.c_str());
+  const Imf::ChannelList& channels = file.header().channels();
+
+  // Required channels: R G B; report every missing one and what the file does have
+  std::string missing;
+  for (const char* name : {"R", "G", "B"})
+    if (!channels.findChannel(name)) missing += (missing.empty() ? "" : ", ") + std::string(name);
+  if (!missing.empty()) {
+    std::string present;
+    for (auto it = channels.begin(); it != channels.end(); ++it)
+      present += (present.empty() ? "" : ", ") + std::string(it.name());
+    throw std::runtime_error("missing channel(s) " + missing + " (present: " +
+                             (present.empty() ? "none" : present) + ")");
+  }
+
+  // Image = data window; OpenEXR converts half/uint channels into the FLOAT slices
+  const Imath::Box2i dw = file.header().dataWindow();
+  Image img;
+  img.width = dw.max.x - dw.min.x + 1;
+  img.height = dw.max.y - dw.min.y + 1;
+  const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
+  img.rgba.assign(n * 4, 1.0f);  // A stays 1 when the file has no alpha
+  const int n_rgba = channels.findChannel("A") ? 4 : 3;
+  Imf::FrameBuffer fb;
+  for (int c = 0; c < n_rgba; ++c)
+    fb.insert(k_rgba_names[c], Imf::Slice::Make(Imf::FLOAT, img.rgba.data() + c, dw, k_px_stride));
+  if (channels.findChannel("variance")) {
+    img.variance.resize(n);
+    fb.insert("variance", Imf::Slice::Make(Imf::FLOAT, img.variance.data(), dw));
+  }
+  if (channels.findChannel("samples")) {
+    img.samples.resize(n);
+    fb.insert("samples", Imf::Slice::Make(Imf::FLOAT, img.samples.data(), dw));
+  }
+  file.setFrameBuffer(fb);
+  file.readPixels(dw.min.y, dw.max.y);
+  return img;
+}
+
+/// floor(x*255 + 0.5) for x already in [0, 1].
+unsigned char to_byte(double x) { return static_cast<unsigned char>(std::floor(x * 255.0 + 0.5)); }
+
+}  // namespace
+
+void write_exr(const std::string& path, const Image& img) {
+  validate("write_exr", path, img);
+  write_atomically("write_exr", path, [&](const std::string& tmp) {
+    // Header: float32 channels, ZIP, data window = display window = the image
+    Imf::Header header(img.width, img.height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const char* name : k_rgba_names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    if (!img.variance.empty()) header.channels().insert("variance", Imf::Channel(Imf::FLOAT));
+    if (!img.samples.empty()) header.channels().insert("samples", Imf::Channel(Imf::FLOAT));
+
+    // Frame buffer: interleaved RGBA plus the planar extras; row 0 = top = data window min y
+    const Imath::Box2i& dw = header.dataWindow();
+    Imf::FrameBuffer fb;
+    for (int c = 0; c < 4; ++c)
+      fb.insert(k_rgba_names[c],
+                Imf::Slice::Make(Imf::FLOAT, img.rgba.data() + c, dw, k_px_stride));
+    if (!img.variance.empty())
+      fb.insert("variance", Imf::Slice::Make(Imf::FLOAT, img.variance.data(), dw));
+    if (!img.samples.empty())
+      fb.insert("samples", Imf::Slice::Make(Imf::FLOAT, img.samples.data(), dw));
+
+    Imf::OutputFile file(tmp.c_str(), header);
+    file.setFrameBuffer(fb);
+    file.writePixels(img.height);
+  });
+}
+
+Image read_exr(const std::string& path) {
+  try {
+    return read_exr_pixels(path);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("read_exr: cannot read '" + path + "': " + e.what());
+  }
+}
+
+/// Tone map of one linear channel value v, in this order:
+///   x = v * 2^exposure;  x = 0 if x is NaN or negative;  x = min(x, 1e30) (avoids inf/inf)
+///   curve  Clamp:    y = x
+///          Reinhard: y = x / (1 + x)
+///          Aces:     y = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)   (Narkowicz 2015 fit)
+///   y = clamp(y, 0, 1)
+///   sRGB OETF: s = 12.92 y              if y <= 0.0031308
+///              s = 1.055 y^(1/2.4) - 0.055  otherwise
+/// The result is in [0, 1] and non-decreasing in v (every curve above is monotone on x >= 0).
+double tonemap_channel(double v, const ToneMap& tm) {
+  double x = v * std::exp2(tm.exposure);
+  if (!(x > 0.0)) return 0.0;
+  x = std::min(x, 1e30);
+  double y = x;
+  switch (tm.curve) {
+    case ToneMap::Curve::Clamp: y = x; break;
+    case ToneMap::Curve::Reinhard: y = x / (1.0 + x); break;
+    case ToneMap::Curve::Aces: y = (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14); break;
+  }
+  y = std::clamp(y, 0.0, 1.0);
+  const double s = y <= 0.0031308 ? 12.92 * y : 1.055 * std::pow(y, 1.0 / 2.4) - 0.055;
+  return std::clamp(s, 0.0, 1.0);
+}
+
+void write_png(const std::string& path, const Image& img, const ToneMap& tm) {
+  validate("write_png", path, img);
+
+  // Quantise: rgb through the tone map, alpha linear and clamped
+  const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
+  std::vector<unsigned char> rgba8(n * 4);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c)
+      rgba8[i * 4 + c] = to_byte(tonemap_channel(img.rgba[i * 4 + c], tm));
+    const double a = img.rgba[i * 4 + 3];
+    rgba8[i * 4 + 3] = to_byte(a > 0.0 ? std::min(a, 1.0) : 0.0);
+  }
+
+  write_atomically("write_png", path, [&](const std::string& tmp) {
+    std::FILE* file = std::fopen(tmp.c_str(), "wb");
+    if (!file) throw std::runtime_error("cannot open '" + tmp + "': " + std::strerror(errno));
+    PngError err;
+    const bool ok = encode_png(file, img.width, img.height, rgba8.data(), err);
+    const bool flushed = std::fflush(file) == 0;
+    const int flush_errno = errno;
+    const bool closed = std::fclose(file) == 0;
+    if (!ok) throw std::runtime_error(std::string("libpng: ") + err.message);
+    if (!flushed || !closed)
+      throw std::runtime_error("cannot finish '" + tmp + "': " +
+                               std::strerror(flushed ? errno : flush_errno));
+  });
+}
+
+}  // namespace tessera

@@ -1,0 +1,316 @@
+#pragma once
+/// PathTracer<T, S, kEmission>: the per-sample estimator of docs/physics.md, templated on the
+/// field's element type, the shading mode and whether an emission TF exists, so the hot loop
+/// holds no code for what the scene does not use. Allocates nothing, throws nothing.
+#include "grid_medium.h"
+#include "phase_hg.h"
+#include "prepared_scene_impl.h"
+#include "sampling/rng.h"
+#include "surface_brdf.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tessera {
+
+struct KernelCounters {
+  std::uint64_t free_flight = 0, transmittance = 0, gradient = 0, real = 0, null = 0;
+};
+
+struct SampleResult {
+  Color L{0.0};
+  double alpha = 0.0;
+};
+
+inline double power_heuristic(double pa, double pb) {
+  const double a2 = pa * pa, b2 = pb * pb;
+  return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
+}
+
+inline double exp_sample(Rng& rng, double rate) { return -std::log1p(-rng.uniform()) / rate; }
+
+template <class V, Shading S, bool kEmission>
+class PathTracer {
+ public:
+  PathTracer(const PreparedSceneImpl& s, const GridMedium<V>& m) : m_s(s), m_m(m) {}
+
+  SampleResult li(Ray ray, Rng& rng, KernelCounters& k) const {
+    const IntegratorDesc& in = m_s.desc.integrator;
+    SampleResult out;
+    Color beta(1.0);
+    bool from_camera = true;
+    double pdf_prev = 0.0;  // solid-angle pdf of the direction that made `ray`
+    for (int depth = 0;;) {
+      // Free flight to the next real collision (or none).
+      double t_hit = INFINITY;
+      const bool hit = free_flight(ray, rng, k, &t_hit);
+      // Lights met before the collision, and the background if the ray escaped.
+      gather_emitters(ray, t_hit, hit, from_camera, pdf_prev, beta, out.L);
+      if (!hit) break;
+      if (from_camera) out.alpha = 1.0;
+      ++depth;
+      ++k.real;
+      const Vec3 x = ray.o + t_hit * ray.d;
+      const Vec3 pv = to_voxel(x);
+      const double u = m_m.u(pv);
+      if constexpr (kEmission) out.L += beta * m_s.desc.tf.emission.eval(u);
+      // Choose the scattering model at this point.
+      const Vec3 wo = -ray.d;
+      const Color albedo = m_s.desc.tf.diffuse.eval(u);
+      bool surface = false;
+      Vec3 normal(0.0);
+      if constexpr (S != Shading::Phase) {
+        const Vec3 gv = m_m.gradient_voxel(pv);
+        k.gradient += 6;
+        const double gmag = glm::length(gv);
+        if (gmag > 0.0) {
+          const Vec3 gw = gv * m_s.inv_spacing;  // world-space direction of grad u
+          const double gwl = glm::length(gw);
+          if (gwl > 0.0) {
+            normal = -gw / gwl;
+            if (glm::dot(normal, wo) < 0.0) normal = -normal;
+            if constexpr (S == Shading::Brdf) {
+              surface = true;
+            } else {
+              const double p_brdf = 1.0 - std::exp(-in.gradient_factor * gmag);
+              surface = rng.uniform() < p_brdf;
+            }
+          }
+        }
+      }
+      const Color f0 = surface && m_s.has_specular ? m_s.desc.tf.specular.eval(u) : Color(0.0);
+      const double rough = surface ? m_s.desc.tf.roughness.eval(u) : 0.0;
+      const SurfaceBrdf brdf(normal, albedo, f0, rough);
+      // Next-event estimation to one light, MIS-weighted against phase/BRDF sampling.
+      if (m_s.light_count > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, rng, k);
+      // Sample the continuation direction.
+      Vec3 wi;
+      double pdf_dir;
+      Color weight;
+      if (surface) {
+        const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+        if (!brdf.sample(wo, u0, u1, u2, &wi)) break;
+        pdf_dir = brdf.pdf(wo, wi);
+        if (!(pdf_dir > 0.0)) break;
+        weight = brdf.eval(wo, wi) / pdf_dir;
+      } else {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        pdf_dir = hg_sample(ray.d, in.phase_g, u1, u2, &wi);
+        weight = albedo;
+      }
+      beta *= weight;
+      if (is_black(beta)) break;
+      const Ray next{x, wi};
+      if (depth >= in.max_bounces) {
+        // Last collision: the sampled direction only gathers emitters, with transmittance.
+        gather_with_transmittance(next, pdf_dir, beta, rng, k, out.L);
+        break;
+      }
+      if (depth >= in.rr_depth) {
+        const double q = max_component(beta);
+        if (q < 1.0) {
+          if (rng.uniform() >= q) break;
+          beta /= q;
+        }
+      }
+      ray = next;
+      pdf_prev = pdf_dir;
+      from_camera = false;
+    }
+    return out;
+  }
+
+ private:
+  const PreparedSceneImpl& m_s;
+  const GridMedium<V>& m_m;
+
+  Vec3 to_voxel(const Vec3& x) const { return (x - m_s.desc.geometry.origin) * m_s.inv_spacing; }
+
+  /// Ray/box clip in voxel space; returns false if the ray misses the box or it is degenerate.
+  bool clip(const Vec3& ov, const Vec3& dv, double* t0, double* t1) const {
+    double a = 0.0, b = INFINITY;
+    for (int ax = 0; ax < 3; ++ax) {
+      const double hi = m_m.hi_index[ax];
+      if (dv[ax] == 0.0) {
+        if (ov[ax] < 0.0 || ov[ax] > hi) return false;
+        continue;
+      }
+      double ta = (0.0 - ov[ax]) / dv[ax], tb = (hi - ov[ax]) / dv[ax];
+      if (ta > tb) std::swap(ta, tb);
+      a = std::max(a, ta);
+      b = std::min(b, tb);
+    }
+    *t0 = a;
+    *t1 = b;
+    return a < b;
+  }
+
+  /// Free-flight sampling along the ray: delta tracking against the majorant grid, or the
+  /// biased fixed-step march. True and *t_hit on a real collision.
+  bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit) const {
+    const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
+    double t0, t1;
+    if (!clip(ov, dv, &t0, &t1) || m_s.grid.max_majorant() <= 0.0) return false;
+    if (m_s.desc.integrator.free_path == FreePath::Raymarch) {
+      const double h = m_s.march_step;
+      const double tau = -std::log1p(-rng.uniform());
+      double sum = 0.0;
+      for (double t = t0 + rng.uniform() * h; t < t1; t += h) {
+        ++k.free_flight;
+        sum += m_m.sigma_t(ov + t * dv) * h;
+        if (sum >= tau) {
+          *t_hit = t;
+          return true;
+        }
+      }
+      return false;
+    }
+    return traverse_macrocells(m_m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
+      if (maj <= 0.0) return false;  // empty cell: crossed in closed form
+      for (double t = ta;;) {
+        t += exp_sample(rng, maj);
+        if (t >= tb) return false;
+        ++k.free_flight;
+        const double sigma = m_m.sigma_t(ov + t * dv);
+        if (rng.uniform() * maj < sigma) {
+          *t_hit = t;
+          return true;
+        }
+        ++k.null;
+      }
+    });
+  }
+
+  /// Transmittance between world distances ta and tb along the ray (ratio or delta tracking).
+  double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
+    const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
+    double t0, t1;
+    if (!clip(ov, dv, &t0, &t1)) return 1.0;
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (!(t0 < t1) || m_s.grid.max_majorant() <= 0.0) return 1.0;
+    const bool ratio = m_s.desc.integrator.shadow == ShadowMode::Ratio;
+    const bool roulette = m_s.desc.integrator.shadow_roulette;
+    double T = 1.0;
+    traverse_macrocells(m_m, ov, dv, t0, t1, [&](double a, double b, double maj) {
+      if (maj <= 0.0) return false;
+      for (double t = a;;) {
+        t += exp_sample(rng, maj);
+        if (t >= b) return false;
+        ++k.transmittance;
+        const double sigma = m_m.sigma_t(ov + t * dv);
+        if (ratio) {
+          T *= 1.0 - sigma / maj;
+          if (roulette && T < 0.1) {
+            if (rng.uniform() < 0.5) T = 0.0;
+            else T *= 2.0;
+          }
+        } else if (rng.uniform() * maj < sigma) {
+          T = 0.0;
+        }
+        if (T <= 0.0) return true;
+      }
+    });
+    return std::max(T, 0.0);
+  }
+
+  double light_select_pdf() const { return 1.0 / m_s.light_count; }
+
+  /// Emitters met along `ray` before distance t_end (all lights are transparent), plus the
+  /// background when the ray escaped, MIS-weighted against light sampling unless from the camera.
+  void gather_emitters(const Ray& ray, double t_end, bool hit, bool from_camera, double pdf_prev,
+                       const Color& beta, Color& L) const {
+    const double psel = m_s.light_count > 0 ? light_select_pdf() : 0.0;
+    for (const RectLight& l : m_s.rects) {
+      const double t = l.intersect_front(ray);
+      if (t > 0.0 && t < t_end) {
+        const double w = from_camera ? 1.0 : power_heuristic(pdf_prev, psel * l.pdf(ray.o, ray.d, t));
+        L += beta * l.radiance() * w;
+      }
+    }
+    for (const SphereLight& l : m_s.spheres) {
+      const double t = l.intersect_front(ray);
+      if (t > 0.0 && t < t_end) {
+        const double w = from_camera ? 1.0 : power_heuristic(pdf_prev, psel * l.pdf(ray.o, ray.d, t));
+        L += beta * l.radiance() * w;
+      }
+    }
+    if (!hit) {
+      if (from_camera) {
+        if (m_s.env.visible()) L += beta * m_s.env.eval(ray.d);
+      } else if (m_s.env.emits()) {
+        L += beta * m_s.env.eval(ray.d) * power_heuristic(pdf_prev, psel * m_s.env.pdf(ray.d));
+      }
+    }
+  }
+
+  /// Like gather_emitters for the last collision's sampled direction, where no further free
+  /// flight is sampled: each emitter is weighted by the transmittance up to it.
+  void gather_with_transmittance(const Ray& ray, double pdf_dir, const Color& beta, Rng& rng,
+                                 KernelCounters& k, Color& L) const {
+    if (m_s.light_count == 0) return;
+    struct Hit { double t; Color Le; double pdf; };
+    Hit hits[kMaxLights];
+    int n = 0;
+    const double psel = light_select_pdf();
+    for (const RectLight& l : m_s.rects) {
+      const double t = l.intersect_front(ray);
+      if (t > 0.0) hits[n++] = {t, l.radiance(), psel * l.pdf(ray.o, ray.d, t)};
+    }
+    for (const SphereLight& l : m_s.spheres) {
+      const double t = l.intersect_front(ray);
+      if (t > 0.0) hits[n++] = {t, l.radiance(), psel * l.pdf(ray.o, ray.d, t)};
+    }
+    std::sort(hits, hits + n, [](const Hit& a, const Hit& b) { return a.t < b.t; });
+    double T = 1.0, t_prev = 0.0;
+    for (int i = 0; i < n && T > 0.0; ++i) {
+      T *= transmittance(ray, t_prev, hits[i].t, rng, k);
+      t_prev = hits[i].t;
+      if (T > 0.0) L += beta * hits[i].Le * (T * power_heuristic(pdf_dir, hits[i].pdf));
+    }
+    if (m_s.env.emits() && T > 0.0) {
+      T *= transmittance(ray, t_prev, INFINITY, rng, k);
+      if (T > 0.0)
+        L += beta * m_s.env.eval(ray.d) * (T * power_heuristic(pdf_dir, psel * m_s.env.pdf(ray.d)));
+    }
+  }
+
+  /// Next-event estimation to one light chosen uniformly (background included when it emits).
+  Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface,
+                     const SurfaceBrdf& brdf, const Color& albedo, Rng& rng,
+                     KernelCounters& k) const {
+    const int nl = m_s.light_count;
+    const int nrect = static_cast<int>(m_s.rects.size()), nsph = static_cast<int>(m_s.spheres.size());
+    const int pick = std::min(nl - 1, static_cast<int>(rng.uniform() * nl));
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    LightSample ls;
+    if (pick < nrect) {
+      ls = m_s.rects[pick].sample(x, u1, u2);
+    } else if (pick < nrect + nsph) {
+      ls = m_s.spheres[pick - nrect].sample(x, u1, u2);
+    } else {
+      double pdf;
+      Vec3 wi;
+      const Color Le = m_s.env.sample(u1, u2, &wi, &pdf);
+      ls = LightSample{wi, INFINITY, Le, pdf};
+    }
+    if (!(ls.pdf > 0.0) || is_black(ls.L)) return Color(0.0);
+    const double pdf_light = ls.pdf * light_select_pdf();
+    Color f;
+    double pdf_b;
+    if (surface) {
+      f = brdf.eval(wo, ls.wi);
+      pdf_b = brdf.pdf(wo, ls.wi);
+    } else {
+      const double p = hg_eval(glm::dot(d_in, ls.wi), m_s.desc.integrator.phase_g);
+      f = albedo * p;
+      pdf_b = p;
+    }
+    if (is_black(f)) return Color(0.0);
+    const double T = transmittance(Ray{x, ls.wi}, 0.0, ls.dist, rng, k);
+    if (T <= 0.0) return Color(0.0);
+    return f * ls.L * (T * power_heuristic(pdf_light, pdf_b) / pdf_light);
+  }
+};
+
+}  // namespace tessera
