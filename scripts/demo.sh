@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Sets everything up, then renders the demos into out/:
+#  1. tessera-render on a synthetic volume it generates (no download): out/demo/
+#  2. the heat-equation miniapp under mpirun, rendering in situ every few steps: out/heat/
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+
+mkdir -p data out
+[ -f data/blobs.raw ] || ./build/apps/tessera_synth/tessera-synth data/blobs.raw --dims 128 128 128 --kind blobs
+./build/apps/tessera-render configs/demo.yaml --stats out/demo/stats.json
+echo "demo: wrote $(ls out/demo/*.png | tr '\n' ' ')"
+
+if [ -x build/miniapp/tessera-heat ]; then
+  ranks="${TESSERA_DEMO_RANKS:-2}"
+  mpirun -n "$ranks" ./build/miniapp/tessera-heat --config configs/heat.yaml --output-dir out/heat
+  echo "demo: heat images in out/heat/"
+fi
