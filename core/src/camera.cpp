@@ -56,4 +56,14 @@ Ray Camera::generate(double px, double py, double lx, double ly) const {
   return Ray{o, glm::normalize(focus_point - o)};
 }
 
+bool Camera::project(const Vec3& p, double* px, double* py) const {
+  const Vec3 v = p - m_pos;
+  const double z = glm::dot(v, m_forward);
+  if (!(z > 1e-12 * (1.0 + glm::length(v)))) return false;
+  const double sx = glm::dot(v, m_right) / z, sy = glm::dot(v, m_up) / z;
+  *px = (sx / (m_tan_half * m_aspect) + 1.0) * 0.5 * m_width;
+  *py = (1.0 - sy / m_tan_half) * 0.5 * m_height;
+  return true;
+}
+
 }  // namespace tessera

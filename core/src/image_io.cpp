@@ -245,7 +245,7 @@ void write_png(const std::string& path, const Image& img, const ToneMap& tm) {
   for (std::size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c)
       rgba8[i * 4 + c] = to_byte(tonemap_channel(img.rgba[i * 4 + c], tm));
-    const double a = img.rgba[i * 4 + 3];
+    const double a = tm.alpha ? img.rgba[i * 4 + 3] : 1.0;
     rgba8[i * 4 + 3] = to_byte(a > 0.0 ? std::min(a, 1.0) : 0.0);
   }
 

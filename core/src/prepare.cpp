@@ -1,6 +1,7 @@
 #include <tessera/render.h>
 
 #include "prepared_scene_impl.h"
+#include "tile_culling.h"
 
 #include <algorithm>
 #include <limits>
@@ -115,6 +116,7 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene) {
   p.has_emission = !scene.tf.emission.is_zero();
   p.has_specular = !scene.tf.specular.is_zero();
   p.tiles = make_tiles(scene.image.width, scene.image.height, scene.options.tile, scene.options.order);
+  p.tile_culled = cull_tiles(p);
   return ps;
 }
 

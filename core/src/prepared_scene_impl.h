@@ -23,6 +23,7 @@ struct PreparedSceneImpl {
   std::vector<RectLight> rects;
   std::vector<SphereLight> spheres;
   std::vector<Tile> tiles;
+  std::vector<std::uint8_t> tile_culled;  ///< per tile: 1 = nothing to trace (tile_culling.h)
   Vec3 inv_spacing{1.0};
   double march_step = 0.5;   ///< raymarch step in world units
   bool has_emission = false;

@@ -21,6 +21,8 @@ void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium, const 
                  Film& film, RenderStats& st) {
   const PathTracer<T, S, kEmission> tracer(s, medium);
   KernelCounters k;
+  const bool culled = s.tile_culled[static_cast<std::size_t>(&tile - s.tiles.data())] != 0;
+  if (culled) ++st.tiles_skipped;
   const int spp = s.desc.image.spp;
   const int width = s.desc.image.width;
   for (int si = 0; si < spp; ++si) {
@@ -33,7 +35,9 @@ void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium, const 
         const double jx = rng.uniform(), jy = rng.uniform();
         const double lx = rng.uniform(), ly = rng.uniform();
         const Ray ray = s.camera.generate(x + jx, y + jy, lx, ly);
-        const SampleResult r = tracer.li(ray, rng, k);
+        // A culled tile's rays meet nothing: exactly the background a traced miss returns.
+        const SampleResult r = culled ? SampleResult{s.env.visible() ? s.env.eval(ray.d) : Color(0.0), 0.0}
+                                      : tracer.li(ray, rng, k);
         ++st.samples;
         if (!is_finite(r.L)) {
           ++st.discarded_samples;

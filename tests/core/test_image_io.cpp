@@ -255,8 +255,9 @@ TEST_CASE("PNG is readable by libpng and holds the tone-mapped values", "[image_
     img.rgba[i * 4 + 3] = alphas[i];
   }
 
-  for (const ToneMap tm : {ToneMap{}, ToneMap{1.5, ToneMap::Curve::Reinhard},
-                           ToneMap{-2.0, ToneMap::Curve::Clamp}}) {
+  for (const ToneMap tm : {ToneMap{0.0, ToneMap::Curve::Aces, true},
+                           ToneMap{1.5, ToneMap::Curve::Reinhard, true},
+                           ToneMap{-2.0, ToneMap::Curve::Clamp, true}}) {
     const std::string path = dir.file("out.png");
     tessera::write_png(path, img, tm);
 
@@ -284,6 +285,17 @@ TEST_CASE("PNG is readable by libpng and holds the tone-mapped values", "[image_
     CHECK(px[11 * 4 + 3] == 191); // floor(191.25 + 0.5)
   }
   CHECK(dir.entries() == std::set<std::string>{"out.png"});
+
+  // Default: opaque, whatever A holds.
+  const std::string path = dir.file("opaque.png");
+  tessera::write_png(path, img, ToneMap{});
+  png_image reader{};
+  reader.version = PNG_IMAGE_VERSION;
+  REQUIRE(png_image_begin_read_from_file(&reader, path.c_str()) != 0);
+  reader.format = PNG_FORMAT_RGBA;
+  std::vector<std::uint8_t> px(PNG_IMAGE_SIZE(reader));
+  REQUIRE(png_image_finish_read(&reader, nullptr, px.data(), 0, nullptr) != 0);
+  for (int i = 0; i < 12; ++i) CHECK(px[i * 4 + 3] == 255);
 }
 
 TEST_CASE("tonemap_channel: range, monotonicity, limits and exact sRGB", "[image_io]") {

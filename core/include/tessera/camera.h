@@ -28,6 +28,11 @@ class Camera {
 
   Ray generate(double px, double py, double lx, double ly) const;
 
+  /// Pixel coordinates (px, py) of the pinhole ray through world point p; false when p is not
+  /// strictly in front of the camera (then px, py are unset).
+  bool project(const Vec3& p, double* px, double* py) const;
+  bool is_pinhole() const { return m_aperture <= 0.0; }
+
  private:
   Vec3 m_pos{}, m_right{}, m_up{}, m_forward{};
   double m_tan_half = 0.0, m_aspect = 1.0, m_aperture = 0.0, m_focus = 1.0;

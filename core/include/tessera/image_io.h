@@ -16,8 +16,11 @@ Image read_exr(const std::string& path);
 struct ToneMap {
   double exposure = 0.0;   ///< stops: pixel * 2^exposure before tone mapping
   enum class Curve { Clamp, Reinhard, Aces } curve = Curve::Aces;
+  /// PNG alpha from A (straight alpha). Default false: opaque, since the rendered radiance
+  /// already contains the background.
+  bool alpha = false;
 };
-/// 8-bit sRGB PNG, RGBA (alpha straight from A). Tone map as documented in docs/physics.md.
+/// 8-bit sRGB PNG, RGBA (alpha from A when tm.alpha, else opaque). Tone map as documented in docs/physics.md.
 void write_png(const std::string& path, const Image& img, const ToneMap& tm = {});
 
 /// Apply exposure + curve + sRGB OETF to one linear value; result in [0, 1].
