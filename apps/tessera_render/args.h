@@ -1,0 +1,29 @@
+#pragma once
+// Command line of tessera-render (docs/cli.md, spec/interfaces.md section 2).
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace tessera::cli {
+
+struct Args {
+  std::string scene;                 ///< SCENE.yaml
+  std::optional<std::string> render; ///< --render NAME
+  std::optional<std::string> output; ///< -o OUT
+  std::optional<int> spp, width, height, tile, threads;  ///< --scanline sets tile = 0
+  std::optional<std::uint64_t> seed;
+  std::optional<std::string> stats;  ///< --stats FILE.json
+  bool progress = false;             ///< --progress
+  bool quiet = false;                ///< --quiet
+  bool help = false;                 ///< -h / --help: print usage, exit 0
+  bool version = false;              ///< --version
+};
+
+/// Parses argv; throws std::runtime_error with a one-line message for a bad command line.
+/// Options take their value as the next argument or after '=' (--spp=64).
+Args parse_args(int argc, const char* const* argv);
+
+/// The synopsis and option list, for --help.
+const char* usage();
+
+}  // namespace tessera::cli

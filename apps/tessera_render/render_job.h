@@ -1,0 +1,38 @@
+#pragma once
+// One render of the CLI: scene from the spec, flag overrides, prepare, render, write.
+#include "args.h"
+#include "output_files.h"
+#include "stats_json.h"
+
+#include <tessera/config/config.h>
+#include <tessera/config/raw_volume.h>
+#include <tessera/field_view.h>
+#include <tessera/scene.h>
+
+#include <cstdint>
+#include <utility>
+
+namespace tessera::cli {
+
+/// What every render needs to know about the volume, computed once.
+struct VolumeInfo {
+  FieldView view;
+  VolumeGeometry geometry;
+  Bounds bounds;
+  std::pair<double, double> range;  ///< finite min and max, for `range: auto`
+  std::uint64_t nan_voxels = 0;
+};
+
+VolumeInfo describe_volume(const config::RawVolume& volume, const config::VolumeSpec& spec);
+
+/// The scene for `spec` with the command line's overrides (--spp, --width, --height, --tile,
+/// --scanline, --threads, --seed) applied over the YAML.
+SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
+                    const VolumeInfo& volume, const Args& args);
+
+/// Renders and writes one image; the returned record holds its statistics and outputs.
+RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
+                        const VolumeInfo& volume, const Args& args,
+                        const std::vector<OutputTarget>& targets, bool show_progress);
+
+}  // namespace tessera::cli

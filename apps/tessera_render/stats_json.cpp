@@ -1,0 +1,123 @@
+#include "stats_json.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace tessera::cli {
+namespace {
+
+std::string quote(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "0";
+  char buf[64];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, end);
+}
+
+/// The counters and derived rates shared by the totals and each render, one per line.
+void counters(std::string& out, const RenderStats& s, double prepare_seconds, const char* indent) {
+  const auto field = [&](const char* name, const std::string& value) {
+    out += indent;
+    out += quote(name) + ": " + value + ",\n";
+  };
+  const auto u64 = [](std::uint64_t v) { return std::to_string(v); };
+  field("wall_seconds", number(s.wall_seconds));
+  field("prepare_seconds", number(prepare_seconds));
+  field("samples", u64(s.samples));
+  field("samples_per_second", number(s.wall_seconds > 0 ? double(s.samples) / s.wall_seconds : 0.0));
+  field("density_lookups", u64(s.density_lookups()));
+  field("free_flight_lookups", u64(s.free_flight_lookups));
+  field("transmittance_lookups", u64(s.transmittance_lookups));
+  field("gradient_lookups", u64(s.gradient_lookups));
+  field("real_collisions", u64(s.real_collisions));
+  field("null_collisions", u64(s.null_collisions));
+  field("lookups_per_real_collision",
+        number(s.real_collisions > 0 ? double(s.free_flight_lookups) / double(s.real_collisions) : 0.0));
+  field("nan_voxels_seen", u64(s.nan_voxels_seen));
+  field("discarded_samples", u64(s.discarded_samples));
+  field("tiles_total", u64(s.tiles_total));
+  field("tiles_skipped", u64(s.tiles_skipped));
+  out += indent;
+  out += quote("threads") + ": " + std::to_string(s.threads);
+}
+
+}  // namespace
+
+std::string stats_json(const std::vector<RenderRecord>& records) {
+  // Totals: counters and times add up; threads is the largest used
+  RenderStats total;
+  double prepare_total = 0.0;
+  for (const auto& r : records) {
+    const RenderStats& s = r.stats;
+    total.samples += s.samples;
+    total.free_flight_lookups += s.free_flight_lookups;
+    total.transmittance_lookups += s.transmittance_lookups;
+    total.gradient_lookups += s.gradient_lookups;
+    total.real_collisions += s.real_collisions;
+    total.null_collisions += s.null_collisions;
+    total.discarded_samples += s.discarded_samples;
+    total.nan_voxels_seen = std::max(total.nan_voxels_seen, s.nan_voxels_seen);
+    total.tiles_total += s.tiles_total;
+    total.tiles_skipped += s.tiles_skipped;
+    total.wall_seconds += s.wall_seconds;
+    total.threads = std::max(total.threads, s.threads);
+    prepare_total += r.prepare_seconds;
+  }
+
+  std::string out = "{\n";
+  counters(out, total, prepare_total, "  ");
+  out += ",\n  \"renders\": [";
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const RenderRecord& r = records[i];
+    out += i == 0 ? "\n    {\n" : ",\n    {\n";
+    out += "      \"name\": " + quote(r.name) + ",\n";
+    out += "      \"width\": " + std::to_string(r.width) + ",\n";
+    out += "      \"height\": " + std::to_string(r.height) + ",\n";
+    out += "      \"spp\": " + std::to_string(r.spp) + ",\n";
+    out += "      \"outputs\": [";
+    for (std::size_t j = 0; j < r.outputs.size(); ++j) out += (j ? ", " : "") + quote(r.outputs[j]);
+    out += "],\n";
+    counters(out, r.stats, r.prepare_seconds, "      ");
+    out += "\n    }";
+  }
+  out += records.empty() ? "]\n}\n" : "\n  ]\n}\n";
+  return out;
+}
+
+void write_stats_json(const std::string& path, const std::vector<RenderRecord>& records) {
+  const std::filesystem::path p(path);
+  std::error_code ec;
+  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path(), ec);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << stats_json(records);
+  out.close();
+  if (!out) throw std::runtime_error("cannot write statistics file " + path);
+}
+
+}  // namespace tessera::cli

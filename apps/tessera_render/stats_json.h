@@ -1,0 +1,26 @@
+#pragma once
+// --stats FILE.json: render statistics as a JSON object (docs/cli.md).
+#include <tessera/stats.h>
+
+#include <string>
+#include <vector>
+
+namespace tessera::cli {
+
+/// What one render did, for the statistics file.
+struct RenderRecord {
+  std::string name;
+  int width = 0, height = 0, spp = 0;
+  RenderStats stats;             ///< wall_seconds: render only (no prepare, no I/O)
+  double prepare_seconds = 0.0;  ///< tessera::prepare (majorant grid, tables, tiles)
+  std::vector<std::string> outputs;
+};
+
+/// The JSON text: the totals over `records` at top level, plus a "renders" array with one
+/// object per record.
+std::string stats_json(const std::vector<RenderRecord>& records);
+
+/// Writes stats_json(records) to `path`, creating its directory; throws naming the path.
+void write_stats_json(const std::string& path, const std::vector<RenderRecord>& records);
+
+}  // namespace tessera::cli

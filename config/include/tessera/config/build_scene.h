@@ -1,0 +1,57 @@
+#pragma once
+/// From a validated RenderSpec to the plain tessera::SceneDesc that core renders, once the
+/// data bounds and value range of the field are known.
+///
+/// Points: `center` is data_bounds.center(). An orbit point is
+///   center + distance * R * (cos(el) (cos(az) e1 + sin(az) e2) + sin(el) up)
+/// with R = data_bounds.radius(), up = the normalised camera up, e1 = the world axis least
+/// aligned with up (x, then y, then z on ties) projected onto the plane normal to up and
+/// normalised, e2 = cross(up, e1). For up = +z: e1 = +x, e2 = +y, so azimuth 90 is +y.
+/// Lights resolve their orbit points with the camera's up too.
+/// Lengths `{relative: r}` resolve to r * R.
+#include <tessera/config/config.h>
+#include <tessera/config/render_spec.h>
+#include <tessera/image.h>
+#include <tessera/scene.h>
+
+#include <memory>
+#include <utility>
+
+namespace tessera::config {
+
+/// The unit direction of an orbit point about `up` (see above). `up` need not be normalised
+/// but must be non-zero.
+Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up);
+
+/// Resolves a point against the data bounds; `up` is the camera up used by orbits.
+Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up);
+
+/// The TF range, with `auto` replaced by auto_range; an empty auto range (lo == hi, e.g. a
+/// constant field) is widened to [lo - 0.5, hi + 0.5].
+std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, double> auto_range);
+
+/// Core transfer function; colormap names are expanded (colormaps.h).
+TransferFunction build_transfer_function(const TransferFunctionSpec& tf,
+                                         std::pair<double, double> auto_range);
+
+/// Reads the background's envmap EXR (tessera::read_exr); nullptr unless type is envmap.
+/// Throws std::runtime_error naming the file.
+std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg);
+
+/// Everything but the field: camera, lights, TF, background, integrator, image, options.
+/// options.threads is 0 (use build_render_options to fill it from the global options).
+/// Reads the envmap (if any) from disk on every call.
+SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
+                      std::pair<double, double> auto_range, const VolumeGeometry& geom);
+
+/// As above with an envmap already loaded by load_envmap (callers rendering many frames load
+/// it once). `envmap` is ignored unless the background type is envmap, where it must be set.
+SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
+                      std::pair<double, double> auto_range, const VolumeGeometry& geom,
+                      std::shared_ptr<const Image> envmap);
+
+/// seed, tile and tile order from the render's integrator block, threads from the global
+/// options; frame = 0.
+RenderOptions build_render_options(const RenderSpec& spec, const GlobalOptions& global);
+
+}  // namespace tessera::config

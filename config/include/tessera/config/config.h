@@ -1,0 +1,73 @@
+#pragma once
+/// Loading a Tessera YAML config (docs/config.md; schema in spec/interfaces.md section 1)
+/// into plain, fully validated structs. The same schema serves the in situ adapter and the
+/// tessera-render CLI; the CLI additionally needs a `volume:` block.
+///
+/// Loading is all or nothing: load_config/parse_config return a complete Config with every
+/// default filled in, or throw ConfigError naming file, line, column, key path and what is
+/// allowed. Nothing here touches field data or renders.
+#include <tessera/config/config_error.h>
+#include <tessera/config/render_spec.h>
+#include <tessera/field_view.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tessera::config {
+
+enum class OnError { Warn, Disable, Abort };
+enum class ByteOrder { Little, Big };
+
+/// `tessera:` global options.
+struct GlobalOptions {
+  /// Directory every relative output path is written under; kept as written (a relative
+  /// directory is relative to the process's working directory, not to the YAML file).
+  std::string output_dir = "out";
+  OnError on_error = OnError::Warn;
+  int threads = 0;                 ///< >= 0; 0 = all hardware threads
+  bool render_final_step = false;  ///< adapter: also render at close, whatever the triggers
+  int max_failures = 3;            ///< adapter, on_error: disable: failures before disabling, >= 1
+};
+
+/// `volume:` (CLI only): a raw binary array of dims[0]*dims[1]*dims[2] values, i fastest.
+struct VolumeSpec {
+  std::string file;                ///< resolved against the YAML file's directory
+  std::int64_t dims[3] = {1, 1, 1};///< each >= 1
+  DType dtype = DType::Float32;
+  Vec3 spacing{1.0};               ///< each > 0
+  Vec3 origin{0.0};
+  ByteOrder byte_order = ByteOrder::Little;
+  std::int64_t header_bytes = 0;   ///< >= 0, skipped at the start of the file
+
+  VolumeGeometry geometry() const { return VolumeGeometry{origin, spacing}; }
+};
+
+struct Config {
+  std::string path;                ///< the file it was loaded from (as given; for messages)
+  GlobalOptions global;
+  std::optional<VolumeSpec> volume;
+  std::vector<RenderSpec> renders; ///< at least one, names unique
+
+  /// The render called `name`, or nullptr.
+  const RenderSpec* find_render(const std::string& name) const;
+};
+
+/// Reads and validates `path`. Relative file names inside (volume.file, background.file) are
+/// resolved against the directory of `path`.
+Config load_config(const std::string& path);
+
+/// Validates YAML text. `file_name_for_messages` is what error messages print as FILE;
+/// `base_dir` is what relative file names inside are resolved against ("" = as written).
+Config parse_config(const std::string& yaml_text, const std::string& file_name_for_messages,
+                    const std::string& base_dir);
+
+/// The effective config, every default written out, as YAML that parse_config accepts again
+/// and that loads to an equal Config. File names are written absolute.
+std::string to_yaml(const Config& config);
+
+/// Lower-case names as written in configs.
+const char* on_error_name(OnError e);
+
+}  // namespace tessera::config

@@ -1,0 +1,84 @@
+#pragma once
+/// RenderSpec: one entry of `renders:`, as written in the config, fully validated.
+#include <tessera/config/light_spec.h>
+#include <tessera/config/point_spec.h>
+#include <tessera/config/transfer_function_spec.h>
+#include <tessera/image_io.h>
+#include <tessera/integrator.h>
+#include <tessera/scene.h>
+#include <tessera/tiles.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tessera::config {
+
+/// When the adapter renders: exactly one of `{every: N}`, `{at: [steps]}`, `{when: {above: X}}`.
+struct TriggerSpec {
+  enum class Kind { Every, At, When };
+  Kind kind = Kind::Every;
+  std::int64_t every = 1;          ///< Every: fires when step % every == 0; >= 1
+  std::vector<std::int64_t> at;    ///< At: the steps, as given (non-empty, each >= 0)
+  double above = 0.0;              ///< When: fires when the field maximum exceeds it
+};
+
+struct CameraSpec {
+  PointSpec position;                      ///< required
+  PointSpec look_at = PointSpec::center();
+  Vec3 up{0.0, 0.0, 1.0};                  ///< non-zero
+  double fov = 30.0;                       ///< vertical, degrees, (0, 180)
+  double aperture = 0.0;                   ///< >= 0
+  double focus_distance = 0.0;             ///< >= 0; 0 = distance to look_at
+};
+
+/// `integrator:`: the core IntegratorDesc plus the per-render options that live in
+/// tessera::RenderOptions.
+struct IntegratorSpec {
+  IntegratorDesc desc;
+  std::uint64_t seed = 0;
+  int tile = 8;                            ///< tile edge in pixels; 0 = scanline
+  TileOrder tile_order = TileOrder::RowMajor;
+};
+
+/// `output: {cinema: ...}`: reserved for a Cinema image database (camera sweep). Parsed and
+/// validated, not used yet.
+struct CinemaSpec {
+  std::vector<double> azimuths;            ///< degrees
+  std::vector<double> elevations;          ///< degrees, [-90, 90]
+};
+
+enum class ImageFormat { Exr, Png };
+
+struct OutputSpec {
+  std::string file = "{name}_{step:06d}";  ///< pattern, see output_path.h; no extension
+  std::vector<ImageFormat> formats{ImageFormat::Exr, ImageFormat::Png};  ///< non-empty, no repeats
+  double exposure = 0.0;                   ///< stops, PNG only
+  ToneMap::Curve tonemap = ToneMap::Curve::Aces;  ///< PNG only
+  bool variance = false;                   ///< EXR: add the per-pixel variance channel
+  bool samples = false;                    ///< EXR: add the per-pixel sample-count channel
+  std::optional<CinemaSpec> cinema;
+
+  bool has_format(ImageFormat f) const;
+  ToneMap tone_map() const { return ToneMap{exposure, tonemap}; }
+};
+
+struct RenderSpec {
+  std::string name;                        ///< required, unique, [A-Za-z0-9_-]+
+  std::string field;                       ///< adapter: published field name; "" = not given
+  std::optional<TriggerSpec> trigger;      ///< adapter only; absent = every step
+  ImageDesc image;                         ///< width, height in [1, 16384], spp >= 1
+  CameraSpec camera;
+  TransferFunctionSpec transfer_function;  ///< required (opacity required inside)
+  std::vector<LightSpec> lights;
+  BackgroundSpec background;
+  IntegratorSpec integrator;
+  OutputSpec output;
+};
+
+/// Lower-case names as written in configs.
+const char* format_name(ImageFormat f);      ///< "exr", "png"
+const char* format_extension(ImageFormat f); ///< ".exr", ".png"
+
+}  // namespace tessera::config

@@ -1,0 +1,136 @@
+// RenderSpec -> tessera::SceneDesc, once the data bounds and value range are known.
+#include <tessera/config/build_scene.h>
+#include <tessera/config/colormaps.h>
+#include <tessera/image_io.h>
+
+#include <stdexcept>
+#include <tuple>
+
+namespace tessera::config {
+namespace {
+
+ScalarTF to_scalar_tf(const std::vector<ScalarPoint>& pts) {
+  std::vector<double> xs, vs;
+  for (const auto& p : pts) {
+    xs.push_back(p.u);
+    vs.push_back(p.v);
+  }
+  return ScalarTF(xs, vs);
+}
+
+ColorTF to_color_tf(const ColorTFSpec& spec) {
+  const std::vector<ColorPoint> pts = spec.colormap.empty() ? spec.points : colormap(spec.colormap);
+  std::vector<double> xs;
+  std::vector<Color> vs;
+  for (const auto& p : pts) {
+    xs.push_back(p.u);
+    vs.push_back(p.c);
+  }
+  return ColorTF(xs, vs);
+}
+
+}  // namespace
+
+std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, double> auto_range) {
+  if (!r.automatic) return {r.lo, r.hi};
+  auto [lo, hi] = auto_range;
+  if (!(lo < hi)) {
+    // A constant (or empty) field: widen so that u is well defined, the value mapping to 0.5
+    const double mid = lo == hi ? lo : 0.5 * (lo + hi);
+    return {mid - 0.5, mid + 0.5};
+  }
+  return {lo, hi};
+}
+
+TransferFunction build_transfer_function(const TransferFunctionSpec& spec,
+                                         std::pair<double, double> auto_range) {
+  TransferFunction tf;
+  std::tie(tf.lo, tf.hi) = resolve_range(spec.range, auto_range);
+  tf.density_scale = spec.density_scale;
+  tf.opacity = to_scalar_tf(spec.opacity);
+  if (spec.diffuse.present()) tf.diffuse = to_color_tf(spec.diffuse);
+  if (spec.specular.present()) tf.specular = to_color_tf(spec.specular);
+  if (!spec.roughness.empty()) tf.roughness = to_scalar_tf(spec.roughness);
+  if (spec.emission.present()) tf.emission = to_color_tf(spec.emission);
+  return tf;
+}
+
+std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg) {
+  if (bg.type != BackgroundType::EnvMap) return nullptr;
+  return std::make_shared<const Image>(read_exr(bg.file));
+}
+
+SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
+                      std::pair<double, double> auto_range, const VolumeGeometry& geom) {
+  return build_scene(spec, data_bounds, auto_range, geom, load_envmap(spec.background));
+}
+
+SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
+                      std::pair<double, double> auto_range, const VolumeGeometry& geom,
+                      std::shared_ptr<const Image> envmap) {
+  SceneDesc s;
+  s.geometry = geom;
+  s.tf = build_transfer_function(spec.transfer_function, auto_range);
+
+  // Camera; its up also orients every orbit point
+  const Vec3 up = spec.camera.up;
+  s.camera.position = resolve_point(spec.camera.position, data_bounds, up);
+  s.camera.look_at = resolve_point(spec.camera.look_at, data_bounds, up);
+  s.camera.up = up;
+  s.camera.fov_deg = spec.camera.fov;
+  s.camera.aperture = spec.camera.aperture;
+  s.camera.focus_distance = spec.camera.focus_distance;
+
+  // Lights
+  const double radius = data_bounds.radius();
+  for (const LightSpec& l : spec.lights) {
+    const Color radiance = l.color * l.intensity;
+    if (l.type == LightSpec::Type::Rect) {
+      RectLightDesc r;
+      r.position = resolve_point(l.position, data_bounds, up);
+      r.target = resolve_point(l.target, data_bounds, up);
+      r.width = l.width.resolve(radius);
+      r.height = l.height.resolve(radius);
+      r.radiance = radiance;
+      s.rect_lights.push_back(r);
+    } else {
+      SphereLightDesc sp;
+      sp.center = resolve_point(l.position, data_bounds, up);
+      sp.radius = l.radius.resolve(radius);
+      sp.radiance = radiance;
+      s.sphere_lights.push_back(sp);
+    }
+  }
+
+  // Background
+  const BackgroundSpec& b = spec.background;
+  s.background.type = b.type;
+  s.background.color = b.color;
+  s.background.top = b.top;
+  s.background.middle = b.middle;
+  s.background.bottom = b.bottom;
+  s.background.up = b.up;
+  s.background.intensity = b.intensity;
+  s.background.visible = b.visible;
+  if (b.type == BackgroundType::EnvMap) {
+    if (!envmap) throw std::invalid_argument("render \"" + spec.name + "\": envmap " + b.file + " not loaded");
+    s.background.envmap = std::move(envmap);
+  }
+
+  s.integrator = spec.integrator.desc;
+  s.image = spec.image;
+  s.options = build_render_options(spec, GlobalOptions{});
+  return s;
+}
+
+RenderOptions build_render_options(const RenderSpec& spec, const GlobalOptions& global) {
+  RenderOptions o;
+  o.seed = spec.integrator.seed;
+  o.frame = 0;
+  o.tile = spec.integrator.tile;
+  o.order = spec.integrator.tile_order;
+  o.threads = global.threads;
+  return o;
+}
+
+}  // namespace tessera::config

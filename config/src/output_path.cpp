@@ -1,0 +1,158 @@
+// Output file name patterns: {name} {step} {time} {rank} with fmt-like specs.
+#include <tessera/config/output_path.h>
+
+#include <charconv>
+#include <cstdio>
+#include <stdexcept>
+#include <string_view>
+
+namespace tessera::config {
+namespace {
+
+enum class Field { Name, Step, Time, Rank };
+
+/// `[0][width][.precision][type]`, parsed and checked against the field's kind.
+struct Spec {
+  bool zero = false;
+  int width = 0;
+  int precision = -1;
+  char type = 0;
+};
+
+[[noreturn]] void bad(const std::string& pattern, const std::string& what) {
+  throw std::invalid_argument("bad output pattern \"" + pattern + "\": " + what);
+}
+
+Spec parse_spec(const std::string& pattern, std::string_view placeholder, Field field,
+                std::string_view s) {
+  Spec spec;
+  std::size_t i = 0;
+  const auto digits = [&](int& out) {
+    const std::size_t start = i;
+    while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
+    if (i == start) return false;
+    if (i - start > 3) bad(pattern, "width or precision too large in {" + std::string(placeholder) + "}");
+    std::from_chars(s.data() + start, s.data() + i, out);
+    return true;
+  };
+  if (i < s.size() && s[i] == '0') {
+    spec.zero = true;
+    ++i;
+  }
+  digits(spec.width);
+  if (i < s.size() && s[i] == '.') {
+    ++i;
+    if (!digits(spec.precision)) bad(pattern, "missing precision after '.' in {" + std::string(placeholder) + "}");
+  }
+  if (i < s.size()) spec.type = s[i++];
+  if (i != s.size()) {
+    bad(pattern, "unsupported format spec in {" + std::string(placeholder) +
+                     "} (allowed: [0][width][.precision][type], e.g. {step:06d}, {time:.3f})");
+  }
+  // Which parts each field accepts
+  switch (field) {
+    case Field::Step:
+    case Field::Rank:
+      if (spec.precision >= 0 || (spec.type != 0 && spec.type != 'd'))
+        bad(pattern, "{" + std::string(placeholder) + "} is an integer (allowed: [0][width][d], e.g. {step:06d})");
+      break;
+    case Field::Time:
+      if (spec.type != 0 && spec.type != 'f' && spec.type != 'e' && spec.type != 'g')
+        bad(pattern, "{" + std::string(placeholder) + "} is a number (allowed: [0][width][.precision][f|e|g], e.g. {time:.3f})");
+      break;
+    case Field::Name:
+      if (spec.zero || spec.precision >= 0 || (spec.type != 0 && spec.type != 's'))
+        bad(pattern, "{" + std::string(placeholder) + "} is a string (allowed: [width][s])");
+      break;
+  }
+  return spec;
+}
+
+std::string pad(std::string s, const Spec& spec, bool left_align) {
+  if (static_cast<int>(s.size()) >= spec.width) return s;
+  const std::size_t n = spec.width - s.size();
+  if (left_align) return s + std::string(n, ' ');
+  if (spec.zero) {
+    const std::size_t sign = (!s.empty() && (s[0] == '-' || s[0] == '+')) ? 1 : 0;
+    return s.insert(sign, n, '0');
+  }
+  return std::string(n, ' ') + s;
+}
+
+std::string format_time(double t, const Spec& spec) {
+  char buf[512];
+  if (spec.type == 0 && spec.precision < 0) {
+    const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, t);
+    return std::string(buf, ec == std::errc() ? end : buf);
+  }
+  const char type = spec.type == 0 ? 'g' : spec.type;
+  const int precision = spec.precision < 0 ? 6 : spec.precision;
+  const char fmt[] = {'%', '.', '*', type, '\0'};
+  std::snprintf(buf, sizeof buf, fmt, precision, t);
+  return buf;
+}
+
+/// Walks the pattern; with `out` set, writes the result there.
+void expand(const std::string& pattern, const std::string& name, std::int64_t step, double time,
+            int rank, std::string* out) {
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    const char c = pattern[i];
+    if (c == '}') {
+      if (i + 1 < pattern.size() && pattern[i + 1] == '}') {
+        if (out) *out += '}';
+        ++i;
+        continue;
+      }
+      bad(pattern, "unmatched '}' at position " + std::to_string(i + 1) + " (write }} for a literal brace)");
+    }
+    if (c != '{') {
+      if (out) *out += c;
+      continue;
+    }
+    if (i + 1 < pattern.size() && pattern[i + 1] == '{') {
+      if (out) *out += '{';
+      ++i;
+      continue;
+    }
+    // A placeholder: {key} or {key:spec}
+    const std::size_t close = pattern.find('}', i);
+    if (close == std::string::npos) bad(pattern, "unclosed '{' at position " + std::to_string(i + 1));
+    const std::string_view inner(pattern.data() + i + 1, close - i - 1);
+    const std::size_t colon = inner.find(':');
+    const std::string_view key = inner.substr(0, colon);
+    const std::string_view spec_text = colon == std::string_view::npos ? std::string_view() : inner.substr(colon + 1);
+    Field field;
+    if (key == "name") field = Field::Name;
+    else if (key == "step") field = Field::Step;
+    else if (key == "time") field = Field::Time;
+    else if (key == "rank") field = Field::Rank;
+    else bad(pattern, "unknown placeholder {" + std::string(key) + "} (allowed: {name} {step} {time} {rank})");
+    const Spec spec = parse_spec(pattern, inner, field, spec_text);
+    if (out) {
+      switch (field) {
+        case Field::Name: *out += pad(name, spec, true); break;
+        case Field::Step: *out += pad(std::to_string(step), spec, false); break;
+        case Field::Rank: *out += pad(std::to_string(rank), spec, false); break;
+        case Field::Time: *out += pad(format_time(time, spec), spec, false); break;
+      }
+    }
+    i = close;
+  }
+}
+
+}  // namespace
+
+void validate_output_pattern(const std::string& pattern) {
+  if (pattern.empty()) throw std::invalid_argument("empty output pattern (allowed: e.g. \"{name}_{step:06d}\")");
+  expand(pattern, {}, 0, 0.0, 0, nullptr);
+}
+
+std::string format_output_path(const std::string& pattern, const std::string& name,
+                               std::int64_t step, double time, int rank) {
+  validate_output_pattern(pattern);
+  std::string out;
+  expand(pattern, name, step, time, rank, &out);
+  return out;
+}
+
+}  // namespace tessera::config

@@ -1,0 +1,164 @@
+// The top level of a config: parse_config, load_config, `tessera:` and `volume:`.
+#include <tessera/config/config.h>
+
+#include "parsers.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace tessera::config {
+namespace fs = std::filesystem;
+using detail::Range;
+using detail::Value;
+
+namespace {
+
+constexpr const char* kTopKeys = "a mapping with keys tessera, volume, renders";
+
+SourceMark from_yaml(const YAML::Mark& m) {
+  if (m.is_null() || m.line < 0) return {};
+  return SourceMark{m.line + 1, m.column + 1};
+}
+
+Config parse_root(const YAML::Node& root, const detail::Document& doc) {
+  if (!root.IsDefined() || root.IsNull()) {
+    throw ConfigError(doc.file, {}, "", std::string("empty config (allowed: ") + kTopKeys + ")");
+  }
+  const Value top(root, "", &doc, SourceMark{1, 1}, false);
+  const detail::Map m = top.map(kTopKeys);
+  m.allow({"tessera", "volume", "renders"});
+
+  Config c;
+  c.path = doc.file;
+  if (const auto g = m.get("tessera")) c.global = detail::parse_global(*g);
+  if (const auto v = m.get("volume")) c.volume = detail::parse_volume(*v);
+
+  // Renders, names unique
+  const auto renders = m.require("renders", "a list of renders")
+                           .list("a list of renders (mappings with name, camera, "
+                                 "transfer_function, ...)",
+                                 1);
+  std::vector<SourceMark> name_marks;
+  for (const Value& r : renders) {
+    RenderSpec spec = detail::parse_render(r);
+    const Value name = *r.map().get("name");
+    for (std::size_t i = 0; i < c.renders.size(); ++i) {
+      if (c.renders[i].name == spec.name) {
+        name.fail("duplicate render name \"" + spec.name + "\" (first used at line " +
+                  std::to_string(name_marks[i].line) + "; allowed: a name used once)");
+      }
+    }
+    name_marks.push_back(name.mark());
+    c.renders.push_back(std::move(spec));
+  }
+  return c;
+}
+
+}  // namespace
+
+namespace detail {
+
+GlobalOptions parse_global(const Value& v) {
+  const Map m = v.map("a mapping with keys output_dir, on_error, threads, render_final_step, "
+                      "max_failures");
+  m.allow({"output_dir", "on_error", "threads", "render_final_step", "max_failures"});
+  GlobalOptions g;
+  if (const auto d = m.get("output_dir")) g.output_dir = d->string();
+  g.on_error = m.choice_or<OnError>(
+      "on_error", g.on_error,
+      {{"warn", OnError::Warn}, {"disable", OnError::Disable}, {"abort", OnError::Abort}});
+  g.threads = static_cast<int>(m.integer_or("threads", g.threads, 0, 65536));
+  g.render_final_step = m.boolean_or("render_final_step", g.render_final_step);
+  g.max_failures = static_cast<int>(
+      m.integer_or("max_failures", g.max_failures, 1, std::numeric_limits<int>::max()));
+  return g;
+}
+
+VolumeSpec parse_volume(const Value& v) {
+  const Map m = v.map("a mapping with keys file, dims, dtype, spacing, origin, byte_order, "
+                      "header_bytes");
+  m.allow({"file", "dims", "dtype", "spacing", "origin", "byte_order", "header_bytes"});
+  VolumeSpec s;
+  s.file = resolve_existing_file(m.require("file", "a file name, relative to this YAML file"));
+
+  // Dims, and a size that fits in memory arithmetic
+  const auto dims = m.require("dims", "[nx, ny, nz], integers >= 1").list("[nx, ny, nz]", 3, 3);
+  for (int i = 0; i < 3; ++i) s.dims[i] = dims[i].integer(1, std::int64_t(1) << 31);
+  s.dtype = m.require("dtype", "uint8, int16, uint16, float32 or float64")
+                .choice<DType>({{"uint8", DType::UInt8},
+                                {"int16", DType::Int16},
+                                {"uint16", DType::UInt16},
+                                {"float32", DType::Float32},
+                                {"float64", DType::Float64}});
+  const double bytes = double(s.dims[0]) * double(s.dims[1]) * double(s.dims[2]) * 8.0;
+  if (bytes > double(std::int64_t(1) << 50)) {
+    m.get("dims")->fail("too many vertices (allowed: at most 2^47 vertices)");
+  }
+
+  s.spacing = m.vec3_or("spacing", s.spacing, Range::above(0.0));
+  s.origin = m.vec3_or("origin", s.origin);
+  s.byte_order = m.choice_or<ByteOrder>("byte_order", s.byte_order,
+                                        {{"little", ByteOrder::Little}, {"big", ByteOrder::Big}});
+  s.header_bytes = m.integer_or("header_bytes", 0, 0, std::numeric_limits<std::int64_t>::max());
+  return s;
+}
+
+std::string resolve_existing_file(const Value& v) {
+  fs::path p(v.string());
+  if (p.is_relative() && !v.doc().base_dir.empty()) p = fs::path(v.doc().base_dir) / p;
+  std::error_code ec;
+  p = fs::absolute(p, ec).lexically_normal();
+  if (ec) v.fail("cannot resolve \"" + v.string() + "\": " + ec.message());
+  if (!fs::exists(p, ec)) {
+    v.fail("file not found: " + p.string() + " (allowed: an existing file, relative names are "
+           "relative to the YAML file's directory)");
+  }
+  if (fs::is_directory(p, ec)) v.fail(p.string() + " is a directory (allowed: a file)");
+  return p.string();
+}
+
+}  // namespace detail
+
+Config parse_config(const std::string& yaml_text, const std::string& file_name_for_messages,
+                    const std::string& base_dir) {
+  const detail::Document doc{file_name_for_messages, base_dir};
+  try {
+    const YAML::Node root = YAML::Load(yaml_text);
+    return parse_root(root, doc);
+  } catch (const YAML::Exception& e) {
+    // Syntax errors, and anything yaml-cpp itself rejects while walking the tree
+    throw ConfigError(doc.file, from_yaml(e.mark), "", "invalid YAML: " + e.msg);
+  }
+}
+
+Config load_config(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw ConfigError(path, {}, "", std::string("cannot open config file: ") + std::strerror(errno));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw ConfigError(path, {}, "", "cannot read config file");
+  return parse_config(text.str(), path, fs::path(path).parent_path().string());
+}
+
+const RenderSpec* Config::find_render(const std::string& name) const {
+  for (const auto& r : renders)
+    if (r.name == name) return &r;
+  return nullptr;
+}
+
+const char* on_error_name(OnError e) {
+  switch (e) {
+    case OnError::Warn: return "warn";
+    case OnError::Disable: return "disable";
+    case OnError::Abort: return "abort";
+  }
+  return "warn";
+}
+
+}  // namespace tessera::config

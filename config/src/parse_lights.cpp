@@ -1,0 +1,87 @@
+// `lights:` (rect and sphere area lights) and `background:`.
+#include <tessera/config/light_spec.h>
+
+#include "parsers.h"
+
+namespace tessera::config::detail {
+namespace {
+
+const Range kNonNegative = Range::at_least(0.0);
+
+/// `size: [w, h]`, `size: w` (a square) or `size: {relative: r}`; each length > 0.
+void parse_rect_size(const Value& v, LightSpec& l) {
+  if (v.is_sequence()) {
+    const auto wh = v.list("[width, height], each a number or {relative: r}", 2, 2);
+    l.width = parse_length(wh[0], true);
+    l.height = parse_length(wh[1], true);
+  } else {
+    l.width = l.height = parse_length(v, true);
+  }
+}
+
+}  // namespace
+
+LightSpec parse_light(const Value& v) {
+  const Map m = v.map("a mapping {type: rect | sphere, ...}");
+  LightSpec l;
+  l.type = m.require("type", "rect or sphere")
+               .choice<LightSpec::Type>({{"rect", LightSpec::Type::Rect},
+                                         {"sphere", LightSpec::Type::Sphere}});
+  const std::string point = "[x, y, z], center or {orbit: {azimuth, elevation, distance}}";
+  if (l.type == LightSpec::Type::Rect) {
+    m.allow({"type", "position", "target", "size", "color", "intensity"});
+    l.position = parse_point(m.require("position", point));
+    if (const auto t = m.get("target")) l.target = parse_point(*t);
+    if (const auto s = m.get("size")) parse_rect_size(*s, l);
+  } else {
+    m.allow({"type", "position", "radius", "color", "intensity"});
+    l.position = parse_point(m.require("position", point));
+    if (const auto r = m.get("radius")) l.radius = parse_length(*r, true);
+  }
+  l.color = m.color_or("color", l.color, kNonNegative);
+  l.intensity = m.number_or("intensity", l.intensity, kNonNegative);
+
+  // A rect light aimed at itself has no facing
+  if (l.type == LightSpec::Type::Rect) {
+    const bool same = (l.position.kind == PointSpec::Kind::Center &&
+                       l.target.kind == PointSpec::Kind::Center) ||
+                      (l.position.kind == PointSpec::Kind::Absolute &&
+                       l.target.kind == PointSpec::Kind::Absolute && l.position.xyz == l.target.xyz);
+    if (same) m.get("position")->fail("light position equals its target (allowed: a point other than target)");
+  }
+  return l;
+}
+
+BackgroundSpec parse_background(const Value& v) {
+  const Map m = v.map("a mapping {type: constant | gradient | envmap, ...}");
+  BackgroundSpec b;
+  b.type = m.require("type", "constant, gradient or envmap")
+               .choice<BackgroundType>({{"constant", BackgroundType::Constant},
+                                        {"gradient", BackgroundType::Gradient},
+                                        {"envmap", BackgroundType::EnvMap}});
+  switch (b.type) {
+    case BackgroundType::Constant:
+      m.allow({"type", "color", "intensity", "visible"});
+      b.color = m.color_or("color", b.color, kNonNegative);
+      break;
+    case BackgroundType::Gradient:
+      m.allow({"type", "top", "middle", "bottom", "up", "intensity", "visible"});
+      b.top = m.color_or("top", b.top, kNonNegative);
+      b.middle = m.color_or("middle", b.middle, kNonNegative);
+      b.bottom = m.color_or("bottom", b.bottom, kNonNegative);
+      break;
+    case BackgroundType::EnvMap:
+      m.allow({"type", "file", "up", "intensity", "visible"});
+      b.file = resolve_existing_file(m.require("file", "an EXR file, relative to this YAML file"));
+      break;
+  }
+  if (const auto u = m.get("up")) {
+    b.up = u->vec3();
+    if (b.up == Vec3(0.0)) u->fail("[0, 0, 0] has no direction (allowed: a non-zero vector)");
+  }
+  b.intensity = m.number_or("intensity", b.intensity, kNonNegative);
+  b.visible = m.boolean_or("visible", b.visible);
+  return b;
+}
+
+}  // namespace tessera::config::detail

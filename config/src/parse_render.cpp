@@ -1,0 +1,171 @@
+// One entry of `renders:`: name, field, trigger, image, camera, output (the larger blocks,
+// transfer function, lights, background and integrator, have files of their own).
+#include <tessera/config/output_path.h>
+#include <tessera/config/render_spec.h>
+
+#include "parsers.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace tessera::config {
+using detail::Map;
+using detail::Range;
+using detail::Value;
+
+namespace {
+
+constexpr std::int64_t kMaxImageEdge = 16384;
+
+bool valid_name(const std::string& s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+           c == '_' || c == '-';
+  });
+}
+
+ImageDesc parse_image(const Value& v) {
+  const Map m = v.map("a mapping with keys width, height, spp, target_error");
+  m.allow({"width", "height", "spp", "target_error"});
+  ImageDesc d;
+  d.width = static_cast<int>(m.integer_or("width", d.width, 1, kMaxImageEdge));
+  d.height = static_cast<int>(m.integer_or("height", d.height, 1, kMaxImageEdge));
+  d.spp = static_cast<int>(m.integer_or("spp", d.spp, 1, std::numeric_limits<int>::max()));
+  d.target_error = m.number_or("target_error", d.target_error, Range::at_least(0.0));
+  return d;
+}
+
+}  // namespace
+
+namespace detail {
+
+TriggerSpec parse_trigger(const Value& v) {
+  constexpr const char* kAllowed = "{every: N}, {at: [steps]} or {when: {above: X}}";
+  const Map m = v.map(kAllowed);
+  m.allow({"every", "at", "when"});
+  if (m.size() != 1) v.fail("give exactly one of every, at, when (allowed: " + std::string(kAllowed) + ")");
+  TriggerSpec t;
+  if (const auto e = m.get("every")) {
+    t.kind = TriggerSpec::Kind::Every;
+    t.every = e->integer(1, std::numeric_limits<std::int64_t>::max());
+  } else if (const auto a = m.get("at")) {
+    t.kind = TriggerSpec::Kind::At;
+    for (const Value& s : a->list("a list of steps (integers >= 0)", 1))
+      t.at.push_back(s.integer(0, std::numeric_limits<std::int64_t>::max()));
+  } else {
+    const Value w = *m.get("when");
+    const Map wm = w.map("{above: X}");
+    wm.allow({"above"});
+    t.kind = TriggerSpec::Kind::When;
+    t.above = wm.require("above", "a number: the field maximum that fires the trigger").number();
+  }
+  return t;
+}
+
+CameraSpec parse_camera(const Value& v) {
+  const Map m = v.map("a mapping with keys position, look_at, up, fov, aperture, focus_distance");
+  m.allow({"position", "look_at", "up", "fov", "aperture", "focus_distance"});
+  CameraSpec c;
+  c.position = parse_point(m.require("position", "[x, y, z], center or {orbit: {azimuth, "
+                                                 "elevation, distance}}"));
+  if (const auto p = m.get("look_at")) c.look_at = parse_point(*p);
+  if (const auto u = m.get("up")) {
+    c.up = u->vec3();
+    if (c.up == Vec3(0.0)) u->fail("[0, 0, 0] has no direction (allowed: a non-zero vector)");
+  }
+  c.fov = m.number_or("fov", c.fov, Range::open(0.0, 180.0));
+  c.aperture = m.number_or("aperture", c.aperture, Range::at_least(0.0));
+  c.focus_distance = m.number_or("focus_distance", c.focus_distance, Range::at_least(0.0));
+
+  // A camera that looks at its own position is caught here when it is plain to see
+  const bool same_center = c.position.kind == PointSpec::Kind::Center &&
+                           c.look_at.kind == PointSpec::Kind::Center;
+  const bool same_point = c.position.kind == PointSpec::Kind::Absolute &&
+                          c.look_at.kind == PointSpec::Kind::Absolute &&
+                          c.position.xyz == c.look_at.xyz;
+  if (same_center || same_point) {
+    m.get("position")->fail("camera position equals look_at (allowed: a point other than look_at)");
+  }
+  return c;
+}
+
+OutputSpec parse_output(const Value& v) {
+  const Map m = v.map("a mapping with keys file, formats, exposure, tonemap, variance, samples, "
+                      "cinema");
+  m.allow({"file", "formats", "exposure", "tonemap", "variance", "samples", "cinema"});
+  OutputSpec o;
+  if (const auto f = m.get("file")) {
+    o.file = f->string();
+    try {
+      validate_output_pattern(o.file);
+    } catch (const std::invalid_argument& e) {
+      f->fail(e.what());
+    }
+  }
+  if (const auto f = m.get("formats")) {
+    o.formats.clear();
+    for (const Value& e : f->list("a list of formats: exr, png", 1, 2)) {
+      const ImageFormat fmt = e.choice<ImageFormat>({{"exr", ImageFormat::Exr}, {"png", ImageFormat::Png}});
+      if (o.has_format(fmt)) e.fail(std::string(format_name(fmt)) + " given twice (allowed: each format once)");
+      o.formats.push_back(fmt);
+    }
+  }
+  o.exposure = m.number_or("exposure", o.exposure, Range::closed(-64.0, 64.0));
+  o.tonemap = m.choice_or<ToneMap::Curve>("tonemap", o.tonemap,
+                                          {{"aces", ToneMap::Curve::Aces},
+                                           {"reinhard", ToneMap::Curve::Reinhard},
+                                           {"clamp", ToneMap::Curve::Clamp}});
+  o.variance = m.boolean_or("variance", o.variance);
+  o.samples = m.boolean_or("samples", o.samples);
+  if (const auto c = m.get("cinema")) {
+    const Map cm = c->map("a mapping with keys azimuth, elevation (lists of degrees)");
+    cm.allow({"azimuth", "elevation"});
+    CinemaSpec cs;
+    if (const auto a = cm.get("azimuth"))
+      for (const Value& e : a->list("a list of angles in degrees", 1)) cs.azimuths.push_back(e.number());
+    if (const auto a = cm.get("elevation"))
+      for (const Value& e : a->list("a list of angles in degrees", 1))
+        cs.elevations.push_back(e.number(Range::closed(-90.0, 90.0)));
+    o.cinema = cs;
+  }
+  return o;
+}
+
+RenderSpec parse_render(const Value& v) {
+  const Map m = v.map("a mapping with keys name, field, trigger, image, camera, "
+                      "transfer_function, lights, background, integrator, output");
+  m.allow({"name", "field", "trigger", "image", "camera", "transfer_function", "lights",
+           "background", "integrator", "output"});
+  RenderSpec r;
+  const Value name = m.require("name", "a name of letters, digits, _ and -");
+  r.name = name.string();
+  if (!valid_name(r.name)) {
+    name.fail(name.describe() + " is not a valid name (allowed: letters, digits, _ and -)");
+  }
+  if (const auto f = m.get("field")) r.field = f->string();
+  if (const auto t = m.get("trigger")) r.trigger = parse_trigger(*t);
+  if (const auto i = m.get("image")) r.image = parse_image(*i);
+  r.camera = parse_camera(m.require("camera", "a mapping with at least position"));
+  r.transfer_function = parse_transfer_function(
+      m.require("transfer_function", "a mapping with at least opacity"));
+  if (const auto l = m.get("lights")) {
+    for (const Value& e : l->list("a list of lights, each {type: rect, ...} or {type: sphere, ...}"))
+      r.lights.push_back(parse_light(e));
+  }
+  if (const auto b = m.get("background")) r.background = parse_background(*b);
+  if (const auto i = m.get("integrator")) r.integrator = parse_integrator(*i);
+  if (const auto o = m.get("output")) r.output = parse_output(*o);
+  return r;
+}
+
+}  // namespace detail
+
+bool OutputSpec::has_format(ImageFormat f) const {
+  return std::find(formats.begin(), formats.end(), f) != formats.end();
+}
+
+const char* format_name(ImageFormat f) { return f == ImageFormat::Exr ? "exr" : "png"; }
+const char* format_extension(ImageFormat f) { return f == ImageFormat::Exr ? ".exr" : ".png"; }
+
+}  // namespace tessera::config

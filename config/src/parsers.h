@@ -1,0 +1,28 @@
+#pragma once
+// Private: one parse function per block of the schema. Each takes the block's Value and
+// returns a fully validated spec or throws ConfigError.
+#include <tessera/config/config.h>
+
+#include "yaml_reader.h"
+
+namespace tessera::config::detail {
+
+GlobalOptions parse_global(const Value& v);
+VolumeSpec parse_volume(const Value& v);
+RenderSpec parse_render(const Value& v);
+TriggerSpec parse_trigger(const Value& v);
+CameraSpec parse_camera(const Value& v);
+OutputSpec parse_output(const Value& v);
+PointSpec parse_point(const Value& v);
+/// A number or `{relative: r}`, resolving to > 0 (strictly_positive) or >= 0.
+LengthSpec parse_length(const Value& v, bool strictly_positive);
+TransferFunctionSpec parse_transfer_function(const Value& v);
+LightSpec parse_light(const Value& v);
+BackgroundSpec parse_background(const Value& v);
+IntegratorSpec parse_integrator(const Value& v);
+
+/// A file name from the config, resolved against the document's base directory and made
+/// absolute; the file must exist.
+std::string resolve_existing_file(const Value& v);
+
+}  // namespace tessera::config::detail

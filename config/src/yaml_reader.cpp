@@ -1,0 +1,281 @@
+#include "yaml_reader.h"
+
+#include <charconv>
+#include <cmath>
+#include <system_error>
+
+namespace tessera::config::detail {
+namespace {
+
+/// A plain (unquoted) scalar: the only kind that may be a number or a boolean.
+bool is_plain(const YAML::Node& n) { return n.IsScalar() && n.Tag() == "?"; }
+
+std::optional<double> parse_double(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
+  return v;
+}
+
+template <class T>
+std::optional<T> parse_integer(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  T v{};
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+bool Range::contains(double v) const {
+  const bool lo_ok = lo_open ? v > lo : v >= lo;
+  const bool hi_ok = hi_open ? v < hi : v <= hi;
+  return lo_ok && hi_ok;
+}
+
+std::string Range::describe() const {
+  const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+  if (has_lo && has_hi) {
+    return std::string(lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) +
+           (hi_open ? ")" : "]");
+  }
+  if (has_lo) return std::string(lo_open ? "(> " : "(>= ") + format_number(lo) + ")";
+  if (has_hi) return std::string(hi_open ? "(< " : "(<= ") + format_number(hi) + ")";
+  return "(any finite number)";
+}
+
+std::string format_number(double v) {
+  char buf[64];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, ec == std::errc() ? end : buf);
+}
+
+std::string join_words(const std::vector<std::string>& words, const char* last_sep) {
+  std::string s;
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    if (i > 0) s += (i + 1 == words.size()) ? last_sep : ", ";
+    s += words[i];
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Value
+
+Value::Value(YAML::Node node, std::string path, const Document* doc, SourceMark anchor,
+             bool anchor_is_key)
+    : m_node(std::move(node)),
+      m_path(std::move(path)),
+      m_doc(doc),
+      m_anchor(anchor),
+      m_anchor_is_key(anchor_is_key) {}
+
+SourceMark Value::mark() const {
+  if (m_anchor_is_key) return m_anchor;
+  const YAML::Mark m = m_node.Mark();
+  if (m_node.IsNull() || m.is_null() || m.line < 0) return m_anchor;
+  return SourceMark{m.line + 1, m.column + 1};
+}
+
+void Value::fail(const std::string& message) const {
+  throw ConfigError(m_doc->file, mark(), m_path, message);
+}
+
+void Value::wrong_type(const std::string& allowed) const {
+  fail(describe() + " is not allowed here (allowed: " + allowed + ")");
+}
+
+bool Value::is_word(std::string_view word) const {
+  return m_node.IsScalar() && m_node.Scalar() == word;
+}
+
+std::string Value::describe() const {
+  if (m_node.IsMap()) return "a mapping";
+  if (m_node.IsSequence()) return "a list";
+  if (m_node.IsScalar()) {
+    return is_plain(m_node) ? m_node.Scalar() : "\"" + m_node.Scalar() + "\"";
+  }
+  return "an empty value";
+}
+
+double Value::number(const Range& r) const {
+  const std::string allowed = std::isfinite(r.lo) || std::isfinite(r.hi)
+                                  ? "a number in " + r.describe()
+                                  : std::string("a finite number");
+  if (!is_plain(m_node)) wrong_type(allowed);
+  const auto v = parse_double(m_node.Scalar());
+  if (!v) fail(describe() + " is not a number (allowed: " + allowed + ")");
+  if (!std::isfinite(*v)) fail(describe() + " is not finite (allowed: " + allowed + ")");
+  if (!r.contains(*v)) fail(describe() + " is out of range " + r.describe());
+  return *v;
+}
+
+std::int64_t Value::integer(std::int64_t lo, std::int64_t hi) const {
+  std::string allowed = "an integer";
+  const bool bounded_hi = hi < std::numeric_limits<std::int64_t>::max();
+  const bool bounded_lo = lo > std::numeric_limits<std::int64_t>::min();
+  std::string range;
+  if (bounded_lo && bounded_hi) range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  else if (bounded_lo) range = "(>= " + std::to_string(lo) + ")";
+  else if (bounded_hi) range = "(<= " + std::to_string(hi) + ")";
+  if (!range.empty()) allowed += " in " + range;
+  if (!is_plain(m_node)) wrong_type(allowed);
+  const auto v = parse_integer<std::int64_t>(m_node.Scalar());
+  if (!v) fail(describe() + " is not an integer (allowed: " + allowed + ")");
+  if (*v < lo || *v > hi) fail(describe() + " is out of range " + range);
+  return *v;
+}
+
+std::uint64_t Value::unsigned64() const {
+  const std::string allowed = "an integer in [0, 18446744073709551615]";
+  if (!is_plain(m_node)) wrong_type(allowed);
+  const auto v = parse_integer<std::uint64_t>(m_node.Scalar());
+  if (!v) fail(describe() + " is not an unsigned 64-bit integer (allowed: " + allowed + ")");
+  return *v;
+}
+
+bool Value::boolean() const {
+  if (is_plain(m_node)) {
+    const std::string& s = m_node.Scalar();
+    if (s == "true" || s == "True" || s == "TRUE") return true;
+    if (s == "false" || s == "False" || s == "FALSE") return false;
+    fail(describe() + " is not a boolean (allowed: true or false)");
+  }
+  wrong_type("true or false");
+}
+
+std::string Value::string(bool allow_empty) const {
+  if (!m_node.IsScalar()) wrong_type("a string");
+  if (!allow_empty && m_node.Scalar().empty()) fail("empty string (allowed: a non-empty string)");
+  return m_node.Scalar();
+}
+
+Vec3 Value::triple(const char* shape, const Range& r) const {
+  const auto xs = list(shape, 3, 3);
+  return Vec3(xs[0].number(r), xs[1].number(r), xs[2].number(r));
+}
+
+Vec3 Value::vec3(const Range& r) const { return triple("[x, y, z]", r); }
+
+Color Value::color(const Range& r) const { return triple("[r, g, b]", r); }
+
+std::vector<Value> Value::list(const std::string& allowed, std::size_t min_size,
+                               std::size_t max_size) const {
+  if (!m_node.IsSequence()) wrong_type(allowed);
+  const std::size_t n = m_node.size();
+  if (n < min_size || n > max_size) {
+    std::string count;
+    if (min_size == max_size) count = "";
+    else if (max_size == std::numeric_limits<std::size_t>::max())
+      count = ", at least " + std::to_string(min_size) + " elements";
+    else count = ", " + std::to_string(min_size) + " to " + std::to_string(max_size) + " elements";
+    fail("list has " + std::to_string(n) + " element" + (n == 1 ? "" : "s") + " (allowed: " +
+         allowed + count + ")");
+  }
+  std::vector<Value> out;
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) out.push_back(element(m_node[i], i));
+  return out;
+}
+
+Value Value::child(const YAML::Node& n, const std::string& key, SourceMark key_mark) const {
+  return Value(n, m_path.empty() ? key : m_path + "." + key, m_doc, key_mark, true);
+}
+
+Value Value::element(const YAML::Node& n, std::size_t index) const {
+  return Value(n, m_path + "[" + std::to_string(index) + "]", m_doc, mark(), false);
+}
+
+Map Value::map(const std::string& allowed) const {
+  if (!m_node.IsMap()) wrong_type(allowed);
+  std::vector<std::pair<std::string, Value>> entries;
+  std::vector<SourceMark> key_marks;
+  for (const auto& kv : m_node) {  // kv: a pair of node handles, held by value
+    const YAML::Node k = kv.first;
+    const YAML::Mark km = k.Mark();
+    const SourceMark key_mark{km.line + 1, km.column + 1};
+    if (!k.IsScalar()) {
+      throw ConfigError(m_doc->file, key_mark, m_path, "a key must be a plain word");
+    }
+    const std::string key = k.Scalar();
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      if (entries[i].first == key) {
+        throw ConfigError(m_doc->file, key_mark, entries[i].second.path(),
+                          "duplicate key (first given at line " +
+                              std::to_string(key_marks[i].line) + ")");
+      }
+    }
+    entries.emplace_back(key, child(kv.second, key, key_mark));
+    key_marks.push_back(key_mark);
+  }
+  return Map(*this, std::move(entries), std::move(key_marks));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Map
+
+Map::Map(Value self, std::vector<std::pair<std::string, Value>> entries,
+         std::vector<SourceMark> key_marks)
+    : m_self(std::move(self)), m_entries(std::move(entries)), m_key_marks(std::move(key_marks)) {}
+
+void Map::allow(std::initializer_list<std::string_view> keys) const {
+  for (std::size_t i = 0; i < m_entries.size(); ++i) {
+    bool known = false;
+    for (auto k : keys) known = known || k == m_entries[i].first;
+    if (known) continue;
+    std::string list;
+    for (auto k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+    throw ConfigError(m_self.doc().file, m_key_marks[i], m_entries[i].second.path(),
+                      "unknown key (allowed: " + list + ")");
+  }
+}
+
+bool Map::has(std::string_view key) const {
+  for (const auto& e : m_entries)
+    if (e.first == key) return true;
+  return false;
+}
+
+std::optional<Value> Map::get(std::string_view key) const {
+  for (const auto& e : m_entries)
+    if (e.first == key) return e.second;
+  return std::nullopt;
+}
+
+Value Map::require(std::string_view key, const std::string& what) const {
+  if (auto v = get(key)) return *v;
+  const std::string path =
+      m_self.path().empty() ? std::string(key) : m_self.path() + "." + std::string(key);
+  throw ConfigError(m_self.doc().file, m_self.mark(), path,
+                    "missing required key (allowed: " + what + ")");
+}
+
+double Map::number_or(std::string_view key, double fallback, const Range& r) const {
+  const auto v = get(key);
+  return v ? v->number(r) : fallback;
+}
+
+std::int64_t Map::integer_or(std::string_view key, std::int64_t fallback, std::int64_t lo,
+                             std::int64_t hi) const {
+  const auto v = get(key);
+  return v ? v->integer(lo, hi) : fallback;
+}
+
+bool Map::boolean_or(std::string_view key, bool fallback) const {
+  const auto v = get(key);
+  return v ? v->boolean() : fallback;
+}
+
+Vec3 Map::vec3_or(std::string_view key, const Vec3& fallback, const Range& r) const {
+  const auto v = get(key);
+  return v ? v->vec3(r) : fallback;
+}
+
+Color Map::color_or(std::string_view key, const Color& fallback, const Range& r) const {
+  const auto v = get(key);
+  return v ? v->color(r) : fallback;
+}
+
+}  // namespace tessera::config::detail

@@ -1,0 +1,160 @@
+#pragma once
+// Private: typed, validating access to a yaml-cpp tree. Every accessor either returns a value
+// that satisfies the stated constraint or throws ConfigError at the node's file:line:col with
+// its key path and what is allowed.
+#include <tessera/config/config_error.h>
+#include <tessera/math.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace tessera::config::detail {
+
+/// The file being parsed: what messages call it and what relative names resolve against.
+struct Document {
+  std::string file;
+  std::string base_dir;
+};
+
+/// An interval of allowed numbers, with its description for messages.
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false, hi_open = false;
+
+  static Range any() { return {}; }
+  static Range at_least(double x) { return {x, Range{}.hi, false, false}; }
+  static Range above(double x) { return {x, Range{}.hi, true, false}; }
+  static Range closed(double a, double b) { return {a, b, false, false}; }
+  static Range open(double a, double b) { return {a, b, true, true}; }
+  bool contains(double v) const;
+  /// "(0, 180)", "[0, 1]", "(>= 0)", "(> 0)", "(any finite number)".
+  std::string describe() const;
+};
+
+/// Shortest text that reads back as the same double ("0.5", "270", "1e-07").
+std::string format_number(double v);
+
+class Map;
+
+/// A node plus the key path that leads to it.
+class Value {
+ public:
+  /// `anchor`: the key's position for a mapping value (`anchor_is_key`), otherwise where to
+  /// point when the node itself has no position (an empty list element).
+  Value(YAML::Node node, std::string path, const Document* doc, SourceMark anchor,
+        bool anchor_is_key);
+
+  const std::string& path() const { return m_path; }
+  const Document& doc() const { return *m_doc; }
+  const YAML::Node& node() const { return m_node; }
+  /// 1-based position for messages: a mapping value points at its key (`fov: 270` at `fov`),
+  /// a list element at itself.
+  SourceMark mark() const;
+
+  [[noreturn]] void fail(const std::string& message) const;
+
+  bool is_null() const { return m_node.IsNull(); }
+  bool is_scalar() const { return m_node.IsScalar(); }
+  bool is_map() const { return m_node.IsMap(); }
+  bool is_sequence() const { return m_node.IsSequence(); }
+  /// A scalar (quoted or not) whose text is `word`.
+  bool is_word(std::string_view word) const;
+  /// How the value reads in a message: `270`, `"abc"`, `a mapping`, `a list`, `nothing`.
+  std::string describe() const;
+
+  /// A finite number inside `r`.
+  double number(const Range& r = Range::any()) const;
+  /// An integer in [lo, hi].
+  std::int64_t integer(std::int64_t lo, std::int64_t hi) const;
+  std::uint64_t unsigned64() const;
+  bool boolean() const;
+  /// Any scalar, as text (a non-empty string unless allow_empty).
+  std::string string(bool allow_empty = false) const;
+  /// One of the given words.
+  template <class E>
+  E choice(std::initializer_list<std::pair<const char*, E>> options) const;
+  /// `[x, y, z]`, each inside `r`.
+  Vec3 vec3(const Range& r = Range::any()) const;
+  /// `[r, g, b]`, each inside `r`.
+  Color color(const Range& r) const;
+
+  /// The elements of a list of `min_size` to `max_size` elements; `allowed` says what the list
+  /// should hold, for the message when it is not a list.
+  std::vector<Value> list(const std::string& allowed, std::size_t min_size = 0,
+                          std::size_t max_size = std::numeric_limits<std::size_t>::max()) const;
+  /// The entries of a mapping (keys checked for duplicates); `allowed` is for the message when
+  /// it is not one.
+  Map map(const std::string& allowed = "a mapping") const;
+
+  Value child(const YAML::Node& n, const std::string& key, SourceMark key_mark) const;
+  Value element(const YAML::Node& n, std::size_t index) const;
+
+ private:
+  [[noreturn]] void wrong_type(const std::string& allowed) const;
+  Vec3 triple(const char* shape, const Range& r) const;
+  YAML::Node m_node;
+  std::string m_path;
+  const Document* m_doc;
+  SourceMark m_anchor;
+  bool m_anchor_is_key;
+};
+
+/// A mapping's entries, in document order.
+class Map {
+ public:
+  Map(Value self, std::vector<std::pair<std::string, Value>> entries, std::vector<SourceMark> key_marks);
+
+  /// Throws at the first key not in `keys`, listing them.
+  void allow(std::initializer_list<std::string_view> keys) const;
+  bool has(std::string_view key) const;
+  std::optional<Value> get(std::string_view key) const;
+  /// Throws "missing required key (allowed: `what`)" at the mapping's position.
+  Value require(std::string_view key, const std::string& what) const;
+  const Value& self() const { return m_self; }
+  std::size_t size() const { return m_entries.size(); }
+  const std::vector<std::pair<std::string, Value>>& entries() const { return m_entries; }
+
+  /// Optional-key helpers: the value if present, else `fallback`.
+  double number_or(std::string_view key, double fallback, const Range& r = Range::any()) const;
+  std::int64_t integer_or(std::string_view key, std::int64_t fallback, std::int64_t lo,
+                          std::int64_t hi) const;
+  bool boolean_or(std::string_view key, bool fallback) const;
+  Vec3 vec3_or(std::string_view key, const Vec3& fallback, const Range& r = Range::any()) const;
+  Color color_or(std::string_view key, const Color& fallback, const Range& r) const;
+  template <class E>
+  E choice_or(std::string_view key, E fallback,
+              std::initializer_list<std::pair<const char*, E>> options) const {
+    const auto v = get(key);
+    return v ? v->choice(options) : fallback;
+  }
+
+ private:
+  Value m_self;
+  std::vector<std::pair<std::string, Value>> m_entries;
+  std::vector<SourceMark> m_key_marks;
+};
+
+/// "a, b or c" from a list of words.
+std::string join_words(const std::vector<std::string>& words, const char* last_sep = " or ");
+
+template <class E>
+E Value::choice(std::initializer_list<std::pair<const char*, E>> options) const {
+  std::vector<std::string> names;
+  for (const auto& [name, e] : options) {
+    if (is_word(name)) return e;
+    names.emplace_back(name);
+  }
+  if (is_scalar()) fail(describe() + " is not allowed (allowed: " + join_words(names) + ")");
+  wrong_type(join_words(names));
+}
+
+}  // namespace tessera::config::detail

@@ -1,0 +1,194 @@
+// tessera-render end to end, on a small synthetic volume written by the test: outputs, -o,
+// flag overrides, --stats, and one-line errors with exit status 1.
+#include "../config/test_support.h"
+
+#include <tessera/image_io.h>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#ifndef TESSERA_RENDER_EXE
+#error "TESSERA_RENDER_EXE must name the tessera-render executable"
+#endif
+
+using tessera::config::test::TempDir;
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  int status;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs tessera-render with `args` inside `dir`, capturing stdout and stderr.
+Run run_cli(const TempDir& dir, const std::string& args) {
+  const std::string cmd = "cd '" + dir.path().string() + "' && '" TESSERA_RENDER_EXE "' " + args +
+                          " > cli.out 2> cli.err";
+  const int raw = std::system(cmd.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir.path() / "cli.out"),
+          slurp(dir.path() / "cli.err")};
+}
+
+/// A 12^3 float32 Gaussian blob (values 300..400) and a scene with two renders.
+void write_scene(const TempDir& dir) {
+  const int n = 12;
+  std::vector<float> v;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x = (i - 5.5) / 3.0, y = (j - 5.5) / 3.0, z = (k - 5.5) / 3.0;
+        v.push_back(static_cast<float>(300.0 + 100.0 * std::exp(-(x * x + y * y + z * z))));
+      }
+  std::ofstream(dir.file("blob.raw"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
+  dir.write("scene.yaml", R"(tessera:
+  output_dir: results
+volume:
+  file: blob.raw
+  dims: [12, 12, 12]
+  dtype: float32
+  spacing: [0.5, 0.5, 0.5]
+renders:
+  - name: front
+    image: {width: 24, height: 16, spp: 2}
+    camera:
+      position: {orbit: {azimuth: 30, elevation: 20, distance: 3}}
+    transfer_function:
+      range: auto
+      density_scale: 1.5
+      opacity: [[0, 0], [1, 1]]
+      diffuse: viridis
+    lights:
+      - {type: rect, position: {orbit: {azimuth: 0, elevation: 60, distance: 3}}, size: {relative: 0.5}, intensity: 5}
+    background: {type: constant, color: [0.1, 0.1, 0.12]}
+    integrator: {tile: 4}
+  - name: side
+    image: {width: 16, height: 16, spp: 1}
+    camera: {position: [20, 2.75, 2.75]}
+    transfer_function: {range: [300, 400], opacity: [[0, 0], [1, 1]]}
+    output: {file: "{name}/img_{step:03d}", formats: [exr]}
+)");
+}
+
+}  // namespace
+
+TEST_CASE("tessera-render writes every render's outputs and statistics", "[cli]") {
+  TempDir dir;
+  write_scene(dir);
+  const Run r = run_cli(dir, "scene.yaml --quiet --stats stats/run.json");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.out.empty());
+  CHECK(r.err.empty());
+  CHECK(fs::exists(dir.path() / "results/front_000000.exr"));
+  CHECK(fs::exists(dir.path() / "results/front_000000.png"));
+  CHECK(fs::exists(dir.path() / "results/side/img_000.exr"));
+  CHECK_FALSE(fs::exists(dir.path() / "results/side/img_000.png"));
+
+  const tessera::Image img = tessera::read_exr(dir.file("results/front_000000.exr"));
+  CHECK(img.width == 24);
+  CHECK(img.height == 16);
+
+  const std::string json = slurp(dir.path() / "stats/run.json");
+  for (const char* key : {"wall_seconds", "samples", "samples_per_second", "density_lookups",
+                          "free_flight_lookups", "transmittance_lookups", "real_collisions",
+                          "null_collisions", "nan_voxels_seen", "discarded_samples", "tiles_total",
+                          "tiles_skipped", "threads", "lookups_per_real_collision", "renders"})
+    CHECK_THAT(json, Contains(std::string("\"") + key + "\":"));
+  // Totals: 24*16*2 + 16*16*1 samples
+  CHECK_THAT(json, Contains("\"samples\": 1024,"));
+  CHECK_THAT(json, Contains("\"name\": \"front\""));
+  CHECK_THAT(json, Contains("\"name\": \"side\""));
+}
+
+TEST_CASE("tessera-render -o and flag overrides", "[cli]") {
+  TempDir dir;
+  write_scene(dir);
+
+  // -o OUT without extension: OUT.exr and OUT.png per formats
+  Run r = run_cli(dir, "scene.yaml --render front -o pics/one --spp 3 --width 20 --height 10");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Contains("front: 20x10, 3 spp"));
+  CHECK(fs::exists(dir.path() / "pics/one.exr"));
+  CHECK(fs::exists(dir.path() / "pics/one.png"));
+  CHECK(tessera::read_exr(dir.file("pics/one.exr")).width == 20);
+
+  // -o OUT.png: that format only; several renders get _NAME
+  r = run_cli(dir, "scene.yaml -o two.png --quiet");
+  REQUIRE(r.status == 0);
+  CHECK(fs::exists(dir.path() / "two_front.png"));
+  CHECK(fs::exists(dir.path() / "two_side.png"));
+  CHECK_FALSE(fs::exists(dir.path() / "two_front.exr"));
+
+  // Threads, tile size and scanline order do not change the image (bit-identical)
+  REQUIRE(run_cli(dir, "scene.yaml --render front -o a.exr --threads 1 --tile 3 --quiet").status == 0);
+  REQUIRE(run_cli(dir, "scene.yaml --render front -o b.exr --threads 2 --scanline --quiet").status == 0);
+  REQUIRE(run_cli(dir, "scene.yaml --render front -o c.exr --seed 12345 --quiet").status == 0);
+  const auto a = tessera::read_exr(dir.file("a.exr"));
+  const auto b = tessera::read_exr(dir.file("b.exr"));
+  const auto c = tessera::read_exr(dir.file("c.exr"));
+  CHECK(a.rgba == b.rgba);
+  CHECK(a.rgba != c.rgba);  // another seed, another noise
+}
+
+TEST_CASE("tessera-render errors are one line and exit status 1", "[cli]") {
+  TempDir dir;
+  write_scene(dir);
+  const auto one_line_error = [](const Run& r) {
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, StartsWith("tessera-render: error: "));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  };
+
+  Run r = run_cli(dir, "scene.yaml --render nope");
+  one_line_error(r);
+  CHECK_THAT(r.err, Contains("nope"));
+  CHECK_THAT(r.err, Contains("front, side"));
+
+  one_line_error(r = run_cli(dir, "scene.yaml --tile 4 --scanline"));
+  one_line_error(r = run_cli(dir, "scene.yaml --spp zero"));
+  CHECK_THAT(r.err, Contains("--spp"));
+  one_line_error(r = run_cli(dir, "scene.yaml --frobnicate"));
+  one_line_error(r = run_cli(dir, ""));
+  one_line_error(r = run_cli(dir, "missing.yaml"));
+  CHECK_THAT(r.err, Contains("missing.yaml"));
+
+  // Config errors keep their file:line:col
+  dir.write("bad.yaml", "renders:\n  - name: a\n    camera: {position: [0, 0, 5], fov: 270}\n");
+  one_line_error(r = run_cli(dir, "bad.yaml"));
+  CHECK_THAT(r.err, Contains("bad.yaml:3:35: renders[0].camera.fov: 270 is out of range (0, 180)"));
+
+  // No volume block; a volume file of the wrong size
+  dir.write("novol.yaml", "renders:\n  - name: a\n    camera: {position: [0, 0, 5]}\n"
+                          "    transfer_function: {opacity: [[0, 1]]}\n");
+  one_line_error(r = run_cli(dir, "novol.yaml"));
+  CHECK_THAT(r.err, Contains("volume"));
+  dir.write("short.raw", std::string(10, '\0'));
+  dir.write("short.yaml", "volume: {file: short.raw, dims: [2, 2, 2], dtype: float32}\n"
+                          "renders:\n  - name: a\n    camera: {position: [0, 0, 5]}\n"
+                          "    transfer_function: {opacity: [[0, 1]]}\n");
+  one_line_error(r = run_cli(dir, "short.yaml"));
+  CHECK_THAT(r.err, Contains("expected 32"));
+
+  // --help succeeds
+  r = run_cli(dir, "--help");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Contains("usage: tessera-render SCENE.yaml"));
+}
