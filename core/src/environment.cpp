@@ -54,7 +54,7 @@ Environment::Environment(const BackgroundDesc& desc)
 
 void Environment::to_uv(const Vec3& d, double* u, double* v) const {
   const Vec3 l = m_frame.to_local(d);
-  const double theta = std::acos(std::clamp(l.z, -1.0, 1.0));
+  const double theta = std::atan2(std::hypot(l.x, l.y), l.z);  // exact near the poles, unlike acos
   double phi = std::atan2(l.y, l.x);
   if (phi < 0.0) phi += 2.0 * kPi;
   *u = std::min(phi / (2.0 * kPi), 1.0 - 1e-16);

@@ -36,6 +36,8 @@ class PathTracer {
 
   SampleResult li(Ray ray, Rng& rng, KernelCounters& k) const {
     const IntegratorDesc& in = m_s.desc.integrator;
+    // Single scattering is the path tracer with one real collision (spec section 6).
+    const int max_depth = in.scattering == Scattering::Single ? 1 : in.max_bounces;
     SampleResult out;
     Color beta(1.0);
     bool from_camera = true;
@@ -101,7 +103,7 @@ class PathTracer {
       beta *= weight;
       if (is_black(beta)) break;
       const Ray next{x, wi};
-      if (depth >= in.max_bounces) {
+      if (depth >= max_depth) {
         // Last collision: the sampled direction only gathers emitters, with transmittance.
         gather_with_transmittance(next, pdf_dir, beta, rng, k, out.L);
         break;

@@ -136,6 +136,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   // Integer counters: the sum is the same whatever the schedule.
   for (const RenderStats& t : per_tile) stats.add_counters(t);
   stats.tiles_total += tile_indices.size();
+  stats.nan_voxels_seen = s.grid.nan_vertices();  // a property of the field, counted at prepare
   stats.threads = threads;
   stats.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
 }
