@@ -7,13 +7,26 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <numeric>
 #include <stdexcept>
 
 namespace tessera {
 namespace {
+
+/// Adaptive sampling: a pixel stops once it has min_spp samples and the relative standard
+/// error of its mean luminance, sqrt(var / n) / max(mean, 0.01), is below `target`. A pure
+/// function of the pixel's own sums, so the decision does not depend on tiles, threads or ranks.
+inline bool pixel_converged(const PixelSums& px, int min_spp, double target) {
+  if (px.n < static_cast<std::uint64_t>(min_spp) || px.n < 2) return false;
+  const double n = static_cast<double>(px.n);
+  const double mean = px.lum / n;
+  const double var = std::max(0.0, (px.lum2 - px.lum * mean) / (n - 1.0));
+  return std::sqrt(var / n) < target * std::max(mean, 0.01);
+}
 
 /// Render every sample of one tile: all spp estimates of the tile before the next tile.
 template <class T, Shading S, bool kEmission>
@@ -25,10 +38,13 @@ void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium, const 
   if (culled) ++st.tiles_skipped;
   const int spp = s.desc.image.spp;
   const int width = s.desc.image.width;
+  const double target = s.desc.image.target_error;
+  const int min_spp = std::min(spp, std::max(8, spp / 16));
   for (int si = 0; si < spp; ++si) {
     for (int y = tile.y0; y < tile.y1; ++y) {
       for (int x = tile.x0; x < tile.x1; ++x) {
         PixelSums& px = film.at(x, y);
+        if (target > 0.0 && pixel_converged(px, min_spp, target)) continue;
         const std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
         Rng rng(s.desc.options.seed, s.desc.options.frame, pixel, px.drawn);
         ++px.drawn;

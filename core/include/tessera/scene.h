@@ -21,7 +21,9 @@ struct VolumeGeometry {
 struct ImageDesc {
   int width = 512, height = 512;
   int spp = 16;                  ///< samples per pixel per render call
-  double target_error = 0.0;     ///< 0 = off (adaptive sampling; reserved)
+  /// Adaptive sampling, 0 = off: a pixel stops after min(spp, max(8, spp/16)) samples once the
+  /// relative standard error of its mean luminance is below this (docs/physics.md).
+  double target_error = 0.0;
 };
 
 struct RenderOptions {
