@@ -10,9 +10,9 @@ namespace tessera::config::detail {
 IntegratorSpec parse_integrator(const Value& v) {
   const Map m = v.map("a mapping with keys scattering, max_bounces, rr_depth, shading, "
                       "gradient_factor, phase_g, free_path, majorant, macrocell, step, shadow, "
-                      "shadow_roulette, seed, tile, tile_order");
+                      "shadow_roulette, culling, seed, tile, tile_order");
   m.allow({"scattering", "max_bounces", "rr_depth", "shading", "gradient_factor", "phase_g",
-           "free_path", "majorant", "macrocell", "step", "shadow", "shadow_roulette", "seed",
+           "free_path", "majorant", "macrocell", "step", "shadow", "shadow_roulette", "culling", "seed",
            "tile", "tile_order"});
   IntegratorSpec s;
   IntegratorDesc& d = s.desc;
@@ -34,6 +34,7 @@ IntegratorSpec parse_integrator(const Value& v) {
   d.shadow = m.choice_or<ShadowMode>(
       "shadow", d.shadow, {{"ratio", ShadowMode::Ratio}, {"delta", ShadowMode::Delta}});
   d.shadow_roulette = m.boolean_or("shadow_roulette", d.shadow_roulette);
+  d.culling = m.boolean_or("culling", d.culling);
   if (const auto seed = m.get("seed")) s.seed = seed->unsigned64();
   s.tile = static_cast<int>(m.integer_or("tile", s.tile, 0, 16384));
   s.tile_order = m.choice_or<TileOrder>(

@@ -262,6 +262,8 @@ void emit_integrator(YAML::Emitter& out, const IntegratorSpec& s) {
   out << (d.shadow == ShadowMode::Ratio ? "ratio" : "delta");
   key(out, "shadow_roulette");
   out << d.shadow_roulette;
+  key(out, "culling");
+  out << d.culling;
   key(out, "seed");
   out << std::to_string(s.seed);
   key(out, "tile");

@@ -30,7 +30,7 @@ bool project_box(const Camera& cam, const Vec3& lo, const Vec3& hi, ScreenBox* o
 
 std::vector<std::uint8_t> cull_tiles(const PreparedSceneImpl& p) {
   std::vector<std::uint8_t> culled(p.tiles.size(), 0);
-  if (!p.camera.is_pinhole()) return culled;
+  if (!p.desc.integrator.culling || !p.camera.is_pinhole()) return culled;
   // World boxes of everything a camera ray can meet besides the background.
   std::vector<std::pair<Vec3, Vec3>> boxes;
   if (p.grid.max_majorant() > 0.0) boxes.emplace_back(p.bounds.lo, p.bounds.hi);

@@ -19,10 +19,11 @@ struct IntegratorDesc {
   double phase_g = 0.0;          ///< Henyey-Greenstein g in (-1, 1)
   FreePath free_path = FreePath::Delta;
   MajorantMode majorant = MajorantMode::Grid;
-  int macrocell = 16;            ///< macrocell edge in voxels (grid majorant)
+  int macrocell = 8;             ///< macrocell edge in voxels (grid majorant)
   double step = 0.5;             ///< raymarch step, in voxels (of the smallest spacing)
   ShadowMode shadow = ShadowMode::Ratio;
   bool shadow_roulette = true;   ///< Russian roulette on ratio-tracking throughput < 0.1
+  bool culling = true;           ///< fill tiles that see only the background without tracing
 };
 
 }  // namespace tessera
