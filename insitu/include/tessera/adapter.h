@@ -1,0 +1,98 @@
+#pragma once
+/// tessera::insitu::Adapter: the C++ face of the in situ adapter (docs/insitu.md), in the
+/// style of Ascent's open / execute / close. The C API (tessera.h) is a thin wrapper over it.
+///
+/// Lifetime: open() once, execute() once per simulation step, close() at the end (the
+/// destructor closes too). Field memory is described with the C descriptors tessera_field
+/// and tessera_grid, read in place, only during execute(), only when a render fires.
+///
+/// Errors: open/execute/close return a status and never throw, except that with
+/// `on_error: abort` in the config a failing execute() throws AdapterError (and so does every
+/// later execute()). open() never throws. last_error() holds the message of the last failing
+/// call ("" after a call that succeeded). See docs/insitu.md for on_error warn / disable.
+///
+/// Thread safety: one Adapter must not be used by two threads at once. With MPI, open,
+/// execute and close are collective over the communicator.
+#include <tessera/image.h>
+#include <tessera/stats.h>
+#include <tessera/tessera.h>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace tessera::insitu {
+
+/// What `on_error: abort` throws out of open/execute; status() tells what failed.
+class AdapterError : public std::runtime_error {
+ public:
+  AdapterError(tessera_status status, const std::string& message)
+      : std::runtime_error(message), m_status(status) {}
+  tessera_status status() const { return m_status; }
+
+ private:
+  tessera_status m_status;
+};
+
+/// The outcome of one render in the last execute() call (one entry per render that fired).
+struct RenderResult {
+  std::string name;                   ///< the render's name in the config
+  std::int64_t step = 0;
+  double time = 0.0;
+  tessera_status status = TESSERA_OK; ///< TESSERA_OK or what failed
+  std::string error;                  ///< "" when status is TESSERA_OK
+  std::vector<std::string> files;     ///< files written (rank 0 only; empty on other ranks)
+  double render_seconds = 0.0;        ///< rendering only (all cameras for a Cinema render)
+  double samples_per_second = 0.0;    ///< stats.samples / render_seconds
+  RenderStats stats;                  ///< summed over ranks on rank 0 (and over Cinema cameras)
+};
+
+class Adapter {
+ public:
+  Adapter();
+  ~Adapter();
+  Adapter(const Adapter&) = delete;
+  Adapter& operator=(const Adapter&) = delete;
+  Adapter(Adapter&&) noexcept;
+  Adapter& operator=(Adapter&&) noexcept;
+
+  /// Loads and validates the YAML config (TESSERA_ERROR_CONFIG: the message names
+  /// file:line:column and key path), creates output_dir and writes the effective config to
+  /// output_dir/tessera_effective_config.yaml (rank 0, atomically; TESSERA_ERROR_IO).
+  /// mpi_comm_f: MPI_Comm_c2f(comm), or -1 for no MPI. A second open() closes the first.
+  tessera_status open(const std::string& yaml_path, int mpi_comm_f = -1);
+
+  /// Evaluates the triggers for `step` and renders what fires (see tessera_execute). With
+  /// final_step and the global option render_final_step, every render fires (the C API's
+  /// tessera_execute_final). Returns TESSERA_OK, or the status of the first render that
+  /// failed in this call (the others still run unless on_error is abort), or
+  /// TESSERA_ERROR_DISABLED when a render that fired is disabled (on_error: disable).
+  tessera_status execute(std::int64_t step, double time, const tessera_grid& grid,
+                         std::span<const tessera_field> fields, bool final_step = false);
+
+  /// Releases everything. Idempotent. Returns TESSERA_OK.
+  tessera_status close() noexcept;
+
+  bool is_open() const noexcept;
+  /// "" after a call that succeeded.
+  const std::string& last_error() const noexcept;
+  /// One entry per render that fired in the last execute(), in config order; empty when
+  /// nothing fired. Valid until the next execute() or close().
+  const std::vector<RenderResult>& last_results() const noexcept;
+  /// Rank 0: the last image rendered by the render called `name` (for a Cinema render, its
+  /// main camera); nullptr if it has not rendered successfully or on other ranks. Valid until
+  /// that render renders again, or close().
+  const Image* last_image(const std::string& name) const noexcept;
+  /// Quiet: no per-render log line (failures are still logged). Default false.
+  void set_quiet(bool quiet) noexcept;
+
+ private:
+  struct Impl;
+  friend struct ::tessera_adapter;  // the C API wraps an Impl
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace tessera::insitu

@@ -1,0 +1,101 @@
+/* Tessera in situ C API (spec/interfaces.md section 3; docs/c-api.md).
+ *
+ * A simulation opens an adapter once with a YAML config, calls tessera_execute once per
+ * step with descriptors of its own arrays, and closes it at the end. Field memory is read in
+ * place, only during tessera_execute / tessera_execute_final, and only when a render fires:
+ * a call where no trigger fires returns without touching it. No function lets an exception,
+ * a signal or an abort out, whatever the input; with `on_error: abort` a failure makes every
+ * later tessera_execute return that error.
+ *
+ * Thread safety: one adapter must not be used by two threads at once; distinct adapters are
+ * independent. With MPI every call except tessera_last_error is collective over the
+ * communicator given to tessera_open.
+ *
+ * C99-compatible; usable from C++ (extern "C"). */
+#ifndef TESSERA_TESSERA_H
+#define TESSERA_TESSERA_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct tessera_adapter tessera_adapter; /* opaque */
+
+typedef enum {
+  TESSERA_OK = 0,
+  TESSERA_ERROR_CONFIG,   /* the YAML config failed to load (file:line:col: key: fault) */
+  TESSERA_ERROR_DATA,     /* a field or grid descriptor is invalid */
+  TESSERA_ERROR_RENDER,   /* preparing or rendering failed (camera, envmap, MPI, ...) */
+  TESSERA_ERROR_IO,       /* an output could not be written */
+  TESSERA_ERROR_DISABLED  /* on_error: disable: a render failed max_failures times in a row */
+} tessera_status;
+
+typedef enum {
+  TESSERA_UINT8,
+  TESSERA_INT16,
+  TESSERA_UINT16,
+  TESSERA_FLOAT32,
+  TESSERA_FLOAT64
+} tessera_dtype;
+
+/* One scalar field on a uniform grid, never copied. Vertex-centred: element (i, j, k) of the
+ * array, ghosts included, lies at data + i*byte_strides[0] + j*byte_strides[1] +
+ * k*byte_strides[2]; i need not be the fastest axis (any positive or negative strides whose
+ * elements do not overlap). */
+typedef struct {
+  const char*   name;
+  const void*   data;             /* first element of the array as the simulation holds it */
+  tessera_dtype dtype;
+  int64_t       dims[3];          /* local array extent incl. ghosts, i j k */
+  int64_t       byte_strides[3];  /* distance in bytes between neighbours along i j k */
+  int64_t       ghosts_lo[3];     /* ghost layers to skip at the low end of each axis */
+  int64_t       ghosts_hi[3];     /*   ... and at the high end */
+} tessera_field;
+
+/* Where this rank's real (non-ghost) vertices sit globally. */
+typedef struct {
+  double  origin[3];              /* world position of global vertex (0,0,0) */
+  double  spacing[3];             /* > 0 and finite */
+  int64_t global_dims[3];         /* vertices of the whole domain */
+  int64_t offset[3];              /* global index of this rank's first real vertex */
+} tessera_grid;
+
+/* Loads and validates the config (errors name file:line:column and key path), creates
+ * output_dir and writes output_dir/tessera_effective_config.yaml (rank 0). mpi_comm_f: a
+ * Fortran communicator handle (MPI_Comm_c2f(comm)) or -1 for no MPI. On failure *out is set
+ * to NULL and tessera_last_error(NULL) describes the fault. */
+tessera_status tessera_open(const char* yaml_path, int mpi_comm_f, tessera_adapter** out);
+
+/* Evaluates every render's trigger for this step and renders those that fire. Returns at
+ * once, touching no field data (nor the descriptors), when none fires. The descriptors and
+ * the memory they point at need only be valid during the call. Returns TESSERA_OK, else the
+ * status of the first render that failed (with on_error warn or disable the other renders
+ * still run), else TESSERA_ERROR_DISABLED if a render that fired has been disabled (after
+ * max_failures consecutive failures; once every render is, at once). */
+tessera_status tessera_execute(tessera_adapter* adapter, int64_t step, double time,
+                               const tessera_grid* grid, const tessera_field* fields,
+                               int nfields);
+
+/* As tessera_execute, for the simulation's last step: with the global option
+ * render_final_step: true every render fires, whatever its trigger; otherwise the same as
+ * tessera_execute. (Field memory is not valid at tessera_close, so the final render happens
+ * here.) An addition to interfaces.md section 3. */
+tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, double time,
+                                     const tessera_grid* grid, const tessera_field* fields,
+                                     int nfields);
+
+/* Releases the adapter (NULL is allowed and returns TESSERA_OK). */
+tessera_status tessera_close(tessera_adapter* adapter);
+
+/* The adapter's last error message, or "" if the last call succeeded; with NULL, the calling
+ * thread's last tessera_open failure. Valid until the next call on the same adapter (or, for
+ * NULL, the next tessera_open on this thread). Never NULL. */
+const char* tessera_last_error(const tessera_adapter* adapter);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* TESSERA_TESSERA_H */

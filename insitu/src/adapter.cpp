@@ -1,0 +1,46 @@
+// tessera::insitu::Adapter: the public C++ class, forwarding to Adapter::Impl; adds the
+// `on_error: abort` rethrow, which the C API leaves out.
+#include <tessera/adapter.h>
+
+#include "adapter_impl.h"
+
+namespace tessera::insitu {
+
+Adapter::Adapter() : m_impl(std::make_unique<Impl>()) {}
+Adapter::~Adapter() {
+  if (m_impl) m_impl->close();
+}
+Adapter::Adapter(Adapter&&) noexcept = default;
+Adapter& Adapter::operator=(Adapter&&) noexcept = default;
+
+tessera_status Adapter::open(const std::string& yaml_path, int mpi_comm_f) {
+  return m_impl->open(yaml_path.c_str(), mpi_comm_f);
+}
+
+tessera_status Adapter::execute(std::int64_t step, double time, const tessera_grid& grid,
+                                std::span<const tessera_field> fields, bool final_step) {
+  const tessera_status s = m_impl->execute(step, time, &grid, fields.data(),
+                                           static_cast<std::int64_t>(fields.size()), final_step);
+  if (s != TESSERA_OK && m_impl->abort_mode()) throw AdapterError(s, m_impl->m_error);
+  return s;
+}
+
+tessera_status Adapter::close() noexcept {
+  m_impl->close();
+  m_impl->m_error.clear();
+  return TESSERA_OK;
+}
+
+bool Adapter::is_open() const noexcept { return m_impl->m_ctx != nullptr; }
+const std::string& Adapter::last_error() const noexcept { return m_impl->m_error; }
+const std::vector<RenderResult>& Adapter::last_results() const noexcept { return m_impl->m_results; }
+
+const Image* Adapter::last_image(const std::string& name) const noexcept {
+  for (const RenderState& r : m_impl->m_renders)
+    if (r.spec->name == name) return r.last_image ? &*r.last_image : nullptr;
+  return nullptr;
+}
+
+void Adapter::set_quiet(bool quiet) noexcept { m_impl->m_quiet = quiet; }
+
+}  // namespace tessera::insitu

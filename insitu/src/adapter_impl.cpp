@@ -1,0 +1,171 @@
+#include "adapter_impl.h"
+
+#include "outputs.h"
+
+#include <filesystem>
+
+namespace tessera::insitu {
+
+tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f) noexcept {
+  close();
+  try {
+    // Communicator
+    try {
+      m_ctx = ParallelContext::create(mpi_comm_f);
+    } catch (const std::exception& e) {
+      m_error = std::string("cannot use MPI communicator ") + std::to_string(mpi_comm_f) + ": " + e.what();
+      return TESSERA_ERROR_CONFIG;
+    }
+
+    // Config: loaded and fully validated on every rank; all fail if one does
+    bool ok = true;
+    std::string fault;
+    try {
+      if (!yaml_path) throw std::invalid_argument("config path is NULL");
+      m_config = config::load_config(yaml_path);
+    } catch (const std::exception& e) {
+      ok = false;
+      fault = e.what();
+    }
+    if (!m_ctx->agree(ok)) {
+      m_error = ok ? "the config failed to load on another rank" : fault;
+      close();
+      return TESSERA_ERROR_CONFIG;
+    }
+    m_policy = ErrorPolicy(m_config.global.on_error, m_config.global.max_failures,
+                           m_config.renders.size());
+
+    // Output directory and the effective config, written by rank 0
+    try {
+      if (m_ctx->rank() == 0) {
+        ensure_directory(m_config.global.output_dir);
+        write_text_atomic(
+            (std::filesystem::path(m_config.global.output_dir) / "tessera_effective_config.yaml").string(),
+            config::to_yaml(m_config));
+      }
+    } catch (const std::exception& e) {
+      ok = false;
+      fault = e.what();
+    }
+    if (!m_ctx->agree(ok)) {
+      m_error = ok ? "rank 0 could not write the effective config" : fault;
+      m_policy = ErrorPolicy();
+      close();
+      return TESSERA_ERROR_IO;
+    }
+
+    m_renders.reserve(m_config.renders.size());
+    for (const config::RenderSpec& spec : m_config.renders) m_renders.emplace_back(spec);
+    m_decisions.assign(m_renders.size(), Decision::Skip);
+    m_error.clear();
+    return TESSERA_OK;
+  } catch (const std::exception& e) {
+    m_error = std::string("tessera_open: ") + e.what();
+  } catch (...) {
+    m_error = "tessera_open: unknown exception";
+  }
+  close();
+  return TESSERA_ERROR_CONFIG;
+}
+
+tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tessera_grid* grid,
+                                      const tessera_field* fields, std::int64_t nfields,
+                                      bool final_step) noexcept {
+  try {
+    m_results.clear();
+    m_error.clear();
+    if (!m_ctx) {
+      m_error = "the adapter is not open";
+      return TESSERA_ERROR_CONFIG;
+    }
+    if (m_policy.blocked()) {
+      m_error = m_policy.blocked_message();
+      return m_policy.blocked_status();
+    }
+
+    // Triggers, decided from the step alone where possible: no field memory touched yet
+    const bool force = final_step && m_config.global.render_final_step;
+    bool any = false;
+    for (std::size_t i = 0; i < m_renders.size(); ++i) {
+      const Trigger& t = m_renders[i].trigger;
+      m_decisions[i] = force                   ? Decision::Fire
+                       : t.needs_field_max()   ? Decision::WhenTrigger
+                       : t.fires_on_step(step) ? Decision::Fire
+                                               : Decision::Skip;
+      any = any || m_decisions[i] != Decision::Skip;
+    }
+    if (!any) return TESSERA_OK;
+
+    // Renders that fire (or may: `when`), in config order
+    m_call.step = step;
+    m_call.time = time;
+    m_call.grid = grid;
+    m_call.fields = fields;
+    m_call.nfields = nfields;
+    m_call.ranges.clear();
+    m_call.assembled_key.reset();
+    tessera_status status = TESSERA_OK;
+    const config::RenderSpec* skipped = nullptr;  // a disabled render that would have fired
+    const bool root = m_ctx->rank() == 0;
+    for (std::size_t i = 0; i < m_renders.size() && !m_policy.blocked(); ++i) {
+      if (m_decisions[i] == Decision::Skip) continue;
+      if (m_policy.disabled(i)) {
+        if (m_decisions[i] == Decision::Fire && !skipped) skipped = m_renders[i].spec;
+        continue;
+      }
+      PassOutcome out = run_render(*m_ctx, m_config, m_renders[i], m_call,
+                                   m_decisions[i] == Decision::WhenTrigger, m_quiet);
+      if (!out.fired) continue;
+      if (out.result.status == TESSERA_OK) {
+        m_policy.record_success(i);
+      } else {
+        if (out.report_here) log_line(out.result.error);
+        if (m_policy.record_failure(i, out.result.status, out.result.error) && root)
+          log_line("render '" + m_renders[i].spec->name + "' disabled after " +
+                   std::to_string(m_policy.max_failures()) + " consecutive failures (on_error: disable)");
+        if (status == TESSERA_OK) {
+          status = out.result.status;
+          m_error = out.result.error;
+        }
+      }
+      m_results.push_back(std::move(out.result));
+    }
+    if (m_policy.blocked() && root) log_line(m_policy.blocked_message());
+    if (status == TESSERA_OK && skipped) {
+      status = TESSERA_ERROR_DISABLED;
+      m_error = "render '" + skipped->name + "' is disabled after " +
+                std::to_string(m_policy.max_failures()) + " consecutive failures (on_error: disable)";
+    }
+    // The descriptors are only valid during this call
+    m_call.grid = nullptr;
+    m_call.fields = nullptr;
+    m_call.assembled_key.reset();
+    m_call.assembled = FieldView{};
+    return status;
+  } catch (const std::exception& e) {
+    try {
+      m_error = std::string("tessera_execute: ") + e.what();
+    } catch (...) {
+    }
+  } catch (...) {
+    try {
+      m_error = "tessera_execute: unknown exception";
+    } catch (...) {
+    }
+  }
+  return TESSERA_ERROR_RENDER;
+}
+
+void Adapter::Impl::close() noexcept {
+  m_results.clear();
+  m_renders.clear();
+  m_decisions.clear();
+  m_call = CallData{};
+  try {
+    m_ctx.reset();
+  } catch (...) {
+    // A context that cannot be released cleanly is dropped all the same
+  }
+}
+
+}  // namespace tessera::insitu

@@ -1,0 +1,44 @@
+#pragma once
+/// Adapter::Impl: the adapter's state and its open / execute / close logic. Shared by the C++
+/// class (adapter.cpp, which adds the `on_error: abort` rethrow) and the C API (c_api.cpp).
+/// No member throws.
+#include "error_policy.h"
+#include "parallel_context.h"
+#include "render_pass.h"
+
+#include <tessera/adapter.h>
+#include <tessera/config/config.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace tessera::insitu {
+
+struct Adapter::Impl {
+  tessera_status open(const char* yaml_path, int mpi_comm_f) noexcept;
+  /// fields/nfields as the C API receives them; checked only if a render fires.
+  tessera_status execute(std::int64_t step, double time, const tessera_grid* grid,
+                         const tessera_field* fields, std::int64_t nfields,
+                         bool final_step) noexcept;
+  void close() noexcept;
+
+  /// True once a config with `on_error: abort` is loaded.
+  bool abort_mode() const { return m_ctx && m_policy.mode() == config::OnError::Abort; }
+
+  config::Config m_config;
+  std::unique_ptr<ParallelContext> m_ctx;  ///< null while not open
+  std::vector<RenderState> m_renders;      ///< one per config render, pointing into m_config
+  ErrorPolicy m_policy;
+  std::string m_error;
+  std::vector<RenderResult> m_results;
+  bool m_quiet = false;
+
+ private:
+  enum class Decision : unsigned char { Skip, Fire, WhenTrigger };
+  std::vector<Decision> m_decisions;  ///< per render, sized at open: no allocation per call
+  CallData m_call;
+};
+
+}  // namespace tessera::insitu

@@ -1,0 +1,42 @@
+#pragma once
+/// From the simulation's descriptors (tessera_field, tessera_grid) to a validated, zero-copy
+/// tessera::FieldView of this rank's real vertices and its place in the global grid.
+///
+/// Nothing here reads field memory: validation looks at the descriptors and pointer values
+/// only. Every function throws std::invalid_argument with a message that names the field and
+/// the fault (TESSERA_ERROR_DATA at the adapter boundary).
+#include "parallel_context.h"
+
+#include <tessera/field_view.h>
+#include <tessera/scene.h>
+#include <tessera/tessera.h>
+
+#include <span>
+#include <string>
+
+namespace tessera::insitu {
+
+/// A field bound for one execute call: valid only during that call.
+struct FieldBinding {
+  FieldView local;            ///< this rank's real vertices, in the simulation's memory
+  GlobalPlacement placement;  ///< where they sit in the global grid
+  VolumeGeometry geometry;    ///< world placement of global vertex (0,0,0) and the spacing
+  Bounds global_bounds;       ///< world bounds of the whole domain
+};
+
+/// Index of the field the render uses: `field_name`, or the only published field when the
+/// render names none. Also rejects null or duplicate names among `fields`.
+int find_field(std::span<const tessera_field> fields, const std::string& field_name,
+               const std::string& render_name);
+
+/// Validates `field` and `grid` together: dtype in range, data non-null, dims >= 1, ghost
+/// widths >= 0 and < dims, strides non-zero, non-overlapping and within the address space,
+/// spacing finite and > 0, origin finite, global_dims >= 1, offset >= 0 and real extent +
+/// offset <= global_dims.
+FieldBinding bind_field(const tessera_field& field, const tessera_grid& grid);
+
+/// For a single rank: its real vertices must be the whole grid (offset 0, real dims ==
+/// global_dims).
+void require_whole_grid(const tessera_field& field, const FieldBinding& binding);
+
+}  // namespace tessera::insitu

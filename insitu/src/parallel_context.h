@@ -1,0 +1,57 @@
+#pragma once
+/// ParallelContext: everything the adapter needs from MPI, behind one small interface, so the
+/// adapter logic is the same with and without MPI.
+///
+/// Two implementations, chosen at build time: parallel_context_serial.cpp (no MPI; a single
+/// rank) and parallel_context_mpi.cpp (TESSERA_WITH_MPI). Every member is collective: all ranks
+/// of the communicator call it in the same order. Errors throw std::runtime_error; callers must
+/// first agree() on local failures so that no rank is left waiting in a collective.
+#include <tessera/field_view.h>
+#include <tessera/film.h>
+#include <tessera/render.h>
+#include <tessera/stats.h>
+
+#include <cstdint>
+#include <memory>
+#include <utility>
+
+namespace tessera::insitu {
+
+/// Where this rank's real vertices sit in the global grid (see tessera_grid in tessera.h).
+struct GlobalPlacement {
+  std::int64_t global_dims[3];
+  std::int64_t offset[3];
+};
+
+class ParallelContext {
+ public:
+  /// comm_f: a Fortran MPI communicator handle (MPI_Comm_c2f), or -1 for no MPI (one rank).
+  /// Throws if comm_f != -1 and the build has no MPI, or if the handle is invalid.
+  static std::unique_ptr<ParallelContext> create(int comm_f);
+  virtual ~ParallelContext() = default;
+
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+
+  /// True on every rank iff ok is true on every rank (allreduce of a flag).
+  virtual bool agree(bool ok) = 0;
+  /// Global min and max of per-rank values (allreduce).
+  virtual std::pair<double, double> range(double local_min, double local_max) = 0;
+
+  /// The whole field, for rendering, from each rank's view of its real vertices.
+  /// One rank whose view covers the global grid: returns that view itself (zero copy).
+  /// Several ranks: packs straight from the local views into one replica per node (MPI-3
+  /// shared-memory window) and returns a view of it, valid until the next assemble() or the
+  /// destruction of the context. All ranks must pass the same dtype and global dims.
+  virtual FieldView assemble(const FieldView& local, const GlobalPlacement& where) = 0;
+
+  /// Render every tile of `scene` across the ranks (tiles handed out dynamically) into `film`;
+  /// afterwards rank 0's film holds the complete image, others hold only their tiles. `stats`
+  /// are summed over ranks on rank 0. Bit-identical to a one-rank render.
+  virtual void render(const PreparedScene& scene, Film& film, RenderStats& stats) = 0;
+
+  /// Bytes moved between ranks by the last assemble() + render() (for benchmarks).
+  virtual std::uint64_t bytes_moved() const = 0;
+};
+
+}  // namespace tessera::insitu

@@ -1,0 +1,105 @@
+#pragma once
+/// MpiParallelContext: the MPI implementation of ParallelContext (parallel_context.h).
+///
+/// Field assembly: every rank needs the whole field to trace rays through it. The field is
+/// assembled into ONE replica per node, in an MPI-3 shared-memory window (the node leader
+/// allocates it, the other ranks of the node map the same memory):
+///   - each rank copies its own strided view straight into its box of its node's replica;
+///   - each rank sends the same view, described by an MPI derived datatype over its byte
+///     strides (no packing copy by us), to the leader of every other node, which receives it
+///     straight into the matching sub-box of its replica (MPI_Ialltoallw, subarray types).
+/// The replica is contiguous C order (i fastest) in the dtype of the local views; the window
+/// is kept across calls while the size is unchanged.
+///
+/// Rendering: tiles are handed out dynamically from a shared counter on rank 0, advanced with
+/// MPI_Fetch_and_op (MPI-3 passive-target RMA), a few tiles per grab, so that ranks finish
+/// together however unevenly the image costs. Each rank renders its grabs with
+/// tessera::render_tiles into its own Film; rank 0 then receives every other rank's tile
+/// pixels (raw PixelSums bytes, received straight into place with indexed datatypes). Every
+/// pixel's samples come from one render_tiles call and RNG streams depend only on (seed,
+/// frame, pixel, sample index), so the image is bit-identical for any rank or thread count.
+///
+/// Thread level: all MPI calls are made by the thread that calls the context
+/// (MPI_THREAD_FUNNELED suffices). Passive-target RMA on rank 0's counter relies on the MPI
+/// library progressing it while rank 0 renders; within a node Open MPI's osc/sm does this in
+/// hardware (shared-memory atomics).
+#include "parallel_context.h"
+
+#include <mpi.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tessera::insitu {
+
+/// Per-rank figures of the last assemble() / render(), for benchmarks and tests.
+struct MpiRenderReport {
+  double render_seconds = 0.0;      ///< this rank: time in its grab-and-render loop
+  int tiles = 0;                    ///< tiles this rank rendered
+  int grabs = 0;                    ///< fetch-and-add calls that returned work
+  int chunk = 0;                    ///< tiles per grab
+  /// Bytes this rank moved toward other ranks: its box written into the node's shared
+  /// replica plus its box sent to each other node's leader.
+  std::uint64_t assemble_bytes = 0;
+  /// Bytes this rank sent while rendering: its tile list and tile pixels (to rank 0), or, on
+  /// rank 0, the film broadcast when continuing a progressive render. Summed over ranks: the
+  /// bytes one render moves.
+  std::uint64_t render_bytes = 0;
+};
+
+class MpiParallelContext final : public ParallelContext {
+ public:
+  /// Context over a duplicate of `comm` (MPI must be initialised). `ranks_per_node` > 0 groups
+  /// consecutive ranks into pretend nodes of that size (for testing the inter-node path on
+  /// one machine; they must still share memory); 0 groups ranks by real shared-memory node.
+  /// Collective over `comm`.
+  MpiParallelContext(MPI_Comm comm, int ranks_per_node);
+  /// One rank, no MPI: behaves like the serial context.
+  MpiParallelContext();
+  ~MpiParallelContext() override;
+  MpiParallelContext(const MpiParallelContext&) = delete;
+  MpiParallelContext& operator=(const MpiParallelContext&) = delete;
+
+  int rank() const override { return m_rank; }
+  int size() const override { return m_size; }
+  bool agree(bool ok) override;
+  std::pair<double, double> range(double local_min, double local_max) override;
+  FieldView assemble(const FieldView& local, const GlobalPlacement& where) override;
+  void render(const PreparedScene& scene, Film& film, RenderStats& stats) override;
+  /// This rank's bytes moved by the last assemble() + render() (see MpiRenderReport; sum
+  /// over ranks for the total). Not collective.
+  std::uint64_t bytes_moved() const override;
+
+  const MpiRenderReport& report() const { return m_report; }
+  int node_rank() const { return m_node_rank; }
+  int node_size() const { return m_node_size; }
+  int node_count() const { return m_node_count; }
+  /// Bytes of the replica on this rank's node (0 before the first multi-rank assemble).
+  std::uint64_t replica_bytes() const { return m_replica_bytes; }
+
+ private:
+  struct RankBox;
+  void ensure_replica(std::uint64_t bytes);
+  void free_replica();
+  void exchange_boxes(const FieldView& local, const std::vector<RankBox>& boxes);
+  void render_multi(const PreparedScene& scene, Film& film, RenderStats& stats);
+
+  bool m_mpi = false;
+  MPI_Comm m_comm = MPI_COMM_NULL;   ///< duplicate of the user's communicator
+  MPI_Comm m_node = MPI_COMM_NULL;   ///< ranks sharing this node's replica
+  int m_rank = 0, m_size = 1;
+  int m_node_rank = 0, m_node_size = 1, m_node_count = 1;
+  std::vector<int> m_leader_of;      ///< per rank of m_comm: its node leader's rank
+
+  MPI_Win m_replica_win = MPI_WIN_NULL;
+  void* m_replica = nullptr;
+  std::uint64_t m_replica_bytes = 0;
+
+  MPI_Win m_counter_win = MPI_WIN_NULL;
+  std::int64_t* m_counter = nullptr; ///< rank 0: the next tile to hand out
+
+  MpiRenderReport m_report;
+};
+
+}  // namespace tessera::insitu

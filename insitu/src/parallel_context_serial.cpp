@@ -1,0 +1,48 @@
+// ParallelContext without MPI: one rank, every collective is the identity.
+#include "parallel_context.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace tessera::insitu {
+namespace {
+
+class SerialContext final : public ParallelContext {
+ public:
+  int rank() const override { return 0; }
+  int size() const override { return 1; }
+  bool agree(bool ok) override { return ok; }
+  std::pair<double, double> range(double local_min, double local_max) override {
+    return {local_min, local_max};
+  }
+
+  FieldView assemble(const FieldView& local, const GlobalPlacement& where) override {
+    for (int a = 0; a < 3; ++a)
+      if (where.offset[a] != 0 || local.dims[a] != where.global_dims[a])
+        throw std::invalid_argument(
+            "one rank must hold the whole grid: real vertices " + std::to_string(local.dims[0]) +
+            "x" + std::to_string(local.dims[1]) + "x" + std::to_string(local.dims[2]) +
+            " at offset (" + std::to_string(where.offset[0]) + ", " +
+            std::to_string(where.offset[1]) + ", " + std::to_string(where.offset[2]) +
+            ") do not cover global_dims " + std::to_string(where.global_dims[0]) + "x" +
+            std::to_string(where.global_dims[1]) + "x" + std::to_string(where.global_dims[2]));
+    return local;
+  }
+
+  void render(const PreparedScene& scene, Film& film, RenderStats& stats) override {
+    tessera::render(scene, film, stats);
+  }
+
+  std::uint64_t bytes_moved() const override { return 0; }
+};
+
+}  // namespace
+
+std::unique_ptr<ParallelContext> ParallelContext::create(int comm_f) {
+  if (comm_f != -1)
+    throw std::invalid_argument("Tessera was built without MPI: pass -1 as the communicator "
+                                "(got " + std::to_string(comm_f) + ")");
+  return std::make_unique<SerialContext>();
+}
+
+}  // namespace tessera::insitu

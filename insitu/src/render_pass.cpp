@@ -1,0 +1,265 @@
+#include "render_pass.h"
+
+#include "error_policy.h"
+#include "field_binding.h"
+#include "outputs.h"
+
+#include <tessera/config/build_scene.h>
+#include <tessera/film.h>
+#include <tessera/render.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+
+namespace tessera::insitu {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Global finite min/max of a field: this rank's finite values, then ParallelContext::range.
+/// A rank without finite values contributes nothing; with none anywhere, lo > hi.
+std::pair<double, double> global_range(ParallelContext& ctx, const FieldView& local) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  auto [lo, hi] = field_range(local);
+  if (lo == 0.0 && hi == 0.0) {
+    // field_range says {0,0} for "no finite value" too: tell the two apart (early exit)
+    const bool any_finite = dispatch_dtype(local, [&](auto v) {
+      for (std::int64_t k = 0; k < local.dims[2]; ++k)
+        for (std::int64_t j = 0; j < local.dims[1]; ++j)
+          for (std::int64_t i = 0; i < local.dims[0]; ++i)
+            if (std::isfinite(v.load(i, j, k))) return true;
+      return false;
+    });
+    if (!any_finite) lo = kInf, hi = -kInf;
+  }
+  return ctx.range(lo, hi);
+}
+
+/// The phases of one render on this rank.
+class Pass {
+ public:
+  Pass(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call)
+      : m_ctx(ctx), m_cfg(cfg), m_render(render), m_spec(*render.spec), m_call(call) {
+    m_out.result.name = m_spec.name;
+    m_out.result.step = call.step;
+    m_out.result.time = call.time;
+  }
+
+  PassOutcome run(bool check_when, bool quiet) {
+    const bool root = m_ctx.rank() == 0;
+    m_out.fired = true;
+
+    // Bind: descriptors -> zero-copy view of this rank's real vertices
+    if (!phase(TESSERA_ERROR_DATA, [&] {
+          if (m_call.nfields < 0 || (m_call.nfields > 0 && !m_call.fields))
+            throw std::invalid_argument("field list is invalid (fields = " +
+                                        std::string(m_call.fields ? "non-null" : "NULL") +
+                                        ", nfields = " + std::to_string(m_call.nfields) + ")");
+          if (!m_call.grid) throw std::invalid_argument("grid descriptor is NULL");
+          const std::span<const tessera_field> fields(m_call.fields,
+                                                      static_cast<std::size_t>(m_call.nfields));
+          const tessera_field& f = fields[find_field(fields, m_spec.field, m_spec.name)];
+          m_binding = bind_field(f, *m_call.grid);
+          if (m_ctx.size() == 1) require_whole_grid(f, m_binding);
+        }))
+      return std::move(m_out);
+
+    // Range: only when the trigger or `range: auto` needs it, once per field and call
+    const bool need_range = check_when || m_spec.transfer_function.range.automatic;
+    std::pair<double, double> range{0.0, 0.0};
+    if (need_range) {
+      if (!phase(TESSERA_ERROR_RENDER, [&] { range = cached_range(); })) return std::move(m_out);
+      if (check_when && !m_render.trigger.fires_on_max(range.second)) {
+        m_out.fired = false;
+        return std::move(m_out);
+      }
+      if (!(range.first <= range.second)) range = {0.0, 0.0};  // no finite value anywhere
+    }
+
+    // Assemble the global field (zero copy on one rank), once per consecutive use
+    if (!phase(TESSERA_ERROR_RENDER, [&] {
+          if (m_call.assembled_key != m_spec.field) {
+            m_call.assembled_key.reset();
+            m_call.assembled = m_ctx.assemble(m_binding.local, m_binding.placement);
+            m_call.assembled_key = m_spec.field;
+          }
+        }))
+      return std::move(m_out);
+
+    // Scene and preparation (camera, lights, envmap, majorants)
+    SceneDesc scene;
+    PreparedScene prepared;
+    std::vector<CinemaView> views;
+    if (!phase(TESSERA_ERROR_RENDER, [&] {
+          scene = config::build_scene(m_spec, m_binding.global_bounds, range, m_binding.geometry);
+          scene.options = config::build_render_options(m_spec, m_cfg.global);
+          scene.options.frame = static_cast<std::uint64_t>(m_call.step);
+          prepared = prepare(m_call.assembled, scene);
+          if (m_spec.output.cinema)
+            views = cinema_views(*m_spec.output.cinema, scene.camera, m_binding.global_bounds);
+        }))
+      return std::move(m_out);
+
+    // The render's own camera
+    Film film;
+    if (!render_film(prepared, film)) return std::move(m_out);
+    if (!phase(TESSERA_ERROR_IO, [&] {
+          if (!root) return;
+          Image img = film.resolve(m_spec.output.variance, m_spec.output.samples);
+          write_image_files(output_base(m_cfg.global.output_dir, m_spec, m_call.step, m_call.time, 0),
+                            m_spec.output, img, m_out.result.files);
+          m_render.last_image = std::move(img);
+        }))
+      return std::move(m_out);
+
+    // Cinema sweep
+    if (m_spec.output.cinema && !run_cinema(scene, views)) return std::move(m_out);
+
+    RenderResult& r = m_out.result;
+    r.samples_per_second = r.render_seconds > 0.0 ? r.stats.samples / r.render_seconds : 0.0;
+    if (root && !quiet) log_line(summary());
+    return std::move(m_out);
+  }
+
+ private:
+  /// Runs fn on this rank, then agrees with the others; on any rank's failure records
+  /// `status` and the message (this rank's own, or that another rank failed) and returns false.
+  template <class Fn>
+  bool phase(tessera_status status, Fn&& fn) {
+    bool ok = true;
+    std::string fault;
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      ok = false;
+      fault = e.what();
+    } catch (...) {
+      ok = false;
+      fault = "unknown exception";
+    }
+    if (m_ctx.agree(ok)) return true;
+    // Rank 0 logs every failure; another rank only one of its own that rank 0 did not share
+    // (one extra reduction, on the failure path only)
+    const bool root = m_ctx.rank() == 0;
+    const bool root_failed = m_ctx.range(0.0, root && !ok ? 1.0 : 0.0).second > 0.0;
+    m_out.report_here = root || (!ok && !root_failed);
+    m_out.result.status = status;
+    std::string where = "render '" + m_spec.name + "' at step " + std::to_string(m_call.step) + ": ";
+    if (ok)
+      m_out.result.error = where + "failed on another rank";
+    else if (m_ctx.size() > 1)
+      m_out.result.error = where + "rank " + std::to_string(m_ctx.rank()) + ": " + fault;
+    else
+      m_out.result.error = where + fault;
+    return false;
+  }
+
+  std::pair<double, double> cached_range() {
+    for (const auto& [key, range] : m_call.ranges)
+      if (key == m_spec.field) return range;
+    const auto range = global_range(m_ctx, m_binding.local);
+    m_call.ranges.emplace_back(m_spec.field, range);
+    return range;
+  }
+
+  bool render_film(const PreparedScene& prepared, Film& film) {
+    return phase(TESSERA_ERROR_RENDER, [&] {
+      film = Film(m_spec.image.width, m_spec.image.height);
+      RenderStats stats;
+      const auto t0 = Clock::now();
+      m_ctx.render(prepared, film, stats);
+      m_out.result.render_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+      m_out.result.stats.add_counters(stats);
+      m_out.result.stats.wall_seconds += stats.wall_seconds;
+      m_out.result.stats.threads = stats.threads;
+    });
+  }
+
+  bool run_cinema(const SceneDesc& scene, const std::vector<CinemaView>& views) {
+    const bool root = m_ctx.rank() == 0;
+    const std::string dir =
+        (std::filesystem::path(m_cfg.global.output_dir) / (m_spec.name + ".cdb")).string();
+    if (root && !m_render.cinema) m_render.cinema = std::make_unique<CinemaDatabase>(dir);
+    for (const CinemaView& view : views) {
+      PreparedScene prepared;
+      if (!phase(TESSERA_ERROR_RENDER, [&] {
+            SceneDesc s = scene;
+            s.camera = view.camera;
+            prepared = prepare(m_call.assembled, s);
+          }))
+        return false;
+      Film film;
+      if (!render_film(prepared, film)) return false;
+      if (!phase(TESSERA_ERROR_IO, [&] {
+            if (!root) return;
+            const Image img = film.resolve(m_spec.output.variance, m_spec.output.samples);
+            const std::string rel = cinema_file_base(m_spec, m_call.step, m_call.time, view);
+            const std::size_t first = m_out.result.files.size();
+            write_image_files((std::filesystem::path(dir) / rel).string(), m_spec.output, img,
+                              m_out.result.files);
+            // FILE column: the PNG when written (what Cinema viewers show), else the EXR
+            std::string shown = m_out.result.files[first];
+            for (std::size_t i = first; i < m_out.result.files.size(); ++i)
+              if (m_out.result.files[i].ends_with(".png")) shown = m_out.result.files[i];
+            m_render.cinema->set_row(m_call.time, view.phi, view.theta,
+                                     std::filesystem::path(shown).lexically_relative(dir).string());
+          }))
+        return false;
+    }
+    return phase(TESSERA_ERROR_IO, [&] {
+      if (root) m_render.cinema->write();
+    });
+  }
+
+  std::string summary() const {
+    const RenderResult& r = m_out.result;
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "render '%s' step %lld (t=%g): %dx%d, %d spp, %.3f s, %.3g samples/s",
+                  r.name.c_str(), static_cast<long long>(r.step), r.time, m_spec.image.width,
+                  m_spec.image.height, m_spec.image.spp, r.render_seconds, r.samples_per_second);
+    std::string line = buf;
+    if (m_spec.output.cinema) line += ", " + std::to_string(r.files.size()) + " files";
+    else
+      for (std::size_t i = 0; i < r.files.size(); ++i) line += (i ? ", " : " -> ") + r.files[i];
+    return line;
+  }
+
+  ParallelContext& m_ctx;
+  const config::Config& m_cfg;
+  RenderState& m_render;
+  const config::RenderSpec& m_spec;
+  CallData& m_call;
+  FieldBinding m_binding;
+  PassOutcome m_out;
+};
+
+}  // namespace
+
+PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderState& render,
+                       CallData& call, bool check_when, bool quiet) noexcept {
+  // Only agree() itself (e.g. a broken communicator) or memory exhaustion gets here
+  PassOutcome out;
+  out.fired = true;
+  out.report_here = true;
+  out.result.status = TESSERA_ERROR_RENDER;
+  out.result.step = call.step;
+  out.result.time = call.time;
+  try {
+    try {
+      return Pass(ctx, cfg, render, call).run(check_when, quiet);
+    } catch (const std::exception& e) {
+      out.result.name = render.spec->name;
+      out.result.error = "render '" + render.spec->name + "' at step " +
+                         std::to_string(call.step) + ": " + e.what();
+    }
+  } catch (...) {
+    // No memory left even for the message: the status alone tells
+  }
+  return out;
+}
+
+}  // namespace tessera::insitu

@@ -1,0 +1,62 @@
+#pragma once
+/// One render of one execute call, through its phases:
+///   bind (descriptors -> FieldView) -> range (auto range / `when` maximum) -> assemble
+///   (ParallelContext) -> scene + prepare -> render (ParallelContext) -> write (rank 0)
+///   [-> Cinema: prepare, render, write per camera -> data.csv].
+/// After each phase the ranks agree (ParallelContext::agree) on success, so that every rank
+/// takes the same path and none is left waiting in a collective. Nothing is prepared or read
+/// for a render that does not fire.
+#include "cinema.h"
+#include "parallel_context.h"
+#include "triggers.h"
+
+#include <tessera/adapter.h>
+#include <tessera/config/config.h>
+#include <tessera/image.h>
+#include <tessera/tessera.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tessera::insitu {
+
+/// A render of the config and what the adapter keeps about it between calls.
+struct RenderState {
+  explicit RenderState(const config::RenderSpec& s) : spec(&s), trigger(s.trigger) {}
+  const config::RenderSpec* spec;
+  Trigger trigger;
+  std::optional<Image> last_image;          ///< rank 0: the last image rendered
+  std::unique_ptr<CinemaDatabase> cinema;   ///< rank 0, created at first use
+};
+
+/// What one execute call derives from its descriptors, shared by its renders. Everything is
+/// keyed by the render's `field:` name, which is the same on every rank.
+struct CallData {
+  std::int64_t step = 0;
+  double time = 0.0;
+  const tessera_grid* grid = nullptr;
+  const tessera_field* fields = nullptr;
+  std::int64_t nfields = 0;
+  /// Global finite min/max per field, computed at most once per call.
+  std::vector<std::pair<std::string, std::pair<double, double>>> ranges;
+  /// The last assembled field (valid until the next assemble).
+  std::optional<std::string> assembled_key;
+  FieldView assembled;
+};
+
+struct PassOutcome {
+  bool fired = false;          ///< false: a `when` trigger evaluated and did not fire
+  bool report_here = false;    ///< this rank logs the failure (rank 0, or a failure only here)
+  RenderResult result;
+};
+
+/// Runs `render` for `call`. check_when: the render fires only if its `when` trigger does.
+/// Never throws: failures come back in the result (status + message naming render and step).
+PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderState& render,
+                       CallData& call, bool check_when, bool quiet) noexcept;
+
+}  // namespace tessera::insitu
