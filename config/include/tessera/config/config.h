@@ -27,7 +27,7 @@ struct GlobalOptions {
   std::string output_dir = "out";
   OnError on_error = OnError::Warn;
   int threads = 0;                 ///< >= 0; 0 = all hardware threads
-  bool render_final_step = false;  ///< adapter: also render at close, whatever the triggers
+  bool render_final_step = false;  ///< adapter: tessera_execute_final renders everything
   int max_failures = 3;            ///< adapter, on_error: disable: failures before disabling, >= 1
 };
 

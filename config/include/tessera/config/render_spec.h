@@ -42,8 +42,7 @@ struct IntegratorSpec {
   TileOrder tile_order = TileOrder::RowMajor;
 };
 
-/// `output: {cinema: ...}`: reserved for a Cinema image database (camera sweep). Parsed and
-/// validated, not used yet.
+/// `output: {cinema: ...}`: a Cinema image database (camera sweep) written by the adapter.
 struct CinemaSpec {
   std::vector<double> azimuths;            ///< degrees
   std::vector<double> elevations;          ///< degrees, [-90, 90]
