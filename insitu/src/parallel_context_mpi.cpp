@@ -7,6 +7,7 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -147,6 +148,12 @@ bool film_is_empty(const Film& film) {
   for (const PixelSums& p : film.pixels())
     if (p.drawn != 0 || p.n != 0) return false;
   return true;
+}
+
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 /// TESSERA_MPI_RANKS_PER_NODE (testing aid): group ranks into pretend nodes of that size.
@@ -421,7 +428,9 @@ void MpiParallelContext::render(const PreparedScene& scene, Film& film, RenderSt
     return;
   }
   RenderStats local;
+  const double cpu0 = process_cpu_seconds();
   tessera::render(scene, film, local);
+  m_report.render_cpu_seconds = process_cpu_seconds() - cpu0;
   m_report.render_seconds = local.wall_seconds;
   m_report.tiles = static_cast<int>(scene.tiles().size());
   m_report.grabs = 1;
@@ -508,7 +517,9 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
     }
   };
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = process_cpu_seconds();
   grab_and_render();  // MPI calls only from this thread (MPI_THREAD_FUNNELED)
+  m_report.render_cpu_seconds = process_cpu_seconds() - cpu0;
   m_report.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   m_report.tiles = static_cast<int>(mine.size());
   m_report.grabs = grabs;

@@ -35,7 +35,9 @@ namespace tessera::insitu {
 
 /// Per-rank figures of the last assemble() / render(), for benchmarks and tests.
 struct MpiRenderReport {
-  double render_seconds = 0.0;      ///< this rank: time in its grab-and-render loop
+  double render_seconds = 0.0;      ///< this rank: wall time in its grab-and-render loop
+  double render_cpu_seconds = 0.0;  ///< this rank: process CPU time in that loop (all its
+                                    ///< threads; unaffected by other processes on the cores)
   int tiles = 0;                    ///< tiles this rank rendered
   int grabs = 0;                    ///< fetch-and-add calls that returned work
   int chunk = 0;                    ///< tiles per grab

@@ -1,0 +1,31 @@
+#pragma once
+/// Command line of tessera-heat (spec/interfaces.md section 4; docs/miniapp.md):
+///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR]
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace heat {
+
+struct Options {
+  std::string config;                           ///< "" = default_config_path()
+  std::int64_t steps = 100;                     ///< time steps after the initial state, >= 0
+  std::array<std::int64_t, 3> grid{64, 64, 64}; ///< global vertices, each >= 3
+  std::optional<std::string> output_dir;        ///< overrides the config's tessera.output_dir
+  bool help = false;
+};
+
+/// Throws std::invalid_argument with a one-line message naming the bad argument.
+Options parse_options(int argc, const char* const* argv);
+
+std::string usage();
+
+/// The project's configs/heat.yaml, first found of:
+///   1. <dir of the executable>/../share/tessera/configs/heat.yaml   (an installed tessera-heat)
+///   2. TESSERA_HEAT_SOURCE_CONFIG, the source tree's file            (a build-tree tessera-heat)
+///   3. TESSERA_HEAT_INSTALL_CONFIG, the configured install location
+/// (2 and 3 are fixed when the miniapp is compiled). "" if none exists.
+std::string default_config_path();
+
+}  // namespace heat

@@ -1,0 +1,206 @@
+// tessera-heat: a 3D heat-equation miniapp that publishes its temperature field to the
+// Tessera in situ adapter every step (docs/miniapp.md).
+//
+//   [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR]
+//
+// The simulation: heat_solver.h. The domain split and halo exchange: cart_decomposition.h,
+// halo_exchange.h. The adapter is used only through its public header <tessera/adapter.h>.
+#include "cart_decomposition.h"
+#include "cli_options.h"
+#include "config_override.h"
+#include "heat_solver.h"
+
+#include <tessera/adapter.h>
+
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+/// Everything rank 0 prints goes through here (one line, flushed).
+void say(int rank, const std::string& line, FILE* to = stdout) {
+  if (rank != 0) return;
+  std::fprintf(to, "%s\n", line.c_str());
+  std::fflush(to);
+}
+
+/// The config to open: the given or default file, or its copy with output_dir replaced.
+/// Collective; the same answer (or "" on failure, reported by rank 0) on every rank.
+std::string resolve_config(const heat::Options& opt, int rank) {
+  std::string path = opt.config.empty() ? heat::default_config_path() : opt.config;
+  if (path.empty()) {
+    say(rank, "tessera-heat: cannot find the default config configs/heat.yaml (give --config FILE)", stderr);
+    return "";
+  }
+  if (!opt.output_dir) return path;
+  int ok = 1;
+  if (rank == 0) {
+    try {
+      path = heat::write_config_with_output_dir(path, *opt.output_dir);
+    } catch (const std::exception& e) {
+      say(rank, std::string("tessera-heat: --output-dir: ") + e.what(), stderr);
+      ok = 0;
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (!ok) return "";
+  int len = static_cast<int>(path.size());
+  MPI_Bcast(&len, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  path.resize(static_cast<std::size_t>(len));
+  MPI_Bcast(path.data(), len, MPI_CHAR, 0, MPI_COMM_WORLD);
+  return path;
+}
+
+/// Max over ranks, on rank 0.
+double slowest(double local) {
+  double max = 0.0;
+  MPI_Reduce(&local, &max, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  return max;
+}
+
+int run(int argc, char** argv) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+
+  heat::Options opt;
+  try {
+    opt = heat::parse_options(argc, argv);
+  } catch (const std::exception& e) {
+    say(rank, std::string("tessera-heat: ") + e.what() + "\n" + heat::usage(), stderr);
+    return 2;
+  }
+  if (opt.help) {
+    say(rank, heat::usage());
+    return 0;
+  }
+  const std::string config = resolve_config(opt, rank);
+  if (config.empty()) return 1;
+
+  // Simulation: decomposition, solver with the demo's moving heat sources
+  heat::HeatParams params;
+  params.sources = heat::demo_sources();
+  std::unique_ptr<heat::CartDecomposition> decomp;
+  std::unique_ptr<heat::HeatSolver> solver;
+  try {
+    decomp = std::make_unique<heat::CartDecomposition>(MPI_COMM_WORLD, opt.grid);
+    solver = std::make_unique<heat::HeatSolver>(*decomp, params);
+  } catch (const std::exception& e) {  // same arguments everywhere: every rank fails alike
+    say(rank, std::string("tessera-heat: ") + e.what(), stderr);
+    return 2;
+  }
+  const double dt = solver->stable_dt();
+  say(rank, "tessera-heat: " + std::to_string(opt.grid[0]) + "x" + std::to_string(opt.grid[1]) + "x" +
+                std::to_string(opt.grid[2]) + " vertices on " + std::to_string(size) + " rank(s) (" +
+                std::to_string(decomp->procs()[0]) + "x" + std::to_string(decomp->procs()[1]) + "x" +
+                std::to_string(decomp->procs()[2]) + "), dt = " + std::to_string(dt) + " s, " +
+                std::to_string(opt.steps) + " steps, config " + config);
+
+  // Adapter: open collectively over the world communicator
+  tessera::insitu::Adapter adapter;
+  try {
+    if (adapter.open(config, MPI_Comm_c2f(MPI_COMM_WORLD)) != TESSERA_OK) {
+      say(rank, "tessera-heat: " + adapter.last_error(), stderr);
+      return 1;
+    }
+  } catch (const tessera::insitu::AdapterError& e) {
+    say(rank, std::string("tessera-heat: ") + e.what(), stderr);
+    return 1;
+  }
+
+  // The published field: this rank's array, ghost layers included and declared as ghosts
+  const heat::Index3& n = solver->array_dims();
+  tessera_field field{};
+  field.name = "temperature";
+  field.dtype = TESSERA_FLOAT64;
+  for (int a = 0; a < 3; ++a) {
+    field.dims[a] = n[a];
+    field.ghosts_lo[a] = 1;
+    field.ghosts_hi[a] = 1;
+  }
+  field.byte_strides[0] = sizeof(double);
+  field.byte_strides[1] = static_cast<std::int64_t>(sizeof(double)) * n[0];
+  field.byte_strides[2] = static_cast<std::int64_t>(sizeof(double)) * n[0] * n[1];
+  tessera_grid grid{};
+  for (int a = 0; a < 3; ++a) {
+    grid.origin[a] = 0.0;
+    grid.spacing[a] = solver->spacing()[a];
+    grid.global_dims[a] = opt.grid[a];
+    grid.offset[a] = decomp->offset()[a];
+  }
+
+  double sim_seconds = 0.0, render_seconds = 0.0;
+  int renders = 0, failures = 0;
+  const std::int64_t report_every = opt.steps >= 10 ? opt.steps / 10 : 1;
+  for (std::int64_t step = 0; step <= opt.steps; ++step) {
+    // Simulate (step 0 is the initial state)
+    if (step > 0) {
+      const auto t0 = Clock::now();
+      solver->step(dt);
+      sim_seconds += seconds_since(t0);
+    }
+    // Publish; every rank gets the same status
+    field.data = solver->data();
+    const auto t0 = Clock::now();
+    tessera_status status = TESSERA_OK;
+    try {
+      status = adapter.execute(step, solver->time(), grid, {&field, 1}, step == opt.steps);
+    } catch (const tessera::insitu::AdapterError& e) {  // on_error: abort
+      say(rank, "tessera-heat: step " + std::to_string(step) + ": " + e.what() + " (on_error: abort; stopping)", stderr);
+      return 1;
+    }
+    render_seconds += seconds_since(t0);
+    renders += static_cast<int>(adapter.last_results().size());
+    if (status != TESSERA_OK) {
+      ++failures;
+      say(rank, "tessera-heat: step " + std::to_string(step) + ": " + adapter.last_error() +
+                    " (the simulation goes on)", stderr);
+    }
+    // Progress: temperature range and the slowest rank's seconds so far
+    if (step % report_every == 0 || step == opt.steps) {
+      const auto [lo, hi] = solver->local_range();
+      double range[2] = {lo, -hi}, global[2];
+      MPI_Reduce(range, global, 2, MPI_DOUBLE, MPI_MIN, 0, MPI_COMM_WORLD);
+      const double sim = slowest(sim_seconds), ren = slowest(render_seconds);
+      char line[256];
+      std::snprintf(line, sizeof line, "step %6lld  t = %.4f s  T in [%.2f, %.2f] K  simulation %.2f s  rendering %.2f s",
+                    static_cast<long long>(step), solver->time(), global[0], -global[1], sim, ren);
+      say(rank, line);
+    }
+  }
+  adapter.close();
+
+  const double sim = slowest(sim_seconds), ren = slowest(render_seconds);
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "tessera-heat: %lld steps, %d renders (%d failed calls): simulation %.2f s, rendering %.2f s",
+                static_cast<long long>(opt.steps), renders, failures, sim, ren);
+  say(rank, line);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  int rc = 1;
+  try {
+    rc = run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tessera-heat: %s\n", e.what());
+    MPI_Abort(MPI_COMM_WORLD, 1);
+  }
+  MPI_Finalize();
+  return rc;
+}
