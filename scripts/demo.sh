@@ -12,8 +12,5 @@ mkdir -p data out
 ./build/apps/tessera-render configs/demo.yaml --stats out/demo/stats.json
 echo "demo: wrote $(ls out/demo/*.png | tr '\n' ' ')"
 
-if [ -x build/miniapp/tessera-heat ]; then
-  ranks="${TESSERA_DEMO_RANKS:-2}"
-  mpirun -n "$ranks" ./build/miniapp/tessera-heat --config configs/heat.yaml --output-dir out/heat
-  echo "demo: heat images in out/heat/"
-fi
+# The heat miniapp under mpirun (RANKS, STEPS, GRID: see scripts/run_heat_demo.sh).
+bash scripts/run_heat_demo.sh out/heat
