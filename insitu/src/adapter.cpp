@@ -14,7 +14,11 @@ Adapter::Adapter(Adapter&&) noexcept = default;
 Adapter& Adapter::operator=(Adapter&&) noexcept = default;
 
 tessera_status Adapter::open(const std::string& yaml_path, int mpi_comm_f) {
-  return m_impl->open(yaml_path.c_str(), mpi_comm_f);
+  return m_impl->open(yaml_path.c_str(), mpi_comm_f, nullptr);
+}
+
+tessera_status Adapter::open(const std::string& yaml_path, int mpi_comm_f, const OpenOptions& options) {
+  return m_impl->open(yaml_path.c_str(), mpi_comm_f, options.output_dir.c_str());
 }
 
 tessera_status Adapter::execute(std::int64_t step, double time, const tessera_grid& grid,

@@ -6,7 +6,8 @@
 
 namespace tessera::insitu {
 
-tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f) noexcept {
+tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
+                                   const char* output_dir) noexcept {
   close();
   try {
     // Communicator
@@ -23,6 +24,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f) noexce
     try {
       if (!yaml_path) throw std::invalid_argument("config path is NULL");
       m_config = config::load_config(yaml_path);
+      if (output_dir && *output_dir) m_config.global.output_dir = output_dir;
     } catch (const std::exception& e) {
       ok = false;
       fault = e.what();

@@ -13,34 +13,35 @@ struct tessera_adapter {
 };
 
 namespace {
-/// The calling thread's last tessera_open failure (tessera_last_error(NULL)).
+/// The calling thread's last tessera_open / tessera_open_with_output_dir failure
+/// (tessera_last_error(NULL)).
 thread_local std::string t_open_error;
 
-void set_open_error(const char* message) noexcept {
+/// Sets it to "function: message", or to message alone when function is NULL.
+void set_open_error(const char* message, const char* function = nullptr) noexcept {
   try {
-    t_open_error = message;
+    t_open_error = function ? std::string(function) + ": " + message : std::string(message);
   } catch (...) {
     t_open_error.clear();
   }
 }
-}  // namespace
 
-extern "C" {
-
-tessera_status tessera_open(const char* yaml_path, int mpi_comm_f, tessera_adapter** out) {
+/// tessera_open and tessera_open_with_output_dir (output_dir: nullptr or "" = the config's).
+tessera_status open_adapter(const char* function, const char* yaml_path, int mpi_comm_f,
+                            const char* output_dir, tessera_adapter** out) noexcept {
   if (out) *out = nullptr;
   if (!out) {
-    set_open_error("tessera_open: out is NULL");
+    set_open_error("out is NULL", function);
     return TESSERA_ERROR_CONFIG;
   }
   tessera_adapter* a = nullptr;
   try {
     a = new tessera_adapter;
   } catch (...) {
-    set_open_error("tessera_open: out of memory");
+    set_open_error("out of memory", function);
     return TESSERA_ERROR_CONFIG;
   }
-  const tessera_status s = a->impl.open(yaml_path, mpi_comm_f);
+  const tessera_status s = a->impl.open(yaml_path, mpi_comm_f, output_dir);
   if (s != TESSERA_OK) {
     set_open_error(a->impl.m_error.c_str());
     delete a;
@@ -49,6 +50,19 @@ tessera_status tessera_open(const char* yaml_path, int mpi_comm_f, tessera_adapt
   set_open_error("");
   *out = a;
   return TESSERA_OK;
+}
+
+}  // namespace
+
+extern "C" {
+
+tessera_status tessera_open(const char* yaml_path, int mpi_comm_f, tessera_adapter** out) {
+  return open_adapter("tessera_open", yaml_path, mpi_comm_f, nullptr, out);
+}
+
+tessera_status tessera_open_with_output_dir(const char* yaml_path, int mpi_comm_f,
+                                            const char* output_dir, tessera_adapter** out) {
+  return open_adapter("tessera_open_with_output_dir", yaml_path, mpi_comm_f, output_dir, out);
 }
 
 tessera_status tessera_execute(tessera_adapter* adapter, int64_t step, double time,

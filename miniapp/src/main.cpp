@@ -7,7 +7,6 @@
 // halo_exchange.h. The adapter is used only through its public header <tessera/adapter.h>.
 #include "cart_decomposition.h"
 #include "cli_options.h"
-#include "config_override.h"
 #include "heat_solver.h"
 
 #include <tessera/adapter.h>
@@ -34,33 +33,6 @@ void say(int rank, const std::string& line, FILE* to = stdout) {
   std::fflush(to);
 }
 
-/// The config to open: the given or default file, or its copy with output_dir replaced.
-/// Collective; the same answer (or "" on failure, reported by rank 0) on every rank.
-std::string resolve_config(const heat::Options& opt, int rank) {
-  std::string path = opt.config.empty() ? heat::default_config_path() : opt.config;
-  if (path.empty()) {
-    say(rank, "tessera-heat: cannot find the default config configs/heat.yaml (give --config FILE)", stderr);
-    return "";
-  }
-  if (!opt.output_dir) return path;
-  int ok = 1;
-  if (rank == 0) {
-    try {
-      path = heat::write_config_with_output_dir(path, *opt.output_dir);
-    } catch (const std::exception& e) {
-      say(rank, std::string("tessera-heat: --output-dir: ") + e.what(), stderr);
-      ok = 0;
-    }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (!ok) return "";
-  int len = static_cast<int>(path.size());
-  MPI_Bcast(&len, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  path.resize(static_cast<std::size_t>(len));
-  MPI_Bcast(path.data(), len, MPI_CHAR, 0, MPI_COMM_WORLD);
-  return path;
-}
-
 /// Max over ranks, on rank 0.
 double slowest(double local) {
   double max = 0.0;
@@ -84,8 +56,11 @@ int run(int argc, char** argv) {
     say(rank, heat::usage());
     return 0;
   }
-  const std::string config = resolve_config(opt, rank);
-  if (config.empty()) return 1;
+  const std::string config = opt.config.empty() ? heat::default_config_path() : opt.config;
+  if (config.empty()) {
+    say(rank, "tessera-heat: cannot find the default config configs/heat.yaml (give --config FILE)", stderr);
+    return 1;
+  }
 
   // Simulation: decomposition, solver with the demo's moving heat sources
   heat::HeatParams params;
@@ -104,12 +79,15 @@ int run(int argc, char** argv) {
                 std::to_string(opt.grid[2]) + " vertices on " + std::to_string(size) + " rank(s) (" +
                 std::to_string(decomp->procs()[0]) + "x" + std::to_string(decomp->procs()[1]) + "x" +
                 std::to_string(decomp->procs()[2]) + "), dt = " + std::to_string(dt) + " s, " +
-                std::to_string(opt.steps) + " steps, config " + config);
+                std::to_string(opt.steps) + " steps, config " + config +
+                (opt.output_dir ? ", output dir " + *opt.output_dir : std::string()));
 
-  // Adapter: open collectively over the world communicator
+  // Adapter: open collectively over the world communicator; --output-dir replaces the config's
   tessera::insitu::Adapter adapter;
+  tessera::insitu::OpenOptions open_options;
+  if (opt.output_dir) open_options.output_dir = *opt.output_dir;
   try {
-    if (adapter.open(config, MPI_Comm_c2f(MPI_COMM_WORLD)) != TESSERA_OK) {
+    if (adapter.open(config, MPI_Comm_c2f(MPI_COMM_WORLD), open_options) != TESSERA_OK) {
       say(rank, "tessera-heat: " + adapter.last_error(), stderr);
       return 1;
     }

@@ -8,13 +8,17 @@
 #include <stdlib.h>
 
 /* Runs `steps` steps of a 10x9x8 double array with one ghost layer on every side, rendering
- * per the config. Returns the first non-OK status (or TESSERA_OK); its message in err. */
-int tessera_c_api_smoke(const char* yaml_path, int steps, char* err, size_t errlen) {
+ * per the config, under output_dir when it is not NULL (tessera_open_with_output_dir).
+ * Returns the first non-OK status (or TESSERA_OK); its message in err. */
+int tessera_c_api_smoke(const char* yaml_path, const char* output_dir, int steps, char* err,
+                        size_t errlen) {
   enum { NX = 10, NY = 9, NZ = 8, G = 1 };
   const int64_t ax = NX + 2 * G, ay = NY + 2 * G, az = NZ + 2 * G;
   double* u = (double*)malloc(sizeof(double) * (size_t)(ax * ay * az));
   tessera_adapter* adapter = NULL;
-  tessera_status status = tessera_open(yaml_path, -1, &adapter);
+  tessera_status status = output_dir
+                              ? tessera_open_with_output_dir(yaml_path, -1, output_dir, &adapter)
+                              : tessera_open(yaml_path, -1, &adapter);
   int step;
   if (status != TESSERA_OK) {
     snprintf(err, errlen, "%s", tessera_last_error(NULL));

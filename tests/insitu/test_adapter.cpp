@@ -93,6 +93,86 @@ TEST_CASE("outputs: files per pattern and format, effective config, results", "[
   CHECK(adapter.execute(4, 1.25, unit_grid(n), {&field, 1}) == TESSERA_ERROR_CONFIG);
 }
 
+TEST_CASE("OpenOptions::output_dir moves every output and the effective config", "[insitu]") {
+  // The config sits in cfg/ with a relative envmap, which must still resolve against cfg/
+  TempDir dir;
+  fs::create_directories(dir.file("cfg"));
+  tessera::Image env;
+  env.width = 8;
+  env.height = 4;
+  env.rgba.assign(8 * 4 * 4, 0.5f);
+  tessera::write_exr(dir.file("cfg/sky.exr"), env);
+  const std::string config_out = dir.file("config_out");
+  const std::string override_out = dir.file("override/nested");
+  const std::string extra =
+      "    background: {type: envmap, file: sky.exr}\n"
+      "    output: {file: \"{name}_{step:02d}\", formats: [exr, png], cinema: {azimuth: [0, 90]}}\n";
+  const std::string cfg =
+      dir.write("cfg/a.yaml", config_yaml(config_out, render_yaml("view", "{every: 2}", extra, "density", 12, 1)));
+  constexpr int n = 8;
+  const std::vector<float> sim = to_float(blob_values(n));
+  const tessera_field field = dense_field("density", sim.data(), n);
+
+  Adapter adapter;
+  adapter.set_quiet(true);
+  OpenOptions options;
+  options.output_dir = override_out;
+  REQUIRE(adapter.open(cfg, -1, options) == TESSERA_OK);
+
+  // The effective config is under the override and says so
+  const std::string effective = override_out + "/tessera_effective_config.yaml";
+  REQUIRE(fs::exists(effective));
+  CHECK(tessera::config::load_config(effective).global.output_dir == override_out);
+
+  // Images and the Cinema database go under the override; nothing under the config's dir
+  REQUIRE(adapter.execute(2, 0.5, unit_grid(n), {&field, 1}) == TESSERA_OK);
+  REQUIRE(adapter.last_results().size() == 1);
+  const RenderResult& r = adapter.last_results()[0];
+  CHECK(r.files.size() == 2 + 2 * 2);  // the main image and 2 Cinema views, EXR + PNG each
+  for (const std::string& f : r.files) {
+    CHECK(f.rfind(override_out + "/", 0) == 0);
+    CHECK(fs::exists(f));
+  }
+  CHECK(fs::exists(override_out + "/view_02.exr"));
+  CHECK(fs::exists(override_out + "/view_02.png"));
+  CHECK(fs::exists(override_out + "/view.cdb/data.csv"));
+  CHECK_FALSE(fs::exists(config_out));
+  adapter.close();
+
+  // An empty override, and the two-argument open, keep the config's output_dir
+  REQUIRE(adapter.open(cfg, -1, OpenOptions{}) == TESSERA_OK);
+  CHECK(fs::exists(config_out + "/tessera_effective_config.yaml"));
+  REQUIRE(adapter.execute(0, 0.0, unit_grid(n), {&field, 1}) == TESSERA_OK);
+  CHECK(fs::exists(config_out + "/view_00.exr"));
+  CHECK_FALSE(fs::exists(override_out + "/view_00.exr"));
+  fs::remove_all(config_out);
+  REQUIRE(adapter.open(cfg) == TESSERA_OK);
+  CHECK(fs::exists(config_out + "/tessera_effective_config.yaml"));
+}
+
+TEST_CASE("OpenOptions::output_dir: errors as for the config's output_dir", "[insitu]") {
+  TempDir dir;
+  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), render_yaml("r", "")));
+  OpenOptions options;
+  Adapter adapter;
+
+  // A config that fails to load fails whatever the override, and creates nothing
+  options.output_dir = dir.file("override");
+  const std::string bad = dir.write("bad.yaml", config_yaml(dir.file("out"), render_yaml("r", "")) + "bogus: 1\n");
+  CHECK(adapter.open(bad, -1, options) == TESSERA_ERROR_CONFIG);
+  CHECK_THAT(adapter.last_error(), Catch::Contains("bogus"));
+  CHECK_FALSE(fs::exists(dir.file("override")));
+  CHECK_FALSE(fs::exists(dir.file("out")));
+
+  // An override that cannot be created: TESSERA_ERROR_IO naming it
+  dir.write("file_in_the_way", "x");
+  options.output_dir = dir.file("file_in_the_way/out");
+  CHECK(adapter.open(cfg, -1, options) == TESSERA_ERROR_IO);
+  CHECK_THAT(adapter.last_error(), Catch::Contains("file_in_the_way"));
+  CHECK_FALSE(adapter.is_open());
+  CHECK_FALSE(fs::exists(dir.file("out")));
+}
+
 TEST_CASE("triggers: every, at, when (field maximum), render_final_step", "[insitu]") {
   TempDir dir;
   const std::string renders = render_yaml("every3", "{every: 3}") + render_yaml("at", "{at: [2, 5]}") +

@@ -37,6 +37,15 @@ class AdapterError : public std::runtime_error {
   tessera_status m_status;
 };
 
+/// Options of Adapter::open beyond the config file. Every rank passes the same values.
+struct OpenOptions {
+  /// Replaces the config's `tessera.output_dir` once the config has loaded and validated:
+  /// images, Cinema databases and the effective config (which shows this value) go under it.
+  /// Kept as given (a relative directory is relative to the process's working directory);
+  /// "" = the config's output_dir.
+  std::string output_dir;
+};
+
 /// The outcome of one render in the last execute() call (one entry per render that fired).
 struct RenderResult {
   std::string name;                   ///< the render's name in the config
@@ -64,6 +73,9 @@ class Adapter {
   /// output_dir/tessera_effective_config.yaml (rank 0, atomically; TESSERA_ERROR_IO).
   /// mpi_comm_f: MPI_Comm_c2f(comm), or -1 for no MPI. A second open() closes the first.
   tessera_status open(const std::string& yaml_path, int mpi_comm_f = -1);
+  /// As open(yaml_path, mpi_comm_f), with `options` applied to the loaded config (the C API's
+  /// tessera_open_with_output_dir).
+  tessera_status open(const std::string& yaml_path, int mpi_comm_f, const OpenOptions& options);
 
   /// Evaluates the triggers for `step` and renders what fires (see tessera_execute). With
   /// final_step and the global option render_final_step, every render fires (the C API's

@@ -9,7 +9,7 @@
  *
  * Thread safety: one adapter must not be used by two threads at once; distinct adapters are
  * independent. With MPI every call except tessera_last_error is collective over the
- * communicator given to tessera_open.
+ * communicator given to tessera_open (or tessera_open_with_output_dir).
  *
  * C99-compatible; usable from C++ (extern "C"). */
 #ifndef TESSERA_TESSERA_H
@@ -68,6 +68,15 @@ typedef struct {
  * to NULL and tessera_last_error(NULL) describes the fault. */
 tessera_status tessera_open(const char* yaml_path, int mpi_comm_f, tessera_adapter** out);
 
+/* As tessera_open, with output_dir replacing the config's tessera.output_dir once the config
+ * has loaded and validated: images, Cinema databases and tessera_effective_config.yaml (which
+ * shows the override) go under it. Kept as given (a relative directory is relative to the
+ * process's working directory, not to the YAML file). NULL or "" = the config's output_dir.
+ * Every rank passes the same value. Same statuses and error reporting as tessera_open. An
+ * addition to interfaces.md section 3. */
+tessera_status tessera_open_with_output_dir(const char* yaml_path, int mpi_comm_f,
+                                            const char* output_dir, tessera_adapter** out);
+
 /* Evaluates every render's trigger for this step and renders those that fire. Returns at
  * once, touching no field data (nor the descriptors), when none fires. The descriptors and
  * the memory they point at need only be valid during the call. Returns TESSERA_OK, else the
@@ -90,8 +99,8 @@ tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, dou
 tessera_status tessera_close(tessera_adapter* adapter);
 
 /* The adapter's last error message, or "" if the last call succeeded; with NULL, the calling
- * thread's last tessera_open failure. Valid until the next call on the same adapter (or, for
- * NULL, the next tessera_open on this thread). Never NULL. */
+ * thread's last tessera_open (or tessera_open_with_output_dir) failure. Valid until the next
+ * call on the same adapter (or, for NULL, the next open on this thread). Never NULL. */
 const char* tessera_last_error(const tessera_adapter* adapter);
 
 #ifdef __cplusplus
