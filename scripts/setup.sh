@@ -6,6 +6,10 @@ cd "$(dirname "$0")/.."
 
 pkgs=(build-essential cmake pkg-config libtbb-dev libopenexr-dev libglm-dev libyaml-cpp-dev
       catch2 libopenmpi-dev openmpi-bin libpng-dev)
+# Opt-in extras, not needed by the normal build:
+#   TESSERA_SETUP_FUZZ=1        clang and its libFuzzer / sanitizer runtimes (scripts/fuzz.sh)
+#   TESSERA_SETUP_SKIP_BUILD=1  install packages only, do not configure or build ./build
+if [ "${TESSERA_SETUP_FUZZ:-0}" = 1 ]; then pkgs+=(clang libclang-rt-14-dev); fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -17,6 +21,8 @@ if ((${#missing[@]})); then
   $sudo_cmd apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+
+[ "${TESSERA_SETUP_SKIP_BUILD:-0}" = 1 ] && exit 0
 
 build_type="${TESSERA_BUILD_TYPE:-Release}"
 cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" ${TESSERA_CMAKE_ARGS:-}

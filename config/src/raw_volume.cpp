@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 namespace tessera::config {
@@ -29,9 +30,24 @@ RawVolume load_raw_volume(const VolumeSpec& spec) {
   v.dtype = spec.dtype;
   std::copy(spec.dims, spec.dims + 3, v.dims);
   const std::size_t elem = dtype_size(spec.dtype);
-  const std::uintmax_t payload = std::uintmax_t(spec.dims[0]) * std::uintmax_t(spec.dims[1]) *
-                                 std::uintmax_t(spec.dims[2]) * elem;
-  const std::uintmax_t expected = std::uintmax_t(spec.header_bytes) + payload;
+
+  // The spec itself: dims >= 1, header_bytes >= 0, and a byte count that fits in 64 bits
+  // (unchecked, a negative or huge product wrapped around and could match the file size).
+  for (int a = 0; a < 3; ++a)
+    if (spec.dims[a] < 1)
+      throw std::runtime_error("volume " + spec.file + ": dims[" + std::to_string(a) + "] is " +
+                               std::to_string(spec.dims[a]) + " (allowed: >= 1)");
+  if (spec.header_bytes < 0)
+    throw std::runtime_error("volume " + spec.file + ": header_bytes is " +
+                             std::to_string(spec.header_bytes) + " (allowed: >= 0)");
+  std::uintmax_t payload = elem, expected = 0;
+  bool overflow = false;
+  for (int a = 0; a < 3; ++a) overflow |= __builtin_mul_overflow(payload, std::uintmax_t(spec.dims[a]), &payload);
+  overflow |= __builtin_add_overflow(payload, std::uintmax_t(spec.header_bytes), &expected);
+  if (overflow || payload > std::uintmax_t(std::numeric_limits<std::ptrdiff_t>::max()))
+    throw std::runtime_error("volume " + spec.file + ": " + std::to_string(spec.dims[0]) + "x" +
+                             std::to_string(spec.dims[1]) + "x" + std::to_string(spec.dims[2]) + " " +
+                             dtype_name(spec.dtype) + " values do not fit in memory");
 
   // Size check before reading anything
   std::error_code ec;

@@ -93,3 +93,29 @@ TEST_CASE("big-endian data is byte-swapped for every dtype", "[config][raw_volum
   s.byte_order = ByteOrder::Big;
   CHECK(typed<std::uint8_t>(load_raw_volume(s).view()).load(0, 1, 0) == 200);
 }
+
+TEST_CASE("dims < 1, a negative header and byte counts past 64 bits are rejected",
+          "[config][raw_volume]") {
+  // Found by fuzz/fuzz_raw_volume: unchecked, the byte count wrapped around, so dims (-1, -1, 1)
+  // matched a 4-byte file and (2^62, 4, 1) uint8 an empty one (a view of 2^64 vertices over
+  // no memory).
+  TempDir dir;
+  const std::string four = dir.write("four.raw", std::string(4, '\0'));
+  const std::string empty = dir.write("empty.raw", "");
+  auto rejects = [](const VolumeSpec& s, const std::string& what) {
+    try {
+      load_raw_volume(s);
+      FAIL("no error for " << what);
+    } catch (const std::runtime_error& e) {
+      CHECK_THAT(e.what(), Contains(s.file));
+      CHECK_THAT(e.what(), Contains(what));
+    }
+  };
+  rejects(spec_for(four, DType::Float32, -1, -1, 1), "dims[0] is -1");
+  rejects(spec_for(four, DType::Float32, 1, 0, 4), "dims[1] is 0");
+  rejects(spec_for(empty, DType::UInt8, std::int64_t(1) << 62, 4, 1), "do not fit in memory");
+  rejects(spec_for(empty, DType::Float64, std::int64_t(1) << 40, std::int64_t(1) << 30, 1), "do not fit in memory");
+  VolumeSpec negative_header = spec_for(four, DType::Float32, 1, 1, 1);
+  negative_header.header_bytes = -4;
+  rejects(negative_header, "header_bytes is -4");
+}

@@ -21,9 +21,10 @@ struct RawVolume {
 };
 
 /// Reads spec.file: skips header_bytes, byte-swaps every element in place when the file's
-/// byte order is not the machine's. Throws std::runtime_error naming the file for a missing
-/// or unreadable file and for a size other than header_bytes + prod(dims) * dtype size
-/// (giving the expected and the actual size).
+/// byte order is not the machine's. Throws std::runtime_error naming the file for dims < 1, a
+/// negative header_bytes or a byte count that does not fit in memory, for a missing or
+/// unreadable file and for a size other than header_bytes + prod(dims) * dtype size (giving
+/// the expected and the actual size).
 RawVolume load_raw_volume(const VolumeSpec& spec);
 
 }  // namespace tessera::config
