@@ -3,6 +3,8 @@
 # samples per second, targets (docs/BENCHMARKS.md). Benchmarks, not tests: nothing asserts a time.
 #
 #   bash bench/run_perf.sh [--quick] [--only data,error,thesis,scaling,targets,cache] [--no-plots]
+#   (optional studies, not in the default run: --only cachebig (~30 min of callgrind on the
+#   256x256 thesis renders), --only rescore (recompute the errors of the last error study))
 #
 # Builds tessera-render, tessera-synth and tessera-rmse in $TESSERA_PERF_BUILD (default
 # build-perf, Release) if needed, generates the volumes (and fetches the head CT with
@@ -10,7 +12,7 @@
 # PNG plots into $TESSERA_PERF_RESULTS (default bench/results, git-ignored scratch).
 # Plots need matplotlib, installed into bench/venv from PyPI on first use; without network the
 # plots are skipped and everything else still runs.
-# Full run: about 20 minutes on 2 cores; --quick: under 5 minutes.
+# Full run: about 20-25 minutes on 2 cores (more on a shared machine); --quick: about 1 minute.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${TESSERA_PERF_BUILD:-build-perf}"
@@ -23,7 +25,7 @@ while [ $# -gt 0 ]; do
     --only) args+=(--only "$2"); shift ;;
     --only=*) args+=(--only "${1#--only=}") ;;
     --no-plots) plots=0 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) echo "run_perf: unknown option $1" >&2; exit 2 ;;
   esac
   shift

@@ -3,7 +3,8 @@ thread scaling, samples per second, and the targets of docs/BENCHMARKS.md.
 
     python3 bench/perf/perf.py --build BUILD --results bench/results [--quick] [--only a,b]
 
-Studies (--only): data, error, thesis, scaling, targets, cache. Each writes CSV files into the
+Studies (--only): data, error, thesis, scaling, targets, cache (the default run), and cachebig,
+rescore (on request). Each writes CSV files into the
 results directory; report.py turns them into markdown tables and plot.py into PNG plots.
 Benchmarks are not tests: nothing here asserts a time.
 """

@@ -3,6 +3,8 @@
 #include <tessera/config/colormaps.h>
 #include <tessera/image_io.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <tuple>
 
@@ -36,8 +38,12 @@ std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, do
   auto [lo, hi] = auto_range;
   if (!(lo < hi)) {
     // A constant (or empty) field: widen so that u is well defined, the value mapping to 0.5
+    // (by 0.5 each way; by 2^-40 |mid| where 0.5 is below the rounding of huge values).
     const double mid = lo == hi ? lo : 0.5 * (lo + hi);
-    return {mid - 0.5, mid + 0.5};
+    const double half = std::max(0.5, std::fabs(mid) * 0x1p-40);
+    if (!std::isfinite(mid + half)) return {mid - 2.0 * half, mid};  // at the top of the range
+    if (!std::isfinite(mid - half)) return {mid, mid + 2.0 * half};
+    return {mid - half, mid + half};
   }
   return {lo, hi};
 }

@@ -24,9 +24,10 @@ void validate(const FieldView& field, const SceneDesc& s) {
   require(finite3(g.spacing) && g.spacing.x > 0 && g.spacing.y > 0 && g.spacing.z > 0,
           "volume spacing must be finite and > 0 on every axis");
   const TransferFunction& tf = s.tf;
-  require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi,
+  // hi - lo must be finite too: u = (v - lo) / (hi - lo) is NaN for v near hi otherwise.
+  require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi && std::isfinite(tf.hi - tf.lo),
           "transfer function range [" + std::to_string(tf.lo) + ", " + std::to_string(tf.hi) +
-              "] must be finite with lo < hi");
+              "] must be finite with lo < hi and a finite width hi - lo");
   require(std::isfinite(tf.density_scale) && tf.density_scale >= 0.0,
           "density_scale must be finite and >= 0");
   for (int i = 0; i < tf.opacity.size(); ++i)

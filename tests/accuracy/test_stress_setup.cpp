@@ -1,7 +1,8 @@
 // Stress: degenerate setups (docs/accuracy.md, "Stress").
 //  - prepare() rejects, with std::invalid_argument naming the fault, an up vector parallel to
-//    the view direction (exactly and to 1e-12), a zero up, zero-size rect lights (width or
-//    height 0) and zero-radius sphere lights.
+//    the view direction (exactly and to 1e-13), a zero up, zero-size rect lights (width or
+//    height 0), zero-radius sphere lights, fov 0 / 180 and a transfer-function range whose
+//    width hi - lo overflows.
 //  - Opacity zero everywhere (and density_scale 0): the medium is never tracked
 //    (free_flight_lookups == transmittance_lookups == real_collisions == 0, alpha 0) while
 //    lights and the background still render: every pixel of a constant background without
@@ -64,6 +65,14 @@ TEST_CASE("prepare() names degenerate cameras and lights", "[accuracy][stress]")
   SECTION("zero-radius sphere light") {
     s.sphere_lights.push_back({Vec3(0.5, 2.0, 0.5), 0.0, Color(1.0)});
     CHECK_THAT(prepare_error(s), Catch::Contains("sphere light") && Catch::Contains("radius"));
+  }
+  SECTION("a transfer-function range whose width overflows") {
+    // Found next to a fuzz/fuzz_raw_volume finding: float64 data spanning +-1e308 gave
+    // range: auto a width of inf, and u = (v - lo) / (hi - lo) was NaN at v = hi (the medium
+    // silently vanished there).
+    s.tf.lo = -1e308;
+    s.tf.hi = 1e308;
+    CHECK_THAT(prepare_error(s), Catch::Contains("width"));
   }
   SECTION("fov 0 and 180") {
     s.camera.fov_deg = 0.0;

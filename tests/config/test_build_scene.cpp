@@ -5,6 +5,7 @@
 #include <tessera/config/colormaps.h>
 
 #include <cmath>
+#include <limits>
 
 using namespace tessera;
 using namespace tessera::config;
@@ -181,4 +182,22 @@ TEST_CASE("an envmap background needs its image", "[config][scene]") {
   CHECK(s.background.envmap.get() == img.get());
   // Reading a file that is no EXR fails naming it
   CHECK_THROWS_WITH(build_scene(c.renders[0], b, {0, 1}, g), Contains("sky.exr"));
+}
+
+TEST_CASE("range: auto of a constant field stays non-empty for huge values", "[config][scene]") {
+  // Found by fuzz/fuzz_raw_volume: a field whose only finite value was 5.5e306 widened to
+  // [v - 0.5, v + 0.5] == [v, v] in rounding, which prepare() refuses.
+  RangeSpec automatic;
+  automatic.automatic = true;
+  for (const double v : {5.5e306, -5.5e306, 1e12, std::numeric_limits<double>::max(),
+                         -std::numeric_limits<double>::max()}) {
+    const auto [lo, hi] = resolve_range(automatic, {v, v});
+    INFO("value " << v << ": [" << lo << ", " << hi << "]");
+    CHECK(std::isfinite(lo));
+    CHECK(std::isfinite(hi));
+    CHECK(lo < hi);
+    CHECK(lo <= v);
+    CHECK(v <= hi);
+  }
+  CHECK(resolve_range(automatic, {5.0, 5.0}) == std::pair(4.5, 5.5));  // unchanged where 0.5 shows
 }

@@ -27,7 +27,8 @@ Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up);
 Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up);
 
 /// The TF range, with `auto` replaced by auto_range; an empty auto range (lo == hi, e.g. a
-/// constant field) is widened to [lo - 0.5, hi + 0.5].
+/// constant field) is widened to [lo - 0.5, hi + 0.5], or by 2^-40 |lo| each way where 0.5
+/// would vanish in rounding (|lo| > 2^39), so that lo < hi always holds.
 std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, double> auto_range);
 
 /// Core transfer function; colormap names are expanded (colormaps.h).
