@@ -44,6 +44,7 @@ TEST_CASE("emission-only homogeneous box: L = Le (1 - T) per pixel", "[accuracy]
       for (const tessera::PixelSums& p : film.pixels()) exact_pairs = exact_pairs && p.r == kLe * p.a;
       INFO(t.describe());
       CHECK(t.ok());
+      CHECK(t.mean_z() < 4.0);
       CHECK(exact_pairs);
     }
   }

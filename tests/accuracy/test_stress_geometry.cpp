@@ -51,6 +51,7 @@ void expect_box(const tessera::SceneDesc& s, const FieldView& view, const Vec3& 
   const PixelTest t = absorbing_box_test(view, s, lo, hi, s.tf.density_scale, m, &st);
   INFO(what << ": " << t.describe());
   CHECK(t.ok());
+  CHECK(t.mean_z() < 4.0);
   CHECK(st.discarded_samples == 0);
 }
 

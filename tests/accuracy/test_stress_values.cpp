@@ -140,6 +140,7 @@ TEST_CASE("density_scale from 1e-8 to 1e8: transmittance per pixel", "[accuracy]
     const PixelTest t = absorbing_box_test(view, s, Vec3(0.0), Vec3(1.0), sigma, 64, &st);
     INFO("sigma " << sigma << ": " << t.describe());
     CHECK(t.ok());
+    CHECK(t.mean_z() < 4.0);
     CHECK(st.discarded_samples == 0);
   }
   // A scattering box at the extremes: finite, between 0 and the background (no light is
