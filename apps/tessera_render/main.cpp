@@ -56,7 +56,7 @@ int run(int argc, const char* const* argv) {
   for (const auto* r : renders) targets.push_back(output_targets(cfg.global, *r, args.output, several));
 
   const config::RawVolume volume = config::load_raw_volume(*cfg.volume);
-  const VolumeInfo info = describe_volume(volume, *cfg.volume);
+  VolumeInfo info = describe_volume(volume, *cfg.volume, renders.empty() ? IntegratorDesc{} : renders.front()->integrator.desc);
 
   // Render each, reporting as we go
   const bool show_progress = !args.quiet && (args.progress || isatty(STDERR_FILENO));

@@ -7,25 +7,20 @@
 #include <tessera/render.h>
 
 #include <chrono>
-#include <cmath>
 
 namespace tessera::cli {
 
-VolumeInfo describe_volume(const config::RawVolume& volume, const config::VolumeSpec& spec) {
+VolumeInfo describe_volume(const config::RawVolume& volume, const config::VolumeSpec& spec,
+                           const IntegratorDesc& first_integrator) {
   VolumeInfo v;
   v.view = volume.view();
+  v.view.validate("field");
   v.geometry = spec.geometry();
   v.bounds = field_bounds(v.view, v.geometry);
-  v.range = field_range(v.view);
-
-  // NaN vertices, reported in the statistics
-  v.nan_voxels = dispatch_dtype(v.view, [&](auto f) {
-    std::uint64_t n = 0;
-    for (std::int64_t k = 0; k < v.view.dims[2]; ++k)
-      for (std::int64_t j = 0; j < v.view.dims[1]; ++j)
-        for (std::int64_t i = 0; i < v.view.dims[0]; ++i) n += std::isnan(f.load(i, j, k)) ? 1 : 0;
-    return n;
-  });
+  // One pass: the range (as field_range) and the NaN vertices come with the majorant ranges
+  v.summary = FieldSummary::build(v.view, majorant_edge(v.view, first_integrator));
+  v.range = {v.summary->value_min(), v.summary->value_max()};
+  v.nan_voxels = v.summary->nan_vertices();
   return v;
 }
 
@@ -43,7 +38,7 @@ SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
 }
 
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
-                        const VolumeInfo& volume, const Args& args,
+                        VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress) {
   using Clock = std::chrono::steady_clock;
   const SceneDesc scene = scene_for(cfg, spec, volume, args);
@@ -56,8 +51,9 @@ RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spe
 
   // Prepare (majorants, tables, tiles), then render every tile
   const auto t0 = Clock::now();
-  const PreparedScene prepared = prepare(volume.view, scene);
+  const PreparedScene prepared = prepare(volume.view, scene, volume.summary);
   rec.prepare_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  volume.summary = prepared.summary();
 
   Film film(scene.image.width, scene.image.height);
   ProgressBar bar(spec.name, static_cast<int>(prepared.tiles().size()), show_progress);

@@ -6,10 +6,12 @@
 
 #include <tessera/config/config.h>
 #include <tessera/config/raw_volume.h>
+#include <tessera/field_summary.h>
 #include <tessera/field_view.h>
 #include <tessera/scene.h>
 
 #include <cstdint>
+#include <memory>
 #include <utility>
 
 namespace tessera::cli {
@@ -21,9 +23,15 @@ struct VolumeInfo {
   Bounds bounds;
   std::pair<double, double> range;  ///< finite min and max, for `range: auto`
   std::uint64_t nan_voxels = 0;
+  /// The one pass over the values (range and NaN count come from it), for `edge`; renders
+  /// with that macrocell edge prepare from it, run_render replaces it for another edge.
+  std::shared_ptr<const FieldSummary> summary;
 };
 
-VolumeInfo describe_volume(const config::RawVolume& volume, const config::VolumeSpec& spec);
+/// Reads the volume once: a FieldSummary for macrocell edge `edge` (majorant_edge of the
+/// first render), its finite range and NaN count.
+VolumeInfo describe_volume(const config::RawVolume& volume, const config::VolumeSpec& spec,
+                           const IntegratorDesc& first_integrator);
 
 /// The scene for `spec` with the command line's overrides (--spp, --width, --height, --tile,
 /// --scanline, --threads, --seed) applied over the YAML.
@@ -31,8 +39,9 @@ SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
                     const VolumeInfo& volume, const Args& args);
 
 /// Renders and writes one image; the returned record holds its statistics and outputs.
+/// volume.summary is reused when it has the render's macrocell edge, else replaced.
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
-                        const VolumeInfo& volume, const Args& args,
+                        VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress);
 
 }  // namespace tessera::cli

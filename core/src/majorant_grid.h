@@ -3,20 +3,27 @@
 /// vertex values it touches (its own vertices plus the +1 overlap), and per transfer function
 /// the majorant density_scale * max opacity over that value range.
 ///
-/// Build (one pass over the field) and update (per TF, no pass over the field) are separate,
-/// so a transfer-function change re-derives majorants from the stored ranges alone.
+/// The ranges come from a FieldSummary (one pass over the field), which the grid shares and
+/// never modifies; update (per TF, no pass over the field) derives the majorants from them,
+/// so a transfer-function change, or a later prepare of the unchanged field, needs no pass.
+#include <tessera/field_summary.h>
 #include <tessera/field_view.h>
 #include <tessera/transfer_function.h>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace tessera {
 
 class MajorantGrid {
  public:
-  /// Scan the field. edge >= 1 voxels; an edge >= every dims-1 gives a single global cell.
+  /// Scan the field (a fresh FieldSummary). edge >= 1 voxels; an edge >= every dims-1 gives
+  /// a single global cell.
   void build(const FieldView& field, int edge);
+  /// Use an existing summary (non-null) instead of scanning. Call update() afterwards.
+  void set_summary(std::shared_ptr<const FieldSummary> summary);
+  const std::shared_ptr<const FieldSummary>& summary() const { return m_summary; }
   /// Derive the majorant of each cell for tf (1/world unit). Never below the true extinction
   /// of the trilinear field anywhere in the cell.
   void update(const TransferFunction& tf);
@@ -28,23 +35,17 @@ class MajorantGrid {
   }
   const double* majorants() const { return m_majorant.data(); }
   double max_majorant() const { return m_max; }
-  std::uint64_t nan_vertices() const { return m_nan; }
+  std::uint64_t nan_vertices() const { return m_summary ? m_summary->nan_vertices() : 0; }
   /// Finite min / max over all vertices ({0,0} when none is finite).
-  double value_min() const { return m_vmin; }
-  double value_max() const { return m_vmax; }
+  double value_min() const { return m_summary ? m_summary->value_min() : 0.0; }
+  double value_max() const { return m_summary ? m_summary->value_max() : 0.0; }
 
  private:
-  struct CellRange {
-    double lo, hi;            ///< finite range (lo > hi when the cell has no finite vertex)
-    bool nan, pos_inf, neg_inf;
-  };
-  int m_edge = 16;
+  std::shared_ptr<const FieldSummary> m_summary;
+  int m_edge = 16;                        ///< copies of the summary's, read by the kernels
   std::int64_t m_nc[3] = {1, 1, 1};
-  std::vector<CellRange> m_range;
   std::vector<double> m_majorant;
   double m_max = 0.0;
-  double m_vmin = 0.0, m_vmax = 0.0;
-  std::uint64_t m_nan = 0;
 };
 
 }  // namespace tessera

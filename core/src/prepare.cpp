@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace tessera {
 namespace {
@@ -92,7 +93,13 @@ const SceneDesc& PreparedScene::desc() const { return m_impl->desc; }
 const std::vector<Tile>& PreparedScene::tiles() const { return m_impl->tiles; }
 Bounds PreparedScene::bounds() const { return m_impl->bounds; }
 
-PreparedScene prepare(const FieldView& field, const SceneDesc& scene) {
+const std::shared_ptr<const FieldSummary>& PreparedScene::summary() const { return m_impl->grid.summary(); }
+bool PreparedScene::summary_reused() const { return m_impl->summary_reused; }
+
+PreparedScene prepare(const FieldView& field, const SceneDesc& scene) { return prepare(field, scene, nullptr); }
+
+PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> reuse) {
   validate(field, scene);
   PreparedScene ps;
   PreparedSceneImpl& p = *ps.m_impl;
@@ -103,12 +110,11 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene) {
   p.inv_spacing = 1.0 / scene.geometry.spacing;
   p.march_step = scene.integrator.step *
                  std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
-  // Majorants: one global cell, or macrocells of `macrocell` voxels.
-  const std::int64_t max_dim = std::max({field.dims[0], field.dims[1], field.dims[2]});
-  const int edge = scene.integrator.majorant == MajorantMode::Global
-                       ? static_cast<int>(std::min<std::int64_t>(max_dim, 1 << 30))
-                       : scene.integrator.macrocell;
-  p.grid.build(field, edge);
+  // Majorants: one global cell, or macrocells of `macrocell` voxels; the field pass only
+  // when no matching summary is given
+  const int edge = majorant_edge(field, scene.integrator);
+  p.summary_reused = reuse && reuse->matches(field, edge);
+  p.grid.set_summary(p.summary_reused ? std::move(reuse) : FieldSummary::build(field, edge));
   p.grid.update(scene.tf);
   p.env = Environment(scene.background);
   for (const auto& l : scene.rect_lights) p.rects.emplace_back(l);

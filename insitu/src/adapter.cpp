@@ -29,6 +29,10 @@ tessera_status Adapter::execute(std::int64_t step, double time, const tessera_gr
   return s;
 }
 
+tessera_status Adapter::field_unchanged(const std::string& field_name) noexcept {
+  return m_impl->field_unchanged(field_name.c_str());
+}
+
 tessera_status Adapter::close() noexcept {
   m_impl->close();
   m_impl->m_error.clear();

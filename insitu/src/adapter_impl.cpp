@@ -84,6 +84,8 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
       m_error = m_policy.blocked_message();
       return m_policy.blocked_status();
     }
+    // field_unchanged marks apply to this call only, whether a render fires or not
+    m_summaries.begin_call();
 
     // Triggers, decided from the step alone where possible: no field memory touched yet
     const bool force = final_step && m_config.global.render_final_step;
@@ -115,7 +117,7 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
         if (m_decisions[i] == Decision::Fire && !skipped) skipped = m_renders[i].spec;
         continue;
       }
-      PassOutcome out = run_render(*m_ctx, m_config, m_renders[i], m_call,
+      PassOutcome out = run_render(*m_ctx, m_config, m_renders[i], m_call, m_summaries,
                                    m_decisions[i] == Decision::WhenTrigger, m_quiet);
       if (!out.fired) continue;
       if (out.result.status == TESSERA_OK) {
@@ -158,8 +160,38 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
   return TESSERA_ERROR_RENDER;
 }
 
+tessera_status Adapter::Impl::field_unchanged(const char* field_name) noexcept {
+  try {
+    m_error.clear();
+    if (!m_ctx) {
+      m_error = "field_unchanged: the adapter is not open";
+      return TESSERA_ERROR_CONFIG;
+    }
+    if (!field_name) {
+      m_error = "field_unchanged: field name is NULL";
+      return TESSERA_ERROR_DATA;
+    }
+    // A render names the field, or takes the only published field (any name)
+    std::string names;
+    for (const config::RenderSpec& r : m_config.renders) {
+      if (r.field.empty() || r.field == field_name) {
+        m_summaries.mark_unchanged(field_name);
+        return TESSERA_OK;
+      }
+      if (names.find("'" + r.field + "'") == std::string::npos) names += (names.empty() ? "'" : ", '") + r.field + "'";
+    }
+    m_error = std::string("field_unchanged: no render uses a field called '") + field_name +
+              "' (the config's renders use " + names + ")";
+    return TESSERA_ERROR_DATA;
+  } catch (...) {
+    m_error.clear();  // out of memory for the message: the status alone tells
+  }
+  return TESSERA_ERROR_DATA;
+}
+
 void Adapter::Impl::close() noexcept {
   m_results.clear();
+  m_summaries.clear();
   m_renders.clear();
   m_decisions.clear();
   m_call = CallData{};

@@ -5,6 +5,7 @@
 #include "error_policy.h"
 #include "parallel_context.h"
 #include "render_pass.h"
+#include "summary_cache.h"
 
 #include <tessera/adapter.h>
 #include <tessera/config/config.h>
@@ -25,6 +26,8 @@ struct Adapter::Impl {
                          const tessera_field* fields, std::int64_t nfields,
                          bool final_step) noexcept;
   void close() noexcept;
+  /// Adapter::field_unchanged / tessera_field_unchanged (field_name may be NULL: an error).
+  tessera_status field_unchanged(const char* field_name) noexcept;
 
   /// True once a config with `on_error: abort` is loaded.
   bool abort_mode() const { return m_ctx && m_policy.mode() == config::OnError::Abort; }
@@ -41,6 +44,7 @@ struct Adapter::Impl {
   enum class Decision : unsigned char { Skip, Fire, WhenTrigger };
   std::vector<Decision> m_decisions;  ///< per render, sized at open: no allocation per call
   CallData m_call;
+  SummaryCache m_summaries;
 };
 
 }  // namespace tessera::insitu

@@ -79,6 +79,14 @@ tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, dou
   return adapter->impl.execute(step, time, grid, fields, nfields, true);
 }
 
+tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name) {
+  if (!adapter) {
+    set_open_error("adapter is NULL", "tessera_field_unchanged");
+    return TESSERA_ERROR_CONFIG;
+  }
+  return adapter->impl.field_unchanged(field_name);
+}
+
 tessera_status tessera_close(tessera_adapter* adapter) {
   if (!adapter) return TESSERA_OK;
   adapter->impl.close();

@@ -42,8 +42,9 @@ std::pair<double, double> global_range(ParallelContext& ctx, const FieldView& lo
 /// The phases of one render on this rank.
 class Pass {
  public:
-  Pass(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call)
-      : m_ctx(ctx), m_cfg(cfg), m_render(render), m_spec(*render.spec), m_call(call) {
+  Pass(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call,
+       SummaryCache& summaries)
+      : m_ctx(ctx), m_cfg(cfg), m_render(render), m_spec(*render.spec), m_call(call), m_summaries(summaries) {
     m_out.result.name = m_spec.name;
     m_out.result.step = call.step;
     m_out.result.time = call.time;
@@ -65,8 +66,20 @@ class Pass {
           const tessera_field& f = fields[find_field(fields, m_spec.field, m_spec.name)];
           m_binding = bind_field(f, *m_call.grid);
           if (m_ctx.size() == 1) require_whole_grid(f, m_binding);
+          m_field_name = f.name;
         }))
       return std::move(m_out);
+
+    // Summaries carried from the last call: kept only if every rank may keep them
+    SummaryCache::Entry& entry = m_summaries.entry(m_field_name);
+    if (!entry.decided) {
+      const SummaryKey key = SummaryKey::of(m_binding);
+      const bool keep = m_ctx.agree(entry.carried && !entry.summaries.empty() && entry.key == key);
+      if (!keep) entry.summaries.clear();
+      entry.kept = keep;
+      entry.key = key;
+      entry.decided = true;
+    }
 
     // Range: only when the trigger or `range: auto` needs it, once per field and call
     const bool need_range = check_when || m_spec.transfer_function.range.automatic;
@@ -98,7 +111,7 @@ class Pass {
           scene = config::build_scene(m_spec, m_binding.global_bounds, range, m_binding.geometry);
           scene.options = config::build_render_options(m_spec, m_cfg.global);
           scene.options.frame = static_cast<std::uint64_t>(m_call.step);
-          prepared = prepare(m_call.assembled, scene);
+          prepared = prepare_scene(scene);
           if (m_spec.output.cinema)
             views = cinema_views(*m_spec.output.cinema, scene.camera, m_binding.global_bounds);
         }))
@@ -161,9 +174,37 @@ class Pass {
   std::pair<double, double> cached_range() {
     for (const auto& [key, range] : m_call.ranges)
       if (key == m_spec.field) return range;
-    const auto range = global_range(m_ctx, m_binding.local);
+    // From a summary of the global field: one kept from the last call (agreed by all ranks,
+    // so all skip the reduction alike), or on one rank, where the global field is this
+    // rank's view, the one this call made or makes now for prepare; else a pass here
+    SummaryCache::Entry& entry = m_summaries.entry(m_field_name);
+    std::shared_ptr<const FieldSummary> s = entry.kept || m_ctx.size() == 1 ? entry.find(0) : nullptr;
+    if (!s && m_ctx.size() == 1) {
+      s = FieldSummary::build(m_binding.local, majorant_edge(m_binding.local, m_spec.integrator.desc));
+      ++m_out.result.field_passes;
+      entry.keep(s);
+    }
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    const auto range = !s                ? global_range(m_ctx, m_binding.local)
+                       : s->has_finite() ? std::pair{s->value_min(), s->value_max()}
+                                         : std::pair{kInf, -kInf};
     m_call.ranges.emplace_back(m_spec.field, range);
     return range;
+  }
+
+  /// prepare() with the field's summary for the scene's macrocell edge when there is one;
+  /// keeps a summary it had to make for the next prepare of the field.
+  PreparedScene prepare_scene(const SceneDesc& scene) {
+    SummaryCache::Entry& entry = m_summaries.entry(m_field_name);
+    const auto t0 = Clock::now();
+    PreparedScene prepared =
+        prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));
+    m_out.result.prepare_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    if (!prepared.summary_reused()) {
+      ++m_out.result.field_passes;
+      entry.keep(prepared.summary());
+    }
+    return prepared;
   }
 
   bool render_film(const PreparedScene& prepared, Film& film) {
@@ -189,7 +230,7 @@ class Pass {
       if (!phase(TESSERA_ERROR_RENDER, [&] {
             SceneDesc s = scene;
             s.camera = view.camera;
-            prepared = prepare(m_call.assembled, s);
+            prepared = prepare_scene(s);
           }))
         return false;
       Film film;
@@ -233,14 +274,16 @@ class Pass {
   RenderState& m_render;
   const config::RenderSpec& m_spec;
   CallData& m_call;
+  SummaryCache& m_summaries;
   FieldBinding m_binding;
+  std::string m_field_name;  ///< the simulation's name of the bound field
   PassOutcome m_out;
 };
 
 }  // namespace
 
 PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderState& render,
-                       CallData& call, bool check_when, bool quiet) noexcept {
+                       CallData& call, SummaryCache& summaries, bool check_when, bool quiet) noexcept {
   // Only agree() itself (e.g. a broken communicator) or memory exhaustion gets here
   PassOutcome out;
   out.fired = true;
@@ -250,7 +293,7 @@ PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderSt
   out.result.time = call.time;
   try {
     try {
-      return Pass(ctx, cfg, render, call).run(check_when, quiet);
+      return Pass(ctx, cfg, render, call, summaries).run(check_when, quiet);
     } catch (const std::exception& e) {
       out.result.name = render.spec->name;
       out.result.error = "render '" + render.spec->name + "' at step " +

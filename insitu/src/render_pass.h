@@ -3,11 +3,15 @@
 ///   bind (descriptors -> FieldView) -> range (auto range / `when` maximum) -> assemble
 ///   (ParallelContext) -> scene + prepare -> render (ParallelContext) -> write (rank 0)
 ///   [-> Cinema: prepare, render, write per camera -> data.csv].
+/// The one pass over a field's values (its FieldSummary: majorant ranges, finite min/max) is
+/// made at most once per field and call and shared by every render and camera that uses it;
+/// none when the simulation marked the field unchanged (summary_cache.h).
 /// After each phase the ranks agree (ParallelContext::agree) on success, so that every rank
 /// takes the same path and none is left waiting in a collective. Nothing is prepared or read
 /// for a render that does not fire.
 #include "cinema.h"
 #include "parallel_context.h"
+#include "summary_cache.h"
 #include "triggers.h"
 
 #include <tessera/adapter.h>
@@ -55,8 +59,10 @@ struct PassOutcome {
 };
 
 /// Runs `render` for `call`. check_when: the render fires only if its `when` trigger does.
-/// Never throws: failures come back in the result (status + message naming render and step).
+/// `summaries`: the adapter's field summaries (summary_cache.h), used and updated; the call
+/// must have begun with summaries.begin_call(). Never throws: failures come back in the
+/// result (status + message naming render and step).
 PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderState& render,
-                       CallData& call, bool check_when, bool quiet) noexcept;
+                       CallData& call, SummaryCache& summaries, bool check_when, bool quiet) noexcept;
 
 }  // namespace tessera::insitu

@@ -4,6 +4,7 @@
 // gives every rank an error status without a hang.
 #include "mpi_test_support.h"
 
+#include <tessera/adapter.h>
 #include <tessera/image_io.h>
 #include <tessera/tessera.h>
 
@@ -13,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -187,4 +189,46 @@ TEST_CASE("an invalid communicator handle is refused at open", "[mpi][adapter][e
   CHECK(a == nullptr);
   CHECK_THAT(std::string(tessera_last_error(nullptr)), Catch::Contains("123456"));
   MPI_Barrier(MPI_COMM_WORLD);
+}
+
+TEST_CASE("field_unchanged under MPI: the summary is kept only if every rank says so",
+          "[mpi][adapter][summary]") {
+  SharedTempDir dir;
+  const std::string out = dir.file("unchanged");
+  if (world_rank() == 0) {
+    // range: auto, so that the kept summary also replaces the range reduction
+    std::string text = config_text(out);
+    const std::string fixed = "range: [0, 250]";
+    text.replace(text.find(fixed), fixed.size(), "range: auto");
+    std::ofstream(out + ".yaml") << text;
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  tessera_field f{};
+  tessera_grid g{};
+  Published pub(block_of(kGlobal, procs_for(world_size()), world_rank()), f, g);
+  tessera::insitu::Adapter adapter;
+  adapter.set_quiet(true);
+  REQUIRE(adapter.open(out + ".yaml", MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK);
+  const auto passes_after = [&](std::int64_t step) {
+    REQUIRE(adapter.execute(step, 0.0, g, {&f, 1}) == TESSERA_OK);
+    REQUIRE(adapter.last_results().size() == 1);
+    return adapter.last_results()[0].field_passes;
+  };
+
+  CHECK(passes_after(3) == 1);
+  std::optional<tessera::Image> first;
+  if (world_rank() == 0) first = *adapter.last_image("view");
+
+  // Every rank promises: no pass anywhere, the same image
+  REQUIRE(adapter.field_unchanged("density") == TESSERA_OK);
+  CHECK(passes_after(3) == 0);
+  bool same = world_rank() != 0 || same_image(*first, *adapter.last_image("view"));
+  CHECK(all_ranks(same));
+
+  // Only rank 0 promises: every rank reads the field again (and none waits for another)
+  if (world_rank() == 0) REQUIRE(adapter.field_unchanged("density") == TESSERA_OK);
+  CHECK(passes_after(3) == (world_size() == 1 ? 0 : 1));
+  same = world_rank() != 0 || same_image(*first, *adapter.last_image("view"));
+  CHECK(all_ranks(same));
+  adapter.close();
 }

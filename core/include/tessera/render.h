@@ -5,6 +5,11 @@
 /// fault), builds the majorant grid, light and environment sampling tables and the tile list.
 /// The PreparedScene references the field memory, which must outlive it. render_tiles() is
 /// thread-safe, allocates nothing per sample, throws nothing from inside the loop.
+///
+/// The one pass over the field's values that prepare() needs (the FieldSummary: macrocell
+/// value ranges, NaN count, finite min/max) can be carried from one prepare to the next of
+/// the same, unchanged field: prepare(field, scene, reuse) and PreparedScene::summary().
+#include <tessera/field_summary.h>
 #include <tessera/field_view.h>
 #include <tessera/film.h>
 #include <tessera/scene.h>
@@ -29,9 +34,14 @@ class PreparedScene {
   const std::vector<Tile>& tiles() const;
   Bounds bounds() const;
   const PreparedSceneImpl& impl() const { return *m_impl; }
+  /// The field summary the majorants were derived from (never null once prepared): pass it
+  /// to the next prepare of the same, unchanged field to skip the pass over the values.
+  const std::shared_ptr<const FieldSummary>& summary() const;
+  /// True iff prepare() reused the summary it was given instead of scanning the field.
+  bool summary_reused() const;
 
  private:
-  friend PreparedScene prepare(const FieldView&, const SceneDesc&);
+  friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   std::unique_ptr<PreparedSceneImpl> m_impl;
 };
 
@@ -41,6 +51,19 @@ Bounds field_bounds(const FieldView& field, const VolumeGeometry& g);
 std::pair<double, double> field_range(const FieldView& field);
 
 PreparedScene prepare(const FieldView& field, const SceneDesc& scene);
+
+/// As prepare(field, scene), reusing `reuse` instead of scanning the field when it matches:
+/// reuse->matches(field, majorant_edge(field, scene.integrator)), i.e. it was built from the
+/// same data pointer, dtype, dims and byte strides with the macrocell edge this scene needs.
+/// Otherwise (null, another layout or another edge) a fresh summary is built, exactly as
+/// prepare(field, scene) does; the result's summary() / summary_reused() tell which.
+///
+/// Contract: passing a matching summary is the caller's guarantee that the values at that
+/// memory are the ones it was built from. prepare cannot check this (it would take the very
+/// pass it saves); with changed values the majorants may be too low and the image biased.
+/// The image is bit-identical to that of prepare(field, scene) when the guarantee holds.
+PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> reuse);
 
 /// Render the tiles with the given indices into `film` (which must be width x height), with
 /// TBB over tiles. Adds spp samples to each pixel, continuing each pixel's sample indices.

@@ -56,6 +56,12 @@ struct RenderResult {
   std::vector<std::string> files;     ///< files written (rank 0 only; empty on other ranks)
   double render_seconds = 0.0;        ///< rendering only (all cameras for a Cinema render)
   double samples_per_second = 0.0;    ///< stats.samples / render_seconds
+  double prepare_seconds = 0.0;       ///< this rank's tessera::prepare time (all cameras)
+  /// Passes this render made over its field's values on this rank (the FieldSummary: macrocell
+  /// ranges, NaN count, finite min/max). 0: it reused one made earlier in the same call by
+  /// another render, or kept from the last call after field_unchanged(); at most 1 per
+  /// macrocell edge otherwise, however many Cinema cameras.
+  int field_passes = 0;
   RenderStats stats;                  ///< summed over ranks on rank 0 (and over Cinema cameras)
 };
 
@@ -84,6 +90,21 @@ class Adapter {
   /// TESSERA_ERROR_DISABLED when a render that fired is disabled (on_error: disable).
   tessera_status execute(std::int64_t step, double time, const tessera_grid& grid,
                          std::span<const tessera_field> fields, bool final_step = false);
+
+  /// The simulation's promise that the values of the field called `field_name` (its
+  /// tessera_field name) at the next execute() are bit-for-bit those it had at the last one
+  /// (the C API's tessera_field_unchanged). That execute then reuses the field's summary (the
+  /// pass over its values behind the majorants and `range: auto`) instead of reading the
+  /// values again; RenderResult::field_passes shows 0. One-shot: it applies to the next
+  /// execute() only, whether a render fires in it or not; a call without it makes the next
+  /// render read the field again. The adapter still compares the field's layout (data
+  /// pointer, dtype, dims, strides, ghosts, global placement) and reads the field again when
+  /// it differs. With MPI not collective; the summary is reused only if every rank made the
+  /// call. The promise is not checked: values that did change give majorants that may be too
+  /// low, i.e. a biased image. Returns TESSERA_OK, TESSERA_ERROR_CONFIG when the adapter is
+  /// not open, TESSERA_ERROR_DATA when no render of the config can use a field of that name
+  /// (last_error() says why). Never throws.
+  tessera_status field_unchanged(const std::string& field_name) noexcept;
 
   /// Releases everything. Idempotent. Returns TESSERA_OK.
   tessera_status close() noexcept;

@@ -8,8 +8,8 @@
  * later tessera_execute return that error.
  *
  * Thread safety: one adapter must not be used by two threads at once; distinct adapters are
- * independent. With MPI every call except tessera_last_error is collective over the
- * communicator given to tessera_open (or tessera_open_with_output_dir).
+ * independent. With MPI every call except tessera_last_error and tessera_field_unchanged is
+ * collective over the communicator given to tessera_open (or tessera_open_with_output_dir).
  *
  * C99-compatible; usable from C++ (extern "C"). */
 #ifndef TESSERA_TESSERA_H
@@ -95,12 +95,28 @@ tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, dou
                                      const tessera_grid* grid, const tessera_field* fields,
                                      int nfields);
 
+/* The simulation's promise that the values of the field named field_name (its tessera_field
+ * name) at the next tessera_execute / tessera_execute_final are bit-for-bit those it had at
+ * the last one. That call then reuses what the adapter derived from the values (the field
+ * summary behind the majorant grid and `range: auto`) instead of reading them again.
+ * One-shot: it applies to the next execute call only, whether a render fires in it or not;
+ * without it the next render reads the field again. The adapter still compares the field's
+ * layout (data pointer, dtype, dims, strides, ghosts, global placement) and reads it again
+ * when that differs. The promise itself is not checked: values that did change give
+ * majorants that may be too low, i.e. a biased image. With MPI not collective: the summary is
+ * reused only if every rank made this call before the execute (they agree inside it).
+ * Returns TESSERA_OK; TESSERA_ERROR_CONFIG for a NULL adapter (tessera_last_error(NULL) says
+ * so); TESSERA_ERROR_DATA for a NULL field_name or a name no render of the config can use
+ * (tessera_last_error(adapter) says which). An addition to interfaces.md section 3. */
+tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name);
+
 /* Releases the adapter (NULL is allowed and returns TESSERA_OK). */
 tessera_status tessera_close(tessera_adapter* adapter);
 
 /* The adapter's last error message, or "" if the last call succeeded; with NULL, the calling
  * thread's last tessera_open (or tessera_open_with_output_dir) failure. Valid until the next
- * call on the same adapter (or, for NULL, the next open on this thread). Never NULL. */
+ * call on the same adapter (or, for NULL, the next open on this thread). Never NULL.
+ * tessera_field_unchanged(NULL, ...) also sets the NULL message. */
 const char* tessera_last_error(const tessera_adapter* adapter);
 
 #ifdef __cplusplus

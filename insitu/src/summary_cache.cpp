@@ -1,0 +1,59 @@
+#include "summary_cache.h"
+
+#include <utility>
+
+namespace tessera::insitu {
+
+SummaryKey SummaryKey::of(const FieldBinding& binding) {
+  SummaryKey k;
+  k.local = FieldLayout::of(binding.local);
+  for (int a = 0; a < 3; ++a) {
+    k.offset[a] = binding.placement.offset[a];
+    k.global_dims[a] = binding.placement.global_dims[a];
+  }
+  return k;
+}
+
+bool SummaryKey::operator==(const SummaryKey& o) const {
+  if (!(local == o.local)) return false;
+  for (int a = 0; a < 3; ++a)
+    if (offset[a] != o.offset[a] || global_dims[a] != o.global_dims[a]) return false;
+  return true;
+}
+
+std::shared_ptr<const FieldSummary> SummaryCache::Entry::find(int edge) const {
+  for (const auto& s : summaries)
+    if (edge == 0 || s->edge() == edge) return s;
+  return nullptr;
+}
+
+void SummaryCache::Entry::keep(std::shared_ptr<const FieldSummary> s) {
+  for (auto& old : summaries)
+    if (old->edge() == s->edge()) {
+      old = std::move(s);
+      return;
+    }
+  summaries.push_back(std::move(s));
+}
+
+void SummaryCache::mark_unchanged(const std::string& name) { entry(name).marked = true; }
+
+void SummaryCache::begin_call() {
+  for (Entry& e : m_entries) {
+    e.carried = e.marked;
+    e.marked = false;
+    e.decided = false;
+    e.kept = false;
+    if (!e.carried) e.summaries.clear();
+  }
+}
+
+SummaryCache::Entry& SummaryCache::entry(const std::string& name) {
+  for (Entry& e : m_entries)
+    if (e.name == name) return e;
+  m_entries.emplace_back();
+  m_entries.back().name = name;
+  return m_entries.back();
+}
+
+}  // namespace tessera::insitu
