@@ -1,5 +1,6 @@
 #include <tessera/render.h>
 
+#include "adaptive_sampling.h"
 #include "path_tracer.h"
 #include "prepared_scene_impl.h"
 
@@ -8,6 +9,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <chrono>
@@ -17,71 +19,164 @@
 namespace tessera {
 namespace {
 
-/// Adaptive sampling: a pixel stops once it has min_spp samples and the relative standard
-/// error of its mean luminance, sqrt(var / n) / max(mean, 0.01), is below `target`. A pure
-/// function of the pixel's own sums, so the decision does not depend on tiles, threads or ranks.
-inline bool pixel_converged(const PixelSums& px, int min_spp, double target) {
-  if (px.n < static_cast<std::uint64_t>(min_spp) || px.n < 2) return false;
-  const double n = static_cast<double>(px.n);
-  const double mean = px.lum / n;
-  const double var = std::max(0.0, (px.lum2 - px.lum * mean) / (n - 1.0));
-  return std::sqrt(var / n) < target * std::max(mean, 0.01);
+/// Adds one finite sample to a pixel's sums.
+inline void add_sample(PixelSums& px, const SampleResult& r) {
+  px.r += r.L.x;
+  px.g += r.L.y;
+  px.b += r.L.z;
+  px.a += r.alpha;
+  const double lum = luminance(r.L);
+  px.lum += lum;
+  px.lum2 += lum * lum;
+  ++px.n;
 }
 
-/// Render every sample of one tile: all spp estimates of the tile before the next tile.
+/// One tile's sampling: draws samples of pixels with the tile's tracer and counters.
 template <class T, Shading S, bool kEmission>
-void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium, const Tile& tile,
-                 Film& film, RenderStats& st) {
-  const PathTracer<T, S, kEmission> tracer(s, medium);
-  KernelCounters k;
-  const bool culled = s.tile_culled[static_cast<std::size_t>(&tile - s.tiles.data())] != 0;
-  if (culled) ++st.tiles_skipped;
-  const int spp = s.desc.image.spp;
-  const int width = s.desc.image.width;
+class TileSampler {
+ public:
+  TileSampler(const PreparedSceneImpl& s, const GridMedium<T>& medium, bool culled)
+      : m_s(s), m_tracer(s, medium), m_culled(culled) {}
+
+  /// Sample `index` of pixel (x, y); false if its radiance is not finite. `own`: the pixel is
+  /// in this tile, so the tile's culling applies (another tile's pixel is always traced: a
+  /// culled tile's verdict says nothing about its neighbours, and a traced miss gives the
+  /// same value as a culled fill).
+  bool draw(int x, int y, std::uint64_t index, SampleResult& r, bool own = true) {
+    const std::uint64_t pixel = static_cast<std::uint64_t>(y) * m_s.desc.image.width + x;
+    Rng rng(m_s.desc.options.seed, m_s.desc.options.frame, pixel, index);
+    const double jx = rng.uniform(), jy = rng.uniform();
+    const double lx = rng.uniform(), ly = rng.uniform();
+    const Ray ray = m_s.camera.generate(x + jx, y + jy, lx, ly);
+    // A culled tile's rays meet nothing: exactly the background a traced miss returns.
+    r = m_culled && own ? SampleResult{m_s.env.visible() ? m_s.env.eval(ray.d) : Color(0.0), 0.0}
+                 : m_tracer.li(ray, rng, m_k);
+    return is_finite(r.L);
+  }
+
+  /// Draw the pixel's next sample into its sums (a non-finite one is counted and dropped).
+  /// Returns the sample when it was kept, for the caller's own bookkeeping.
+  const SampleResult* accumulate(int x, int y, PixelSums& px, RenderStats& st) {
+    ++st.samples;
+    if (!draw(x, y, px.drawn++, m_last)) {
+      ++st.discarded_samples;
+      return nullptr;
+    }
+    add_sample(px, m_last);
+    return &m_last;
+  }
+
+  void flush(RenderStats& st) const {
+    st.free_flight_lookups += m_k.free_flight;
+    st.transmittance_lookups += m_k.transmittance;
+    st.gradient_lookups += m_k.gradient;
+    st.real_collisions += m_k.real;
+    st.null_collisions += m_k.null;
+  }
+
+ private:
+  const PreparedSceneImpl& m_s;
+  const PathTracer<T, S, kEmission> m_tracer;
+  KernelCounters m_k;
+  SampleResult m_last;
+  bool m_culled;
+};
+
+/// What every tile of one render_tiles call shares.
+struct RenderCall {
+  /// Adaptive sampling only: each pixel's `drawn` when the call began (its first sample index
+  /// in this call), so a tile can draw the pilot samples of block neighbours it does not own.
+  const std::uint64_t* first_index = nullptr;
+};
+
+/// Uniform sampling: all spp estimates of the tile, sample-major.
+template <class T, Shading S, bool E>
+void sample_uniform(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const Tile& tile,
+                    Film& film, RenderStats& st) {
+  for (int si = 0; si < s.desc.image.spp; ++si)
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) ts.accumulate(x, y, film.at(x, y), st);
+}
+
+/// Adaptive sampling (adaptive_sampling.h), block by block. The pilot samples of block pixels
+/// outside the tile are drawn again here (identical values, used for the decision only, not
+/// counted in `samples`): free when tiles are multiples of the block, pilot-sized otherwise.
+template <class T, Shading S, bool E>
+void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const RenderCall& call,
+                     const Tile& tile, Film& film, RenderStats& st) {
+  constexpr int B = kAdaptiveBlock;
+  const int width = s.desc.image.width, height = s.desc.image.height, spp = s.desc.image.spp;
+  const int pilot = adaptive_pilot(spp);
   const double target = s.desc.image.target_error;
-  const int min_spp = std::min(spp, std::max(8, spp / 16));
-  for (int si = 0; si < spp; ++si) {
-    for (int y = tile.y0; y < tile.y1; ++y) {
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        PixelSums& px = film.at(x, y);
-        if (target > 0.0 && pixel_converged(px, min_spp, target)) continue;
-        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * width + x;
-        Rng rng(s.desc.options.seed, s.desc.options.frame, pixel, px.drawn);
-        ++px.drawn;
-        const double jx = rng.uniform(), jy = rng.uniform();
-        const double lx = rng.uniform(), ly = rng.uniform();
-        const Ray ray = s.camera.generate(x + jx, y + jy, lx, ly);
-        // A culled tile's rays meet nothing: exactly the background a traced miss returns.
-        const SampleResult r = culled ? SampleResult{s.env.visible() ? s.env.eval(ray.d) : Color(0.0), 0.0}
-                                      : tracer.li(ray, rng, k);
-        ++st.samples;
-        if (!is_finite(r.L)) {
-          ++st.discarded_samples;
-          continue;
+  std::array<PilotSums, B * B> sums;
+  const auto inside = [&](int x, int y) { return x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1; };
+  for (int by = tile.y0 / B * B; by < tile.y1; by += B) {
+    for (int bx = tile.x0 / B * B; bx < tile.x1; bx += B) {
+      const int bw = std::min(B, width - bx), bh = std::min(B, height - by);
+      // Pilot: every pixel of the block, in raster order.
+      for (int j = 0; j < bh; ++j) {
+        for (int i = 0; i < bw; ++i) {
+          const int x = bx + i, y = by + j;
+          PilotSums& p = sums[static_cast<std::size_t>(j * B + i)];
+          p = PilotSums{};
+          const bool mine = inside(x, y);
+          const std::uint64_t first = call.first_index[static_cast<std::size_t>(y) * width + x];
+          for (int si = 0; si < pilot; ++si) {
+            SampleResult r;
+            const SampleResult* kept = nullptr;
+            if (mine) {
+              kept = ts.accumulate(x, y, film.at(x, y), st);
+            } else if (ts.draw(x, y, first + static_cast<std::uint64_t>(si), r, false)) {
+              kept = &r;
+            }
+            if (!kept) continue;
+            const double lum = luminance(kept->L);
+            p.lum += lum;
+            p.lum2 += lum * lum;
+            ++p.n;
+          }
         }
-        px.r += r.L.x;
-        px.g += r.L.y;
-        px.b += r.L.z;
-        px.a += r.alpha;
-        const double lum = luminance(r.L);
-        px.lum += lum;
-        px.lum2 += lum * lum;
-        ++px.n;
+      }
+      // The rest of each own pixel's samples, counted from the other pixels' pilots.
+      for (int j = 0; j < bh; ++j) {
+        for (int i = 0; i < bw; ++i) {
+          const int x = bx + i, y = by + j;
+          if (!inside(x, y)) continue;
+          PilotSums others;
+          for (int q = 0; q < bh * B; ++q) {
+            if (q == j * B + i || q % B >= bw) continue;
+            others.lum += sums[static_cast<std::size_t>(q)].lum;
+            others.lum2 += sums[static_cast<std::size_t>(q)].lum2;
+            others.n += sums[static_cast<std::size_t>(q)].n;
+          }
+          const int n = adaptive_count(others, pilot, spp, target);
+          PixelSums& px = film.at(x, y);
+          for (int si = pilot; si < n; ++si) ts.accumulate(x, y, px, st);
+        }
       }
     }
   }
-  st.free_flight_lookups += k.free_flight;
-  st.transmittance_lookups += k.transmittance;
-  st.gradient_lookups += k.gradient;
-  st.real_collisions += k.real;
-  st.null_collisions += k.null;
 }
 
-using TileFn = void (*)(const PreparedSceneImpl&, const void* medium, const Tile&, Film&, RenderStats&);
+/// Render one tile: all its samples before the next tile.
+template <class T, Shading S, bool E>
+void render_tile(const PreparedSceneImpl& s, const RenderCall& call, const GridMedium<T>& medium,
+                 const Tile& tile, Film& film, RenderStats& st) {
+  const bool culled = s.tile_culled[static_cast<std::size_t>(&tile - s.tiles.data())] != 0;
+  if (culled) ++st.tiles_skipped;
+  TileSampler<T, S, E> ts(s, medium, culled);
+  if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, call, tile, film, st);
+  else sample_uniform(ts, s, tile, film, st);
+  ts.flush(st);
+}
+
+using TileFn = void (*)(const PreparedSceneImpl&, const RenderCall&, const void* medium, const Tile&,
+                        Film&, RenderStats&);
 
 template <class T, Shading S, bool E>
-void tile_entry(const PreparedSceneImpl& s, const void* medium, const Tile& t, Film& f, RenderStats& st) {
-  render_tile<T, S, E>(s, *static_cast<const GridMedium<T>*>(medium), t, f, st);
+void tile_entry(const PreparedSceneImpl& s, const RenderCall& c, const void* medium, const Tile& t,
+                Film& f, RenderStats& st) {
+  render_tile<T, S, E>(s, c, *static_cast<const GridMedium<T>*>(medium), t, f, st);
 }
 
 template <class T>
@@ -125,6 +220,13 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
     if (i < 0 || i >= ntiles) throw std::out_of_range("tile index " + std::to_string(i) + " out of range");
 
   std::vector<RenderStats> per_tile(tile_indices.size());
+  RenderCall call;
+  std::vector<std::uint64_t> first_index;
+  if (s.desc.image.target_error > 0.0) {
+    first_index.reserve(film.pixels().size());
+    for (const PixelSums& p : film.pixels()) first_index.push_back(p.drawn);
+    call.first_index = first_index.data();
+  }
   std::atomic<int> done{0};
   std::atomic<bool> reporting{false};
   const int threads = s.desc.options.threads > 0 ? s.desc.options.threads
@@ -139,7 +241,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_indices.size(), 1),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                            fn(s, &medium, s.tiles[tile_indices[i]], film, per_tile[i]);
+                            fn(s, call, &medium, s.tiles[tile_indices[i]], film, per_tile[i]);
                             const int d = ++done;
                             if (progress && !reporting.exchange(true)) {
                               progress(d);
