@@ -22,27 +22,6 @@ void check_points(const std::vector<double>& xs, std::size_t nv) {
   }
 }
 
-/// Index i such that x[i] <= u < x[i+1], for n >= 2 and x[0] <= u < x[n-1].
-inline int segment(const double* x, int n, double u) {
-  int lo = 0, hi = n - 1;
-  while (hi - lo > 1) {
-    const int mid = (lo + hi) / 2;
-    if (x[mid] <= u) lo = mid; else hi = mid;
-  }
-  return lo;
-}
-
-template <class V>
-V eval_pl(const double* x, const V* v, int n, double u) {
-  if (n == 0) return V(0.0);
-  if (u <= x[0]) return v[0];
-  if (u >= x[n - 1]) return v[n - 1];
-  const int i = segment(x, n, u);
-  const double w = x[i + 1] - x[i];
-  const double t = w > 0.0 ? (u - x[i]) / w : 1.0;
-  return v[i] * (1.0 - t) + v[i + 1] * t;
-}
-
 }  // namespace
 
 ScalarTF::ScalarTF(const std::vector<double>& xs, const std::vector<double>& vs) {
@@ -56,7 +35,6 @@ ScalarTF::ScalarTF(const std::vector<double>& xs, const std::vector<double>& vs)
   }
 }
 
-double ScalarTF::eval(double u) const { return eval_pl(m_x, m_v, m_n, u); }
 
 double ScalarTF::max_over(double u0, double u1) const {
   if (m_n == 0) return 0.0;
@@ -89,7 +67,6 @@ ColorTF::ColorTF(const std::vector<double>& xs, const std::vector<Color>& vs) {
   }
 }
 
-Color ColorTF::eval(double u) const { return eval_pl(m_x, m_v, m_n, u); }
 
 bool ColorTF::is_zero() const {
   for (int i = 0; i < m_n; ++i)

@@ -10,6 +10,31 @@ namespace tessera {
 
 inline constexpr int kMaxTfPoints = 64;
 
+namespace detail {
+/// Index i such that x[i] <= u < x[i+1], for n >= 2 and x[0] <= u < x[n-1].
+inline int tf_segment(const double* x, int n, double u) {
+  int lo = 0, hi = n - 1;
+  while (hi - lo > 1) {
+    const int mid = (lo + hi) / 2;
+    if (x[mid] <= u) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+
+/// Piecewise-linear interpolation through (x[i], v[i]), clamped at the ends; zero if n == 0.
+/// Inline: it is evaluated at every density lookup of the render loop.
+template <class V>
+inline V tf_eval(const double* x, const V* v, int n, double u) {
+  if (n == 0) return V(0.0);
+  if (u <= x[0]) return v[0];
+  if (u >= x[n - 1]) return v[n - 1];
+  const int i = tf_segment(x, n, u);
+  const double w = x[i + 1] - x[i];
+  const double t = w > 0.0 ? (u - x[i]) / w : 1.0;
+  return v[i] * (1.0 - t) + v[i + 1] * t;
+}
+}  // namespace detail
+
 /// Scalar TF. Points must have non-decreasing x (equal x allowed: a step). Empty = zero.
 class ScalarTF {
  public:
@@ -18,7 +43,7 @@ class ScalarTF {
   ScalarTF(const std::vector<double>& xs, const std::vector<double>& vs);
   static ScalarTF constant(double v) { return ScalarTF({0.0}, {v}); }
 
-  double eval(double u) const;
+  double eval(double u) const { return detail::tf_eval(m_x, m_v, m_n, u); }
   /// Exact maximum of the TF over [u0, u1] (u0 <= u1), from the end values and the points
   /// strictly inside: a piecewise-linear function peaks at a point or an end.
   double max_over(double u0, double u1) const;
@@ -41,7 +66,7 @@ class ColorTF {
   ColorTF(const std::vector<double>& xs, const std::vector<Color>& vs);
   static ColorTF constant(const Color& c) { return ColorTF({0.0}, {c}); }
 
-  Color eval(double u) const;
+  Color eval(double u) const { return detail::tf_eval(m_x, m_v, m_n, u); }
   bool is_zero() const;
   int size() const { return m_n; }
 
