@@ -30,11 +30,12 @@ std::int64_t parse_int(std::string_view flag, const char* text, std::int64_t min
 }  // namespace
 
 std::string usage() {
-  return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR]\n"
+  return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]\n"
          "  --config FILE     Tessera YAML config (default: the project's configs/heat.yaml)\n"
          "  --steps N         time steps after the initial state (default 100)\n"
          "  --grid NX NY NZ   global grid vertices, each >= 3 (default 64 64 64)\n"
-         "  --output-dir DIR  write images under DIR instead of the config's output_dir\n";
+         "  --output-dir DIR  write images under DIR instead of the config's output_dir\n"
+         "  --dump FILE       at the end, write the global field to FILE (raw float32, i fastest)\n";
 }
 
 Options parse_options(int argc, const char* const* argv) {
@@ -59,6 +60,10 @@ Options parse_options(int argc, const char* const* argv) {
       need(1);
       o.output_dir = argv[++i];
       if (o.output_dir->empty()) throw std::invalid_argument("--output-dir needs a non-empty directory");
+    } else if (a == "--dump") {
+      need(1);
+      o.dump = argv[++i];
+      if (o.dump->empty()) throw std::invalid_argument("--dump needs a non-empty file name");
     } else {
       throw std::invalid_argument("unknown argument '" + std::string(a) + "'");
     }

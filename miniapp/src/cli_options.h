@@ -1,6 +1,6 @@
 #pragma once
 /// Command line of tessera-heat (spec/interfaces.md section 4; docs/miniapp.md):
-///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR]
+///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -13,6 +13,7 @@ struct Options {
   std::int64_t steps = 100;                     ///< time steps after the initial state, >= 0
   std::array<std::int64_t, 3> grid{64, 64, 64}; ///< global vertices, each >= 3
   std::optional<std::string> output_dir;        ///< overrides the config's tessera.output_dir
+  std::optional<std::string> dump;              ///< raw float32 file of the final global field
   bool help = false;
 };
 

@@ -2,13 +2,17 @@
 // serial one, one Fourier mode decays at the analytic rate with second-order convergence, the
 // time step is the documented stable one, and halos hold the neighbours' values.
 #include "cart_decomposition.h"
+#include "field_dump.h"
 #include "heat_solver.h"
 
 #include "mpi_test_support.h"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <unistd.h>
 #include <numbers>
 #include <vector>
 
@@ -175,4 +179,36 @@ TEST_CASE("halo exchange fills every ghost that has a neighbour with the neighbo
   std::int64_t mine = d.owned()[0] * d.owned()[1] * d.owned()[2], total = 0;
   MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
   REQUIRE(total == g[0] * g[1] * g[2]);
+}
+
+TEST_CASE("--dump writes the global field as raw float32, the same for any rank count", "[mpi][heat][dump]") {
+  // The file name is agreed on rank 0 (one temp name per run, shared by all ranks).
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  char name[256] = {};
+  if (rank == 0) std::snprintf(name, sizeof name, "/tmp/tessera_heat_dump_%d.raw", static_cast<int>(getpid()));
+  MPI_Bcast(name, sizeof name, MPI_CHAR, 0, MPI_COMM_WORLD);
+  const Index3 grid{13, 9, 7};
+  CartDecomposition d(MPI_COMM_WORLD, grid);
+  HeatParams p;
+  p.sources = heat::demo_sources();
+  HeatSolver s(d, p);
+  for (int i = 0; i < 5; ++i) s.step(s.stable_dt());
+  heat::dump_field(d, s, name);
+  const std::vector<double> global = gather_global(d, s);
+  if (rank == 0) {
+    std::vector<float> file(global.size() + 1);
+    FILE* f = std::fopen(name, "rb");
+    REQUIRE(f != nullptr);
+    const std::size_t got = std::fread(file.data(), sizeof(float), file.size(), f);
+    std::fclose(f);
+    CHECK(got == global.size());  // no more, no less
+    bool same = true;
+    for (std::size_t i = 0; i < global.size(); ++i) same = same && file[i] == static_cast<float>(global[i]);
+    CHECK(same);
+    CHECK(*std::max_element(global.begin(), global.end()) > p.initial_value);  // the sources heated it
+    std::remove(name);
+  }
+  // An unwritable path fails on every rank with the file named, and nothing hangs.
+  CHECK_THROWS_WITH(heat::dump_field(d, s, "/nonexistent_dir/x.raw"), Catch::Contains("/nonexistent_dir/x.raw"));
 }
