@@ -35,7 +35,7 @@ done
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DTESSERA_BUILD_TESTS=OFF >/dev/null
 fi
-cmake --build "$build" -j"$(nproc)" --target tessera-render tessera-synth tessera-rmse >/dev/null
+cmake --build "$build" -j"$(nproc)" --target tessera-render tessera-synth tessera-rmse tessera-heat >/dev/null
 
 # Measure
 start=$(date +%s)

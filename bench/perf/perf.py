@@ -29,7 +29,7 @@ def settings(quick):
     if quick:
         return {
             "err_size": 64, "err_ref_spp": 256, "err_spp_delta": [4, 16, 64], "err_spp_rm": [4, 16],
-            "err_targets": [0.1, 0.05], "err_sets": ["blobs", "smooth", "ct"],
+            "err_targets": [0.1, 0.05], "err_sets": ["heat", "blobs", "smooth", "ct"],
             "th_size": 128, "th_sets": ["engine"], "th_reps": 1,
             "th_serial": [2, 4, 8, 16, 32, 64, 128, 256], "th_tbb": [8, 16, 32, 64, 128, 256, 512],
             "th_morton": [2, 8],
@@ -40,7 +40,7 @@ def settings(quick):
     return {
         "err_size": 128, "err_ref_spp": 1024, "err_spp_delta": [4, 16, 64, 256],
         "err_spp_rm": [4, 16, 64], "err_targets": [0.1, 0.05, 0.025],
-        "err_sets": ["blobs", "smooth", "ct"],
+        "err_sets": ["heat", "blobs", "smooth", "ct"],
         "th_size": 256, "th_sets": ["engine", "manix", "macoessix"], "th_reps": 2,
         "th_serial": [2, 4, 8, 16, 32, 64, 128, 256], "th_tbb": [8, 16, 32, 64, 128, 256, 512],
         "th_morton": [2, 8, 32],
@@ -243,7 +243,7 @@ def study_targets(b, S):
     # Lookups per real collision against the macrocell size, and the global majorant
     rows = []
     size = S["mc_size"]
-    for name in ("blobs", "smooth", "ct"):
+    for name in ("heat", "blobs", "smooth", "ct"):
         vol = ensure_volume(b, name)
         if vol is None:
             continue

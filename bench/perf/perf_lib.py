@@ -7,6 +7,7 @@ import csv
 import json
 import os
 import subprocess
+import tempfile
 import sys
 import time
 
@@ -23,6 +24,7 @@ class Bench:
         self.quick = quick
         self.render_exe = os.path.join(build, "apps", "tessera-render")
         self.synth_exe = os.path.join(build, "apps", "tessera_synth", "tessera-synth")
+        self.heat_exe = os.path.join(build, "miniapp", "tessera-heat")
         self.rmse_exe = os.path.join(build, "bench", "perf", "tessera-rmse")
         self.data = os.path.join(results, "data")
         for d in (results, self.data):
@@ -79,6 +81,21 @@ def wait_for_idle(max_wait, cores=1.7):
 _busy = [False]
 
 
+def heat_volume(b, path, dims):
+    """Runs the heat miniapp (serial; no render fires after step 0) and dumps its field."""
+    with tempfile.TemporaryDirectory() as tmp:
+        cfg = os.path.join(tmp, "quiet.yaml")
+        with open(cfg, "w") as f:
+            f.write("tessera: {output_dir: %s}\nrenders:\n  - name: probe\n    field: temperature\n"
+                    "    trigger: {every: 1000000000}\n    image: {width: 4, height: 4, spp: 1}\n"
+                    "    transfer_function: {range: [300, 400]}\n    output: {formats: [exr]}\n" % tmp)
+        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        subprocess.run([b.heat_exe, "--config", cfg, "--steps", str(HEAT_STEPS), "--grid",
+                        *map(str, dims), "--dump", path], check=True, env=env,
+                       stdout=subprocess.DEVNULL)
+    return path
+
+
 # ----------------------------------------------------------------------------------------------
 # Data sets
 # ----------------------------------------------------------------------------------------------
@@ -94,6 +111,13 @@ SMOOTH_TF = {
     "opacity": [[0.0, 0.0], [1.0, 1.0]],
     "diffuse": "viridis",
 }
+# The heat miniapp's own transfer function (configs/heat.yaml), on its temperatures in K.
+HEAT_TF = {
+    "opacity": [[0.0, 0.0], [0.08, 0.0], [0.45, 0.25], [1.0, 1.0]],
+    "diffuse": [[0.0, [0.25, 0.45, 0.95]], [0.45, [0.85, 0.45, 0.35]], [1.0, [1.0, 0.85, 0.55]]],
+    "roughness": [[0.0, 0.6], [1.0, 0.3]],
+}
+HEAT_STEPS = 400  # 128^3 steps of the miniapp: t = 0.37 s, as its 64^3 demo after 100 steps
 CT_TF = {
     "opacity": [[0.0, 0.0], [0.22, 0.0], [0.245, 0.03], [0.30, 0.03], [0.34, 0.0],
                 [0.36, 0.8], [1.0, 1.0]],
@@ -127,6 +151,10 @@ DATASETS = {
                        "blobs 256x230x256 int16 (Manix's size)"),
     "macoessix": synthetic("blobs", (512, 461, 512), "int16", BLOBS_TF, 60.0, [0.0, 4095.0],
                            "blobs 512x461x512 int16 (Macoessix's size)"),
+    # The real heat field: tessera-heat 128^3 after HEAT_STEPS steps (--dump), float32, K.
+    "heat": {**synthetic("heat", (128, 128, 128), "float32", HEAT_TF, 70.0, [300.0, 400.0],
+                         f"tessera-heat --grid 128 128 128, {HEAT_STEPS} steps, float32 (K)"),
+             "file": f"heat_128x128x128_{HEAT_STEPS}steps_float32.raw"},
     # Real head CT from scripts/fetch_ct.sh (mm units, Hounsfield values).
     "ct": {"kind": "ct", "dims": [256, 256, 108], "dtype": "int16",
            "spacing": [0.9570312, 0.9570312, 1.5], "tf": CT_TF, "density": 0.5,
@@ -146,6 +174,8 @@ def ensure_volume(b, name):
         rc = subprocess.run(["bash", os.path.join(b.root, "scripts", "fetch_ct.sh"), b.data]).returncode
         return path if rc == 0 and os.path.exists(path) else None
     d = ds["dims"]
+    if ds["kind"] == "heat":
+        return heat_volume(b, path, d)
     subprocess.run([b.synth_exe, path, "--dims", str(d[0]), str(d[1]), str(d[2]),
                     "--dtype", ds["dtype"], "--kind", ds["kind"]], check=True,
                    stdout=subprocess.DEVNULL)
