@@ -88,7 +88,9 @@ def heat_volume(b, path, dims):
         with open(cfg, "w") as f:
             f.write("tessera: {output_dir: %s}\nrenders:\n  - name: probe\n    field: temperature\n"
                     "    trigger: {every: 1000000000}\n    image: {width: 4, height: 4, spp: 1}\n"
-                    "    transfer_function: {range: [300, 400]}\n    output: {formats: [exr]}\n" % tmp)
+                    "    camera: {position: [0.5, -2.0, 0.5]}\n"
+                    "    transfer_function: {range: [300, 400], opacity: [[0, 0], [1, 1]]}\n"
+                    "    output: {formats: [exr]}\n" % tmp)
         env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
         subprocess.run([b.heat_exe, "--config", cfg, "--steps", str(HEAT_STEPS), "--grid",
                         *map(str, dims), "--dump", path], check=True, env=env,
