@@ -2,23 +2,22 @@
 /// Adaptive sampling (image.target_error > 0): how many samples each pixel gets.
 ///
 /// Contract (docs/physics.md section 11):
-///  - The image is cut into fixed kBlock x kBlock pixel blocks, aligned to pixel (0, 0) and
+///  - The image is cut into fixed kAdaptiveBlock^2 pixel blocks, aligned to pixel (0, 0) and
 ///    independent of the render tiles. Every pixel first takes `pilot` samples.
 ///  - A pixel's total count is decided from the pilot samples of the OTHER pixels of its block
-///    (leave one out), never from its own: its samples are independent of how many of them are
-///    taken, so its mean stays an unbiased estimate (stopping on a pixel's own variance is
-///    optional stopping and biased). All of the pixel's samples, pilot included, are kept.
-///  - From the pooled luminance mean and variance per sample of those others, the coefficient
-///    of variation cv = sqrt(var) / max(mean, kMeanFloor) gives n = ceil(cv / target^2),
-///    clamped to [pilot, spp]. Samples in proportion to cv is the allocation that minimises
-///    the image's mean relative squared error for the samples spent (minimise
-///    sum cv^2 / n subject to sum n fixed); target_error is then the relative standard error
-///    reached by a pixel with cv = 1 (in general target * sqrt(cv)). Equalising every pixel's
-///    relative error instead (n ~ cv^2) costs as much as uniform sampling for the same mean
-///    error and was measured slower than it (docs/BENCHMARKS.md). Fewer than two other pilot
-///    samples: no information, n = spp.
-///  - Pure functions of pilot samples, which are pure functions of (seed, frame, pixel, index):
-///    identical for any tile size, order, thread count or MPI split.
+///    (leave one out) and from a preview, never from its own samples: its samples are then
+///    independent of how many of them are taken, so its mean stays an unbiased estimate
+///    (stopping on a pixel's own variance is optional stopping, and biased). All of the pixel's
+///    samples, pilot included, are kept.
+///  - n = ceil(sigma * scale), clamped to [pilot, spp]: sigma is the standard deviation per
+///    sample of luminance pooled over the others' pilots, and scale = S / (target^2 M^2) comes
+///    from the preview (prepare time: one pixel per block, `pilot` samples each, on random
+///    streams the image never uses), with S its mean per-pixel sigma and M its mean
+///    luminance. Samples in proportion to sigma minimise the image's MSE for the samples
+///    spent; the scale makes the expected relative RMSE of the image, sqrt(mean sigma^2 / n) /
+///    M, equal to the target when no clamp binds. Fewer than two other pilot samples: n = spp.
+///  - Pure functions of pilot and preview samples, which are pure functions of (seed, frame,
+///    pixel, index): identical for any tile size, order, thread count or MPI split.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -26,7 +25,6 @@
 namespace tessera {
 
 inline constexpr int kAdaptiveBlock = 8;
-inline constexpr double kAdaptiveMeanFloor = 0.01;  ///< luminance below which error is absolute
 
 /// Pilot samples per pixel for a render of `spp` samples.
 inline int adaptive_pilot(int spp) { return std::min(spp, std::max(8, spp / 16)); }
@@ -37,14 +35,22 @@ struct PilotSums {
   std::uint64_t n = 0;
 };
 
-/// Samples for a pixel given the summed pilots of the other pixels of its block.
-inline int adaptive_count(const PilotSums& others, int pilot, int spp, double target) {
+struct PreparedSceneImpl;
+/// The preview's scale for a prepared scene (0 when adaptive sampling is off); render.cpp.
+double adaptive_preview_scale(const PreparedSceneImpl& s);
+
+/// Sample index of the preview's i-th sample of a pixel: far above any count a film reaches,
+/// so preview streams are never the image's.
+inline constexpr std::uint64_t kPreviewIndexBase = std::uint64_t{1} << 62;
+
+/// Samples for a pixel given the summed pilots of the other pixels of its block and the
+/// preview's scale (PreparedSceneImpl::adaptive_scale).
+inline int adaptive_count(const PilotSums& others, int pilot, int spp, double scale) {
   if (others.n < 2) return spp;
   const double n = static_cast<double>(others.n);
   const double mean = others.lum / n;
   const double var = std::max(0.0, (others.lum2 - others.lum * mean) / (n - 1.0));
-  const double cv = std::sqrt(var) / std::max(std::fabs(mean), kAdaptiveMeanFloor);
-  const double need = cv / (target * target);
+  const double need = std::sqrt(var) * scale;
   if (!(need < static_cast<double>(spp))) return spp;  // also NaN
   return std::clamp(static_cast<int>(std::ceil(need)), pilot, spp);
 }

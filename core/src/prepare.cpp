@@ -1,5 +1,6 @@
 #include <tessera/render.h>
 
+#include "adaptive_sampling.h"
 #include "prepared_scene_impl.h"
 #include "tile_culling.h"
 
@@ -124,6 +125,7 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
   p.has_specular = !scene.tf.specular.is_zero();
   p.tiles = make_tiles(scene.image.width, scene.image.height, scene.options.tile, scene.options.order);
   p.tile_culled = cull_tiles(p);
+  p.adaptive_scale = adaptive_preview_scale(p);  // needs everything above
   return ps;
 }
 

@@ -29,6 +29,7 @@ struct PreparedSceneImpl {
   bool has_emission = false;
   bool has_specular = false;
   int light_count = 0;       ///< rects + spheres + (background if it emits)
+  double adaptive_scale = 0.0;  ///< samples per unit of sigma (adaptive_sampling.h); 0 = off
   bool summary_reused = false;  ///< the grid's FieldSummary came from the caller
 };
 

@@ -107,7 +107,6 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
   constexpr int B = kAdaptiveBlock;
   const int width = s.desc.image.width, height = s.desc.image.height, spp = s.desc.image.spp;
   const int pilot = adaptive_pilot(spp);
-  const double target = s.desc.image.target_error;
   std::array<PilotSums, B * B> sums;
   const auto inside = [&](int x, int y) { return x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1; };
   for (int by = tile.y0 / B * B; by < tile.y1; by += B) {
@@ -149,7 +148,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
             others.lum2 += sums[static_cast<std::size_t>(q)].lum2;
             others.n += sums[static_cast<std::size_t>(q)].n;
           }
-          const int n = adaptive_count(others, pilot, spp, target);
+          const int n = adaptive_count(others, pilot, spp, s.adaptive_scale);
           PixelSums& px = film.at(x, y);
           for (int si = pilot; si < n; ++si) ts.accumulate(x, y, px, st);
         }
@@ -205,6 +204,59 @@ GridMedium<T> make_medium(const PreparedSceneImpl& s, TypedFieldView<T> view) {
   return m;
 }
 
+/// The adaptive-sampling preview (adaptive_sampling.h) of one block row: per block, sigma of
+/// the luminance of `pilot` samples of its middle pixel, and those samples' luminance sum.
+template <class T, Shading S, bool E>
+void preview_row(const PreparedSceneImpl& s, const GridMedium<T>& medium, int by, double* sigma_sum,
+                 double* lum_sum, std::uint64_t* count) {
+  constexpr int B = kAdaptiveBlock;
+  const int width = s.desc.image.width, height = s.desc.image.height;
+  const int pilot = adaptive_pilot(s.desc.image.spp);
+  TileSampler<T, S, E> ts(s, medium, false);
+  const int y = std::min(by * B + B / 2, height - 1);
+  for (int bx = 0; bx * B < width; ++bx) {
+    const int x = std::min(bx * B + B / 2, width - 1);
+    PilotSums p;
+    for (int i = 0; i < pilot; ++i) {
+      SampleResult r;
+      if (!ts.draw(x, y, kPreviewIndexBase + static_cast<std::uint64_t>(i), r, false)) continue;
+      const double lum = luminance(r.L);
+      p.lum += lum;
+      p.lum2 += lum * lum;
+      ++p.n;
+    }
+    if (p.n >= 2) {
+      const double n = static_cast<double>(p.n), mean = p.lum / n;
+      *sigma_sum += std::sqrt(std::max(0.0, (p.lum2 - p.lum * mean) / (n - 1.0)));
+    }
+    *lum_sum += p.lum;
+    *count += p.n;
+  }
+}
+
+template <class T, Shading S, bool E>
+double preview_scale(const PreparedSceneImpl& s, const GridMedium<T>& medium, int threads) {
+  const int rows = (s.desc.image.height + kAdaptiveBlock - 1) / kAdaptiveBlock;
+  const int cols = (s.desc.image.width + kAdaptiveBlock - 1) / kAdaptiveBlock;
+  std::vector<double> sigma(rows, 0.0), lum(rows, 0.0);
+  std::vector<std::uint64_t> count(rows, 0);
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    tbb::parallel_for(0, rows, [&](int by) {
+      preview_row<T, S, E>(s, medium, by, &sigma[by], &lum[by], &count[by]);
+    });
+  });
+  // Row sums added in row order: the same for any thread count.
+  double sigma_sum = 0.0, lum_sum = 0.0;
+  std::uint64_t n = 0;
+  for (int r = 0; r < rows; ++r) sigma_sum += sigma[r], lum_sum += lum[r], n += count[r];
+  if (n == 0 || !(lum_sum > 0.0)) return 0.0;  // a black image: every pixel takes the pilot
+  const double S_mean = sigma_sum / (static_cast<double>(rows) * cols);
+  const double M = lum_sum / static_cast<double>(n);
+  const double t = s.desc.image.target_error;
+  return S_mean / (t * t * M * M);
+}
+
 }  // namespace
 
 void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film,
@@ -257,6 +309,28 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   stats.nan_voxels_seen = s.grid.nan_vertices();  // a property of the field, counted at prepare
   stats.threads = threads;
   stats.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+}
+
+double adaptive_preview_scale(const PreparedSceneImpl& s) {
+  if (!(s.desc.image.target_error > 0.0)) return 0.0;
+  const int threads = s.desc.options.threads > 0 ? s.desc.options.threads
+                                                 : tbb::this_task_arena::max_concurrency();
+  return dispatch_dtype(s.field, [&](auto view) {
+    using T = typename decltype(view)::value_type;
+    const GridMedium<T> medium = make_medium(s, view);
+    const bool e = s.has_emission;
+    switch (s.desc.integrator.shading) {
+      case Shading::Phase:
+        return e ? preview_scale<T, Shading::Phase, true>(s, medium, threads)
+                 : preview_scale<T, Shading::Phase, false>(s, medium, threads);
+      case Shading::Brdf:
+        return e ? preview_scale<T, Shading::Brdf, true>(s, medium, threads)
+                 : preview_scale<T, Shading::Brdf, false>(s, medium, threads);
+      case Shading::Hybrid: default:
+        return e ? preview_scale<T, Shading::Hybrid, true>(s, medium, threads)
+                 : preview_scale<T, Shading::Hybrid, false>(s, medium, threads);
+    }
+  });
 }
 
 void render(const PreparedScene& scene, Film& film, RenderStats& stats,
