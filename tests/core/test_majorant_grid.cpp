@@ -286,3 +286,40 @@ TEST_CASE("update() after a TF change equals a fresh build, and global mode is o
 
   CHECK_THROWS_WITH(fresh.build(f.view, 0), Catch::Contains("edge"));
 }
+
+TEST_CASE("coarse level: each coarse cell holds the max of its macrocells, none for large edges",
+          "[majorant_grid]") {
+  tessera::Rng rng(56, 0, 0, 0);
+  const std::int64_t n[3] = {37, 21, 30};
+  const RandomField f = make_random_field<float>(rng, n, true);
+  TransferFunction tf;
+  tf.lo = f.lo;
+  tf.hi = f.hi;
+  tf.opacity = random_opacity(rng);
+  for (const int edge : {1, 2, 3, 5, 8, 16, 64}) {
+    MajorantGrid g;
+    g.build(f.view, edge);
+    g.update(tf);
+    const int r = g.ratio();
+    INFO("edge " << edge << ", ratio " << r);
+    if (edge >= MajorantGrid::kCoarseEdge || g.cells()[0] * g.cells()[1] * g.cells()[2] == 1) {
+      CHECK(r == 1);
+      CHECK(g.coarse_majorants() == nullptr);
+      continue;
+    }
+    REQUIRE(r * edge >= MajorantGrid::kCoarseEdge);
+    const std::int64_t* nc = g.cells();
+    const std::int64_t* ncc = g.coarse_cells();
+    std::vector<double> expect(static_cast<std::size_t>(ncc[0] * ncc[1] * ncc[2]), 0.0);
+    for (std::int64_t k = 0; k < nc[2]; ++k)
+      for (std::int64_t j = 0; j < nc[1]; ++j)
+        for (std::int64_t i = 0; i < nc[0]; ++i) {
+          double& e = expect[static_cast<std::size_t>(((k / r) * ncc[1] + j / r) * ncc[0] + i / r)];
+          e = std::max(e, g.majorants()[g.cell_index(i, j, k)]);
+        }
+    bool same = true;
+    for (std::size_t c = 0; c < expect.size(); ++c) same = same && g.coarse_majorants()[c] == expect[c];
+    CHECK(same);
+    CHECK(std::count(expect.begin(), expect.end(), 0.0) < static_cast<long>(expect.size()));
+  }
+}
