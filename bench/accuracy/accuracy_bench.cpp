@@ -10,6 +10,7 @@
 // --quick divides every sample count by 16 (a smoke run).
 #include "accuracy_support.h"
 #include "raymarch_model.h"
+#include "reference_scenes.h"
 
 #include <chrono>
 #include <cstdio>
@@ -27,16 +28,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-double fit_slope(const std::vector<double>& x, const std::vector<double>& y) {
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
-  mx /= x.size();
-  my /= y.size();
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
-  return sxy / sxx;
-}
-
 // ---------------------------------------------------------------------------------------------
 // White furnace
 // ---------------------------------------------------------------------------------------------
@@ -51,16 +42,7 @@ void furnace(const std::string& dir) {
   constexpr double kL = 0.6;
   for (const double tau : {0.01, 1.0, 10.0, 100.0}) {
     for (const double g : {-0.7, 0.0, 0.7}) {
-      tessera::SceneDesc s = unit_box_scene(tau, 1.0);
-      s.geometry.spacing = Vec3(0.25);
-      s.integrator.macrocell = 2;
-      s.integrator.scattering = tessera::Scattering::Multiple;
-      s.integrator.max_bounces = 1 << 30;
-      s.integrator.phase_g = g;
-      s.background.color = Color(kL);
-      s.camera.position = Vec3(1.9, 1.4, -1.5);
-      s.camera.look_at = Vec3(0.5, 0.5, 0.5);
-      s.camera.fov_deg = 28.0;
+      tessera::SceneDesc s = furnace_scene(tau, g, kL);
       const int spp = std::max(4, (tau < 5.0 ? 4096 : tau < 50.0 ? 2048 : 512) / g_div);
       s.image = {16, 16, spp, 0.0};
       s.options.seed = 17;
@@ -88,18 +70,7 @@ void convergence(const std::string& dir) {
   constexpr int kN = 17;
   const std::vector<float> field = cloud_field(kN, kN, kN);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, kN, kN, kN);
-  tessera::SceneDesc s = unit_box_scene(20.0, 0.8);
-  s.geometry.spacing = Vec3(1.0 / (kN - 1));
-  s.tf.opacity = tessera::ScalarTF({0.0, 0.1, 0.6, 1.0}, {0.0, 0.2, 1.0, 1.0});
-  s.tf.specular = tessera::ColorTF::constant(Color(0.04));
-  s.integrator.shading = tessera::Shading::Hybrid;
-  s.integrator.gradient_factor = 2.0;
-  s.camera.position = Vec3(1.5, 1.2, -1.6);
-  s.camera.look_at = Vec3(0.5, 0.5, 0.5);
-  s.camera.fov_deg = 36.0;
-  s.rect_lights.push_back({Vec3(0.5, 1.9, 0.3), Vec3(0.5, 0.0, 0.5), 0.8, 0.8, Color(5.0)});
-  s.background.type = tessera::BackgroundType::Gradient;
-  s.background.up = Vec3(0.0, 1.0, 0.0);
+  tessera::SceneDesc s = convergence_scene(kN);
   s.image = {16, 16, 65536 / g_div, 0.0};
   s.options.seed = 800;
   auto t0 = std::chrono::steady_clock::now();
@@ -129,10 +100,7 @@ void convergence(const std::string& dir) {
       tessera::render(ps, film, st);
       n += 4;
     }
-    const PixelMoments m = pixel_moments(film);
-    double mse = 0.0;
-    for (std::size_t i = 0; i < m.mean.size(); ++i) mse += (m.mean[i] - ref.mean[i]) * (m.mean[i] - ref.mean[i]);
-    mse = mse / m.mean.size() - ref_var;
+    const double mse = mse_vs_reference(pixel_moments(film), ref, ref_var);
     const double rmse = std::sqrt(std::max(mse, 0.0)), pred = std::sqrt(px_var / n);
     std::printf("%6d %12.6f %14.6f %8.2f\n", n, rmse, pred, seconds_since(t0));
     csv << n << "," << rmse << "," << pred << "," << seconds_since(t0) << "\n";
@@ -141,7 +109,7 @@ void convergence(const std::string& dir) {
       ly.push_back(0.5 * std::log(mse));
     }
   }
-  std::printf("log-log slope of RMSE over 4..%d spp: %.4f (expected -0.5)\n", n, fit_slope(lx, ly));
+  std::printf("log-log slope of RMSE over 4..%d spp: %.4f (expected -0.5)\n", n, least_squares_slope(lx, ly));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -152,14 +120,7 @@ void raymarch(const std::string& dir) {
   constexpr int kN = 17;
   const TrilinearField m = raymarch_field(kN, 3.5);
   const FieldView view = FieldView::contiguous(m.v.data(), tessera::DType::Float32, kN, kN, kN);
-  tessera::SceneDesc s = unit_box_scene(3.5, 0.0);
-  s.geometry.spacing = Vec3(1.0 / (kN - 1));
-  s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0});
-  s.background.color = Color(1.0);
-  s.integrator.macrocell = 4;
-  s.camera.position = Vec3(0.5, 0.5, -1.5);
-  s.camera.look_at = Vec3(0.5, 0.52, 0.5);
-  s.camera.fov_deg = 24.0;
+  tessera::SceneDesc s = raymarch_scene(kN, 3.5);
   std::ofstream csv(dir + "/accuracy_raymarch.csv");
   csv << "quantity,step_voxels,bias,se\n";
 
@@ -187,7 +148,7 @@ void raymarch(const std::string& dir) {
     }
     prev = bias;
   }
-  std::printf("fitted order over steps <= 1 voxel: %.3f (expected 2)\n", fit_slope(lx, ly));
+  std::printf("fitted order over steps <= 1 voxel: %.3f (expected 2)\n", least_squares_slope(lx, ly));
 
   // (2) The renderer: mean transmittance image of the march minus the exact one.
   std::printf("(2) renderer, transmittance: image mean of the march - exact (16 x 16 pixels)\n");
@@ -213,7 +174,8 @@ void raymarch(const std::string& dir) {
       ly.push_back(std::log(bias));
     }
   }
-  if (lx.size() >= 2) std::printf("fitted order (points with bias > 4 se): %.3f\n", fit_slope(lx, ly));
+  if (lx.size() >= 2)
+    std::printf("fitted order (points with bias > 4 se): %.3f\n", least_squares_slope(lx, ly));
 
   // (3) Radiance: a single-scattering cloud lit by a rect light, march vs delta tracking.
   std::printf("(3) renderer, radiance: single scattering, albedo 0.9, rect light; march - delta\n");
@@ -241,7 +203,8 @@ void raymarch(const std::string& dir) {
       ly.push_back(std::log(std::fabs(diff)));
     }
   }
-  if (lx.size() >= 2) std::printf("fitted order (points with |difference| > 4 se): %.3f\n", fit_slope(lx, ly));
+  if (lx.size() >= 2)
+    std::printf("fitted order (points with |difference| > 4 se): %.3f\n", least_squares_slope(lx, ly));
 }
 
 }  // namespace

@@ -5,347 +5,283 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstdint>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace tessera::config {
 namespace {
 
 using detail::format_number;
 
-/// Strings are always double-quoted so that names like `null` or `123` stay strings.
-void str(YAML::Emitter& out, const std::string& s) { out << YAML::DoubleQuoted << s; }
-void num(YAML::Emitter& out, double v) { out << format_number(v); }
+// `write(out, x)` writes x as one YAML node, chosen by the type of x; `field(out, key, x)` writes
+// a map entry. Every overload is declared here, before the templates that call them.
 
-void vec3(YAML::Emitter& out, const Vec3& v) {
+/// Strings are always double-quoted so that names like `null` or `123` stay strings.
+void write(YAML::Emitter& out, const std::string& s) { out << YAML::DoubleQuoted << s; }
+/// Keywords and enum names: plain scalars.
+void write(YAML::Emitter& out, const char* word) { out << word; }
+void write(YAML::Emitter& out, double v) { out << format_number(v); }
+void write(YAML::Emitter& out, bool b) { out << b; }
+void write(YAML::Emitter& out, int v) { out << v; }
+void write(YAML::Emitter& out, std::int64_t v) { out << v; }
+/// Seeds: all 64 bits, as digits.
+void write(YAML::Emitter& out, std::uint64_t v) { out << std::to_string(v); }
+void write(YAML::Emitter& out, const Vec3& v);
+void write(YAML::Emitter& out, const PointSpec& p);
+void write(YAML::Emitter& out, const LengthSpec& l);
+void write(YAML::Emitter& out, const ScalarPoint& p);
+void write(YAML::Emitter& out, const ColorPoint& p);
+void write(YAML::Emitter& out, const ColorTFSpec& tf);
+void write(YAML::Emitter& out, ImageFormat f);
+void write(YAML::Emitter& out, const GlobalOptions& g);
+void write(YAML::Emitter& out, const VolumeSpec& v);
+void write(YAML::Emitter& out, const TriggerSpec& t);
+void write(YAML::Emitter& out, const ImageDesc& image);
+void write(YAML::Emitter& out, const CameraSpec& c);
+void write(YAML::Emitter& out, const TransferFunctionSpec& tf);
+void write(YAML::Emitter& out, const LightSpec& l);
+void write(YAML::Emitter& out, const BackgroundSpec& b);
+void write(YAML::Emitter& out, const IntegratorSpec& s);
+void write(YAML::Emitter& out, const OutputSpec& o);
+void write(YAML::Emitter& out, const RenderSpec& r);
+template <class T>
+void write(YAML::Emitter& out, const std::vector<T>& xs);
+
+void key(YAML::Emitter& out, const char* k) { out << YAML::Key << k << YAML::Value; }
+
+template <class T>
+void field(YAML::Emitter& out, const char* k, const T& v) {
+  key(out, k);
+  write(out, v);
+}
+
+/// `[a, b, ...]` on one line. Inside a flow node yaml-cpp writes every child in flow style
+/// anyway, so this and the list overload below serve at any depth.
+template <class... Ts>
+void flow_seq(YAML::Emitter& out, const Ts&... xs) {
   out << YAML::Flow << YAML::BeginSeq;
-  num(out, v.x);
-  num(out, v.y);
-  num(out, v.z);
+  (write(out, xs), ...);
   out << YAML::EndSeq;
 }
 
-void point(YAML::Emitter& out, const PointSpec& p) {
+/// A list on one line, `[x0, x1, ...]`.
+template <class T>
+void write(YAML::Emitter& out, const std::vector<T>& xs) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (const T& x : xs) write(out, x);
+  out << YAML::EndSeq;
+}
+
+void write(YAML::Emitter& out, const Vec3& v) { flow_seq(out, v.x, v.y, v.z); }
+
+void write(YAML::Emitter& out, const PointSpec& p) {
   switch (p.kind) {
     case PointSpec::Kind::Center: out << "center"; return;
-    case PointSpec::Kind::Absolute: vec3(out, p.xyz); return;
+    case PointSpec::Kind::Absolute: write(out, p.xyz); return;
     case PointSpec::Kind::Orbit:
       out << YAML::Flow << YAML::BeginMap << YAML::Key << "orbit" << YAML::Value << YAML::BeginMap;
-      out << YAML::Key << "azimuth" << YAML::Value;
-      num(out, p.orbit.azimuth);
-      out << YAML::Key << "elevation" << YAML::Value;
-      num(out, p.orbit.elevation);
-      out << YAML::Key << "distance" << YAML::Value;
-      num(out, p.orbit.distance);
+      field(out, "azimuth", p.orbit.azimuth);
+      field(out, "elevation", p.orbit.elevation);
+      field(out, "distance", p.orbit.distance);
       out << YAML::EndMap << YAML::EndMap;
       return;
   }
 }
 
-void length(YAML::Emitter& out, const LengthSpec& l) {
-  if (!l.relative) return num(out, l.value);
-  out << YAML::Flow << YAML::BeginMap << YAML::Key << "relative" << YAML::Value;
-  num(out, l.value);
+void write(YAML::Emitter& out, const LengthSpec& l) {
+  if (!l.relative) return write(out, l.value);
+  out << YAML::Flow << YAML::BeginMap;
+  field(out, "relative", l.value);
   out << YAML::EndMap;
 }
 
-void scalar_points(YAML::Emitter& out, const std::vector<ScalarPoint>& pts) {
-  out << YAML::Flow << YAML::BeginSeq;
-  for (const auto& p : pts) {
-    out << YAML::BeginSeq;
-    num(out, p.u);
-    num(out, p.v);
-    out << YAML::EndSeq;
-  }
-  out << YAML::EndSeq;
+void write(YAML::Emitter& out, const ScalarPoint& p) { flow_seq(out, p.u, p.v); }
+void write(YAML::Emitter& out, const ColorPoint& p) { flow_seq(out, p.u, p.c); }
+
+void write(YAML::Emitter& out, const ColorTFSpec& tf) {
+  if (!tf.colormap.empty()) return write(out, tf.colormap);
+  write(out, tf.points);
 }
 
-void color_tf(YAML::Emitter& out, const ColorTFSpec& tf) {
-  if (!tf.colormap.empty()) return str(out, tf.colormap);
-  out << YAML::Flow << YAML::BeginSeq;
-  for (const auto& p : tf.points) {
-    out << YAML::BeginSeq;
-    num(out, p.u);
-    vec3(out, p.c);
-    out << YAML::EndSeq;
-  }
-  out << YAML::EndSeq;
-}
+void write(YAML::Emitter& out, ImageFormat f) { write(out, format_name(f)); }
 
-void key(YAML::Emitter& out, const char* k) { out << YAML::Key << k << YAML::Value; }
-
-void emit_global(YAML::Emitter& out, const GlobalOptions& g) {
+void write(YAML::Emitter& out, const GlobalOptions& g) {
   out << YAML::BeginMap;
-  key(out, "output_dir");
-  str(out, g.output_dir);
-  key(out, "on_error");
-  out << on_error_name(g.on_error);
-  key(out, "threads");
-  out << g.threads;
-  key(out, "render_final_step");
-  out << g.render_final_step;
-  key(out, "max_failures");
-  out << g.max_failures;
+  field(out, "output_dir", g.output_dir);
+  field(out, "on_error", on_error_name(g.on_error));
+  field(out, "threads", g.threads);
+  field(out, "render_final_step", g.render_final_step);
+  field(out, "max_failures", g.max_failures);
   out << YAML::EndMap;
 }
 
-void emit_volume(YAML::Emitter& out, const VolumeSpec& v) {
+void write(YAML::Emitter& out, const VolumeSpec& v) {
   out << YAML::BeginMap;
-  key(out, "file");
-  str(out, v.file);
+  field(out, "file", v.file);
   key(out, "dims");
-  out << YAML::Flow << YAML::BeginSeq << v.dims[0] << v.dims[1] << v.dims[2] << YAML::EndSeq;
-  key(out, "dtype");
-  out << dtype_name(v.dtype);
-  key(out, "spacing");
-  vec3(out, v.spacing);
-  key(out, "origin");
-  vec3(out, v.origin);
-  key(out, "byte_order");
-  out << (v.byte_order == ByteOrder::Big ? "big" : "little");
-  key(out, "header_bytes");
-  out << v.header_bytes;
+  flow_seq(out, v.dims[0], v.dims[1], v.dims[2]);
+  field(out, "dtype", dtype_name(v.dtype));
+  field(out, "spacing", v.spacing);
+  field(out, "origin", v.origin);
+  field(out, "byte_order", v.byte_order == ByteOrder::Big ? "big" : "little");
+  field(out, "header_bytes", v.header_bytes);
   out << YAML::EndMap;
 }
 
-void emit_trigger(YAML::Emitter& out, const TriggerSpec& t) {
+void write(YAML::Emitter& out, const TriggerSpec& t) {
   out << YAML::Flow << YAML::BeginMap;
   switch (t.kind) {
-    case TriggerSpec::Kind::Every: key(out, "every"); out << t.every; break;
-    case TriggerSpec::Kind::At:
-      key(out, "at");
-      out << YAML::BeginSeq;
-      for (auto s : t.at) out << s;
-      out << YAML::EndSeq;
-      break;
+    case TriggerSpec::Kind::Every: field(out, "every", t.every); break;
+    case TriggerSpec::Kind::At: field(out, "at", t.at); break;
     case TriggerSpec::Kind::When:
       key(out, "when");
       out << YAML::BeginMap;
-      key(out, "above");
-      num(out, t.above);
+      field(out, "above", t.above);
       out << YAML::EndMap;
       break;
   }
   out << YAML::EndMap;
 }
 
-void emit_camera(YAML::Emitter& out, const CameraSpec& c) {
-  out << YAML::BeginMap;
-  key(out, "position");
-  point(out, c.position);
-  key(out, "look_at");
-  point(out, c.look_at);
-  key(out, "up");
-  vec3(out, c.up);
-  key(out, "fov");
-  num(out, c.fov);
-  key(out, "aperture");
-  num(out, c.aperture);
-  key(out, "focus_distance");
-  num(out, c.focus_distance);
+void write(YAML::Emitter& out, const ImageDesc& image) {
+  out << YAML::Flow << YAML::BeginMap;
+  field(out, "width", image.width);
+  field(out, "height", image.height);
+  field(out, "spp", image.spp);
+  field(out, "target_error", image.target_error);
   out << YAML::EndMap;
 }
 
-void emit_tf(YAML::Emitter& out, const TransferFunctionSpec& tf) {
+void write(YAML::Emitter& out, const CameraSpec& c) {
+  out << YAML::BeginMap;
+  field(out, "position", c.position);
+  field(out, "look_at", c.look_at);
+  field(out, "up", c.up);
+  field(out, "fov", c.fov);
+  field(out, "aperture", c.aperture);
+  field(out, "focus_distance", c.focus_distance);
+  out << YAML::EndMap;
+}
+
+void write(YAML::Emitter& out, const TransferFunctionSpec& tf) {
   out << YAML::BeginMap;
   key(out, "range");
-  if (tf.range.automatic) {
-    out << "auto";
-  } else {
-    out << YAML::Flow << YAML::BeginSeq;
-    num(out, tf.range.lo);
-    num(out, tf.range.hi);
-    out << YAML::EndSeq;
-  }
-  key(out, "density_scale");
-  num(out, tf.density_scale);
-  key(out, "opacity");
-  scalar_points(out, tf.opacity);
-  const std::pair<const char*, const ColorTFSpec*> colors[] = {
-      {"diffuse", &tf.diffuse}, {"specular", &tf.specular}, {"emission", &tf.emission}};
-  for (const auto& [name, c] : colors) {
-    if (!c->present()) continue;
-    key(out, name);
-    color_tf(out, *c);
-  }
-  if (!tf.roughness.empty()) {
-    key(out, "roughness");
-    scalar_points(out, tf.roughness);
-  }
+  if (tf.range.automatic) out << "auto";
+  else flow_seq(out, tf.range.lo, tf.range.hi);
+  field(out, "density_scale", tf.density_scale);
+  field(out, "opacity", tf.opacity);
+  if (tf.diffuse.present()) field(out, "diffuse", tf.diffuse);
+  if (tf.specular.present()) field(out, "specular", tf.specular);
+  if (tf.emission.present()) field(out, "emission", tf.emission);
+  if (!tf.roughness.empty()) field(out, "roughness", tf.roughness);
   out << YAML::EndMap;
 }
 
-void emit_light(YAML::Emitter& out, const LightSpec& l) {
+void write(YAML::Emitter& out, const LightSpec& l) {
   out << YAML::Flow << YAML::BeginMap;
   const bool rect = l.type == LightSpec::Type::Rect;
-  key(out, "type");
-  out << (rect ? "rect" : "sphere");
-  key(out, "position");
-  point(out, l.position);
+  field(out, "type", rect ? "rect" : "sphere");
+  field(out, "position", l.position);
   if (rect) {
-    key(out, "target");
-    point(out, l.target);
+    field(out, "target", l.target);
     key(out, "size");
-    out << YAML::BeginSeq;
-    length(out, l.width);
-    length(out, l.height);
-    out << YAML::EndSeq;
+    flow_seq(out, l.width, l.height);
   } else {
-    key(out, "radius");
-    length(out, l.radius);
+    field(out, "radius", l.radius);
   }
-  key(out, "color");
-  vec3(out, l.color);
-  key(out, "intensity");
-  num(out, l.intensity);
+  field(out, "color", l.color);
+  field(out, "intensity", l.intensity);
   out << YAML::EndMap;
 }
 
-void emit_background(YAML::Emitter& out, const BackgroundSpec& b) {
+void write(YAML::Emitter& out, const BackgroundSpec& b) {
   out << YAML::BeginMap;
   key(out, "type");
   switch (b.type) {
     case BackgroundType::Constant:
       out << "constant";
-      key(out, "color");
-      vec3(out, b.color);
+      field(out, "color", b.color);
       break;
     case BackgroundType::Gradient:
       out << "gradient";
-      key(out, "top");
-      vec3(out, b.top);
-      key(out, "middle");
-      vec3(out, b.middle);
-      key(out, "bottom");
-      vec3(out, b.bottom);
-      key(out, "up");
-      vec3(out, b.up);
+      field(out, "top", b.top);
+      field(out, "middle", b.middle);
+      field(out, "bottom", b.bottom);
+      field(out, "up", b.up);
       break;
     case BackgroundType::EnvMap:
       out << "envmap";
-      key(out, "file");
-      str(out, b.file);
-      key(out, "up");
-      vec3(out, b.up);
+      field(out, "file", b.file);
+      field(out, "up", b.up);
       break;
   }
-  key(out, "intensity");
-  num(out, b.intensity);
-  key(out, "visible");
-  out << b.visible;
+  field(out, "intensity", b.intensity);
+  field(out, "visible", b.visible);
   out << YAML::EndMap;
 }
 
-void emit_integrator(YAML::Emitter& out, const IntegratorSpec& s) {
+void write(YAML::Emitter& out, const IntegratorSpec& s) {
   const IntegratorDesc& d = s.desc;
   out << YAML::BeginMap;
-  key(out, "scattering");
-  out << (d.scattering == Scattering::Single ? "single" : "multiple");
-  key(out, "max_bounces");
-  out << d.max_bounces;
-  key(out, "rr_depth");
-  out << d.rr_depth;
-  key(out, "shading");
-  out << (d.shading == Shading::Phase ? "phase" : d.shading == Shading::Brdf ? "brdf" : "hybrid");
-  key(out, "gradient_factor");
-  num(out, d.gradient_factor);
-  key(out, "phase_g");
-  num(out, d.phase_g);
-  key(out, "free_path");
-  out << (d.free_path == FreePath::Delta ? "delta" : "raymarch");
-  key(out, "majorant");
-  out << (d.majorant == MajorantMode::Grid ? "grid" : "global");
-  key(out, "macrocell");
-  out << d.macrocell;
-  key(out, "step");
-  num(out, d.step);
-  key(out, "shadow");
-  out << (d.shadow == ShadowMode::Ratio ? "ratio" : "delta");
-  key(out, "shadow_roulette");
-  out << d.shadow_roulette;
-  key(out, "culling");
-  out << d.culling;
-  key(out, "seed");
-  out << std::to_string(s.seed);
-  key(out, "tile");
-  out << s.tile;
-  key(out, "tile_order");
-  out << (s.tile_order == TileOrder::RowMajor ? "row" : "morton");
+  field(out, "scattering", d.scattering == Scattering::Single ? "single" : "multiple");
+  field(out, "max_bounces", d.max_bounces);
+  field(out, "rr_depth", d.rr_depth);
+  field(out, "shading",
+        d.shading == Shading::Phase ? "phase" : d.shading == Shading::Brdf ? "brdf" : "hybrid");
+  field(out, "gradient_factor", d.gradient_factor);
+  field(out, "phase_g", d.phase_g);
+  field(out, "free_path", d.free_path == FreePath::Delta ? "delta" : "raymarch");
+  field(out, "majorant", d.majorant == MajorantMode::Grid ? "grid" : "global");
+  field(out, "macrocell", d.macrocell);
+  field(out, "step", d.step);
+  field(out, "shadow", d.shadow == ShadowMode::Ratio ? "ratio" : "delta");
+  field(out, "shadow_roulette", d.shadow_roulette);
+  field(out, "culling", d.culling);
+  field(out, "seed", s.seed);
+  field(out, "tile", s.tile);
+  field(out, "tile_order", s.tile_order == TileOrder::RowMajor ? "row" : "morton");
   out << YAML::EndMap;
 }
 
-void emit_output(YAML::Emitter& out, const OutputSpec& o) {
+void write(YAML::Emitter& out, const OutputSpec& o) {
   out << YAML::BeginMap;
-  key(out, "file");
-  str(out, o.file);
-  key(out, "formats");
-  out << YAML::Flow << YAML::BeginSeq;
-  for (auto f : o.formats) out << format_name(f);
-  out << YAML::EndSeq;
-  key(out, "exposure");
-  num(out, o.exposure);
-  key(out, "tonemap");
-  out << (o.tonemap == ToneMap::Curve::Aces       ? "aces"
-          : o.tonemap == ToneMap::Curve::Reinhard ? "reinhard"
-                                                  : "clamp");
-  key(out, "variance");
-  out << o.variance;
-  key(out, "samples");
-  out << o.samples;
+  field(out, "file", o.file);
+  field(out, "formats", o.formats);
+  field(out, "exposure", o.exposure);
+  field(out, "tonemap", o.tonemap == ToneMap::Curve::Aces       ? "aces"
+                        : o.tonemap == ToneMap::Curve::Reinhard ? "reinhard"
+                                                                : "clamp");
+  field(out, "variance", o.variance);
+  field(out, "samples", o.samples);
   if (o.cinema) {
     key(out, "cinema");
     out << YAML::BeginMap;
-    const std::pair<const char*, const std::vector<double>*> lists[] = {
-        {"azimuth", &o.cinema->azimuths}, {"elevation", &o.cinema->elevations}};
-    for (const auto& [name, xs] : lists) {
-      if (xs->empty()) continue;
-      key(out, name);
-      out << YAML::Flow << YAML::BeginSeq;
-      for (double x : *xs) num(out, x);
-      out << YAML::EndSeq;
-    }
+    if (!o.cinema->azimuths.empty()) field(out, "azimuth", o.cinema->azimuths);
+    if (!o.cinema->elevations.empty()) field(out, "elevation", o.cinema->elevations);
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
 }
 
-void emit_render(YAML::Emitter& out, const RenderSpec& r) {
+void write(YAML::Emitter& out, const RenderSpec& r) {
   out << YAML::BeginMap;
-  key(out, "name");
-  str(out, r.name);
-  if (!r.field.empty()) {
-    key(out, "field");
-    str(out, r.field);
-  }
-  if (r.trigger) {
-    key(out, "trigger");
-    emit_trigger(out, *r.trigger);
-  }
-  key(out, "image");
-  out << YAML::Flow << YAML::BeginMap;
-  key(out, "width");
-  out << r.image.width;
-  key(out, "height");
-  out << r.image.height;
-  key(out, "spp");
-  out << r.image.spp;
-  key(out, "target_error");
-  num(out, r.image.target_error);
-  out << YAML::EndMap;
-  key(out, "camera");
-  emit_camera(out, r.camera);
-  key(out, "transfer_function");
-  emit_tf(out, r.transfer_function);
+  field(out, "name", r.name);
+  if (!r.field.empty()) field(out, "field", r.field);
+  if (r.trigger) field(out, "trigger", *r.trigger);
+  field(out, "image", r.image);
+  field(out, "camera", r.camera);
+  field(out, "transfer_function", r.transfer_function);
+  // Lights: a block list of one-line maps, `[]` when there are none
   key(out, "lights");
   if (r.lights.empty()) out << YAML::Flow;
   out << YAML::BeginSeq;
-  for (const auto& l : r.lights) emit_light(out, l);
+  for (const auto& l : r.lights) write(out, l);
   out << YAML::EndSeq;
-  key(out, "background");
-  emit_background(out, r.background);
-  key(out, "integrator");
-  emit_integrator(out, r.integrator);
-  key(out, "output");
-  emit_output(out, r.output);
+  field(out, "background", r.background);
+  field(out, "integrator", r.integrator);
+  field(out, "output", r.output);
   out << YAML::EndMap;
 }
 
@@ -355,15 +291,11 @@ std::string to_yaml(const Config& c) {
   YAML::Emitter out;
   out.SetBoolFormat(YAML::TrueFalseBool);
   out << YAML::BeginMap;
-  key(out, "tessera");
-  emit_global(out, c.global);
-  if (c.volume) {
-    key(out, "volume");
-    emit_volume(out, *c.volume);
-  }
+  field(out, "tessera", c.global);
+  if (c.volume) field(out, "volume", *c.volume);
   key(out, "renders");
   out << YAML::BeginSeq;
-  for (const auto& r : c.renders) emit_render(out, r);
+  for (const auto& r : c.renders) write(out, r);
   out << YAML::EndSeq;
   out << YAML::EndMap;
   if (!out.good()) throw std::logic_error("to_yaml: " + out.GetLastError());

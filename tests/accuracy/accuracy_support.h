@@ -2,7 +2,8 @@
 /// Shared tools of the accuracy suite (tests/accuracy) and the accuracy benchmark
 /// (bench/accuracy): statistics (per-pixel z and chi-square tests with stated significance),
 /// an independent reference camera written from docs/physics.md section 8, ray/box geometry,
-/// low-discrepancy points and small scene builders. Header-only; test code only.
+/// low-discrepancy points and small scene builders (the scenes that the benchmark repeats:
+/// reference_scenes.h). Header-only; test code only.
 ///
 /// Statistical conventions (docs/accuracy.md): a per-pixel comparison passes when both
 ///  - the sum over pixels of z^2 is below the chi-square critical value at upper-tail
@@ -88,6 +89,17 @@ inline double chi_square(const std::vector<double>& observed, const std::vector<
   return chi2;
 }
 
+/// Least-squares slope of y against x (an order of convergence, on log-log axes).
+inline double least_squares_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
+  mx /= x.size();
+  my /= y.size();
+  double sxy = 0, sxx = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
+  return sxy / sxx;
+}
+
 // ------------------------------------------------------------------------------------------
 // Per-pixel comparisons
 // ------------------------------------------------------------------------------------------
@@ -110,6 +122,16 @@ inline PixelMoments pixel_moments(const tessera::Film& film) {
     m.n.push_back(p.n);
   }
   return m;
+}
+
+/// Mean squared error of the pixel means `m` against an independent reference `ref`, less the
+/// reference's own noise `ref_var` (the mean over pixels of ref.var_mean; the cross term has
+/// mean zero as the films are independent). Not clamped: <= 0 once the reference's noise
+/// dominates.
+inline double mse_vs_reference(const PixelMoments& m, const PixelMoments& ref, double ref_var) {
+  double mse = 0.0;
+  for (std::size_t i = 0; i < m.mean.size(); ++i) mse += (m.mean[i] - ref.mean[i]) * (m.mean[i] - ref.mean[i]);
+  return mse / m.mean.size() - ref_var;
 }
 
 /// Result of a per-pixel test; ok() applies the rule of the file comment.

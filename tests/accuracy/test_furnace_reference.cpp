@@ -14,6 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include "accuracy_support.h"
+#include "reference_scenes.h"
 
 using namespace tessera_acc;
 
@@ -22,16 +23,7 @@ namespace {
 constexpr double kL = 0.6;
 
 tessera::SceneDesc furnace(double tau, double g, int size, int spp) {
-  tessera::SceneDesc s = unit_box_scene(tau, 1.0);
-  s.geometry.spacing = Vec3(0.25);  // 5^3 vertices, macrocells of 2 voxels
-  s.integrator.macrocell = 2;
-  s.integrator.scattering = tessera::Scattering::Multiple;
-  s.integrator.max_bounces = 1 << 30;
-  s.integrator.phase_g = g;
-  s.background.color = Color(kL);
-  s.camera.position = Vec3(1.9, 1.4, -1.5);
-  s.camera.look_at = Vec3(0.5, 0.5, 0.5);
-  s.camera.fov_deg = 28.0;
+  tessera::SceneDesc s = furnace_scene(tau, g, kL);
   s.image = {size, size, spp, 0.0};
   s.options.seed = 7;
   return s;

@@ -22,6 +22,7 @@
 
 #include "accuracy_support.h"
 #include "raymarch_model.h"
+#include "reference_scenes.h"
 
 using namespace tessera_acc;
 
@@ -31,15 +32,7 @@ constexpr int kN = 17;          // vertices per axis, spacing 1/16
 constexpr double kScale = 3.5;  // optical depth ~2 through the box
 
 tessera::SceneDesc march_scene() {
-  tessera::SceneDesc s = unit_box_scene(kScale, 0.0);
-  s.geometry.spacing = Vec3(1.0 / (kN - 1));
-  s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0});
-  s.background.color = Color(1.0);
-  s.integrator.macrocell = 4;
-  // Every ray enters through the face z = 0: no silhouette, smooth pixel integrands.
-  s.camera.position = Vec3(0.5, 0.5, -1.5);
-  s.camera.look_at = Vec3(0.5, 0.52, 0.5);
-  s.camera.fov_deg = 24.0;
+  tessera::SceneDesc s = raymarch_scene(kN, kScale);
   s.image = {16, 16, 1024, 0.0};
   s.options.seed = 505;
   return s;
@@ -101,14 +94,7 @@ TEST_CASE("ray march bias is positive and of second order in the step", "[accura
     lx.push_back(std::log(step));
     ly.push_back(std::log(bias));
   }
-  // Least-squares slope of log(bias) against log(step).
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < lx.size(); ++i) mx += lx[i], my += ly[i];
-  mx /= lx.size();
-  my /= ly.size();
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < lx.size(); ++i) sxy += (lx[i] - mx) * (ly[i] - my), sxx += (lx[i] - mx) * (lx[i] - mx);
-  const double order = sxy / sxx;
+  const double order = least_squares_slope(lx, ly);
   INFO("fitted order " << order);
   CHECK(std::fabs(order - 2.0) < 0.15);
 }

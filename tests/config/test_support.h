@@ -1,43 +1,17 @@
 #pragma once
-// Shared by the config tests: a scratch directory and a complete sample config.
+// Shared by the config tests: a scratch directory (TempDir, from tests/common) and a complete
+// sample config.
 #include <tessera/config/config.h>
 
 #include <catch2/catch.hpp>
 
-#include <filesystem>
-#include <fstream>
-#include <random>
+#include "temp_dir.h"
+
 #include <string>
 
 namespace tessera::config::test {
 
-/// A fresh directory under the system temp dir, removed with its contents at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    m_path = std::filesystem::temp_directory_path() /
-             ("tessera_test_" + std::to_string(rd()) + std::to_string(rd()));
-    std::filesystem::create_directories(m_path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(m_path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const std::filesystem::path& path() const { return m_path; }
-  std::string file(const std::string& name) const { return (m_path / name).string(); }
-  /// Writes `text` to `name` inside the directory and returns its path.
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(file(name), std::ios::binary) << text;
-    return file(name);
-  }
-
- private:
-  std::filesystem::path m_path;
-};
+using tessera_test::TempDir;
 
 /// The message of the ConfigError that parsing `yaml` throws, or "" if it parses.
 inline std::string config_error(const std::string& yaml, const std::string& base_dir = "") {

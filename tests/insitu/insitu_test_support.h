@@ -6,43 +6,17 @@
 #include <tessera/image.h>
 #include <tessera/tessera.h>
 
+#include "temp_dir.h"
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <random>
 #include <string>
 #include <vector>
 
 namespace tessera::insitu::test {
 
-/// A fresh directory under the system temp dir, removed with its contents at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    m_path = std::filesystem::temp_directory_path() /
-             ("tessera_insitu_" + std::to_string(rd()) + std::to_string(rd()));
-    std::filesystem::create_directories(m_path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(m_path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::string str() const { return m_path.string(); }
-  std::string file(const std::string& name) const { return (m_path / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(file(name), std::ios::binary) << text;
-    return file(name);
-  }
-
- private:
-  std::filesystem::path m_path;
-};
+using tessera_test::TempDir;
 
 /// One render entry (YAML, indented for `renders:`). `extra` lines go inside the entry.
 inline std::string render_yaml(const std::string& name, const std::string& trigger,
