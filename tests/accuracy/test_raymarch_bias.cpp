@@ -40,7 +40,7 @@ tessera::SceneDesc march_scene() {
 
 }  // namespace
 
-TEST_CASE("ray march: renderer equals the deterministic model per pixel; delta tracking is exact",
+TEST_CASE("ray march: renderer equals the deterministic model per pixel, and delta tracking is exact",
           "[accuracy][raymarch]") {
   const TrilinearField m = raymarch_field(kN, kScale);
   const FieldView view = FieldView::contiguous(m.v.data(), tessera::DType::Float32, kN, kN, kN);

@@ -141,7 +141,7 @@ TEST_CASE("spacing 1e-6 and 1e6, origin 1e7: the unit image within noise", "[acc
   }
 }
 
-TEST_CASE("camera inside, on a face, along an axis; fov extremes; huge aperture",
+TEST_CASE("camera inside, on a face, along an axis, fov extremes, huge aperture",
           "[accuracy][stress]") {
   const UnitBox box;
   const Vec3 lo(0.0), hi(1.0);

@@ -27,7 +27,7 @@ TEST_CASE("time formats like fmt", "[config][output_path]") {
   CHECK(format_output_path("t{time:g}", "a", 0, 0.5, 0) == "t0.5");
 }
 
-TEST_CASE("names pad on the right; braces escape", "[config][output_path]") {
+TEST_CASE("names pad on the right, braces escape", "[config][output_path]") {
   CHECK(format_output_path("{name:6}|", "ab", 0, 0.0, 0) == "ab    |");
   CHECK(format_output_path("{{{name}}}", "x", 0, 0.0, 0) == "{x}");
 }

@@ -175,7 +175,7 @@ TEST_CASE("FieldSummary: every cell range equals a brute-force scan of its verte
   check_against_brute_force<std::uint16_t>(105);
 }
 
-TEST_CASE("FieldSummary: bit-identical for any thread count; layout and edge recorded",
+TEST_CASE("FieldSummary: bit-identical for any thread count, layout and edge recorded",
           "[field_summary]") {
   tessera::Rng rng(7, 0, 0, 0);
   const std::vector<float> data = random_values<float>(rng, 37 * 29 * 70);

@@ -53,7 +53,7 @@ TEST_CASE("edge 0 gives one full-width tile per row, top to bottom", "[tiles]") 
   }
 }
 
-TEST_CASE("row-major and Morton list the same tiles; Morton follows the Z curve", "[tiles]") {
+TEST_CASE("row-major and Morton list the same tiles, Morton follows the Z curve", "[tiles]") {
   auto key = [](const Tile& t) { return std::make_tuple(t.y0, t.x0, t.y1, t.x1); };
   auto sorted = [&](std::vector<Tile> v) {
     std::sort(v.begin(), v.end(), [&](const Tile& a, const Tile& b) { return key(a) < key(b); });

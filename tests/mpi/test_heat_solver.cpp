@@ -141,7 +141,7 @@ TEST_CASE("one Fourier mode decays as exp(-3 pi^2 alpha t), second order in h", 
   CHECK(e17 / e33 > 3.0);
 }
 
-TEST_CASE("the time step is 0.9 h^2 / (6 alpha) on a cubic grid; larger steps are refused", "[mpi][heat]") {
+TEST_CASE("the time step is 0.9 h^2 / (6 alpha) on a cubic grid, larger steps are refused", "[mpi][heat]") {
   CartDecomposition d(MPI_COMM_WORLD, {17, 17, 17});
   HeatParams p;
   p.alpha = 0.5;
