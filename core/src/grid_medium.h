@@ -23,9 +23,6 @@ struct GridMedium {
   const double* majorant;          ///< per macrocell, 1 / world unit
   std::int64_t nc[3];
   double cell_edge;                ///< macrocell edge in voxels
-  const double* coarse = nullptr;  ///< per coarse cell (ratio^3 macrocells): max of theirs; null = one level
-  std::int64_t ncc[3] = {1, 1, 1};
-  std::int64_t ratio = 1;          ///< coarse edge / macrocell edge
 
   /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
   double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -78,17 +75,19 @@ struct GridMedium {
   }
 };
 
-/// Walks the cells of edge E (voxels) that a ray p(t) = ov + t dv crosses between t0 < t1,
-/// restricted to cell indices lo..hi on every axis, calling visit(t_enter, t_exit, c) in order
-/// until it returns true (stop). Returns true if visit stopped the walk.
-template <class Visit>
-bool walk_cells(const Vec3& ov, const Vec3& dv, double t0, double t1, double E,
-                const std::int64_t lo[3], const std::int64_t hi[3], Visit&& visit) {
+/// Walks the macrocells a ray crosses between world distances t0 < t1, calling
+/// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
+/// Ray in voxel space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
+template <class T, class Fn>
+bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0,
+                         double t1, Fn&& fn) {
+  if (!(t0 < t1)) return false;
+  const double E = m.cell_edge;
   std::int64_t c[3], step[3];
   double t_next[3], t_delta[3];
   const Vec3 p0 = ov + t0 * dv;
   for (int a = 0; a < 3; ++a) {
-    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), lo[a], hi[a]);
+    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
     if (dv[a] > 0.0) {
       step[a] = 1;
       t_next[a] = ((c[a] + 1) * E - ov[a]) / dv[a];
@@ -108,42 +107,15 @@ bool walk_cells(const Vec3& ov, const Vec3& dv, double t0, double t1, double E,
     const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
     const double t_exit = std::min(t_next[a], t1);
     if (t_exit > t) {
-      if (visit(t, t_exit, c)) return true;
+      const double maj = m.majorant[(c[2] * m.nc[1] + c[1]) * m.nc[0] + c[0]];
+      if (fn(t, t_exit, maj)) return true;
       t = t_exit;
     }
     if (t >= t1) return false;
     c[a] += step[a];
-    if (c[a] < lo[a] || c[a] > hi[a]) return false;
+    if (c[a] < 0 || c[a] >= m.nc[a]) return false;
     t_next[a] += t_delta[a];
   }
-}
-
-/// Walks the macrocells a ray crosses between world distances t0 < t1, calling
-/// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
-/// Ray in voxel space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
-/// Two levels when m.coarse is set: coarse cells whose majorant is zero are crossed in one
-/// step, the others cell by fine cell; fn sees the fine cells either way (never a coarse one).
-template <class T, class Fn>
-bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0,
-                         double t1, Fn&& fn) {
-  if (!(t0 < t1)) return false;
-  const std::int64_t zero[3] = {0, 0, 0};
-  const std::int64_t last[3] = {m.nc[0] - 1, m.nc[1] - 1, m.nc[2] - 1};
-  const auto fine = [&](double a, double b, const std::int64_t* c) {
-    return fn(a, b, m.majorant[(c[2] * m.nc[1] + c[1]) * m.nc[0] + c[0]]);
-  };
-  if (!m.coarse) return walk_cells(ov, dv, t0, t1, m.cell_edge, zero, last, fine);
-  const std::int64_t clast[3] = {m.ncc[0] - 1, m.ncc[1] - 1, m.ncc[2] - 1};
-  const std::int64_t r = m.ratio;
-  return walk_cells(ov, dv, t0, t1, m.cell_edge * static_cast<double>(r), zero, clast,
-                    [&](double a, double b, const std::int64_t* cc) {
-                      if (m.coarse[(cc[2] * m.ncc[1] + cc[1]) * m.ncc[0] + cc[0]] <= 0.0) return false;
-                      const std::int64_t lo[3] = {cc[0] * r, cc[1] * r, cc[2] * r};
-                      const std::int64_t hi[3] = {std::min(lo[0] + r, m.nc[0]) - 1,
-                                                  std::min(lo[1] + r, m.nc[1]) - 1,
-                                                  std::min(lo[2] + r, m.nc[2]) - 1};
-                      return walk_cells(ov, dv, a, b, m.cell_edge, lo, hi, fine);
-                    });
 }
 
 }  // namespace tessera

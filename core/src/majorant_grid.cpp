@@ -41,19 +41,6 @@ void MajorantGrid::update(const TransferFunction& tf) {
     m_majorant[c] = m > 0.0 ? m * (1.0 + 1e-9) : 0.0;
     m_max = std::max(m_max, m_majorant[c]);
   }
-  // The coarse level: max over each block of ratio^3 macrocells.
-  m_ratio = m_edge < kCoarseEdge ? (kCoarseEdge + m_edge - 1) / m_edge : 1;
-  for (int a = 0; a < 3; ++a) m_ncc[a] = (m_nc[a] + m_ratio - 1) / m_ratio;
-  if (m_ratio > 1 && m_ncc[0] * m_ncc[1] * m_ncc[2] == 1) m_ratio = 1;  // one coarse cell: useless
-  m_coarse.assign(m_ratio > 1 ? static_cast<std::size_t>(m_ncc[0] * m_ncc[1] * m_ncc[2]) : 0, 0.0);
-  if (m_ratio > 1) {
-    for (std::int64_t k = 0; k < m_nc[2]; ++k)
-      for (std::int64_t j = 0; j < m_nc[1]; ++j)
-        for (std::int64_t i = 0; i < m_nc[0]; ++i) {
-          double& c = m_coarse[static_cast<std::size_t>(((k / m_ratio) * m_ncc[1] + j / m_ratio) * m_ncc[0] + i / m_ratio)];
-          c = std::max(c, m_majorant[static_cast<std::size_t>(cell_index(i, j, k))]);
-        }
-  }
 }
 
 }  // namespace tessera

@@ -28,20 +28,12 @@ class MajorantGrid {
   /// of the trilinear field anywhere in the cell.
   void update(const TransferFunction& tf);
 
-  /// Coarse cells of at least kCoarseEdge voxels over macrocells smaller than that.
-  static constexpr int kCoarseEdge = 16;
-
   int edge() const { return m_edge; }
   const std::int64_t* cells() const { return m_nc; }
   std::int64_t cell_index(std::int64_t cx, std::int64_t cy, std::int64_t cz) const {
     return (cz * m_nc[1] + cy) * m_nc[0] + cx;
   }
   const double* majorants() const { return m_majorant.data(); }
-  /// Coarse level for empty-space skipping: cells of ratio()^3 macrocells, each holding the
-  /// max of their majorants (so a zero coarse cell is empty throughout). ratio() == 1: none.
-  int ratio() const { return m_ratio; }
-  const std::int64_t* coarse_cells() const { return m_ncc; }
-  const double* coarse_majorants() const { return m_ratio > 1 ? m_coarse.data() : nullptr; }
   double max_majorant() const { return m_max; }
   std::uint64_t nan_vertices() const { return m_summary ? m_summary->nan_vertices() : 0; }
   /// Finite min / max over all vertices ({0,0} when none is finite).
@@ -54,9 +46,6 @@ class MajorantGrid {
   std::int64_t m_nc[3] = {1, 1, 1};
   std::vector<double> m_majorant;
   double m_max = 0.0;
-  int m_ratio = 1;
-  std::int64_t m_ncc[3] = {1, 1, 1};
-  std::vector<double> m_coarse;
 };
 
 }  // namespace tessera

@@ -201,9 +201,6 @@ GridMedium<T> make_medium(const PreparedSceneImpl& s, TypedFieldView<T> view) {
   m.tf = &s.desc.tf;
   m.majorant = s.grid.majorants();
   m.cell_edge = s.grid.edge();
-  m.coarse = s.grid.coarse_majorants();
-  m.ratio = s.grid.ratio();
-  for (int a = 0; a < 3; ++a) m.ncc[a] = s.grid.coarse_cells()[a];
   return m;
 }
 
