@@ -54,11 +54,12 @@ class TileSampler {
     return is_finite(r.L);
   }
 
-  /// Draw the pixel's next sample into its sums (a non-finite one is counted and dropped).
-  /// Returns the sample when it was kept, for the caller's own bookkeeping.
-  const SampleResult* accumulate(int x, int y, PixelSums& px, RenderStats& st) {
+  /// Draw sample `index` of the pixel into its sums (a non-finite one is counted and
+  /// dropped). Returns the sample when it was kept, for the caller's own bookkeeping.
+  const SampleResult* accumulate(int x, int y, PixelSums& px, std::uint64_t index, RenderStats& st) {
     ++st.samples;
-    if (!draw(x, y, px.drawn++, m_last)) {
+    ++px.drawn;
+    if (!draw(x, y, index, m_last)) {
       ++st.discarded_samples;
       return nullptr;
     }
@@ -82,28 +83,26 @@ class TileSampler {
   bool m_culled;
 };
 
-/// What every tile of one render_tiles call shares.
-struct RenderCall {
-  /// Adaptive sampling only: each pixel's `drawn` when the call began (its first sample index
-  /// in this call), so a tile can draw the pilot samples of block neighbours it does not own.
-  const std::uint64_t* first_index = nullptr;
-};
-
 /// Uniform sampling: all spp estimates of the tile, sample-major.
 template <class T, Shading S, bool E>
 void sample_uniform(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const Tile& tile,
                     Film& film, RenderStats& st) {
   for (int si = 0; si < s.desc.image.spp; ++si)
     for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) ts.accumulate(x, y, film.at(x, y), st);
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        PixelSums& px = film.at(x, y);
+        ts.accumulate(x, y, px, px.drawn, st);  // continues the pixel's sample indices
+      }
 }
 
-/// Adaptive sampling (adaptive_sampling.h), block by block. The pilot samples of block pixels
-/// outside the tile are drawn again here (identical values, used for the decision only, not
-/// counted in `samples`): free when tiles are multiples of the block, pilot-sized otherwise.
+/// Adaptive sampling (adaptive_sampling.h), block by block. Every pixel's samples have indices
+/// 0..n-1 in every call, whatever the film holds, so that a tile can redraw the pilot samples
+/// of block pixels outside it (identical values, used for the decision only, not counted in
+/// `samples`) however the tiles are split across calls or ranks: free when tiles are
+/// multiples of the block, pilot-sized otherwise.
 template <class T, Shading S, bool E>
-void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const RenderCall& call,
-                     const Tile& tile, Film& film, RenderStats& st) {
+void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const Tile& tile,
+                     Film& film, RenderStats& st) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.desc.image.width, height = s.desc.image.height, spp = s.desc.image.spp;
   const int pilot = adaptive_pilot(spp);
@@ -119,13 +118,12 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
           PilotSums& p = sums[static_cast<std::size_t>(j * B + i)];
           p = PilotSums{};
           const bool mine = inside(x, y);
-          const std::uint64_t first = call.first_index[static_cast<std::size_t>(y) * width + x];
           for (int si = 0; si < pilot; ++si) {
             SampleResult r;
             const SampleResult* kept = nullptr;
             if (mine) {
-              kept = ts.accumulate(x, y, film.at(x, y), st);
-            } else if (ts.draw(x, y, first + static_cast<std::uint64_t>(si), r, false)) {
+              kept = ts.accumulate(x, y, film.at(x, y), static_cast<std::uint64_t>(si), st);
+            } else if (ts.draw(x, y, static_cast<std::uint64_t>(si), r, false)) {
               kept = &r;
             }
             if (!kept) continue;
@@ -150,7 +148,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
           }
           const int n = adaptive_count(others, pilot, spp, s.adaptive_scale);
           PixelSums& px = film.at(x, y);
-          for (int si = pilot; si < n; ++si) ts.accumulate(x, y, px, st);
+          for (int si = pilot; si < n; ++si) ts.accumulate(x, y, px, static_cast<std::uint64_t>(si), st);
         }
       }
     }
@@ -159,23 +157,21 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
 
 /// Render one tile: all its samples before the next tile.
 template <class T, Shading S, bool E>
-void render_tile(const PreparedSceneImpl& s, const RenderCall& call, const GridMedium<T>& medium,
+void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium,
                  const Tile& tile, Film& film, RenderStats& st) {
   const bool culled = s.tile_culled[static_cast<std::size_t>(&tile - s.tiles.data())] != 0;
   if (culled) ++st.tiles_skipped;
   TileSampler<T, S, E> ts(s, medium, culled);
-  if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, call, tile, film, st);
+  if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, tile, film, st);
   else sample_uniform(ts, s, tile, film, st);
   ts.flush(st);
 }
 
-using TileFn = void (*)(const PreparedSceneImpl&, const RenderCall&, const void* medium, const Tile&,
-                        Film&, RenderStats&);
+using TileFn = void (*)(const PreparedSceneImpl&, const void* medium, const Tile&, Film&, RenderStats&);
 
 template <class T, Shading S, bool E>
-void tile_entry(const PreparedSceneImpl& s, const RenderCall& c, const void* medium, const Tile& t,
-                Film& f, RenderStats& st) {
-  render_tile<T, S, E>(s, c, *static_cast<const GridMedium<T>*>(medium), t, f, st);
+void tile_entry(const PreparedSceneImpl& s, const void* medium, const Tile& t, Film& f, RenderStats& st) {
+  render_tile<T, S, E>(s, *static_cast<const GridMedium<T>*>(medium), t, f, st);
 }
 
 template <class T>
@@ -272,13 +268,6 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
     if (i < 0 || i >= ntiles) throw std::out_of_range("tile index " + std::to_string(i) + " out of range");
 
   std::vector<RenderStats> per_tile(tile_indices.size());
-  RenderCall call;
-  std::vector<std::uint64_t> first_index;
-  if (s.desc.image.target_error > 0.0) {
-    first_index.reserve(film.pixels().size());
-    for (const PixelSums& p : film.pixels()) first_index.push_back(p.drawn);
-    call.first_index = first_index.data();
-  }
   std::atomic<int> done{0};
   std::atomic<bool> reporting{false};
   const int threads = s.desc.options.threads > 0 ? s.desc.options.threads
@@ -293,7 +282,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_indices.size(), 1),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                            fn(s, call, &medium, s.tiles[tile_indices[i]], film, per_tile[i]);
+                            fn(s, &medium, s.tiles[tile_indices[i]], film, per_tile[i]);
                             const int d = ++done;
                             if (progress && !reporting.exchange(true)) {
                               progress(d);

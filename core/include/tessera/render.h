@@ -67,6 +67,10 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
 
 /// Render the tiles with the given indices into `film` (which must be width x height), with
 /// TBB over tiles. Adds spp samples to each pixel, continuing each pixel's sample indices.
+/// With adaptive sampling (image.target_error > 0) a pixel gets between the pilot and spp
+/// samples and its sample indices start at 0 in every call (so the decision is the same however
+/// the tiles are split across calls or ranks): accumulate several adaptive calls into one film
+/// only with a different options.frame each (docs/physics.md section 11).
 /// `progress`, if set, is called from worker threads with the number of tiles finished.
 void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film,
                   RenderStats& stats, const std::function<void(int)>& progress = {});
