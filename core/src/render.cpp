@@ -6,6 +6,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -155,23 +156,60 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
   }
 }
 
-/// Render one tile: all its samples before the next tile.
+/// Render one tile (or a band of one, see plan_work): all its samples before the next one.
+/// `culled`: the tile's culling verdict.
 template <class T, Shading S, bool E>
 void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium,
-                 const Tile& tile, Film& film, RenderStats& st) {
-  const bool culled = s.tile_culled[static_cast<std::size_t>(&tile - s.tiles.data())] != 0;
-  if (culled) ++st.tiles_skipped;
+                 const Tile& tile, bool culled, Film& film, RenderStats& st) {
   TileSampler<T, S, E> ts(s, medium, culled);
   if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, tile, film, st);
   else sample_uniform(ts, s, tile, film, st);
   ts.flush(st);
 }
 
-using TileFn = void (*)(const PreparedSceneImpl&, const void* medium, const Tile&, Film&, RenderStats&);
+using TileFn = void (*)(const PreparedSceneImpl&, const void* medium, const Tile&, bool culled, Film&,
+                        RenderStats&);
 
 template <class T, Shading S, bool E>
-void tile_entry(const PreparedSceneImpl& s, const void* medium, const Tile& t, Film& f, RenderStats& st) {
-  render_tile<T, S, E>(s, *static_cast<const GridMedium<T>*>(medium), t, f, st);
+void tile_entry(const PreparedSceneImpl& s, const void* medium, const Tile& t, bool culled, Film& f,
+                RenderStats& st) {
+  render_tile<T, S, E>(s, *static_cast<const GridMedium<T>*>(medium), t, culled, f, st);
+}
+
+/// A unit of parallel work: one tile, or a band of rows of one.
+struct WorkItem {
+  Tile rect;
+  std::size_t tile;  ///< position in the caller's tile list
+};
+
+/// With one thread, or at least kTasksPerThread tiles per thread, each tile is one task. With
+/// fewer (large tiles, a small image, a short tile list under MPI) and several threads, tiles
+/// are cut into bands of kBandRows rows, aligned to multiples of kBandRows image rows (so adaptive 8x8 blocks stay whole), so
+/// that threads are not left idle behind a few heavy tiles. Pixels keep their samples in index
+/// order either way: the image is the same bit for bit.
+constexpr std::size_t kTasksPerThread = 4;
+constexpr int kBandRows = 8;
+static_assert(kBandRows % kAdaptiveBlock == 0);
+
+std::vector<WorkItem> plan_work(const PreparedSceneImpl& s, std::span<const int> tiles, int threads) {
+  std::vector<WorkItem> work;
+  const bool split = threads > 1 && tiles.size() < kTasksPerThread * static_cast<std::size_t>(threads);
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const Tile& t = s.tiles[static_cast<std::size_t>(tiles[i])];
+    if (!split) {
+      work.push_back({t, i});
+      continue;
+    }
+    for (int y0 = t.y0; y0 < t.y1;) {
+      const int y1 = std::min(t.y1, (y0 / kBandRows + 1) * kBandRows);
+      Tile band = t;
+      band.y0 = y0;
+      band.y1 = y1;
+      work.push_back({band, i});
+      y0 = y1;
+    }
+  }
+  return work;
 }
 
 template <class T>
@@ -267,11 +305,15 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   for (int i : tile_indices)
     if (i < 0 || i >= ntiles) throw std::out_of_range("tile index " + std::to_string(i) + " out of range");
 
-  std::vector<RenderStats> per_tile(tile_indices.size());
-  std::atomic<int> done{0};
-  std::atomic<bool> reporting{false};
   const int threads = s.desc.options.threads > 0 ? s.desc.options.threads
                                                  : tbb::this_task_arena::max_concurrency();
+  const std::vector<WorkItem> work = plan_work(s, tile_indices, threads);
+  std::vector<RenderStats> per_item(work.size());
+  // Progress counts whole tiles: a tile is done when its last band is.
+  std::vector<std::atomic<int>> bands_left(tile_indices.size());
+  for (const WorkItem& w : work) bands_left[w.tile].fetch_add(1, std::memory_order_relaxed);
+  std::atomic<int> done{0};
+  std::atomic<bool> reporting{false};
   const auto t_start = std::chrono::steady_clock::now();
   dispatch_dtype(s.field, [&](auto view) {
     using T = typename decltype(view)::value_type;
@@ -279,21 +321,29 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
     const TileFn fn = pick_kernel<T>(s);
     tbb::task_arena arena(threads);
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tile_indices.size(), 1),
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), 1),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                            fn(s, &medium, s.tiles[tile_indices[i]], film, per_tile[i]);
+                            const WorkItem& w = work[i];
+                            const std::size_t tile = static_cast<std::size_t>(tile_indices[w.tile]);
+                            fn(s, &medium, w.rect, s.tile_culled[tile] != 0, film, per_item[i]);
+                            if (bands_left[w.tile].fetch_sub(1) != 1) continue;
                             const int d = ++done;
                             if (progress && !reporting.exchange(true)) {
                               progress(d);
                               reporting = false;
                             }
                           }
-                        });
+                        },
+                        // One task per item: the auto partitioner grouped neighbouring tiles
+                        // into one task, so a few heavy tiles (a small volume in a big image)
+                        // could end on one thread.
+                        tbb::simple_partitioner());
     });
   });
   // Integer counters: the sum is the same whatever the schedule.
-  for (const RenderStats& t : per_tile) stats.add_counters(t);
+  for (const RenderStats& t : per_item) stats.add_counters(t);
+  for (const int i : tile_indices) stats.tiles_skipped += s.tile_culled[static_cast<std::size_t>(i)] != 0;
   stats.tiles_total += tile_indices.size();
   stats.nan_voxels_seen = s.grid.nan_vertices();  // a property of the field, counted at prepare
   stats.threads = threads;
