@@ -29,10 +29,27 @@ inline constexpr int kAdaptiveBlock = 8;
 /// Pilot samples per pixel for a render of `spp` samples.
 inline int adaptive_pilot(int spp) { return std::min(spp, std::max(8, spp / 16)); }
 
-/// Luminance sums of one pixel's pilot samples (finite ones only).
+/// Luminance sums of pilot samples (finite ones only): one pixel's, or several pixels' pooled.
 struct PilotSums {
   double lum = 0.0, lum2 = 0.0;
   std::uint64_t n = 0;
+
+  void add(double l) {
+    lum += l;
+    lum2 += l * l;
+    ++n;
+  }
+  void add(const PilotSums& o) {
+    lum += o.lum;
+    lum2 += o.lum2;
+    n += o.n;
+  }
+  /// Standard deviation per sample (unbiased variance); 0 with fewer than two samples.
+  double sigma() const {
+    if (n < 2) return 0.0;
+    const double c = static_cast<double>(n), mean = lum / c;
+    return std::sqrt(std::max(0.0, (lum2 - lum * mean) / (c - 1.0)));
+  }
 };
 
 struct PreparedSceneImpl;
@@ -47,10 +64,7 @@ inline constexpr std::uint64_t kPreviewIndexBase = std::uint64_t{1} << 62;
 /// preview's scale (PreparedSceneImpl::adaptive_scale).
 inline int adaptive_count(const PilotSums& others, int pilot, int spp, double scale) {
   if (others.n < 2) return spp;
-  const double n = static_cast<double>(others.n);
-  const double mean = others.lum / n;
-  const double var = std::max(0.0, (others.lum2 - others.lum * mean) / (n - 1.0));
-  const double need = std::sqrt(var) * scale;
+  const double need = others.sigma() * scale;
   if (!(need < static_cast<double>(spp))) return spp;  // also NaN
   return std::clamp(static_cast<int>(std::ceil(need)), pilot, spp);
 }

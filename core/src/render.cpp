@@ -51,7 +51,7 @@ class TileSampler {
     const Ray ray = m_s.camera.generate(x + jx, y + jy, lx, ly);
     // A culled tile's rays meet nothing: exactly the background a traced miss returns.
     r = m_culled && own ? SampleResult{m_s.env.visible() ? m_s.env.eval(ray.d) : Color(0.0), 0.0}
-                 : m_tracer.li(ray, rng, m_k);
+                        : m_tracer.li(ray, rng, m_k);
     return is_finite(r.L);
   }
 
@@ -127,11 +127,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
             } else if (ts.draw(x, y, static_cast<std::uint64_t>(si), r, false)) {
               kept = &r;
             }
-            if (!kept) continue;
-            const double lum = luminance(kept->L);
-            p.lum += lum;
-            p.lum2 += lum * lum;
-            ++p.n;
+            if (kept) p.add(luminance(kept->L));
           }
         }
       }
@@ -141,12 +137,8 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
           const int x = bx + i, y = by + j;
           if (!inside(x, y)) continue;
           PilotSums others;
-          for (int q = 0; q < bh * B; ++q) {
-            if (q == j * B + i || q % B >= bw) continue;
-            others.lum += sums[static_cast<std::size_t>(q)].lum;
-            others.lum2 += sums[static_cast<std::size_t>(q)].lum2;
-            others.n += sums[static_cast<std::size_t>(q)].n;
-          }
+          for (int q = 0; q < bh * B; ++q)
+            if (q != j * B + i && q % B < bw) others.add(sums[static_cast<std::size_t>(q)]);
           const int n = adaptive_count(others, pilot, spp, s.adaptive_scale);
           PixelSums& px = film.at(x, y);
           for (int si = pilot; si < n; ++si) ts.accumulate(x, y, px, static_cast<std::uint64_t>(si), st);
@@ -253,16 +245,9 @@ void preview_row(const PreparedSceneImpl& s, const GridMedium<T>& medium, int by
     PilotSums p;
     for (int i = 0; i < pilot; ++i) {
       SampleResult r;
-      if (!ts.draw(x, y, kPreviewIndexBase + static_cast<std::uint64_t>(i), r, false)) continue;
-      const double lum = luminance(r.L);
-      p.lum += lum;
-      p.lum2 += lum * lum;
-      ++p.n;
+      if (ts.draw(x, y, kPreviewIndexBase + static_cast<std::uint64_t>(i), r, false)) p.add(luminance(r.L));
     }
-    if (p.n >= 2) {
-      const double n = static_cast<double>(p.n), mean = p.lum / n;
-      *sigma_sum += std::sqrt(std::max(0.0, (p.lum2 - p.lum * mean) / (n - 1.0)));
-    }
+    *sigma_sum += p.sigma();
     *lum_sum += p.lum;
     *count += p.n;
   }
