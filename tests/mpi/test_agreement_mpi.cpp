@@ -1,0 +1,1 @@
+// MPI agreement tests: see tests/mpi/CMakeLists.txt.

@@ -1,0 +1,1 @@
+// Robustness tests: see CMakeLists.txt in this folder.
