@@ -64,8 +64,9 @@ namespace detail {
 
 GlobalOptions parse_global(const Value& v) {
   const Map m = v.map("a mapping with keys output_dir, on_error, threads, render_final_step, "
-                      "max_failures");
-  m.allow({"output_dir", "on_error", "threads", "render_final_step", "max_failures"});
+                      "max_failures, time_limit, memory_limit_mb");
+  m.allow({"output_dir", "on_error", "threads", "render_final_step", "max_failures",
+           "time_limit", "memory_limit_mb"});
   GlobalOptions g;
   if (const auto d = m.get("output_dir")) g.output_dir = d->string();
   g.on_error = m.choice_or<OnError>(
@@ -75,6 +76,10 @@ GlobalOptions parse_global(const Value& v) {
   g.render_final_step = m.boolean_or("render_final_step", g.render_final_step);
   g.max_failures = static_cast<int>(
       m.integer_or("max_failures", g.max_failures, 1, std::numeric_limits<int>::max()));
+  g.time_limit = m.number_or("time_limit", g.time_limit,
+                             Range::closed(0.0, GlobalOptions::kMaxTimeLimit));
+  g.memory_limit_mb = m.integer_or("memory_limit_mb", g.memory_limit_mb, 0,
+                                   GlobalOptions::kMaxMemoryLimitMb);
   return g;
 }
 

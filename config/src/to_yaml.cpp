@@ -114,6 +114,8 @@ void write(YAML::Emitter& out, const GlobalOptions& g) {
   field(out, "threads", g.threads);
   field(out, "render_final_step", g.render_final_step);
   field(out, "max_failures", g.max_failures);
+  field(out, "time_limit", g.time_limit);
+  field(out, "memory_limit_mb", g.memory_limit_mb);
   out << YAML::EndMap;
 }
 

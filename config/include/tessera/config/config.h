@@ -29,6 +29,16 @@ struct GlobalOptions {
   int threads = 0;                 ///< >= 0; 0 = all hardware threads
   bool render_final_step = false;  ///< adapter: tessera_execute_final renders everything
   int max_failures = 3;            ///< adapter, on_error: disable: failures before disabling, >= 1
+  /// Seconds one render may take (every Cinema view included), in [0, kMaxTimeLimit];
+  /// 0 = no limit. Past it every rank stops at its next tile and the render fails.
+  double time_limit = 0.0;
+  /// Megabytes one render's own allocations may take on one rank (film, images, replica,
+  /// envmap), in [0, kMaxMemoryLimitMb]; 0 = the documented default derived from the
+  /// machine's memory (docs/insitu.md, "Limits and failure").
+  std::int64_t memory_limit_mb = 0;
+
+  static constexpr double kMaxTimeLimit = 31536000.0;            ///< one year, in seconds
+  static constexpr std::int64_t kMaxMemoryLimitMb = std::int64_t(1) << 40;
 };
 
 /// `volume:` (CLI only): a raw binary array of dims[0]*dims[1]*dims[2] values, i fastest.
