@@ -1,8 +1,10 @@
 #include "adapter_impl.h"
 
 #include "outputs.h"
+#include "rank_agreement.h"
 
 #include <filesystem>
+#include <optional>
 
 namespace tessera::insitu {
 
@@ -10,7 +12,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
                                    const char* output_dir) noexcept {
   close();
   try {
-    // Communicator
+    // Communicator: duplicated only; the nodes are set up once the ranks agree (below)
     try {
       m_ctx = ParallelContext::create(mpi_comm_f);
     } catch (const std::exception& e) {
@@ -21,16 +23,37 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
     // Config: loaded and fully validated on every rank; all fail if one does
     bool ok = true;
     std::string fault;
+    std::string effective;  // the canonical text of the config as this rank will use it
     try {
       if (!yaml_path) throw std::invalid_argument("config path is NULL");
       m_config = config::load_config(yaml_path);
       if (output_dir && *output_dir) m_config.global.output_dir = output_dir;
+      effective = config::to_yaml(m_config);
     } catch (const std::exception& e) {
       ok = false;
       fault = e.what();
     }
     if (!m_ctx->agree(ok)) {
       m_error = ok ? "the config failed to load on another rank" : fault;
+      close();
+      return TESSERA_ERROR_CONFIG;
+    }
+
+    // Ranks agree on the effective config and the environment before anything depends on
+    // them; then the nodes (TESSERA_MPI_RANKS_PER_NODE, now known to be the same everywhere)
+    if (std::optional<Disagreement> d = agree_on_open(*m_ctx, effective)) {
+      m_error = std::move(d->message);
+      close();
+      return d->status;
+    }
+    try {
+      m_ctx->connect();
+    } catch (const std::exception& e) {
+      ok = false;
+      fault = e.what();
+    }
+    if (!m_ctx->agree(ok)) {
+      m_error = ok ? "the MPI nodes could not be set up on another rank" : fault;
       close();
       return TESSERA_ERROR_CONFIG;
     }
@@ -43,7 +66,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
         ensure_directory(m_config.global.output_dir);
         write_text_atomic(
             (std::filesystem::path(m_config.global.output_dir) / "tessera_effective_config.yaml").string(),
-            config::to_yaml(m_config));
+            effective);
       }
     } catch (const std::exception& e) {
       ok = false;
@@ -98,7 +121,18 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
                                                : Decision::Skip;
       any = any || m_decisions[i] != Decision::Skip;
     }
-    if (!any) return TESSERA_OK;
+    if (!any) return TESSERA_OK;  // no communication: identical configs decide alike
+    const bool root = m_ctx->rank() == 0;
+
+    // Ranks agree on the step, the renders that fire and the grid, before any other collective
+    const CallView view{step,
+                        {reinterpret_cast<const unsigned char*>(m_decisions.data()), m_decisions.size()},
+                        m_config.renders, grid};
+    if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view)) {
+      if (root) log_line(d->message);
+      m_error = std::move(d->message);
+      return d->status;
+    }
 
     // Renders that fire (or may: `when`), in config order
     m_call.step = step;
@@ -110,7 +144,6 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     m_call.assembled_key.reset();
     tessera_status status = TESSERA_OK;
     const config::RenderSpec* skipped = nullptr;  // a disabled render that would have fired
-    const bool root = m_ctx->rank() == 0;
     for (std::size_t i = 0; i < m_renders.size() && !m_policy.blocked(); ++i) {
       if (m_decisions[i] == Decision::Skip) continue;
       if (m_policy.disabled(i)) {

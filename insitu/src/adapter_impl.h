@@ -41,7 +41,8 @@ struct Adapter::Impl {
   bool m_quiet = false;
 
  private:
-  enum class Decision : unsigned char { Skip, Fire, WhenTrigger };
+  /// Read as bytes by the agreement (rank_agreement.h CallView::fired): keep these values.
+  enum class Decision : unsigned char { Skip = 0, Fire = 1, WhenTrigger = 2 };
   std::vector<Decision> m_decisions;  ///< per render, sized at open: no allocation per call
   CallData m_call;
   SummaryCache m_summaries;

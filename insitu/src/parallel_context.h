@@ -11,8 +11,10 @@
 #include <tessera/render.h>
 #include <tessera/stats.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <utility>
 
 namespace tessera::insitu {
@@ -27,8 +29,18 @@ class ParallelContext {
  public:
   /// comm_f: a Fortran MPI communicator handle (MPI_Comm_c2f), or -1 for no MPI (one rank).
   /// Throws if comm_f != -1 and the build has no MPI, or if the handle is invalid.
+  /// Construction in two collective steps: create() only duplicates the communicator (enough
+  /// for agree(), allgather() and broadcast()); connect() then groups the ranks into nodes
+  /// and sets up the shared windows. Call connect() once, after the ranks have agreed on
+  /// their config and environment (rank_agreement.h), because it reads
+  /// TESSERA_MPI_RANKS_PER_NODE, and ranks reading different values would split the
+  /// communicator differently and hang. assemble() and render() need connect().
   static std::unique_ptr<ParallelContext> create(int comm_f);
   virtual ~ParallelContext() = default;
+
+  /// Second construction step (see create()). Throws (alike on every rank, given agreed
+  /// environments) if TESSERA_MPI_RANKS_PER_NODE is not an integer >= 0.
+  virtual void connect() = 0;
 
   virtual int rank() const = 0;
   virtual int size() const = 0;
@@ -37,6 +49,12 @@ class ParallelContext {
   virtual bool agree(bool ok) = 0;
   /// Global min and max of per-rank values (allreduce).
   virtual std::pair<double, double> range(double local_min, double local_max) = 0;
+  /// Every rank's `bytes` bytes at `mine`, in rank order, into `all` (size() * bytes bytes).
+  /// Every rank must pass the same `bytes`; the data travel as raw bytes.
+  virtual void allgather(const void* mine, std::size_t bytes, void* all) = 0;
+  /// Rank `root`'s `text` on every rank (other ranks' `text` is replaced). Two collectives
+  /// (length, then bytes); meant for failure paths, not per call.
+  virtual void broadcast(std::string& text, int root) = 0;
 
   /// The whole field, for rendering, from each rank's view of its real vertices.
   /// One rank whose view covers the global grid: returns that view itself (zero copy).

@@ -1,5 +1,7 @@
 #include "parallel_context_mpi.h"
 
+#include "mpi_check.h"
+
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -20,13 +22,7 @@ namespace {
 constexpr int kPixelTag = 0x7e55;
 static_assert(std::is_trivially_copyable_v<PixelSums>, "pixels travel as raw bytes");
 
-void check(int rc, const char* call) {
-  if (rc == MPI_SUCCESS) return;
-  char text[MPI_MAX_ERROR_STRING];
-  int len = 0;
-  MPI_Error_string(rc, text, &len);
-  throw std::runtime_error(std::string(call) + " failed: " + std::string(text, len));
-}
+using detail::check;
 
 std::string box_text(const std::int64_t offset[3], const std::int64_t dims[3]) {
   std::string s = "[";
@@ -156,17 +152,6 @@ double process_cpu_seconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-/// TESSERA_MPI_RANKS_PER_NODE (testing aid): group ranks into pretend nodes of that size.
-int ranks_per_node_from_env() {
-  const char* s = std::getenv("TESSERA_MPI_RANKS_PER_NODE");
-  if (!s || !*s) return 0;
-  char* end = nullptr;
-  const long v = std::strtol(s, &end, 10);
-  if (*end != '\0' || v < 0 || v > INT_MAX)
-    throw std::runtime_error(std::string("TESSERA_MPI_RANKS_PER_NODE=") + s + " must be an integer >= 0");
-  return static_cast<int>(v);
-}
-
 }  // namespace
 
 /// What each rank tells the others before an assemble: its box, dtype and whether its view
@@ -180,60 +165,7 @@ struct MpiParallelContext::RankBox {
 };
 
 // ---------------------------------------------------------------------------------------
-// Construction
-
-std::unique_ptr<ParallelContext> ParallelContext::create(int comm_f) {
-  if (comm_f == -1) return std::make_unique<MpiParallelContext>();
-  int initialized = 0, finalized = 0;
-  MPI_Initialized(&initialized);
-  MPI_Finalized(&finalized);
-  if (!initialized || finalized)
-    throw std::runtime_error("an MPI communicator was given (handle " + std::to_string(comm_f) +
-                             ") but MPI is " + (finalized ? "finalized" : "not initialized"));
-  const MPI_Comm comm = MPI_Comm_f2c(comm_f);
-  bool bad = comm == MPI_COMM_NULL;
-#if defined(OPEN_MPI)
-  bad = bad || comm == nullptr;
-#endif
-  if (bad)
-    throw std::runtime_error("MPI communicator handle " + std::to_string(comm_f) +
-                             " is not a valid communicator (pass MPI_Comm_c2f(comm), or -1 for no MPI)");
-  return std::make_unique<MpiParallelContext>(comm, ranks_per_node_from_env());
-}
-
-MpiParallelContext::MpiParallelContext() = default;
-
-MpiParallelContext::MpiParallelContext(MPI_Comm comm, int ranks_per_node) : m_mpi(true) {
-  check(MPI_Comm_dup(comm, &m_comm), "MPI_Comm_dup");
-  MPI_Comm_set_errhandler(m_comm, MPI_ERRORS_RETURN);
-  MPI_Comm_rank(m_comm, &m_rank);
-  MPI_Comm_size(m_comm, &m_size);
-  if (m_size == 1) return;  // one rank: nothing to share
-
-  // Nodes: ranks that can map one replica; the node's rank 0 is its leader.
-  if (ranks_per_node > 0)
-    check(MPI_Comm_split(m_comm, m_rank / ranks_per_node, m_rank, &m_node), "MPI_Comm_split");
-  else
-    check(MPI_Comm_split_type(m_comm, MPI_COMM_TYPE_SHARED, m_rank, MPI_INFO_NULL, &m_node),
-          "MPI_Comm_split_type");
-  MPI_Comm_set_errhandler(m_node, MPI_ERRORS_RETURN);
-  MPI_Comm_rank(m_node, &m_node_rank);
-  MPI_Comm_size(m_node, &m_node_size);
-  int leader = m_rank;
-  check(MPI_Bcast(&leader, 1, MPI_INT, 0, m_node), "MPI_Bcast");
-  m_leader_of.resize(m_size);
-  check(MPI_Allgather(&leader, 1, MPI_INT, m_leader_of.data(), 1, MPI_INT, m_comm), "MPI_Allgather");
-  m_node_count = 0;
-  for (int r = 0; r < m_size; ++r) m_node_count += m_leader_of[r] == r ? 1 : 0;
-
-  // The tile counter: one int64 on rank 0, in a passive-target epoch for the context's life.
-  const MPI_Aint counter_bytes = m_rank == 0 ? sizeof(std::int64_t) : 0;
-  check(MPI_Win_allocate(counter_bytes, sizeof(std::int64_t), MPI_INFO_NULL, m_comm, &m_counter,
-                         &m_counter_win), "MPI_Win_allocate");
-  MPI_Win_set_errhandler(m_counter_win, MPI_ERRORS_RETURN);
-  if (m_rank == 0) *m_counter = 0;
-  check(MPI_Win_lock_all(0, m_counter_win), "MPI_Win_lock_all");
-}
+// Construction: parallel_context_mpi_setup.cpp
 
 MpiParallelContext::~MpiParallelContext() {
   if (!m_mpi) return;

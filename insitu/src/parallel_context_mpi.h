@@ -52,11 +52,15 @@ struct MpiRenderReport {
 
 class MpiParallelContext final : public ParallelContext {
  public:
-  /// Context over a duplicate of `comm` (MPI must be initialised). `ranks_per_node` > 0 groups
-  /// consecutive ranks into pretend nodes of that size (for testing the inter-node path on
-  /// one machine; they must still share memory); 0 groups ranks by real shared-memory node.
-  /// Collective over `comm`.
+  /// Context over a duplicate of `comm` (MPI must be initialised), connected at once.
+  /// `ranks_per_node` > 0 groups consecutive ranks into pretend nodes of that size (for
+  /// testing the inter-node path on one machine; they must still share memory); 0 groups
+  /// ranks by real shared-memory node. Collective over `comm`.
   MpiParallelContext(MPI_Comm comm, int ranks_per_node);
+  /// Context over a duplicate of `comm`, not yet connected: agree(), range(), allgather()
+  /// and broadcast() work; connect() must follow before assemble() or render().
+  /// Collective over `comm` (MPI_Comm_dup only).
+  explicit MpiParallelContext(MPI_Comm comm);
   /// One rank, no MPI: behaves like the serial context.
   MpiParallelContext();
   ~MpiParallelContext() override;
@@ -65,8 +69,12 @@ class MpiParallelContext final : public ParallelContext {
 
   int rank() const override { return m_rank; }
   int size() const override { return m_size; }
+  /// Groups the ranks by TESSERA_MPI_RANKS_PER_NODE (see the two-argument constructor).
+  void connect() override;
   bool agree(bool ok) override;
   std::pair<double, double> range(double local_min, double local_max) override;
+  void allgather(const void* mine, std::size_t bytes, void* all) override;
+  void broadcast(std::string& text, int root) override;
   FieldView assemble(const FieldView& local, const GlobalPlacement& where) override;
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override;
   /// This rank's bytes moved by the last assemble() + render() (see MpiRenderReport; sum
@@ -82,12 +90,14 @@ class MpiParallelContext final : public ParallelContext {
 
  private:
   struct RankBox;
+  void connect_nodes(int ranks_per_node);
   void ensure_replica(std::uint64_t bytes);
   void free_replica();
   void exchange_boxes(const FieldView& local, const std::vector<RankBox>& boxes);
   void render_multi(const PreparedScene& scene, Film& film, RenderStats& stats);
 
   bool m_mpi = false;
+  bool m_connected = false;
   MPI_Comm m_comm = MPI_COMM_NULL;   ///< duplicate of the user's communicator
   MPI_Comm m_node = MPI_COMM_NULL;   ///< ranks sharing this node's replica
   int m_rank = 0, m_size = 1;

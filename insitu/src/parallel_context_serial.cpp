@@ -1,6 +1,7 @@
 // ParallelContext without MPI: one rank, every collective is the identity.
 #include "parallel_context.h"
 
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -11,10 +12,15 @@ class SerialContext final : public ParallelContext {
  public:
   int rank() const override { return 0; }
   int size() const override { return 1; }
+  void connect() override {}
   bool agree(bool ok) override { return ok; }
   std::pair<double, double> range(double local_min, double local_max) override {
     return {local_min, local_max};
   }
+  void allgather(const void* mine, std::size_t bytes, void* all) override {
+    if (bytes > 0) std::memcpy(all, mine, bytes);
+  }
+  void broadcast(std::string&, int) override {}
 
   FieldView assemble(const FieldView& local, const GlobalPlacement& where) override {
     for (int a = 0; a < 3; ++a)

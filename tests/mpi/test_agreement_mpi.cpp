@@ -1,1 +1,322 @@
-// MPI agreement tests: see tests/mpi/CMakeLists.txt.
+// Ranks that disagree fail on every rank with an error that names the rank and the value,
+// never a hang and never a silent wrong image (rank_agreement.h): a config that differs on
+// one rank (a trigger), an environment knob set on one rank only, a grid (spacing, origin,
+// global_dims) or a step that differs on one rank at a firing call, a final-step flag on one
+// rank. Run at -n 2 and -n 3; the last rank is the odd one out. Each test arms an alarm, so a
+// regression that hangs kills the job (and fails the CTest entry) instead of waiting for the
+// CTest timeout.
+#include "mpi_test_support.h"
+#include "rank_agreement.h"
+
+#include <tessera/tessera.h>
+
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+
+using namespace tessera_mpi_test;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::array<std::int64_t, 3> kGlobal{14, 12, 10};
+
+/// Kills the process (and so the MPI job) if the test has not finished in 60 s.
+struct Watchdog {
+  Watchdog() { alarm(60); }
+  ~Watchdog() { alarm(0); }
+};
+
+/// A scratch directory named by rank 0, the same path on every rank; removed by rank 0.
+class SharedDir {
+ public:
+  SharedDir() {
+    std::string path;
+    if (world_rank() == 0) {
+      std::random_device rd;
+      path = (fs::temp_directory_path() / ("tessera_agree_" + std::to_string(rd()) + std::to_string(rd()))).string();
+      fs::create_directories(path);
+    }
+    int len = static_cast<int>(path.size());
+    MPI_Bcast(&len, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    path.resize(static_cast<std::size_t>(len));
+    MPI_Bcast(path.data(), len, MPI_CHAR, 0, MPI_COMM_WORLD);
+    m_path = path;
+  }
+  ~SharedDir() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    std::error_code ec;
+    if (world_rank() == 0) fs::remove_all(m_path, ec);
+  }
+  std::string file(const std::string& name) const { return (fs::path(m_path) / name).string(); }
+
+ private:
+  std::string m_path;
+};
+
+/// A small, fast render; `trigger` and `extra_render` vary it, `global` adds tessera: keys.
+std::string config_text(const std::string& out, const std::string& trigger = "{every: 1}",
+                        const std::string& extra_render = "", const std::string& global = "") {
+  const std::string body =
+      "    field: density\n"
+      "    image: {width: 16, height: 12, spp: 1}\n"
+      "    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: 3.2}}, look_at: center, fov: 30}\n"
+      "    transfer_function: {range: [0, 250], density_scale: 10, opacity: [[0, 0], [1, 1]]}\n"
+      "    output: {file: \"{name}_{step:04d}\", formats: [exr]}\n";
+  std::string yaml = "tessera:\n  output_dir: " + out + "\n  threads: 1\n" + global +
+                     "renders:\n  - name: view\n    trigger: " + trigger + "\n" + body;
+  if (!extra_render.empty()) yaml += "  - name: " + extra_render + "\n" + body;
+  return yaml;
+}
+
+/// This rank's block of the global field (float32, one ghost layer), as the simulation holds it.
+struct Published {
+  Published() : local(block_of(kGlobal, procs(), world_rank()), tessera::DType::Float32, Layout::COrder, blobs(kGlobal)) {
+    const Box box = block_of(kGlobal, procs(), world_rank());
+    const tessera::FieldView real = local.view();
+    field.name = "density";
+    field.dtype = TESSERA_FLOAT32;
+    for (int a = 0; a < 3; ++a) {
+      field.dims[a] = box.dims[a] + 2;
+      field.byte_strides[a] = real.byte_strides[a];
+      field.ghosts_lo[a] = field.ghosts_hi[a] = 1;
+      grid.origin[a] = -0.5;
+      grid.spacing[a] = 1.0 / static_cast<double>(kGlobal[a] - 1);
+      grid.global_dims[a] = kGlobal[a];
+      grid.offset[a] = box.offset[a];
+    }
+    field.data = static_cast<const unsigned char*>(real.data) - real.byte_strides[0] - real.byte_strides[1] -
+                 real.byte_strides[2];
+  }
+  static std::array<int, 3> procs() { return {1, world_size(), 1}; }
+  LocalArray local;
+  tessera_field field{};
+  tessera_grid grid{};
+};
+
+int last_rank() { return world_size() - 1; }
+bool odd_one_out() { return world_rank() == last_rank(); }
+
+/// Writes this rank's config (rank r: cfg_r.yaml) and returns its path.
+std::string write_config(const SharedDir& dir, const std::string& text) {
+  const std::string path = dir.file("cfg_" + std::to_string(world_rank()) + ".yaml");
+  std::ofstream(path) << text;
+  MPI_Barrier(MPI_COMM_WORLD);
+  return path;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+/// Seconds since `t0`.
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+TEST_CASE("first_difference names the first differing line", "[mpi][agreement]") {
+  using tessera::insitu::first_difference;
+  CHECK(first_difference("a\nb\n", "a\nb\n").empty());
+  CHECK(first_difference("a\n  every: 2\nc\n", "a\n  every: 1\nc\n") == "line 2: 'every: 2' vs 'every: 1'");
+  CHECK(first_difference("a\n", "a\nb\n") == "line 2: end of text vs 'b'");
+  const std::string long_line(500, 'x');
+  CHECK(first_difference(long_line, "y").size() < 120);
+}
+
+TEST_CASE("a trigger that differs on one rank fails tessera_open on every rank", "[mpi][agreement][robustness]") {
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedDir dir;
+  const std::string cfg = write_config(dir, config_text(dir.file("out"), odd_one_out() ? "{every: 2}" : "{every: 1}"));
+  const auto t0 = std::chrono::steady_clock::now();
+  tessera_adapter* a = nullptr;
+  const tessera_status s = tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a);
+  const std::string error = tessera_last_error(nullptr);
+  INFO(error);
+  const std::string who = "rank " + std::to_string(last_rank()) + "'s effective config differs from rank 0's";
+  const bool ok = s == TESSERA_ERROR_CONFIG && a == nullptr && contains(error, "ranks disagree on the config") &&
+                  contains(error, who) && contains(error, "line 12: 'trigger: {every: 2}' vs 'trigger: {every: 1}'") && since(t0) < 20.0;
+  CHECK(ok);
+  REQUIRE(all_ranks(ok));
+  if (a) tessera_close(a);
+}
+
+TEST_CASE("an environment knob set on one rank only fails tessera_open on every rank", "[mpi][agreement][robustness]") {
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedDir dir;
+  const std::string cfg = write_config(dir, config_text(dir.file("out")));
+  const char* kKnob = "TESSERA_MPI_RANKS_PER_NODE";
+  const char* saved = std::getenv(kKnob);
+  const std::string restore = saved ? saved : "";
+  unsetenv(kKnob);
+
+  SECTION("set on the last rank only: an error naming both values, no hang in the node split") {
+    if (odd_one_out()) setenv(kKnob, "1", 1);
+    const auto t0 = std::chrono::steady_clock::now();
+    tessera_adapter* a = nullptr;
+    const tessera_status s = tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a);
+    const std::string error = tessera_last_error(nullptr);
+    INFO(error);
+    const bool ok = s == TESSERA_ERROR_CONFIG && a == nullptr &&
+                    contains(error, std::string(kKnob) + " is '1' on rank " + std::to_string(last_rank()) +
+                                        " but unset on rank 0") &&
+                    since(t0) < 20.0;
+    CHECK(ok);
+    if (a) tessera_close(a);
+    REQUIRE(all_ranks(ok));
+  }
+  SECTION("set alike on every rank: open and a render work") {
+    setenv(kKnob, "1", 1);
+    Published pub;
+    tessera_adapter* a = nullptr;
+    tessera_status s = tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a);
+    if (s == TESSERA_OK) s = tessera_execute(a, 3, 0.5, &pub.grid, &pub.field, 1);
+    INFO(tessera_last_error(a));
+    CHECK(s == TESSERA_OK);
+    tessera_close(a);
+    REQUIRE(all_ranks(s == TESSERA_OK));
+  }
+  if (saved) setenv(kKnob, restore.c_str(), 1);
+  else unsetenv(kKnob);
+}
+
+TEST_CASE("a grid that differs on one rank fails the firing call on every rank", "[mpi][agreement][robustness]") {
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedDir dir;
+  const std::string cfg = write_config(dir, config_text(dir.file("out")));
+  const std::string who = "rank " + std::to_string(last_rank());
+
+  struct Case {
+    const char* name;
+    std::function<void(tessera_grid&)> change;
+    std::string expected;  // in the message
+  };
+  const double h = 1.0 / static_cast<double>(kGlobal[0] - 1);
+  const Case cases[] = {
+      {"spacing", [](tessera_grid& g) { g.spacing[0] *= 0.5; },
+       who + " has spacing [" + std::to_string(0.5 * h).substr(0, 6)},
+      {"origin", [](tessera_grid& g) { g.origin[2] = 0.25; }, who + " has origin [-0.5, -0.5, 0.25], rank 0 has [-0.5, -0.5, -0.5]"},
+      {"global_dims", [](tessera_grid& g) { g.global_dims[0] += 1; },
+       who + " has global_dims [" + std::to_string(kGlobal[0] + 1) + ", " + std::to_string(kGlobal[1]) + ", " +
+           std::to_string(kGlobal[2]) + "], rank 0 has [" + std::to_string(kGlobal[0])},
+      {"NaN spacing (compared bit for bit)", [](tessera_grid& g) { g.spacing[1] = std::nan(""); }, who + " has spacing ["},
+  };
+  for (const Case& c : cases) {
+    DYNAMIC_SECTION(c.name) {
+      Published pub;
+      tessera_adapter* a = nullptr;
+      REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
+      tessera_grid grid = pub.grid;
+      if (odd_one_out()) c.change(grid);
+      const auto t0 = std::chrono::steady_clock::now();
+      const tessera_status s = tessera_execute(a, 3, 0.5, &grid, &pub.field, 1);
+      const std::string error = tessera_last_error(a);
+      INFO(error);
+      INFO(c.expected);
+      const bool ok = s == TESSERA_ERROR_DATA && contains(error, "ranks disagree on the grid at step 3") &&
+                      contains(error, c.expected) && since(t0) < 20.0;
+      CHECK(ok);
+      // Nothing is left half-done: the next call with agreeing grids renders
+      const tessera_status next = tessera_execute(a, 4, 0.6, &pub.grid, &pub.field, 1);
+      INFO(tessera_last_error(a));
+      CHECK(next == TESSERA_OK);
+      tessera_close(a);
+      REQUIRE(all_ranks(ok && next == TESSERA_OK));
+    }
+  }
+}
+
+TEST_CASE("a step that differs on one rank fails the firing call on every rank", "[mpi][agreement][robustness]") {
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedDir dir;
+  const std::string cfg = write_config(dir, config_text(dir.file("out")));
+  Published pub;
+  tessera_adapter* a = nullptr;
+  REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
+  const std::int64_t step = odd_one_out() ? 4 : 3;
+  const tessera_status s = tessera_execute(a, step, 0.5, &pub.grid, &pub.field, 1);
+  const std::string error = tessera_last_error(a);
+  INFO(error);
+  const bool ok = s == TESSERA_ERROR_DATA &&
+                  contains(error, "rank " + std::to_string(last_rank()) + " is at step 4, rank 0 at step 3");
+  CHECK(ok);
+  tessera_close(a);
+  REQUIRE(all_ranks(ok));
+}
+
+TEST_CASE("a final-step flag on one rank fails the call on every rank", "[mpi][agreement][robustness]") {
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedDir dir;
+  const std::string out = dir.file("out");
+  const std::string who = "rank " + std::to_string(last_rank());
+  Published pub;
+
+  SECTION("a render fires on one rank only") {
+    const std::string cfg =
+        write_config(dir, config_text(out, "{every: 1}", "late\n    trigger: {at: [1000]}", "  render_final_step: true\n"));
+    tessera_adapter* a = nullptr;
+    REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
+    const tessera_status s = odd_one_out() ? tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1)
+                                           : tessera_execute(a, 3, 0.5, &pub.grid, &pub.field, 1);
+    const std::string error = tessera_last_error(a);
+    INFO(error);
+    const bool ok = s == TESSERA_ERROR_CONFIG && contains(error, "ranks disagree on which renders fire at step 3") &&
+                    contains(error, "render 'late' fires on " + who + " but not on rank 0");
+    CHECK(ok);
+    tessera_close(a);
+    REQUIRE(all_ranks(ok));
+  }
+  SECTION("a `when` render is forced on one rank and waits for its trigger on the others") {
+    const std::string cfg =
+        write_config(dir, config_text(out, "{when: {above: 1000}}", "", "  render_final_step: true\n"));
+    tessera_adapter* a = nullptr;
+    REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
+    const tessera_status s = odd_one_out() ? tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1)
+                                           : tessera_execute(a, 3, 0.5, &pub.grid, &pub.field, 1);
+    const std::string error = tessera_last_error(a);
+    INFO(error);
+    const bool ok = s == TESSERA_ERROR_CONFIG &&
+                    contains(error, "render 'view' is forced (final step) on " + who +
+                                        " but waits for its `when` trigger on rank 0");
+    CHECK(ok);
+    tessera_close(a);
+    REQUIRE(all_ranks(ok));
+  }
+}
+
+TEST_CASE("ranks that agree render, and calls where nothing fires stay local", "[mpi][agreement]") {
+  Watchdog watchdog;
+  SharedDir dir;
+  const std::string cfg = write_config(dir, config_text(dir.file("out"), "{every: 2}"));
+  Published pub;
+  tessera_adapter* a = nullptr;
+  REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
+  // Odd steps fire nowhere: the last rank may even make extra such calls, or pass a grid that
+  // disagrees, without communication (the documented limit: those calls are not checked)
+  bool ok = true;
+  tessera_grid odd = pub.grid;
+  if (odd_one_out()) odd.spacing[0] = 7.0;
+  for (int extra = 0; extra < (odd_one_out() ? 3 : 1); ++extra)
+    ok = ok && tessera_execute(a, 1, 0.1, &odd, &pub.field, 1) == TESSERA_OK;
+  const tessera_status s = tessera_execute(a, 2, 0.2, &pub.grid, &pub.field, 1);
+  INFO(tessera_last_error(a));
+  ok = ok && s == TESSERA_OK;
+  CHECK(ok);
+  tessera_close(a);
+  REQUIRE(all_ranks(ok));
+  bool written = true;
+  if (world_rank() == 0) written = fs::exists(dir.file("out/view_0002.exr"));
+  REQUIRE(all_ranks(written));
+}

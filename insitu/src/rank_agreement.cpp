@@ -1,0 +1,311 @@
+#include "rank_agreement.h"
+
+#include "hash64.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cstdlib>
+#include <cstring>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+namespace tessera::insitu {
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Formatting
+
+/// Shortest text that reads back as the same double (so two values that differ never print
+/// alike); NaN and infinities as nan / inf.
+std::string number(double v) {
+  char buf[32];
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  return ec == std::errc() ? std::string(buf, end) : std::string("?");
+}
+
+// (appends rather than operator+ chains: GCC 12 warns falsely (-Wrestrict) on the latter)
+template <class T>
+std::string vec3(const T v[3]) {
+  std::string s = "[";
+  for (int a = 0; a < 3; ++a) {
+    if (a) s += ", ";
+    if constexpr (std::is_floating_point_v<T>) s += number(v[a]);
+    else s += std::to_string(v[a]);
+  }
+  s += ']';
+  return s;
+}
+
+/// A value quoted for a message, cut to `max` characters.
+std::string quoted(std::string_view s, std::size_t max = 60) {
+  std::string q = "'";
+  q.append(s.substr(0, max));
+  if (s.size() <= max) return q += '\'';
+  q += "...' (";
+  q += std::to_string(s.size());
+  q += " characters)";
+  return q;
+}
+
+std::string rank_name(int r) { return "rank " + std::to_string(r); }
+
+// ---------------------------------------------------------------------------------------
+// tessera_open: config and environment
+
+constexpr std::size_t kKnobs = kEnvironmentKnobs.size();
+constexpr std::size_t kKnobText = 48;  ///< raw value bytes carried for the message
+
+/// What each rank tells the others at open (raw bytes through one allgather).
+struct OpenRecord {
+  std::uint64_t config_hash[2];
+  std::uint64_t config_bytes;
+  std::uint64_t knob_set[kKnobs];      ///< 1 if the variable is set (even to "")
+  std::uint64_t knob_hash[kKnobs][2];  ///< of the whole raw value
+  std::uint64_t knob_bytes[kKnobs];
+  char knob_text[kKnobs][kKnobText];   ///< its first bytes, NUL-padded
+};
+static_assert(std::is_trivially_copyable_v<OpenRecord>);
+
+OpenRecord open_record(const std::string& config) {
+  OpenRecord rec{};
+  rec.config_hash[0] = fnv1a64(config);
+  rec.config_hash[1] = murmur64a(config);
+  rec.config_bytes = config.size();
+  for (std::size_t k = 0; k < kKnobs; ++k) {
+    const char* v = std::getenv(kEnvironmentKnobs[k]);
+    if (!v) continue;
+    const std::string_view s(v);
+    rec.knob_set[k] = 1;
+    rec.knob_hash[k][0] = fnv1a64(s);
+    rec.knob_hash[k][1] = murmur64a(s);
+    rec.knob_bytes[k] = s.size();
+    std::memcpy(rec.knob_text[k], s.data(), std::min(s.size(), kKnobText));
+  }
+  return rec;
+}
+
+bool same_config(const OpenRecord& a, const OpenRecord& b) {
+  return a.config_bytes == b.config_bytes && a.config_hash[0] == b.config_hash[0] &&
+         a.config_hash[1] == b.config_hash[1];
+}
+
+bool same_knob(const OpenRecord& a, const OpenRecord& b, std::size_t k) {
+  return a.knob_set[k] == b.knob_set[k] && a.knob_bytes[k] == b.knob_bytes[k] &&
+         a.knob_hash[k][0] == b.knob_hash[k][0] && a.knob_hash[k][1] == b.knob_hash[k][1];
+}
+
+std::string knob_value(const OpenRecord& rec, std::size_t k) {
+  if (!rec.knob_set[k]) return "unset";
+  const std::string_view text(rec.knob_text[k], std::min<std::size_t>(rec.knob_bytes[k], kKnobText));
+  if (rec.knob_bytes[k] <= kKnobText) return quoted(text, kKnobText);
+  return "'" + std::string(text) + "...' (" + std::to_string(rec.knob_bytes[k]) + " characters)";
+}
+
+/// The lines of `text`, without their newlines (a final newline ends the last line).
+std::vector<std::string_view> lines_of(std::string_view text) {
+  std::vector<std::string_view> lines;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) {
+      if (start < text.size()) lines.push_back(text.substr(start));
+      break;
+    }
+    lines.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  return lines;
+}
+
+std::string_view trimmed(std::string_view s) {
+  const std::size_t first = s.find_first_not_of(" \t");
+  return first == std::string_view::npos ? std::string_view() : s.substr(first);
+}
+
+// ---------------------------------------------------------------------------------------
+// execute: step, renders, grid
+
+constexpr std::size_t kFiredWords = 4;  ///< renders named individually: the first 256
+
+struct CallRecord {
+  std::int64_t step;
+  std::uint64_t fired_bits[kFiredWords];        ///< fires or may fire
+  std::uint64_t conditional_bits[kFiredWords];  ///< fires if its `when` trigger does
+  std::uint64_t fired_hash;  ///< over every render's flag (configs of any size)
+  std::uint64_t has_grid;
+  std::uint64_t origin_bits[3];
+  std::uint64_t spacing_bits[3];
+  std::int64_t global_dims[3];
+};
+static_assert(std::is_trivially_copyable_v<CallRecord>);
+
+CallRecord call_record(const CallView& call) {
+  CallRecord rec{};
+  rec.step = call.step;
+  std::uint64_t h = 14695981039346656037ull;
+  for (std::size_t i = 0; i < call.fired.size(); ++i) {
+    const unsigned char f = std::min<unsigned char>(call.fired[i], 2);
+    const std::uint64_t bit = std::uint64_t{1} << (i % 64);
+    if (f != 0 && i < 64 * kFiredWords) rec.fired_bits[i / 64] |= bit;
+    if (f == 2 && i < 64 * kFiredWords) rec.conditional_bits[i / 64] |= bit;
+    h = (h ^ (0x35u + f)) * 1099511628211ull;
+  }
+  rec.fired_hash = h;
+  if (call.grid) {
+    rec.has_grid = 1;
+    for (int a = 0; a < 3; ++a) {
+      rec.origin_bits[a] = std::bit_cast<std::uint64_t>(call.grid->origin[a]);
+      rec.spacing_bits[a] = std::bit_cast<std::uint64_t>(call.grid->spacing[a]);
+      rec.global_dims[a] = call.grid->global_dims[a];
+    }
+  }
+  return rec;
+}
+
+bool same_fired(const CallRecord& a, const CallRecord& b) {
+  return a.fired_hash == b.fired_hash && std::equal(a.fired_bits, a.fired_bits + kFiredWords, b.fired_bits) &&
+         std::equal(a.conditional_bits, a.conditional_bits + kFiredWords, b.conditional_bits);
+}
+
+/// Which aspect of the grid differs, as "spacing [..], rank 0 has [..]"; "" if none.
+std::string grid_difference(const CallRecord& mine, const CallRecord& ref, int r) {
+  const auto doubles = [](const std::uint64_t bits[3], double out[3]) {
+    for (int a = 0; a < 3; ++a) out[a] = std::bit_cast<double>(bits[a]);
+  };
+  const std::string who = rank_name(r);
+  if (!std::equal(mine.global_dims, mine.global_dims + 3, ref.global_dims))
+    return who + " has global_dims " + vec3(mine.global_dims) + ", rank 0 has " + vec3(ref.global_dims);
+  double a[3], b[3];
+  if (!std::equal(mine.spacing_bits, mine.spacing_bits + 3, ref.spacing_bits)) {
+    doubles(mine.spacing_bits, a);
+    doubles(ref.spacing_bits, b);
+    return who + " has spacing " + vec3(a) + ", rank 0 has " + vec3(b);
+  }
+  if (!std::equal(mine.origin_bits, mine.origin_bits + 3, ref.origin_bits)) {
+    doubles(mine.origin_bits, a);
+    doubles(ref.origin_bits, b);
+    return who + " has origin " + vec3(a) + ", rank 0 has " + vec3(b);
+  }
+  return {};
+}
+
+/// The renders that fire on one rank and not on the other, named (first few).
+std::string fired_difference(const CallRecord& mine, const CallRecord& ref, int r, const CallView& call) {
+  std::string on_mine, on_ref, forced_mine, forced_ref;
+  int listed = 0;
+  const std::size_t n = std::min(call.renders.size(), 64 * kFiredWords);
+  const auto bit = [](const std::uint64_t* bits, std::size_t i) { return ((bits[i / 64] >> (i % 64)) & 1) != 0; };
+  for (std::size_t i = 0; i < n && listed < 4; ++i) {
+    const bool a = bit(mine.fired_bits, i), b = bit(ref.fired_bits, i);
+    const bool ca = bit(mine.conditional_bits, i), cb = bit(ref.conditional_bits, i);
+    if (a == b && ca == cb) continue;
+    std::string& list = a != b ? (a ? on_mine : on_ref) : (ca ? forced_ref : forced_mine);
+    if (!list.empty()) list += ", ";
+    list += quoted(call.renders[i].name, 40);
+    ++listed;
+  }
+  const std::string who = rank_name(r);
+  std::string s;
+  const auto add = [&s](const std::string& names, const std::string& what) {
+    if (names.empty()) return;
+    if (!s.empty()) s += "; ";
+    s += "render " + names + what;
+  };
+  add(on_mine, " fires on " + who + " but not on rank 0");
+  add(on_ref, " fires on rank 0 but not on " + who);
+  add(forced_mine, " is forced (final step) on " + who + " but waits for its `when` trigger on rank 0");
+  add(forced_ref, " is forced (final step) on rank 0 but waits for its `when` trigger on " + who);
+  if (s.empty()) s = "the sets of renders differ between " + who + " and rank 0";
+  return s + " (a final_step flag that differs between ranks does this)";
+}
+
+}  // namespace
+
+std::string first_difference(const std::string& a, const std::string& b) {
+  const std::vector<std::string_view> la = lines_of(a), lb = lines_of(b);
+  const std::size_t n = std::max(la.size(), lb.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool ha = i < la.size(), hb = i < lb.size();
+    if (ha && hb && la[i] == lb[i]) continue;
+    const std::string sa = ha ? quoted(trimmed(la[i])) : std::string("end of text");
+    const std::string sb = hb ? quoted(trimmed(lb[i])) : std::string("end of text");
+    return "line " + std::to_string(i + 1) + ": " + sa + " vs " + sb;
+  }
+  return {};
+}
+
+std::optional<Disagreement> agree_on_open(ParallelContext& ctx, const std::string& effective_config) {
+  const int n = ctx.size();
+  const OpenRecord mine = open_record(effective_config);
+  std::vector<OpenRecord> all(static_cast<std::size_t>(n));
+  ctx.allgather(&mine, sizeof mine, all.data());
+
+  // The first rank whose config, and the first whose environment, differs from rank 0's
+  int config_rank = -1, knob_rank = -1;
+  std::size_t knob = 0;
+  for (int r = 1; r < n; ++r) {
+    if (config_rank < 0 && !same_config(all[r], all[0])) config_rank = r;
+    for (std::size_t k = 0; k < kKnobs && knob_rank < 0; ++k)
+      if (!same_knob(all[r], all[0], k)) knob_rank = r, knob = k;
+  }
+  if (config_rank < 0 && knob_rank < 0) return std::nullopt;
+
+  Disagreement d;
+  d.status = TESSERA_ERROR_CONFIG;
+  if (config_rank >= 0) {
+    // Both texts to every rank (bounded), so that every rank names the same line
+    std::string ref = ctx.rank() == 0 ? effective_config.substr(0, kMaxConfigDiffBytes) : std::string();
+    std::string theirs = ctx.rank() == config_rank ? effective_config.substr(0, kMaxConfigDiffBytes) : std::string();
+    ctx.broadcast(ref, 0);
+    ctx.broadcast(theirs, config_rank);
+    std::string where = first_difference(theirs, ref);
+    if (where.empty())
+      where = "the first " + std::to_string(kMaxConfigDiffBytes) + " bytes agree; they differ after";
+    else
+      where = "first difference at " + where;
+    d.message = "ranks disagree on the config: " + rank_name(config_rank) +
+                "'s effective config differs from rank 0's (" + where + ")";
+  }
+  if (knob_rank >= 0) {
+    const std::string msg = std::string(kEnvironmentKnobs[knob]) + " is " + knob_value(all[knob_rank], knob) +
+                            " on " + rank_name(knob_rank) + " but " + knob_value(all[0], knob) +
+                            " on rank 0 (environment variables the library reads must be the same on every rank)";
+    d.message += d.message.empty() ? "ranks disagree on the environment: " + msg : "; and " + msg;
+  }
+  return d;
+}
+
+std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call) {
+  const int n = ctx.size();
+  if (n == 1) return std::nullopt;
+  const CallRecord mine = call_record(call);
+  std::vector<CallRecord> all(static_cast<std::size_t>(n));
+  ctx.allgather(&mine, sizeof mine, all.data());
+  const CallRecord& ref = all[0];
+
+  // Step first (a different step explains different renders), then renders, then grid
+  for (int r = 1; r < n; ++r)
+    if (all[r].step != ref.step)
+      return Disagreement{TESSERA_ERROR_DATA, "ranks disagree on the step: " + rank_name(r) + " is at step " +
+                                                  std::to_string(all[r].step) + ", rank 0 at step " +
+                                                  std::to_string(ref.step) + " (every rank must call execute "
+                                                  "with the same sequence of steps)"};
+  for (int r = 1; r < n; ++r)
+    if (!same_fired(all[r], ref))
+      return Disagreement{TESSERA_ERROR_CONFIG, "ranks disagree on which renders fire at step " +
+                                                    std::to_string(ref.step) + ": " +
+                                                    fired_difference(all[r], ref, r, call)};
+  // A missing grid fails the bind phase on every rank alike; the others are compared
+  bool grids = true;
+  for (int r = 0; r < n; ++r) grids = grids && all[r].has_grid;
+  if (grids)
+    for (int r = 1; r < n; ++r)
+      if (std::string diff = grid_difference(all[r], ref, r); !diff.empty())
+        return Disagreement{TESSERA_ERROR_DATA, "ranks disagree on the grid at step " + std::to_string(ref.step) +
+                                                    ": " + diff};
+  return std::nullopt;
+}
+
+}  // namespace tessera::insitu

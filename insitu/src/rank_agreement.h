@@ -1,0 +1,75 @@
+#pragma once
+/// Ranks agree: the checks that keep ranks which were set up or called differently from
+/// hanging in a collective or silently making a wrong image. Each check is ONE allgather of
+/// a small fixed-size record (ParallelContext::allgather); every rank then compares every
+/// rank's record with rank 0's and reaches the same verdict, so a disagreement is an error on
+/// every rank naming the first rank that differs from rank 0 and the values.
+///
+///   at tessera_open (agree_on_open): the effective config (the canonical text of
+///     config::to_yaml, output_dir override applied), hashed twice (hash64.h), and the raw
+///     values of the environment variables the library reads (kEnvironmentKnobs). On a
+///     config mismatch, rank 0 and the differing rank broadcast their texts (at most
+///     kMaxConfigDiffBytes each, failure path only) so that the message names the first
+///     differing line.
+///   at each execute call where a render fires (agree_on_call), before any other collective:
+///     the step, which renders fire, and the global grid (origin, spacing, global_dims,
+///     doubles compared bit for bit).
+/// What is not compared here is checked later, also on every rank alike: field names and
+/// per-rank descriptors (bind phase), dtypes, boxes, overlap and coverage of the global grid
+/// (ParallelContext::assemble). Calls where nothing fires communicate nothing, so ranks must
+/// make their execute calls with the same sequence of steps: with identical configs the
+/// `every`/`at` triggers then decide identically, but a rank that skips a call another rank
+/// renders in cannot be detected (it waits in the other rank's collective).
+#include "parallel_context.h"
+
+#include <tessera/config/render_spec.h>
+#include <tessera/tessera.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+namespace tessera::insitu {
+
+/// Every environment variable the library reads (add new ones here): their raw values must
+/// be the same on every rank.
+inline constexpr std::array<const char*, 1> kEnvironmentKnobs = {"TESSERA_MPI_RANKS_PER_NODE"};
+
+/// At most this many bytes of each config text are exchanged to name the first differing line.
+inline constexpr std::size_t kMaxConfigDiffBytes = std::size_t{1} << 20;
+
+/// A disagreement: the status every rank returns and the message (the same on every rank).
+struct Disagreement {
+  tessera_status status = TESSERA_ERROR_CONFIG;
+  std::string message;
+};
+
+/// Collective (one allgather; two broadcasts more on a config mismatch). effective_config:
+/// this rank's config::to_yaml text. Reads the environment (kEnvironmentKnobs). Returns the
+/// disagreement (status TESSERA_ERROR_CONFIG) or nothing. Throws only on MPI failure.
+std::optional<Disagreement> agree_on_open(ParallelContext& ctx, const std::string& effective_config);
+
+/// This rank's view of one execute call where a render fires.
+struct CallView {
+  std::int64_t step = 0;
+  /// Per config render: 0 it does not fire, 1 it fires, 2 it fires if its `when` trigger
+  /// does (decided later by an allreduce that every rank enters).
+  std::span<const unsigned char> fired;
+  /// The config's renders, for names in the message (same size as fired).
+  std::span<const config::RenderSpec> renders;
+  const tessera_grid* grid = nullptr;  ///< may be NULL (the bind phase reports it)
+};
+
+/// Collective (one allgather of a fixed-size record). Returns the disagreement (status
+/// TESSERA_ERROR_DATA for step and grid, TESSERA_ERROR_CONFIG for the set of renders) or
+/// nothing. Throws only on MPI failure. Not called where nothing fires.
+std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call);
+
+/// The first differing line of two texts, as "line N: 'a' vs 'b'" (1-based, lines trimmed
+/// and cut short); "" if equal. Exposed for tests.
+std::string first_difference(const std::string& a, const std::string& b);
+
+}  // namespace tessera::insitu
