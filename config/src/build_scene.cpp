@@ -3,6 +3,8 @@
 #include <tessera/config/colormaps.h>
 #include <tessera/image_io.h>
 
+#include "yaml_reader.h"  // detail::format_number
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -29,6 +31,28 @@ ColorTF to_color_tf(const ColorTFSpec& spec) {
     vs.push_back(p.c);
   }
   return ColorTF(xs, vs);
+}
+
+using detail::format_number;
+
+std::string vec_text(const Vec3& v) {
+  return "[" + format_number(v.x) + ", " + format_number(v.y) + ", " + format_number(v.z) + "]";
+}
+bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// A resolved point must be finite: an orbit distance times a huge data radius overflows.
+Vec3 resolved(const std::string& render, const std::string& key, const Vec3& p) {
+  if (!finite3(p))
+    throw std::invalid_argument("render \"" + render + "\": " + key + " is not finite after resolving (" +
+                                vec_text(p) + "; an orbit distance times the data radius overflows)");
+  return p;
+}
+
+double resolved_length(const std::string& render, const std::string& key, double v) {
+  if (!std::isfinite(v))
+    throw std::invalid_argument("render \"" + render + "\": " + key + " is not finite after resolving (" +
+                                format_number(v) + "; relative size times the data radius overflows)");
+  return v;
 }
 
 }  // namespace
@@ -76,12 +100,18 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
                       std::shared_ptr<const Image> envmap) {
   SceneDesc s;
   s.geometry = geom;
+  // The data bounds first: every relative point and size is resolved against them
+  if (!finite3(data_bounds.lo) || !finite3(data_bounds.hi) || !finite3(data_bounds.hi - data_bounds.lo) ||
+      !std::isfinite(data_bounds.radius()))
+    throw std::invalid_argument("volume.spacing " + vec_text(geom.spacing) + " with volume.origin " +
+                                vec_text(geom.origin) +
+                                " makes the data bounds overflow (their corner or diagonal is not finite)");
   s.tf = build_transfer_function(spec.transfer_function, auto_range);
 
   // Camera; its up also orients every orbit point
   const Vec3 up = spec.camera.up;
-  s.camera.position = resolve_point(spec.camera.position, data_bounds, up);
-  s.camera.look_at = resolve_point(spec.camera.look_at, data_bounds, up);
+  s.camera.position = resolved(spec.name, "camera.position", resolve_point(spec.camera.position, data_bounds, up));
+  s.camera.look_at = resolved(spec.name, "camera.look_at", resolve_point(spec.camera.look_at, data_bounds, up));
   s.camera.up = up;
   s.camera.fov_deg = spec.camera.fov;
   s.camera.aperture = spec.camera.aperture;
@@ -89,20 +119,26 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
 
   // Lights
   const double radius = data_bounds.radius();
-  for (const LightSpec& l : spec.lights) {
+  for (std::size_t i = 0; i < spec.lights.size(); ++i) {
+    const LightSpec& l = spec.lights[i];
+    const std::string key = "lights[" + std::to_string(i) + "].";
     const Color radiance = l.color * l.intensity;
+    if (!finite3(radiance))
+      throw std::invalid_argument("render \"" + spec.name + "\": " + key + "intensity " +
+                                  format_number(l.intensity) + " times color " + vec_text(l.color) +
+                                  " overflows");
     if (l.type == LightSpec::Type::Rect) {
       RectLightDesc r;
-      r.position = resolve_point(l.position, data_bounds, up);
-      r.target = resolve_point(l.target, data_bounds, up);
-      r.width = l.width.resolve(radius);
-      r.height = l.height.resolve(radius);
+      r.position = resolved(spec.name, key + "position", resolve_point(l.position, data_bounds, up));
+      r.target = resolved(spec.name, key + "target", resolve_point(l.target, data_bounds, up));
+      r.width = resolved_length(spec.name, key + "size", l.width.resolve(radius));
+      r.height = resolved_length(spec.name, key + "size", l.height.resolve(radius));
       r.radiance = radiance;
       s.rect_lights.push_back(r);
     } else {
       SphereLightDesc sp;
-      sp.center = resolve_point(l.position, data_bounds, up);
-      sp.radius = l.radius.resolve(radius);
+      sp.center = resolved(spec.name, key + "position", resolve_point(l.position, data_bounds, up));
+      sp.radius = resolved_length(spec.name, key + "radius", l.radius.resolve(radius));
       sp.radiance = radiance;
       s.sphere_lights.push_back(sp);
     }
