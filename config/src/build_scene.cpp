@@ -2,6 +2,7 @@
 #include <tessera/config/build_scene.h>
 #include <tessera/config/colormaps.h>
 #include <tessera/image_io.h>
+#include <tessera/loop_bounds.h>
 
 #include "yaml_reader.h"  // detail::format_number
 
@@ -123,10 +124,10 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
     const LightSpec& l = spec.lights[i];
     const std::string key = "lights[" + std::to_string(i) + "].";
     const Color radiance = l.color * l.intensity;
-    if (!finite3(radiance))
+    if (!finite3(radiance) || std::max({radiance.x, radiance.y, radiance.z}) > kMaxRadiance)
       throw std::invalid_argument("render \"" + spec.name + "\": " + key + "intensity " +
                                   format_number(l.intensity) + " times color " + vec_text(l.color) +
-                                  " overflows");
+                                  " is a radiance above 1e30 (pixels would overflow float32)");
     if (l.type == LightSpec::Type::Rect) {
       RectLightDesc r;
       r.position = resolved(spec.name, key + "position", resolve_point(l.position, data_bounds, up));

@@ -71,9 +71,16 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
     require(!(v > lim), name + ": " + key + " " + num(v) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
   };
   const auto radiance = [&](const std::string& name, const Color& L) {
-    require(finite3(L) && std::min({L.x, L.y, L.z}) >= 0.0,
-            name + ": radiance (color * intensity) " + vec(L) + " must be finite and >= 0");
+    require(finite3(L) && std::min({L.x, L.y, L.z}) >= 0.0 && max_abs(L) <= kMaxRadiance,
+            name + ": radiance (color * intensity) " + vec(L) + " must be finite, >= 0 and at most 1e30");
   };
+  const BackgroundDesc& bg = s.background;
+  if (bg.type != BackgroundType::EnvMap) {
+    const double top = std::max({max_abs(bg.color), max_abs(bg.top), max_abs(bg.middle), max_abs(bg.bottom)});
+    const double peak = bg.type == BackgroundType::Constant ? max_abs(bg.color) : top;
+    require(std::isfinite(bg.intensity) && !(peak * bg.intensity > kMaxRadiance),
+            "background.intensity " + num(bg.intensity) + " times its color makes a radiance above 1e30");
+  }
   for (std::size_t i = 0; i < s.rect_lights.size(); ++i) {
     const RectLightDesc& l = s.rect_lights[i];
     const std::string name = "rect light " + std::to_string(i);

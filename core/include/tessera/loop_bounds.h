@@ -31,4 +31,9 @@ inline constexpr double kMaxSpacing = 1e100;
 /// many smallest spacings in magnitude: there a double still resolves 2^-12 voxel.
 inline constexpr double kMaxCoordinateVoxels = 1099511627776.0;  // 2^40
 
+/// Light radiance (color * intensity, each channel) and a constant or gradient background's
+/// (color * intensity) at most 1e30: pixel values stay far below float32's 3.4e38, so the
+/// EXR never holds an Inf that the double film did not.
+inline constexpr double kMaxRadiance = 1e30;
+
 }  // namespace tessera
