@@ -202,7 +202,7 @@ class PathTracer {
       return false;
     }
     double budget = kMaxTrackingSteps;
-    return traverse_macrocells(m_m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
+    const bool stopped = traverse_macrocells(m_m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
       if (maj <= 0.0) return false;  // empty cell: crossed in closed form
       for (double t = ta;;) {
         const double dt = exp_sample(rng, maj);
@@ -219,6 +219,7 @@ class PathTracer {
         ++k.null;
       }
     });
+    return stopped && !*stalled;
   }
 
   /// Transmittance between world distances ta and tb along the ray (ratio or delta tracking).
