@@ -37,24 +37,43 @@ ColorTF to_color_tf(const ColorTFSpec& spec) {
 using detail::format_number;
 
 std::string vec_text(const Vec3& v) {
-  return "[" + format_number(v.x) + ", " + format_number(v.y) + ", " + format_number(v.z) + "]";
+  std::string out = "[";
+  out += format_number(v.x);
+  out += ", ";
+  out += format_number(v.y);
+  out += ", ";
+  out += format_number(v.z);
+  out += "]";
+  return out;
 }
 bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-/// A resolved point must be finite: an orbit distance times a huge data radius overflows.
-Vec3 resolved(const std::string& render, const std::string& key, const Vec3& p) {
-  if (!finite3(p))
-    throw std::invalid_argument("render \"" + render + "\": " + key + " is not finite after resolving (" +
-                                vec_text(p) + "; an orbit distance times the data radius overflows)");
-  return p;
-}
+/// Resolved points and lengths: finite (an orbit distance times a huge data radius
+/// overflows) and within kMaxCoordinateVoxels smallest spacings of 0, as prepare() requires,
+/// here with the config's key (lights[i], not prepare's per-type index).
+struct Resolver {
+  const std::string& render;
+  double lim;  ///< kMaxCoordinateVoxels * smallest spacing
 
-double resolved_length(const std::string& render, const std::string& key, double v) {
-  if (!std::isfinite(v))
-    throw std::invalid_argument("render \"" + render + "\": " + key + " is not finite after resolving (" +
-                                format_number(v) + "; relative size times the data radius overflows)");
-  return v;
-}
+  Vec3 point(const std::string& key, const Vec3& p) const {
+    if (!finite3(p))
+      fail(key + " is not finite after resolving (" + vec_text(p) + "; an orbit distance times the data radius overflows)");
+    if (std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > lim)
+      fail(key + " " + vec_text(p) + " lies beyond 2^40 smallest spacings (" + format_number(lim) +
+           ") from 0, where a double no longer resolves a voxel");
+    return p;
+  }
+  double length(const std::string& key, double v) const {
+    if (!std::isfinite(v))
+      fail(key + " is not finite after resolving (" + format_number(v) + "; relative size times the data radius overflows)");
+    if (v > lim)
+      fail(key + " " + format_number(v) + " is larger than 2^40 smallest spacings (" + format_number(lim) + ")");
+    return v;
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::invalid_argument("render \"" + render + "\": " + what);
+  }
+};
 
 }  // namespace
 
@@ -111,8 +130,11 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
 
   // Camera; its up also orients every orbit point
   const Vec3 up = spec.camera.up;
-  s.camera.position = resolved(spec.name, "camera.position", resolve_point(spec.camera.position, data_bounds, up));
-  s.camera.look_at = resolved(spec.name, "camera.look_at", resolve_point(spec.camera.look_at, data_bounds, up));
+  // (a spacing outside its range is prepare()'s error to report, not the camera's)
+  const double h = std::min({geom.spacing.x, geom.spacing.y, geom.spacing.z});
+  const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
+  s.camera.position = res.point("camera.position", resolve_point(spec.camera.position, data_bounds, up));
+  s.camera.look_at = res.point("camera.look_at", resolve_point(spec.camera.look_at, data_bounds, up));
   s.camera.up = up;
   s.camera.fov_deg = spec.camera.fov;
   s.camera.aperture = spec.camera.aperture;
@@ -130,16 +152,16 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
                                   " is a radiance above 1e30 (pixels would overflow float32)");
     if (l.type == LightSpec::Type::Rect) {
       RectLightDesc r;
-      r.position = resolved(spec.name, key + "position", resolve_point(l.position, data_bounds, up));
-      r.target = resolved(spec.name, key + "target", resolve_point(l.target, data_bounds, up));
-      r.width = resolved_length(spec.name, key + "size", l.width.resolve(radius));
-      r.height = resolved_length(spec.name, key + "size", l.height.resolve(radius));
+      r.position = res.point(key + "position", resolve_point(l.position, data_bounds, up));
+      r.target = res.point(key + "target", resolve_point(l.target, data_bounds, up));
+      r.width = res.length(key + "size", l.width.resolve(radius));
+      r.height = res.length(key + "size", l.height.resolve(radius));
       r.radiance = radiance;
       s.rect_lights.push_back(r);
     } else {
       SphereLightDesc sp;
-      sp.center = resolved(spec.name, key + "position", resolve_point(l.position, data_bounds, up));
-      sp.radius = resolved_length(spec.name, key + "radius", l.radius.resolve(radius));
+      sp.center = res.point(key + "position", resolve_point(l.position, data_bounds, up));
+      sp.radius = res.length(key + "radius", l.radius.resolve(radius));
       sp.radiance = radiance;
       s.sphere_lights.push_back(sp);
     }

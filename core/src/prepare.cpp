@@ -28,7 +28,16 @@ std::string num(double v) {
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
 }
-std::string vec(const Vec3& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
+std::string vec(const Vec3& v) {
+  std::string out = "[";
+  out += num(v.x);
+  out += ", ";
+  out += num(v.y);
+  out += ", ";
+  out += num(v.z);
+  out += "]";
+  return out;
+}
 
 double max_abs(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
 

@@ -164,10 +164,10 @@ TEST_CASE("tessera-render: the reproducers finish or fail within seconds", "[rob
       {"raymarch step 1e-300", {{"FREEPATH", "raymarch"}, {"STEP", "1e-300"}}, "integrator.step 1e-300"},
       {"light at [1e200, 3, 3]",
        {{"LIGHT", "{type: sphere, position: [1e200, 3, 3], radius: 0.1, intensity: 1}"}},
-       "sphere light 0: position [1e+200, 3, 3]"},
+       "lights[0].position [1e+200, 3, 3]"},
       {"rect light at [1e200, 3, 3]",
        {{"LIGHT", "{type: rect, position: [1e200, 3, 3], target: center, size: 1, intensity: 1}"}},
-       "rect light 0: position"},
+       "lights[0].position [1e+200, 3, 3]"},
   };
   for (const Case& c : cases) {
     TempDir dir;

@@ -92,6 +92,16 @@ TEST_CASE("messages name the real key: spacing, camera position", "[robustness][
     spec.camera.position.orbit.distance = 2.0;
     CHECK_THROWS_WITH(tessera::config::build_scene(spec, huge, {0.0, 1.0}, g, nullptr),
                       Contains("volume.spacing") && Contains("bounds overflow"));
+    // A light far out is named by its index in `lights`, whatever its type
+    g.spacing = Vec3(0.1);
+    tessera::config::LightSpec rect, sphere;
+    rect.type = tessera::config::LightSpec::Type::Rect;
+    rect.position = tessera::config::PointSpec::absolute(Vec3(0.0, 0.0, 5.0));
+    sphere.type = tessera::config::LightSpec::Type::Sphere;
+    sphere.position = tessera::config::PointSpec::absolute(Vec3(1e200, 3.0, 3.0));
+    spec.lights = {rect, sphere};
+    CHECK_THROWS_WITH(tessera::config::build_scene(spec, b, {0.0, 1.0}, g, nullptr),
+                      Contains("lights[1].position [1e+200, 3, 3] lies beyond 2^40 smallest spacings"));
   }
 }
 
@@ -187,7 +197,7 @@ TEST_CASE("tessera-render: every numeric key at its extremes finishes or fails n
       {"light radius 1e-300", {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1e-300, intensity: 1}"}},
        nullptr},
       {"light radius 1e300", {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1e300, intensity: 1}"}},
-       "sphere light 0: radius 1e+300"},
+       "lights[0].radius 1e+300"},
       {"rect size 1e-200",
        {{"LIGHT", "{type: rect, position: [3, 3, 3], target: center, size: 1e-200, intensity: 1}"}}, nullptr},
       {"max_bounces 1000000", {{"BOUNCES", "1000000"}}, nullptr},
