@@ -125,7 +125,7 @@ void validate(const FieldView& field, const SceneDesc& s) {
   const TransferFunction& tf = s.tf;
   // hi - lo must be finite too: u = (v - lo) / (hi - lo) is NaN for v near hi otherwise.
   require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi && std::isfinite(tf.hi - tf.lo),
-          "transfer function range [" + std::to_string(tf.lo) + ", " + std::to_string(tf.hi) +
+          "transfer function range [" + num(tf.lo) + ", " + num(tf.hi) +
               "] must be finite with lo < hi and a finite width hi - lo");
   require(std::isfinite(tf.density_scale) && tf.density_scale >= 0.0,
           "density_scale must be finite and >= 0");
