@@ -71,6 +71,9 @@ int run(int argc, const char* const* argv) {
       std::printf("\n");
       std::fflush(stdout);
     }
+    // Warnings go to stderr even with --quiet: they say the image may be wrong
+    for (const std::string& w : render_warnings(rec.stats))
+      std::fprintf(stderr, "tessera-render: warning: %s: %s\n", rec.name.c_str(), w.c_str());
     records.push_back(std::move(rec));
   }
   if (args.stats) write_stats_json(*args.stats, records);

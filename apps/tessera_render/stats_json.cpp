@@ -61,10 +61,20 @@ void counters(std::string& out, const RenderStats& s, double prepare_seconds, co
         number(s.real_collisions > 0 ? double(s.free_flight_lookups) / double(s.real_collisions) : 0.0));
   field("nan_voxels_seen", u64(s.nan_voxels_seen));
   field("discarded_samples", u64(s.discarded_samples));
+  field("stalled_paths", u64(s.stalled_paths));
   field("tiles_total", u64(s.tiles_total));
   field("tiles_skipped", u64(s.tiles_skipped));
   out += indent;
   out += quote("threads") + ": " + std::to_string(s.threads);
+}
+
+/// ",\n<indent>"warnings": [...]" (render_warnings, each prefixed by `prefix`).
+void warnings(std::string& out, const std::vector<std::string>& list, const char* indent) {
+  out += ",\n";
+  out += indent;
+  out += "\"warnings\": [";
+  for (std::size_t i = 0; i < list.size(); ++i) out += (i ? ", " : "") + quote(list[i]);
+  out += "]";
 }
 
 }  // namespace
@@ -82,6 +92,7 @@ std::string stats_json(const std::vector<RenderRecord>& records) {
     total.real_collisions += s.real_collisions;
     total.null_collisions += s.null_collisions;
     total.discarded_samples += s.discarded_samples;
+    total.stalled_paths += s.stalled_paths;
     total.nan_voxels_seen = std::max(total.nan_voxels_seen, s.nan_voxels_seen);
     total.tiles_total += s.tiles_total;
     total.tiles_skipped += s.tiles_skipped;
@@ -92,6 +103,11 @@ std::string stats_json(const std::vector<RenderRecord>& records) {
 
   std::string out = "{\n";
   counters(out, total, prepare_total, "  ");
+  // Top level: every render's warnings, each naming its render
+  std::vector<std::string> all_warnings;
+  for (const auto& r : records)
+    for (const std::string& w : render_warnings(r.stats)) all_warnings.push_back(r.name + ": " + w);
+  warnings(out, all_warnings, "  ");
   out += ",\n  \"renders\": [";
   for (std::size_t i = 0; i < records.size(); ++i) {
     const RenderRecord& r = records[i];
@@ -104,6 +120,7 @@ std::string stats_json(const std::vector<RenderRecord>& records) {
     for (std::size_t j = 0; j < r.outputs.size(); ++j) out += (j ? ", " : "") + quote(r.outputs[j]);
     out += "],\n";
     counters(out, r.stats, r.prepare_seconds, "      ");
+    warnings(out, render_warnings(r.stats), "      ");
     out += "\n    }";
   }
   out += records.empty() ? "]\n}\n" : "\n  ]\n}\n";

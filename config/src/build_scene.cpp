@@ -2,6 +2,9 @@
 #include <tessera/config/build_scene.h>
 #include <tessera/config/colormaps.h>
 #include <tessera/image_io.h>
+#include <tessera/loop_bounds.h>
+
+#include "yaml_reader.h"  // detail::format_number
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +33,47 @@ ColorTF to_color_tf(const ColorTFSpec& spec) {
   }
   return ColorTF(xs, vs);
 }
+
+using detail::format_number;
+
+std::string vec_text(const Vec3& v) {
+  std::string out = "[";
+  out += format_number(v.x);
+  out += ", ";
+  out += format_number(v.y);
+  out += ", ";
+  out += format_number(v.z);
+  out += "]";
+  return out;
+}
+bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// Resolved points and lengths: finite (an orbit distance times a huge data radius
+/// overflows) and within kMaxCoordinateVoxels smallest spacings of 0, as prepare() requires,
+/// here with the config's key (lights[i], not prepare's per-type index).
+struct Resolver {
+  const std::string& render;
+  double lim;  ///< kMaxCoordinateVoxels * smallest spacing
+
+  Vec3 point(const std::string& key, const Vec3& p) const {
+    if (!finite3(p))
+      fail(key + " is not finite after resolving (" + vec_text(p) + "; an orbit distance times the data radius overflows)");
+    if (std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > lim)
+      fail(key + " " + vec_text(p) + " lies beyond 2^40 smallest spacings (" + format_number(lim) +
+           ") from 0, where a double no longer resolves a voxel");
+    return p;
+  }
+  double length(const std::string& key, double v) const {
+    if (!std::isfinite(v))
+      fail(key + " is not finite after resolving (" + format_number(v) + "; relative size times the data radius overflows)");
+    if (v > lim)
+      fail(key + " " + format_number(v) + " is larger than 2^40 smallest spacings (" + format_number(lim) + ")");
+    return v;
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::invalid_argument("render \"" + render + "\": " + what);
+  }
+};
 
 }  // namespace
 
@@ -76,12 +120,21 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
                       std::shared_ptr<const Image> envmap) {
   SceneDesc s;
   s.geometry = geom;
+  // The data bounds first: every relative point and size is resolved against them
+  if (!finite3(data_bounds.lo) || !finite3(data_bounds.hi) || !finite3(data_bounds.hi - data_bounds.lo) ||
+      !std::isfinite(data_bounds.radius()))
+    throw std::invalid_argument("volume.spacing " + vec_text(geom.spacing) + " with volume.origin " +
+                                vec_text(geom.origin) +
+                                " makes the data bounds overflow (their corner or diagonal is not finite)");
   s.tf = build_transfer_function(spec.transfer_function, auto_range);
 
   // Camera; its up also orients every orbit point
   const Vec3 up = spec.camera.up;
-  s.camera.position = resolve_point(spec.camera.position, data_bounds, up);
-  s.camera.look_at = resolve_point(spec.camera.look_at, data_bounds, up);
+  // (a spacing outside its range is prepare()'s error to report, not the camera's)
+  const double h = std::min({geom.spacing.x, geom.spacing.y, geom.spacing.z});
+  const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
+  s.camera.position = res.point("camera.position", resolve_point(spec.camera.position, data_bounds, up));
+  s.camera.look_at = res.point("camera.look_at", resolve_point(spec.camera.look_at, data_bounds, up));
   s.camera.up = up;
   s.camera.fov_deg = spec.camera.fov;
   s.camera.aperture = spec.camera.aperture;
@@ -89,20 +142,26 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
 
   // Lights
   const double radius = data_bounds.radius();
-  for (const LightSpec& l : spec.lights) {
+  for (std::size_t i = 0; i < spec.lights.size(); ++i) {
+    const LightSpec& l = spec.lights[i];
+    const std::string key = "lights[" + std::to_string(i) + "].";
     const Color radiance = l.color * l.intensity;
+    if (!finite3(radiance) || std::max({radiance.x, radiance.y, radiance.z}) > kMaxRadiance)
+      throw std::invalid_argument("render \"" + spec.name + "\": " + key + "intensity " +
+                                  format_number(l.intensity) + " times color " + vec_text(l.color) +
+                                  " is a radiance above 1e30 (pixels would overflow float32)");
     if (l.type == LightSpec::Type::Rect) {
       RectLightDesc r;
-      r.position = resolve_point(l.position, data_bounds, up);
-      r.target = resolve_point(l.target, data_bounds, up);
-      r.width = l.width.resolve(radius);
-      r.height = l.height.resolve(radius);
+      r.position = res.point(key + "position", resolve_point(l.position, data_bounds, up));
+      r.target = res.point(key + "target", resolve_point(l.target, data_bounds, up));
+      r.width = res.length(key + "size", l.width.resolve(radius));
+      r.height = res.length(key + "size", l.height.resolve(radius));
       r.radiance = radiance;
       s.rect_lights.push_back(r);
     } else {
       SphereLightDesc sp;
-      sp.center = resolve_point(l.position, data_bounds, up);
-      sp.radius = l.radius.resolve(radius);
+      sp.center = res.point(key + "position", resolve_point(l.position, data_bounds, up));
+      sp.radius = res.length(key + "radius", l.radius.resolve(radius));
       sp.radiance = radiance;
       s.sphere_lights.push_back(sp);
     }

@@ -1,9 +1,12 @@
 // The top level of a config: parse_config, load_config, `tessera:` and `volume:`.
 #include <tessera/config/config.h>
+#include <tessera/loop_bounds.h>
 
 #include "parsers.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +15,7 @@
 
 namespace tessera::config {
 namespace fs = std::filesystem;
+using detail::format_number;
 using detail::Range;
 using detail::Value;
 
@@ -104,8 +108,25 @@ VolumeSpec parse_volume(const Value& v) {
     m.get("dims")->fail("too many vertices (allowed: at most 2^47 vertices)");
   }
 
-  s.spacing = m.vec3_or("spacing", s.spacing, Range::above(0.0));
+  // Spacing and origin within the bounds that keep a voxel resolvable (tessera/loop_bounds.h)
+  s.spacing = m.vec3_or("spacing", s.spacing, Range::closed(kMinSpacing, kMaxSpacing));
   s.origin = m.vec3_or("origin", s.origin);
+  {
+    const double h = std::min({s.spacing.x, s.spacing.y, s.spacing.z});
+    const double lim = kMaxCoordinateVoxels * h;
+    Vec3 far = s.origin;
+    for (int a = 0; a < 3; ++a) far[a] += static_cast<double>(s.dims[a] - 1) * s.spacing[a];
+    const auto max_abs = [](const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); };
+    if (!(max_abs(s.origin) <= lim) || !(max_abs(far) <= lim)) {
+      const std::string why = "puts the data (far corner [" + format_number(far.x) + ", " + format_number(far.y) +
+                              ", " + format_number(far.z) + "]) beyond 2^40 smallest spacings (" +
+                              format_number(lim) + ") from 0, where a double no longer resolves a voxel";
+      const auto o = m.get("origin"), sp = m.get("spacing");
+      if (o && !(max_abs(s.origin) <= lim)) o->fail(why);
+      (sp ? *sp : *m.get("dims")).fail("with dims " + std::to_string(s.dims[0]) + "x" + std::to_string(s.dims[1]) +
+                                      "x" + std::to_string(s.dims[2]) + " " + why);
+    }
+  }
   s.byte_order = m.choice_or<ByteOrder>("byte_order", s.byte_order,
                                         {{"little", ByteOrder::Little}, {"big", ByteOrder::Big}});
   s.header_bytes = m.integer_or("header_bytes", 0, 0, std::numeric_limits<std::int64_t>::max());

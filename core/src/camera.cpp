@@ -25,6 +25,9 @@ Camera::Camera(const CameraDesc& c, int width, int height) {
     throw std::invalid_argument("camera: focus_distance must be finite and >= 0");
   const Vec3 view = c.look_at - c.position;
   const double dist = glm::length(view);
+  if (!std::isfinite(dist))
+    throw std::invalid_argument("camera: the distance from position to look_at overflows (position too far "
+                                "from look_at)");
   if (!(dist > 0.0)) throw std::invalid_argument("camera: position equals look_at");
   m_forward = view / dist;
   const double up_len = glm::length(c.up);

@@ -23,6 +23,9 @@ struct GridMedium {
   const double* majorant;          ///< per macrocell, 1 / world unit
   std::int64_t nc[3];
   double cell_edge;                ///< macrocell edge in voxels
+  /// Extinction clamp, 1 / world unit (kMaxOpticalThicknessPerVoxel / smallest spacing):
+  /// also catches density_scale * opacity overflowing to Inf
+  double sigma_max = INFINITY;
 
   /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
   double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -57,7 +60,9 @@ struct GridMedium {
   }
 
   double u(const Vec3& p) const { return tf->normalise(value(p)); }
-  double sigma_t_of_u(double uu) const { return tf->density_scale * tf->opacity.eval(uu); }
+  double sigma_t_of_u(double uu) const {
+    return std::min(tf->density_scale * tf->opacity.eval(uu), sigma_max);
+  }
   double sigma_t(const Vec3& p) const { return sigma_t_of_u(u(p)); }
 
   /// Gradient of u by central differences one voxel apart (one-sided at the faces), in

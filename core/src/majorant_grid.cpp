@@ -20,7 +20,7 @@ void MajorantGrid::set_summary(std::shared_ptr<const FieldSummary> summary) {
   m_max = 0.0;
 }
 
-void MajorantGrid::update(const TransferFunction& tf) {
+void MajorantGrid::update(const TransferFunction& tf, double sigma_max) {
   if (!m_summary) throw std::logic_error("MajorantGrid::update before build / set_summary");
   const std::span<const CellRange> ranges = m_summary->ranges();
   m_majorant.resize(ranges.size());
@@ -36,7 +36,7 @@ void MajorantGrid::update(const TransferFunction& tf) {
     if (r.nan || r.neg_inf) u0 = 0.0, u1 = std::max(u1, 0.0);
     if (r.pos_inf) u1 = 1.0, u0 = std::min(u0, 1.0);
     double m = 0.0;
-    if (u0 <= u1) m = tf.density_scale * std::max(0.0, tf.opacity.max_over(u0, u1));
+    if (u0 <= u1) m = std::min(tf.density_scale * std::max(0.0, tf.opacity.max_over(u0, u1)), sigma_max);
     // A relative margin absorbs rounding in the interpolation weights.
     m_majorant[c] = m > 0.0 ? m * (1.0 + 1e-9) : 0.0;
     m_max = std::max(m_max, m_majorant[c]);

@@ -10,6 +10,7 @@
 #include <tessera/field_view.h>
 #include <tessera/transfer_function.h>
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -25,8 +26,9 @@ class MajorantGrid {
   void set_summary(std::shared_ptr<const FieldSummary> summary);
   const std::shared_ptr<const FieldSummary>& summary() const { return m_summary; }
   /// Derive the majorant of each cell for tf (1/world unit). Never below the true extinction
-  /// of the trilinear field anywhere in the cell.
-  void update(const TransferFunction& tf);
+  /// of the trilinear field anywhere in the cell, where the kernels clamp extinction to
+  /// sigma_max (> 0; Inf for no clamp): a cell's majorant is at most sigma_max (1 + 1e-9).
+  void update(const TransferFunction& tf, double sigma_max = INFINITY);
 
   int edge() const { return m_edge; }
   const std::int64_t* cells() const { return m_nc; }

@@ -2,6 +2,8 @@
 /// PathTracer<T, S, kEmission>: the per-sample estimator of docs/physics.md, templated on the
 /// field's element type, the shading mode and whether an emission TF exists, so the hot loop
 /// holds no code for what the scene does not use. Allocates nothing, throws nothing.
+#include <tessera/loop_bounds.h>
+
 #include "grid_medium.h"
 #include "phase_hg.h"
 #include "prepared_scene_impl.h"
@@ -15,6 +17,7 @@ namespace tessera {
 
 struct KernelCounters {
   std::uint64_t free_flight = 0, transmittance = 0, gradient = 0, real = 0, null = 0;
+  std::uint64_t stalled = 0;  ///< paths ended by a loop guard (RenderStats::stalled_paths)
 };
 
 struct SampleResult {
@@ -22,9 +25,21 @@ struct SampleResult {
   double alpha = 0.0;
 };
 
+/// Power-heuristic weight pa^2 / (pa^2 + pb^2); 0 when both are 0 or either is NaN. When a
+/// square overflows (a tiny light's pdf is huge, or infinite once its solid angle underflows)
+/// the same weight from the ratio of the two, so that inf / inf never makes a NaN sample.
 inline double power_heuristic(double pa, double pb) {
   const double a2 = pa * pa, b2 = pb * pb;
-  return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
+  const double sum = a2 + b2;
+  if (sum < INFINITY) return sum > 0.0 ? a2 / sum : 0.0;
+  if (!(sum > 0.0) || pa != pa || pb != pb) return 0.0;  // NaN
+  if (pa == pb) return 0.5;
+  if (pa > pb) {
+    const double r = pb / pa;  // 0 when pa is infinite
+    return 1.0 / (1.0 + r * r);
+  }
+  const double r = pa / pb;
+  return r * r / (1.0 + r * r);
 }
 
 /// Unit-rate exponential sample -log(1 - u): 1 - u is exact for u = k 2^-53, so log() loses
@@ -48,7 +63,9 @@ class PathTracer {
     for (int depth = 0;;) {
       // Free flight to the next real collision (or none).
       double t_hit = INFINITY;
-      const bool hit = free_flight(ray, rng, k, &t_hit);
+      bool stalled = false;
+      const bool hit = free_flight(ray, rng, k, &t_hit, &stalled);
+      if (stalled) break;  // a loop guard ended the path: nothing more from it
       // Lights met before the collision, and the background if the ray escaped.
       gather_emitters(ray, t_hit, hit, from_camera, pdf_prev, beta, out.L);
       if (!hit) break;
@@ -150,17 +167,31 @@ class PathTracer {
     return a < b;
   }
 
+  /// Ends the path for a loop guard: counted once, *stalled set.
+  static bool stall(KernelCounters& k, bool* stalled) {
+    ++k.stalled;
+    *stalled = true;
+    return true;
+  }
+
   /// Free-flight sampling along the ray: delta tracking against the majorant grid, or the
-  /// biased fixed-step march. True and *t_hit on a real collision.
-  bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit) const {
+  /// biased fixed-step march. True and *t_hit on a real collision. Loop guards: a ray the
+  /// box clip leaves unbounded (zero or NaN direction), a step that does not advance t, or a
+  /// traversal over its step budget (loop_bounds.h) sets *stalled and returns false.
+  bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit, bool* stalled) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
     if (!clip(ov, dv, &t0, &t1) || m_s.grid.max_majorant() <= 0.0) return false;
+    if (!(t1 < INFINITY)) return !stall(k, stalled);
     if (m_s.desc.integrator.free_path == FreePath::Raymarch) {
       const double h = m_s.march_step;
+      // t only grows, so if the last step advances every step does
+      if (!(t1 + h > t1)) return !stall(k, stalled);
       const double tau = exp_unit(rng);
       double sum = 0.0;
+      double budget = kMaxMarchSteps + 2.0;
       for (double t = t0 + rng.uniform() * h; t < t1; t += h) {
+        if (--budget < 0.0) return !stall(k, stalled);
         ++k.free_flight;
         sum += m_m.sigma_t(ov + t * dv) * h;
         if (sum >= tau) {
@@ -170,11 +201,15 @@ class PathTracer {
       }
       return false;
     }
-    return traverse_macrocells(m_m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
+    double budget = kMaxTrackingSteps;
+    const bool stopped = traverse_macrocells(m_m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
       if (maj <= 0.0) return false;  // empty cell: crossed in closed form
       for (double t = ta;;) {
-        t += exp_sample(rng, maj);
-        if (t >= tb) return false;
+        const double dt = exp_sample(rng, maj);
+        const double t_next = t + dt;
+        if (t_next >= tb) return false;
+        if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) return stall(k, stalled);
+        t = t_next;
         ++k.free_flight;
         const double sigma = m_m.sigma_t(ov + t * dv);
         if (rng.uniform() * maj < sigma) {
@@ -184,9 +219,12 @@ class PathTracer {
         ++k.null;
       }
     });
+    return stopped && !*stalled;
   }
 
   /// Transmittance between world distances ta and tb along the ray (ratio or delta tracking).
+  /// The loop guards of free_flight end the estimate at 0 (an occluded shadow ray adds no
+  /// light), counted in k.stalled.
   double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
@@ -194,14 +232,26 @@ class PathTracer {
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
     if (!(t0 < t1) || m_s.grid.max_majorant() <= 0.0) return 1.0;
+    if (!(t1 < INFINITY)) {
+      ++k.stalled;
+      return 0.0;
+    }
     const bool ratio = m_s.desc.integrator.shadow == ShadowMode::Ratio;
     const bool roulette = m_s.desc.integrator.shadow_roulette;
     double T = 1.0;
+    double budget = kMaxTrackingSteps;
     traverse_macrocells(m_m, ov, dv, t0, t1, [&](double a, double b, double maj) {
       if (maj <= 0.0) return false;
       for (double t = a;;) {
-        t += exp_sample(rng, maj);
-        if (t >= b) return false;
+        const double dt = exp_sample(rng, maj);
+        const double t_next = t + dt;
+        if (t_next >= b) return false;
+        if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) {
+          ++k.stalled;
+          T = 0.0;
+          return true;
+        }
+        t = t_next;
         ++k.transmittance;
         const double sigma = m_m.sigma_t(ov + t * dv);
         if (ratio) {

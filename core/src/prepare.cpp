@@ -1,10 +1,13 @@
 #include <tessera/render.h>
 
+#include <tessera/loop_bounds.h>
+
 #include "adaptive_sampling.h"
 #include "prepared_scene_impl.h"
 #include "tile_culling.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -19,21 +22,116 @@ void require(bool ok, const std::string& msg) {
 
 bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+/// A number short (%.6g): never 300 digits in a message.
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+std::string vec(const Vec3& v) {
+  std::string out = "[";
+  out += num(v.x);
+  out += ", ";
+  out += num(v.y);
+  out += ", ";
+  out += num(v.z);
+  out += "]";
+  return out;
+}
+
+double max_abs(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+/// Positions, lengths and steps against the data (loop_bounds.h): what would make a sampling
+/// loop stall or run unboundedly, or lose every digit of precision, is refused here, naming
+/// the key and its value.
+void validate_scale(const FieldView& field, const SceneDesc& s) {
+  const VolumeGeometry& g = s.geometry;
+  const Bounds b = field_bounds(field, g);
+  const std::string dims = std::to_string(field.dims[0]) + "x" + std::to_string(field.dims[1]) + "x" +
+                           std::to_string(field.dims[2]);
+  require(finite3(b.hi) && finite3(b.hi - b.lo) && std::isfinite(glm::length(b.hi - b.lo)),
+          "volume spacing " + vec(g.spacing) + " with origin " + vec(g.origin) + " and dims " + dims +
+              " makes the data bounds overflow (their corner or diagonal is not finite)");
+  require(std::min({g.spacing.x, g.spacing.y, g.spacing.z}) >= kMinSpacing &&
+              std::max({g.spacing.x, g.spacing.y, g.spacing.z}) <= kMaxSpacing,
+          "volume spacing " + vec(g.spacing) + " is outside [1e-100, 1e100] on some axis");
+  const double h = std::min({g.spacing.x, g.spacing.y, g.spacing.z});
+  const double lim = kMaxCoordinateVoxels * h;
+  const std::string why = " beyond 2^40 smallest spacings (" + num(lim) +
+                          ") from 0, where a double no longer resolves a voxel";
+  const auto near = [&](const Vec3& p) { return max_abs(p) <= lim; };
+  require(near(g.origin) && near(b.hi), "volume origin " + vec(g.origin) + " puts the data (far corner " +
+                                            vec(b.hi) + ")" + why);
+  // Camera
+  const CameraDesc& c = s.camera;
+  require(finite3(c.position), "camera.position " + vec(c.position) + " is not finite");
+  require(finite3(c.look_at), "camera.look_at " + vec(c.look_at) + " is not finite");
+  require(near(c.position), "camera.position " + vec(c.position) + " lies" + why);
+  require(near(c.look_at), "camera.look_at " + vec(c.look_at) + " lies" + why);
+  require(!(c.aperture > lim), "camera.aperture " + num(c.aperture) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+  require(!(c.focus_distance > lim), "camera.focus_distance " + num(c.focus_distance) +
+                                         " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+  // Lights
+  const auto light_point = [&](const std::string& name, const char* key, const Vec3& p) {
+    require(finite3(p), name + ": " + key + " " + vec(p) + " is not finite");
+    require(near(p), name + ": " + key + " " + vec(p) + " lies" + why);
+  };
+  const auto light_length = [&](const std::string& name, const char* key, double v) {
+    require(!(v > lim), name + ": " + key + " " + num(v) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+  };
+  const auto radiance = [&](const std::string& name, const Color& L) {
+    require(finite3(L) && std::min({L.x, L.y, L.z}) >= 0.0 && max_abs(L) <= kMaxRadiance,
+            name + ": radiance (color * intensity) " + vec(L) + " must be finite, >= 0 and at most 1e30");
+  };
+  const BackgroundDesc& bg = s.background;
+  if (bg.type != BackgroundType::EnvMap) {
+    const double top = std::max({max_abs(bg.color), max_abs(bg.top), max_abs(bg.middle), max_abs(bg.bottom)});
+    const double peak = bg.type == BackgroundType::Constant ? max_abs(bg.color) : top;
+    require(std::isfinite(bg.intensity) && !(peak * bg.intensity > kMaxRadiance),
+            "background.intensity " + num(bg.intensity) + " times its color makes a radiance above 1e30");
+  }
+  for (std::size_t i = 0; i < s.rect_lights.size(); ++i) {
+    const RectLightDesc& l = s.rect_lights[i];
+    const std::string name = "rect light " + std::to_string(i);
+    light_point(name, "position", l.position);
+    light_point(name, "target", l.target);
+    light_length(name, "width", l.width);
+    light_length(name, "height", l.height);
+    radiance(name, l.radiance);
+  }
+  for (std::size_t i = 0; i < s.sphere_lights.size(); ++i) {
+    const SphereLightDesc& l = s.sphere_lights[i];
+    const std::string name = "sphere light " + std::to_string(i);
+    light_point(name, "position", l.center);
+    light_length(name, "radius", l.radius);
+    radiance(name, l.radiance);
+  }
+  // Raymarch: at most kMaxMarchSteps steps across the box diagonal
+  if (s.integrator.free_path == FreePath::Raymarch) {
+    const double diag = glm::length(b.hi - b.lo) / h;  // in smallest spacings
+    const double min_step = diag / kMaxMarchSteps;
+    require(s.integrator.step >= min_step,
+            "integrator.step " + num(s.integrator.step) + " is below the minimum " + num(min_step) +
+                " for this volume (dims " + dims + "): at most 2^20 raymarch steps across the data");
+  }
+}
+
 void validate(const FieldView& field, const SceneDesc& s) {
   field.validate("field");
   const VolumeGeometry& g = s.geometry;
-  require(finite3(g.origin), "volume origin must be finite");
+  require(finite3(g.origin), "volume origin " + vec(g.origin) + " must be finite");
   require(finite3(g.spacing) && g.spacing.x > 0 && g.spacing.y > 0 && g.spacing.z > 0,
-          "volume spacing must be finite and > 0 on every axis");
+          "volume spacing " + vec(g.spacing) + " must be finite and > 0 on every axis");
   const TransferFunction& tf = s.tf;
   // hi - lo must be finite too: u = (v - lo) / (hi - lo) is NaN for v near hi otherwise.
   require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi && std::isfinite(tf.hi - tf.lo),
-          "transfer function range [" + std::to_string(tf.lo) + ", " + std::to_string(tf.hi) +
+          "transfer function range [" + num(tf.lo) + ", " + num(tf.hi) +
               "] must be finite with lo < hi and a finite width hi - lo");
   require(std::isfinite(tf.density_scale) && tf.density_scale >= 0.0,
           "density_scale must be finite and >= 0");
   for (int i = 0; i < tf.opacity.size(); ++i)
-    require(tf.opacity.v(i) >= 0.0, "opacity values must be >= 0");
+    require(tf.opacity.v(i) >= 0.0 && std::isfinite(tf.opacity.v(i)),
+            "opacity value " + num(tf.opacity.v(i)) + " must be finite and >= 0");
   const ImageDesc& im = s.image;
   require(im.width >= 1 && im.height >= 1, "image size must be at least 1x1");
   require(im.spp >= 1, "spp must be >= 1");
@@ -42,20 +140,13 @@ void validate(const FieldView& field, const SceneDesc& s) {
   require(in.rr_depth >= 1, "rr_depth must be >= 1");
   require(in.phase_g > -1.0 && in.phase_g < 1.0, "phase_g must be in (-1, 1)");
   require(in.gradient_factor >= 0.0 && std::isfinite(in.gradient_factor), "gradient_factor must be >= 0");
-  require(in.step > 0.0 && std::isfinite(in.step), "raymarch step must be > 0");
+  require(in.step > 0.0 && std::isfinite(in.step), "integrator.step " + num(in.step) + " must be finite and > 0");
   require(in.macrocell >= 1, "macrocell edge must be >= 1");
   require(s.rect_lights.size() + s.sphere_lights.size() <= static_cast<std::size_t>(kMaxLights),
           "at most " + std::to_string(kMaxLights) + " area lights");
-  for (const auto& l : s.rect_lights)
-    require(finite3(l.position) && finite3(l.target) && finite3(l.radiance) &&
-                std::min({l.radiance.x, l.radiance.y, l.radiance.z}) >= 0.0,
-            "rect light: position, target and radiance must be finite, radiance >= 0");
-  for (const auto& l : s.sphere_lights)
-    require(finite3(l.center) && finite3(l.radiance) &&
-                std::min({l.radiance.x, l.radiance.y, l.radiance.z}) >= 0.0,
-            "sphere light: position and radiance must be finite, radiance >= 0");
   require(s.options.tile >= 0, "tile edge must be >= 0");
   require(s.options.threads >= 0, "threads must be >= 0");
+  validate_scale(field, s);
 }
 
 }  // namespace
@@ -116,7 +207,11 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
   const int edge = majorant_edge(field, scene.integrator);
   p.summary_reused = reuse && reuse->matches(field, edge);
   p.grid.set_summary(p.summary_reused ? std::move(reuse) : FieldSummary::build(field, edge));
-  p.grid.update(scene.tf);
+  // Extinction clamp: beyond kMaxOpticalThicknessPerVoxel per smallest spacing the medium is
+  // opaque at sub-voxel scale in double precision (loop_bounds.h)
+  p.sigma_max = kMaxOpticalThicknessPerVoxel /
+                std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
+  p.grid.update(scene.tf, p.sigma_max);
   p.env = Environment(scene.background);
   for (const auto& l : scene.rect_lights) p.rects.emplace_back(l);
   for (const auto& l : scene.sphere_lights) p.spheres.emplace_back(l);

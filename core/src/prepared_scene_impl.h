@@ -26,6 +26,7 @@ struct PreparedSceneImpl {
   std::vector<std::uint8_t> tile_culled;  ///< per tile: 1 = nothing to trace (tile_culling.h)
   Vec3 inv_spacing{1.0};
   double march_step = 0.5;   ///< raymarch step in world units
+  double sigma_max = 0.0;    ///< extinction clamp, 1 / world unit (loop_bounds.h)
   bool has_emission = false;
   bool has_specular = false;
   int light_count = 0;       ///< rects + spheres + (background if it emits)

@@ -5,6 +5,7 @@
 #include "prepared_scene_impl.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
@@ -19,6 +20,16 @@
 
 namespace tessera {
 namespace {
+
+/// Worker threads for a render: options.threads (0 = the current arena's concurrency), never
+/// more than TBB will run at once (global_control max_allowed_parallelism, the hardware
+/// threads unless the caller lowered it). Asking for more would only create idle arena slots.
+int render_threads(const RenderOptions& o) {
+  const int cap = static_cast<int>(std::max<std::size_t>(
+      1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+  const int want = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
+  return std::clamp(want, 1, cap);
+}
 
 /// Adds one finite sample to a pixel's sums.
 inline void add_sample(PixelSums& px, const SampleResult& r) {
@@ -74,6 +85,7 @@ class TileSampler {
     st.gradient_lookups += m_k.gradient;
     st.real_collisions += m_k.real;
     st.null_collisions += m_k.null;
+    st.stalled_paths += m_k.stalled;
   }
 
  private:
@@ -225,6 +237,7 @@ GridMedium<T> make_medium(const PreparedSceneImpl& s, TypedFieldView<T> view) {
     m.nc[a] = s.grid.cells()[a];
   }
   m.tf = &s.desc.tf;
+  m.sigma_max = s.sigma_max;
   m.majorant = s.grid.majorants();
   m.cell_edge = s.grid.edge();
   return m;
@@ -290,8 +303,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   for (int i : tile_indices)
     if (i < 0 || i >= ntiles) throw std::out_of_range("tile index " + std::to_string(i) + " out of range");
 
-  const int threads = s.desc.options.threads > 0 ? s.desc.options.threads
-                                                 : tbb::this_task_arena::max_concurrency();
+  const int threads = render_threads(s.desc.options);
   const std::vector<WorkItem> work = plan_work(s, tile_indices, threads);
   std::vector<RenderStats> per_item(work.size());
   // Progress counts whole tiles: a tile is done when its last band is.
@@ -337,8 +349,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
 
 double adaptive_preview_scale(const PreparedSceneImpl& s) {
   if (!(s.desc.image.target_error > 0.0)) return 0.0;
-  const int threads = s.desc.options.threads > 0 ? s.desc.options.threads
-                                                 : tbb::this_task_arena::max_concurrency();
+  const int threads = render_threads(s.desc.options);
   return dispatch_dtype(s.field, [&](auto view) {
     using T = typename decltype(view)::value_type;
     const GridMedium<T> medium = make_medium(s, view);

@@ -495,12 +495,12 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
   }
 
   // Counters summed, wall time the slowest rank's, threads the total over ranks.
-  constexpr int kCounters = 10;
+  constexpr int kCounters = 11;
   const std::uint64_t counters[kCounters] = {
       local.samples,         local.free_flight_lookups, local.transmittance_lookups,
       local.gradient_lookups, local.real_collisions,    local.null_collisions,
       local.discarded_samples, local.tiles_total,       local.tiles_skipped,
-      static_cast<std::uint64_t>(local.threads)};
+      static_cast<std::uint64_t>(local.threads), local.stalled_paths};
   std::uint64_t sums[kCounters] = {};
   check(MPI_Reduce(counters, sums, kCounters, MPI_UINT64_T, MPI_SUM, 0, m_comm), "MPI_Reduce");
   double slowest = 0.0;
@@ -515,6 +515,7 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
     total.null_collisions = sums[5];
     total.discarded_samples = sums[6];
     total.tiles_skipped = sums[8];
+    total.stalled_paths = sums[10];
     stats.add_counters(total);
     stats.tiles_total += sums[7];
     stats.threads = static_cast<int>(sums[9]);

@@ -109,7 +109,8 @@ TEST_CASE("tessera-render writes every render's outputs and statistics", "[cli]"
   for (const char* key : {"wall_seconds", "samples", "samples_per_second", "density_lookups",
                           "free_flight_lookups", "transmittance_lookups", "real_collisions",
                           "null_collisions", "nan_voxels_seen", "discarded_samples", "tiles_total",
-                          "tiles_skipped", "threads", "lookups_per_real_collision", "renders"})
+                          "tiles_skipped", "threads", "lookups_per_real_collision", "renders",
+                          "stalled_paths", "warnings"})
     CHECK_THAT(json, Contains(std::string("\"") + key + "\":"));
   // Totals: 24*16*2 + 16*16*1 samples
   CHECK_THAT(json, Contains("\"samples\": 1024,"));
