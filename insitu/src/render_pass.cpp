@@ -135,6 +135,12 @@ class Pass {
     RenderResult& r = m_out.result;
     r.samples_per_second = r.render_seconds > 0.0 ? r.stats.samples / r.render_seconds : 0.0;
     if (root && !quiet) log_line(summary());
+    // Warnings about the image (rank 0 holds the stats summed over ranks): never a failure
+    if (root) {
+      r.warnings = render_warnings(r.stats);
+      for (const std::string& w : r.warnings)
+        log_line("warning: render '" + r.name + "' at step " + std::to_string(r.step) + ": " + w);
+    }
     return std::move(m_out);
   }
 

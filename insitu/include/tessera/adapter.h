@@ -63,6 +63,11 @@ struct RenderResult {
   /// macrocell edge otherwise, however many Cinema cameras.
   int field_passes = 0;
   RenderStats stats;                  ///< summed over ranks on rank 0 (and over Cinema cameras)
+  /// Rank 0: what may be wrong with the image although it rendered (tessera::render_warnings
+  /// of `stats`: too many discarded samples, paths ended by a loop guard), one sentence each.
+  /// Also logged on rank 0 as "tessera: warning: render 'NAME' at step N: ...", quiet or not.
+  /// A warning never changes `status`.
+  std::vector<std::string> warnings;
 };
 
 class Adapter {
