@@ -16,7 +16,7 @@ using detail::Value;
 
 namespace {
 
-constexpr std::int64_t kMaxImageEdge = 16384;
+constexpr std::int64_t kMaxImageEdge = ImageDesc::kMaxEdge;
 
 bool valid_name(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
@@ -31,7 +31,7 @@ ImageDesc parse_image(const Value& v) {
   ImageDesc d;
   d.width = static_cast<int>(m.integer_or("width", d.width, 1, kMaxImageEdge));
   d.height = static_cast<int>(m.integer_or("height", d.height, 1, kMaxImageEdge));
-  d.spp = static_cast<int>(m.integer_or("spp", d.spp, 1, std::numeric_limits<int>::max()));
+  d.spp = static_cast<int>(m.integer_or("spp", d.spp, 1, ImageDesc::kMaxSpp));
   d.target_error = m.number_or("target_error", d.target_error, Range::at_least(0.0));
   return d;
 }

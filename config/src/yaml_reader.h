@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
@@ -18,11 +19,30 @@
 
 namespace tessera::config::detail {
 
-/// The file being parsed: what messages call it and what relative names resolve against.
+/// Bounds on what loading a config may cost (docs/config.md "Limits"):
+/// - a config file is at most kMaxConfigBytes (checked before reading it; yaml-cpp parses
+///   a few MB per second, so this also bounds the parse to about a second);
+/// - the walk over the tree visits at most kNodeBudgetBase + (text size in bytes) list
+///   elements and mapping entries, an alias counted each time it is walked. A file without
+///   aliases needs at least one byte per node, so only alias expansion can reach the budget.
+inline constexpr std::size_t kMaxConfigBytes = std::size_t(4) << 20;  // 4 MiB
+inline constexpr std::size_t kNodeBudgetBase = 1'000'000;
+
+/// The file being parsed: what messages call it, what relative names resolve against, and
+/// how many nodes the walk has visited (the alias-expansion budget above).
 struct Document {
   std::string file;
   std::string base_dir;
+  std::size_t node_budget = kNodeBudgetBase;
+  mutable std::size_t nodes_visited = 0;
 };
+
+/// Values echoed in messages are cut to this many characters, then "..." and the full length:
+/// `"aaaa..." (10485760 characters)`.
+inline constexpr std::size_t kMessageValueMax = 64;
+/// `s` as it may appear in a message: itself when short, else its first kMessageValueMax
+/// characters, "..." and " (N characters)"; control characters are written as \xHH.
+std::string cut_for_message(std::string_view s);
 
 /// An interval of allowed numbers, with its description for messages.
 struct Range {
@@ -100,6 +120,8 @@ class Value {
 
  private:
   [[noreturn]] void wrong_type(const std::string& allowed) const;
+  /// Counts `n` more visited nodes; throws here when the document's budget is exceeded.
+  void visit(std::size_t n) const;
   Vec3 triple(const char* shape, const Range& r) const;
   YAML::Node m_node;
   std::string m_path;
