@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -182,14 +183,16 @@ Config parse_config(const std::string& yaml_text, const std::string& file_name_f
 
 Config load_config(const std::string& path) {
   // A regular file of at most kMaxConfigBytes, checked before reading
-  std::string text;
+  std::optional<RegularFile> file;
   try {
-    const RegularFile file(path);
-    if (file.size() > detail::kMaxConfigBytes) throw ConfigError(path, {}, "", too_large(file.size()));
-    text.resize(static_cast<std::size_t>(file.size()));
-    file.read_at(0, text.data(), text.size());
-  } catch (const ConfigError&) {
-    throw;
+    file.emplace(path);
+  } catch (const std::exception& e) {
+    throw ConfigError(path, {}, "", std::string("cannot open config file: ") + e.what());
+  }
+  if (file->size() > detail::kMaxConfigBytes) throw ConfigError(path, {}, "", too_large(file->size()));
+  std::string text(static_cast<std::size_t>(file->size()), '\0');
+  try {
+    file->read_at(0, text.data(), text.size());
   } catch (const std::exception& e) {
     throw ConfigError(path, {}, "", std::string("cannot read config file: ") + e.what());
   }
