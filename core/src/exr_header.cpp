@@ -12,7 +12,7 @@ namespace tessera::detail {
 namespace {
 
 constexpr unsigned char kMagic[4] = {0x76, 0x2f, 0x31, 0x01};
-constexpr std::uint32_t kFlagLongNames = 0x400, kFlagDeep = 0x800, kFlagMultiPart = 0x1000;
+constexpr std::uint32_t kFlagTiled = 0x200, kFlagLongNames = 0x400, kFlagDeep = 0x800, kFlagMultiPart = 0x1000;
 
 [[noreturn]] void bad(const std::string& what) { throw std::runtime_error(what); }
 
@@ -70,6 +70,15 @@ double channel_bytes(const std::vector<unsigned char>& v) {
   return bytes;
 }
 
+/// Scanlines per chunk of each compression id (OpenEXR: NO, RLE, ZIPS, ZIP, PIZ, PXR24, B44,
+/// B44A, DWAA, DWAB); 0 for ids OpenEXR does not know.
+int lines_per_chunk(int compression) {
+  constexpr int kLines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+  return compression >= 0 && compression < 10 ? kLines[compression] : 0;
+}
+
+std::int64_t ceil_div(std::int64_t a, std::int64_t b) { return (a + b - 1) / b; }
+
 }  // namespace
 
 ExrHeaderSummary check_exr_header(const RegularFile& file) {
@@ -87,7 +96,8 @@ ExrHeaderSummary check_exr_header(const RegularFile& file) {
 
   // Attributes: every declared size must fit in what is left of the file
   ExrHeaderSummary s;
-  bool have_window = false, have_channels = false;
+  bool have_window = false, have_channels = false, have_tiles = false;
+  std::int64_t tile_w = 0, tile_h = 0;
   for (;;) {
     const std::string name = c.name(max_name);
     if (name.empty()) break;
@@ -107,6 +117,12 @@ ExrHeaderSummary check_exr_header(const RegularFile& file) {
       c.read(v.data(), v.size());
       s.bytes_per_pixel = channel_bytes(v);
       have_channels = true;
+    } else if (name == "tiles" && type == "tiledesc" && size == 9) {
+      tile_w = static_cast<std::uint32_t>(c.i32());
+      tile_h = static_cast<std::uint32_t>(c.i32());
+      unsigned char mode = 0;
+      c.read(&mode, 1);
+      have_tiles = true;
     } else if (name == "compression" && type == "compression" && size == 1) {
       unsigned char b = 0;
       c.read(&b, 1);
@@ -140,6 +156,28 @@ ExrHeaderSummary check_exr_header(const RegularFile& file) {
                             : "at most " + std::to_string(int(kMaxExrCompression)) +
                                   " times the file size")
         + ")");
+  }
+  // The chunk offset table (8 bytes a chunk, level 0 counted) must fit in the file; OpenEXR
+  // allocates it, and a tile buffer, from the header alone
+  const int lines = lines_per_chunk(s.compression);
+  if (lines == 0) bad("unknown compression " + std::to_string(s.compression));
+  std::int64_t chunks = ceil_div(s.height, lines);
+  if (flags & kFlagTiled) {
+    if (!have_tiles) bad("tiled file without a tile description");
+    if (tile_w < 1 || tile_h < 1 || tile_w > kMaxExrEdge || tile_h > kMaxExrEdge ||
+        double(tile_w) * double(tile_h) * s.bytes_per_pixel >
+            kMaxExrCompression * double(file.size())) {
+      bad("tile size " + std::to_string(tile_w) + "x" + std::to_string(tile_h) +
+          " does not fit a file of " + std::to_string(file.size()) + " bytes (allowed: at most " +
+          std::to_string(kMaxExrEdge) + " per side and " + std::to_string(int(kMaxExrCompression)) +
+          " times the file size in bytes)");
+    }
+    chunks = ceil_div(s.width, tile_w) * ceil_div(s.height, tile_h);
+  }
+  if (double(chunks) * 8.0 > double(file.size())) {
+    bad("data window " + size_text + " needs " + std::to_string(chunks) +
+        " chunks but a file of " + std::to_string(file.size()) +
+        " bytes cannot hold their offset table");
   }
   return s;
 }

@@ -17,8 +17,9 @@ struct ExrHeaderSummary {
 };
 
 /// Walks the attribute list of a single-part, non-deep EXR (each attribute's declared size
-/// checked against the bytes left in the file) and checks the data window against
-/// kMaxExrEdge, kMaxExrPixels and what the file size can hold (image_io.h). Throws
+/// checked against the bytes left in the file) and checks the data window, the chunk offset
+/// table and the tile size against kMaxExrEdge, kMaxExrPixels and what the file size can hold
+/// (image_io.h). Throws
 /// std::runtime_error naming the fault and the sizes.
 ExrHeaderSummary check_exr_header(const RegularFile& file);
 

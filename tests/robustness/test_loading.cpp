@@ -241,6 +241,9 @@ TEST_CASE("an EXR header cannot ask for more than its file holds", "[robustness]
   const std::string big = exr_with_window(dir, "big.exr", 8191, 8191);
   CHECK_THAT(error_of(big), Contains("data window 8192x8192 needs 1073741824 bytes of pixels") &&
                                 Contains("at most 1100 times the file size"));
+  // Few pixels but more chunks than the file has room for in its offset table
+  const std::string tall = exr_with_window(dir, "tall.exr", 0, 16383);
+  CHECK_THAT(error_of(tall), Contains("data window 1x16384 needs 1024 chunks"));
   // Garbage and truncated headers fail cleanly
   dir.write("junk.exr", "not an exr file at all");
   CHECK_THAT(error_of(dir.file("junk.exr")), Contains("not an OpenEXR file"));

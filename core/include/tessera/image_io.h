@@ -17,7 +17,10 @@ void write_exr(const std::string& path, const Image& img);
 /// - data window at most kMaxExrEdge pixels on each side and kMaxExrPixels in all;
 /// - uncompressed pixel bytes at most the file size (no compression) or kMaxExrCompression
 ///   times the file size (any compression; deflate itself cannot exceed 1032:1);
+/// - the chunk offset table (8 bytes per scanline block or level-0 tile) fits in the file, and
+///   a tile is at most kMaxExrEdge per side and kMaxExrCompression times the file size;
 /// - every header attribute fits in the file.
+/// OpenEXR's own exceptions (corrupt data, truncated files) come out as std::runtime_error.
 Image read_exr(const std::string& path);
 inline constexpr std::int64_t kMaxExrEdge = 16384;
 inline constexpr std::int64_t kMaxExrPixels = std::int64_t(1) << 27;  ///< 16384 x 8192
