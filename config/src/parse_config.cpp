@@ -3,6 +3,8 @@
 
 #include "parsers.h"
 
+#include <yaml-cpp/depthguard.h>
+
 #include <tessera/regular_file.h>
 
 #include <sys/stat.h>
@@ -175,6 +177,10 @@ Config parse_config(const std::string& yaml_text, const std::string& file_name_f
                         "file)");
     }
     return parse_root(docs.empty() ? YAML::Node() : docs[0], doc);
+  } catch (const YAML::DeepRecursion& e) {
+    throw ConfigError(doc.file, from_yaml(e.mark), "",
+                      "invalid YAML: nested too deeply (allowed: the YAML parser's limit of " +
+                          std::to_string(e.depth()) + " levels of recursion)");
   } catch (const YAML::Exception& e) {
     // Syntax errors, and anything yaml-cpp itself rejects while walking the tree
     throw ConfigError(doc.file, from_yaml(e.mark), "", "invalid YAML: " + e.msg);

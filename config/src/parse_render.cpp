@@ -17,6 +17,8 @@ using detail::Value;
 namespace {
 
 constexpr std::int64_t kMaxImageEdge = ImageDesc::kMaxEdge;
+/// Field names are echoed in messages and compared with what the simulation publishes.
+constexpr std::size_t kMaxFieldName = 256;
 
 bool valid_name(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
@@ -143,7 +145,16 @@ RenderSpec parse_render(const Value& v) {
   if (!valid_name(r.name)) {
     name.fail(name.describe() + " is not a valid name (allowed: letters, digits, _ and -)");
   }
-  if (const auto f = m.get("field")) r.field = f->string();
+  if (const auto f = m.get("field")) {
+    r.field = f->string();
+    const bool printable = std::all_of(r.field.begin(), r.field.end(), [](char c) {
+      return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
+    });
+    if (!printable || r.field.size() > kMaxFieldName) {
+      f->fail(f->describe() + " is not a field name (allowed: 1 to " +
+              std::to_string(kMaxFieldName) + " printable characters)");
+    }
+  }
   if (const auto t = m.get("trigger")) r.trigger = parse_trigger(*t);
   if (const auto i = m.get("image")) r.image = parse_image(*i);
   r.camera = parse_camera(m.require("camera", "a mapping with at least position"));

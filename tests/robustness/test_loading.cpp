@@ -147,6 +147,15 @@ TEST_CASE("the alias bomb fails with bounded memory through the CLI", "[robustne
 }
 #endif
 
+TEST_CASE("deep nesting fails cleanly", "[robustness][loading]") {
+  const std::string lists = "renders: " + std::string(200'000, '[') + std::string(200'000, ']');
+  CHECK_THAT(config_error(lists), StartsWith("scene.yaml:1:") && Contains("nested too deeply"));
+  std::string maps = "renders: ";
+  for (int i = 0; i < 100'000; ++i) maps += "{a: ";
+  maps += "1" + std::string(100'000, '}');
+  CHECK_THAT(config_error(maps), Contains("nested too deeply"));
+}
+
 TEST_CASE("a second YAML document is an error naming its line", "[robustness][loading]") {
   const std::string one = "renders:\n" + minimal_render();
   CHECK(config_error(one) == "");

@@ -41,6 +41,11 @@ TEST_CASE("long string values are cut in messages", "[robustness][messages]") {
   // An output pattern
   e = config_error("renders:\n" + minimal_render() + "    output: {file: \"{" + big + "}\"}\n");
   CHECK(e.size() < kShortMessage);
+  // A field name: refused at load (it would be echoed by every data error at render time)
+  e = config_error("renders:\n" + minimal_render() + "    field: " + big + "\n");
+  CHECK(e.size() < kShortMessage);
+  CHECK_THAT(e, StartsWith("scene.yaml:6:5: renders[0].field: " + std::string(64, 'x') +
+                           "... (1000000 characters) is not a field name"));
   // An unknown key: the key path is cut too
   e = config_error("tessera:\n  ? " + big + "\n  : 1\n");
   CHECK(e.size() < kShortMessage);
