@@ -139,7 +139,7 @@ std::string resolve_existing_file(const Value& v) {
   if (p.is_relative() && !v.doc().base_dir.empty()) p = fs::path(v.doc().base_dir) / p;
   std::error_code ec;
   p = fs::absolute(p, ec).lexically_normal();
-  const std::string shown = detail::cut_for_message(p.string());
+  const std::string shown = detail::cut_for_message(p.string(), detail::kMessagePathMax);
   if (ec) v.fail("cannot resolve " + v.describe() + ": " + ec.message());
   // Only regular files: a FIFO would block the reader, /dev/zero would never end
   struct stat st{};

@@ -49,17 +49,19 @@ std::string escape_controls(std::string_view s) {
   return out;
 }
 
-/// `s` cut to kMessageValueMax characters, in quotes when `quoted`.
-std::string shown_text(std::string_view s, bool quoted) {
+/// `s` cut to `max` characters, in quotes when `quoted`.
+std::string shown_text(std::string_view s, bool quoted, std::size_t max = kMessageValueMax) {
   const char* q = quoted ? "\"" : "";
-  if (s.size() <= kMessageValueMax) return q + escape_controls(s) + q;
-  return q + escape_controls(s.substr(0, kMessageValueMax)) + q + "... (" +
+  if (s.size() <= max) return q + escape_controls(s) + q;
+  return q + escape_controls(s.substr(0, max)) + q + "... (" +
          std::to_string(s.size()) + " characters)";
 }
 
 }  // namespace
 
-std::string cut_for_message(std::string_view s) { return shown_text(s, false); }
+std::string cut_for_message(std::string_view s, std::size_t max) {
+  return shown_text(s, false, max);
+}
 
 bool Range::contains(double v) const {
   const bool lo_ok = lo_open ? v > lo : v >= lo;

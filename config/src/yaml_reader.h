@@ -40,9 +40,11 @@ struct Document {
 /// Values echoed in messages are cut to this many characters, then "..." and the full length:
 /// `"aaaa..." (10485760 characters)`.
 inline constexpr std::size_t kMessageValueMax = 64;
-/// `s` as it may appear in a message: itself when short, else its first kMessageValueMax
-/// characters, "..." and " (N characters)"; control characters are written as \xHH.
-std::string cut_for_message(std::string_view s);
+/// `s` as it may appear in a message: itself when short, else its first `max` characters,
+/// "..." and " (N characters)"; control characters are written as \xHH.
+std::string cut_for_message(std::string_view s, std::size_t max = kMessageValueMax);
+/// File paths in messages are cut at this length instead (a real path is shorter: PATH_MAX).
+inline constexpr std::size_t kMessagePathMax = 4096;
 
 /// An interval of allowed numbers, with its description for messages.
 struct Range {
