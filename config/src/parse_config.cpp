@@ -163,20 +163,19 @@ std::string resolve_existing_file(const Value& v) {
 Config parse_config(const std::string& yaml_text, const std::string& file_name_for_messages,
                     const std::string& base_dir) {
   detail::Document doc{file_name_for_messages, base_dir};
-  doc.node_budget = detail::kNodeBudgetBase + yaml_text.size();
+  doc.node_budget = detail::node_budget(yaml_text.size());
   if (yaml_text.size() > detail::kMaxConfigBytes) {
     throw ConfigError(doc.file, {}, "", too_large(yaml_text.size()));
   }
   try {
     // One document: a second one (after ---) is refused unless it is empty
-    const std::vector<YAML::Node> docs = YAML::LoadAll(yaml_text);
-    for (std::size_t i = 1; i < docs.size(); ++i) {
-      if (docs[i].IsNull()) continue;
-      throw ConfigError(doc.file, from_yaml(docs[i].Mark()), "",
+    const YAML::Node root = YAML::Load(yaml_text);
+    if (const auto second = detail::second_document(yaml_text)) {
+      throw ConfigError(doc.file, *second, "",
                         "a second YAML document starts here (allowed: one document per config "
                         "file)");
     }
-    return parse_root(docs.empty() ? YAML::Node() : docs[0], doc);
+    return parse_root(root, doc);
   } catch (const YAML::DeepRecursion& e) {
     throw ConfigError(doc.file, from_yaml(e.mark), "",
                       "invalid YAML: nested too deeply (allowed: the YAML parser's limit of " +

@@ -1,8 +1,11 @@
 #include "yaml_reader.h"
 
+#include <yaml-cpp/eventhandler.h>
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <system_error>
 #include <unordered_map>
 
@@ -27,6 +30,43 @@ std::optional<T> parse_integer(std::string_view s) {
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
   return v;
+}
+
+/// Records whether a document holds anything but an empty (null) root, and where it starts.
+class ContentFinder final : public YAML::EventHandler {
+ public:
+  std::optional<SourceMark> first;
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                const std::string&) override { note(m); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override { note(m); }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override { note(m); }
+  void OnMapEnd() override {}
+
+ private:
+  void note(const YAML::Mark& m) {
+    if (!first) first = SourceMark{m.line + 1, m.column + 1};
+  }
+};
+
+/// A line that starts with a document marker: `---` or `...` then a blank or the end.
+bool has_document_marker(const std::string& text) {
+  for (std::size_t i = 0; i + 3 <= text.size();) {
+    if (text.compare(i, 3, "---") == 0 || text.compare(i, 3, "...") == 0) {
+      if (i + 3 == text.size() || std::string_view(" \t\r\n").find(text[i + 3]) != std::string_view::npos)
+        return true;
+    }
+    const std::size_t nl = text.find('\n', i);
+    if (nl == std::string::npos) break;
+    i = nl + 1;
+  }
+  return false;
 }
 
 /// A number written with more characters than this is shown through format_number.
@@ -58,6 +98,16 @@ std::string shown_text(std::string_view s, bool quoted, std::size_t max = kMessa
 }
 
 }  // namespace
+
+std::optional<SourceMark> second_document(const std::string& text) {
+  if (!has_document_marker(text)) return std::nullopt;
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  ContentFinder first, second;
+  if (!parser.HandleNextDocument(first)) return std::nullopt;
+  if (!parser.HandleNextDocument(second)) return std::nullopt;
+  return second.first;
+}
 
 std::string cut_for_message(std::string_view s, std::size_t max) {
   return shown_text(s, false, max);
@@ -237,8 +287,8 @@ void Value::visit(std::size_t n) const {
   m_doc->nodes_visited += n;
   if (m_doc->nodes_visited > m_doc->node_budget) {
     fail("the config expands to more than " + std::to_string(m_doc->node_budget) +
-         " nodes (aliases counted each time they are used; allowed: at most 1000000 + the "
-         "file size in bytes)");
+         " nodes (aliases counted each time they are used; allowed: at most 1000000, or half "
+         "the file size in bytes when that is more)");
   }
 }
 

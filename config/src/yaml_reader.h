@@ -22,11 +22,15 @@ namespace tessera::config::detail {
 /// Bounds on what loading a config may cost (docs/config.md "Limits"):
 /// - a config file is at most kMaxConfigBytes (checked before reading it; yaml-cpp parses
 ///   a few MB per second, so this also bounds the parse to about a second);
-/// - the walk over the tree visits at most kNodeBudgetBase + (text size in bytes) list
-///   elements and mapping entries, an alias counted each time it is walked. A file without
-///   aliases needs at least one byte per node, so only alias expansion can reach the budget.
+/// - the walk over the tree visits at most node_budget(text size) list elements and mapping
+///   entries, an alias counted each time it is walked: max(kNodeBudgetBase, size / 2). A
+///   file without aliases needs at least two bytes per node ("1," in a flow list, "-\n" in a
+///   block list), so only alias expansion can reach the budget.
 inline constexpr std::size_t kMaxConfigBytes = std::size_t(4) << 20;  // 4 MiB
 inline constexpr std::size_t kNodeBudgetBase = 1'000'000;
+inline constexpr std::size_t node_budget(std::size_t text_bytes) {
+  return text_bytes / 2 > kNodeBudgetBase ? text_bytes / 2 : kNodeBudgetBase;
+}
 
 /// The file being parsed: what messages call it, what relative names resolve against, and
 /// how many nodes the walk has visited (the alias-expansion budget above).
@@ -36,6 +40,12 @@ struct Document {
   std::size_t node_budget = kNodeBudgetBase;
   mutable std::size_t nodes_visited = 0;
 };
+
+/// Where a second, non-empty YAML document starts in `text`, if there is one. Cheap when the
+/// text has no document marker (a line starting with `---` or `...`); otherwise the text is
+/// scanned once more by yaml-cpp's event parser, for two documents at most (yaml-cpp's own
+/// LoadAll can loop without end on malformed input). Throws YAML::Exception on bad syntax.
+std::optional<SourceMark> second_document(const std::string& text);
 
 /// Values echoed in messages are cut to this many characters, then "..." and the full length:
 /// `"aaaa..." (10485760 characters)`.

@@ -135,6 +135,18 @@ TEST_CASE("an alias bomb fails on the node budget with a location", "[robustness
   CHECK(config_error(small) == "");
 }
 
+TEST_CASE("a file without aliases never reaches the node budget", "[robustness][loading]") {
+  // 1.2 million steps written out, two bytes each: above the 1,000,000 base, under half the
+  // file size
+  std::string yaml = "renders:\n" + minimal_render() + "    trigger: {at: [";
+  yaml.reserve(yaml.size() + 2'400'100);
+  for (int i = 0; i < 1'200'000; ++i) yaml += "1,";
+  yaml += "1]}\n";
+  const auto t0 = Clock::now();
+  CHECK(config_error(yaml) == "");
+  CHECK(seconds_since(t0) < 20.0);
+}
+
 #ifdef TESSERA_RENDER_EXE
 TEST_CASE("the alias bomb fails with bounded memory through the CLI", "[robustness][loading]") {
   TempDir dir;
@@ -154,6 +166,18 @@ TEST_CASE("deep nesting fails cleanly", "[robustness][loading]") {
   for (int i = 0; i < 100'000; ++i) maps += "{a: ";
   maps += "1" + std::string(100'000, '}');
   CHECK_THAT(config_error(maps), Contains("nested too deeply"));
+}
+
+TEST_CASE("input on which yaml-cpp's LoadAll never ends is refused at once",
+          "[robustness][loading]") {
+  // YAML::LoadAll(",") returns documents without end until memory runs out (fuzz finding);
+  // documents are therefore counted with yaml-cpp's event parser, two at most
+  for (const char* text : {",", "---\n,", "renders: []\n---\n,\n---\n,"}) {
+    INFO(text);
+    const auto t0 = Clock::now();
+    CHECK(config_error(text) != "");
+    CHECK(seconds_since(t0) < 20.0);
+  }
 }
 
 TEST_CASE("a second YAML document is an error naming its line", "[robustness][loading]") {
