@@ -244,6 +244,16 @@ Image read_exr(const std::string& path) {
   }
 }
 
+ExrSize read_exr_size(const std::string& path) {
+  try {
+    const RegularFile regular(path);
+    const detail::ExrHeaderSummary s = detail::check_exr_header(regular);
+    return ExrSize{static_cast<int>(s.width), static_cast<int>(s.height)};
+  } catch (const std::exception& e) {
+    throw std::runtime_error("read_exr: cannot read '" + path + "': " + e.what());
+  }
+}
+
 /// Tone map of one linear channel value v, in this order:
 ///   x = v * 2^exposure;  x = 0 if x is NaN or negative;  x = min(x, 1e30) (avoids inf/inf)
 ///   curve  Clamp:    y = x

@@ -27,12 +27,6 @@ std::string file_kind_name(unsigned mode) {
   return "not a regular file";
 }
 
-void check_regular_file(const std::string& path) {
-  struct stat st{};
-  if (::stat(path.c_str(), &st) != 0) return;
-  if (!S_ISREG(st.st_mode)) not_regular(path, st.st_mode);
-}
-
 RegularFile::RegularFile(const std::string& path) : m_path(path) {
   // Opening a FIFO for reading with O_NONBLOCK returns at once instead of waiting for a writer
   m_fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);

@@ -256,6 +256,8 @@ TEST_CASE("an EXR header cannot ask for more than its file holds", "[robustness]
   // Sanity: the unpatched file reads
   const std::string ok = exr_with_window(dir, "ok.exr", 3, 1);
   CHECK(tessera::read_exr(ok).width == 4);
+  CHECK(tessera::read_exr_size(ok).width == 4);
+  CHECK(tessera::read_exr_size(ok).height == 2);
 
   const auto error_of = [](const std::string& path) {
     try {
@@ -268,6 +270,7 @@ TEST_CASE("an EXR header cannot ask for more than its file holds", "[robustness]
   // Over the documented maximum: refused from the header, before any allocation
   const std::string huge = exr_with_window(dir, "huge.exr", 99'999, 99'999);
   CHECK_THAT(error_of(huge), Contains("huge.exr") && Contains("data window 100000x100000 is too large"));
+  CHECK_THROWS_WITH(tessera::read_exr_size(huge), Contains("is too large"));
   const std::string wide = exr_with_window(dir, "wide.exr", 16'384, 0);
   CHECK_THAT(error_of(wide), Contains("data window 16385x1 is too large"));
   // Under the maximum but far more than a file of a few hundred bytes can hold

@@ -22,6 +22,12 @@ void write_exr(const std::string& path, const Image& img);
 /// - every header attribute fits in the file.
 /// OpenEXR's own exceptions (corrupt data, truncated files) come out as std::runtime_error.
 Image read_exr(const std::string& path);
+/// The data window size read_exr would return, from the header alone (the same checks, no
+/// pixel allocation): for estimating memory before reading. Throws like read_exr.
+struct ExrSize {
+  int width = 0, height = 0;
+};
+ExrSize read_exr_size(const std::string& path);
 inline constexpr std::int64_t kMaxExrEdge = 16384;
 inline constexpr std::int64_t kMaxExrPixels = std::int64_t(1) << 27;  ///< 16384 x 8192
 inline constexpr double kMaxExrCompression = 1100.0;

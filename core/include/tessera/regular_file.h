@@ -37,8 +37,4 @@ class RegularFile {
 /// What a stat mode is, for messages: "a FIFO", "a directory", "a character device", ...
 std::string file_kind_name(unsigned mode);
 
-/// Throws like RegularFile's constructor when `path` (symlinks followed) exists and is not a
-/// regular file; returns quietly when it is one or does not exist (the opener reports that).
-void check_regular_file(const std::string& path);
-
 }  // namespace tessera
