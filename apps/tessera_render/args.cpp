@@ -1,5 +1,7 @@
 #include "args.h"
 
+#include <tessera/scene.h>
+
 #include <charconv>
 #include <limits>
 #include <stdexcept>
@@ -8,12 +10,19 @@
 namespace tessera::cli {
 namespace {
 
+/// An argument as messages show it: at most 64 characters, then "..." and its length.
+std::string shown(const std::string& s) {
+  constexpr std::size_t kMax = 64;
+  if (s.size() <= kMax) return s;
+  return s.substr(0, kMax) + "... (" + std::to_string(s.size()) + " characters)";
+}
+
 template <class T>
 T to_number(const std::string& flag, const std::string& text, T lo, T hi) {
   T v{};
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (ec != std::errc() || end != text.data() + text.size() || text.empty() || v < lo || v > hi) {
-    throw std::runtime_error(flag + ": \"" + text + "\" is not an integer in [" +
+    throw std::runtime_error(flag + ": \"" + shown(text) + "\" is not an integer in [" +
                              std::to_string(lo) + ", " + std::to_string(hi) + "]");
   }
   return v;
@@ -32,9 +41,9 @@ const char* usage() {
          "  --render NAME      render only this entry\n"
          "  -o OUT             write OUT.exr / OUT.png per output.formats (OUT.exr or OUT.png:\n"
          "                     that format only); with several renders, OUT_NAME.*\n"
-         "  --spp N            samples per pixel\n"
-         "  --width W          image width in pixels\n"
-         "  --height H         image height in pixels\n"
+         "  --spp N            samples per pixel (1..1048576)\n"
+         "  --width W          image width in pixels (1..16384)\n"
+         "  --height H         image height in pixels (1..16384)\n"
          "  --tile N           tile edge in pixels (0 = scanline order)\n"
          "  --scanline         scanline order (same as --tile 0)\n"
          "  --threads N        worker threads (0 = all hardware threads)\n"
@@ -68,16 +77,15 @@ Args parse_args(int argc, const char* const* argv) {
     const auto no_value = [&] {
       if (inline_value) throw std::runtime_error(arg + " takes no value");
     };
-    constexpr int kIntMax = std::numeric_limits<int>::max();
 
     if (arg == "-h" || arg == "--help") { no_value(); a.help = true; }
     else if (arg == "--version") { no_value(); a.version = true; }
     else if (arg == "--render") a.render = value();
     else if (arg == "-o" || arg == "--output") a.output = value();
-    else if (arg == "--spp") a.spp = to_number<int>(arg, value(), 1, kIntMax);
-    else if (arg == "--width") a.width = to_number<int>(arg, value(), 1, 16384);
-    else if (arg == "--height") a.height = to_number<int>(arg, value(), 1, 16384);
-    else if (arg == "--tile") { a.tile = to_number<int>(arg, value(), 0, 16384); tile_given = true; }
+    else if (arg == "--spp") a.spp = to_number<int>(arg, value(), 1, ImageDesc::kMaxSpp);
+    else if (arg == "--width") a.width = to_number<int>(arg, value(), 1, ImageDesc::kMaxEdge);
+    else if (arg == "--height") a.height = to_number<int>(arg, value(), 1, ImageDesc::kMaxEdge);
+    else if (arg == "--tile") { a.tile = to_number<int>(arg, value(), 0, ImageDesc::kMaxEdge); tile_given = true; }
     else if (arg == "--scanline") { no_value(); scanline = true; a.tile = 0; }
     else if (arg == "--threads") a.threads = to_number<int>(arg, value(), 0, 65536);
     else if (arg == "--seed")
@@ -85,9 +93,9 @@ Args parse_args(int argc, const char* const* argv) {
     else if (arg == "--stats") a.stats = value();
     else if (arg == "--progress") { no_value(); a.progress = true; }
     else if (arg == "--quiet" || arg == "-q") { no_value(); a.quiet = true; }
-    else if (arg.size() > 1 && arg[0] == '-') throw std::runtime_error("unknown option " + arg + " (see --help)");
+    else if (arg.size() > 1 && arg[0] == '-') throw std::runtime_error("unknown option " + shown(arg) + " (see --help)");
     else if (a.scene.empty()) a.scene = arg;
-    else throw std::runtime_error("unexpected argument \"" + arg + "\" (one SCENE.yaml only)");
+    else throw std::runtime_error("unexpected argument \"" + shown(arg) + "\" (one SCENE.yaml only)");
   }
   if (a.help || a.version) return a;
   if (tile_given && scanline) throw std::runtime_error("--tile and --scanline exclude each other");

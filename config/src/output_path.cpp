@@ -1,6 +1,8 @@
 // Output file name patterns: {name} {step} {time} {rank} with fmt-like specs.
 #include <tessera/config/output_path.h>
 
+#include "yaml_reader.h"
+
 #include <charconv>
 #include <cstdio>
 #include <stdexcept>
@@ -20,7 +22,8 @@ struct Spec {
 };
 
 [[noreturn]] void bad(const std::string& pattern, const std::string& what) {
-  throw std::invalid_argument("bad output pattern \"" + pattern + "\": " + what);
+  throw std::invalid_argument("bad output pattern \"" + detail::cut_for_message(pattern) +
+                              "\": " + what);
 }
 
 Spec parse_spec(const std::string& pattern, std::string_view placeholder, Field field,
@@ -126,7 +129,7 @@ void expand(const std::string& pattern, const std::string& name, std::int64_t st
     else if (key == "step") field = Field::Step;
     else if (key == "time") field = Field::Time;
     else if (key == "rank") field = Field::Rank;
-    else bad(pattern, "unknown placeholder {" + std::string(key) + "} (allowed: {name} {step} {time} {rank})");
+    else bad(pattern, "unknown placeholder {" + detail::cut_for_message(key) + "} (allowed: {name} {step} {time} {rank})");
     const Spec spec = parse_spec(pattern, inner, field, spec_text);
     if (out) {
       switch (field) {
@@ -144,6 +147,20 @@ void expand(const std::string& pattern, const std::string& name, std::int64_t st
 
 void validate_output_pattern(const std::string& pattern) {
   if (pattern.empty()) throw std::invalid_argument("empty output pattern (allowed: e.g. \"{name}_{step:06d}\")");
+  // A NUL would cut the name short (every format then writes the same file); other control
+  // characters make names no one can type
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    const auto c = static_cast<unsigned char>(pattern[i]);
+    if (c < 0x20 || c == 0x7f) {
+      bad(pattern, "control character " + detail::cut_for_message(std::string(1, pattern[i])) +
+                       " at position " + std::to_string(i + 1) +
+                       " (allowed: printable characters)");
+    }
+  }
+  if (pattern.back() == '/') {
+    bad(pattern, "ends with '/' so the file name is empty (allowed: a file name, e.g. "
+                 "\"images/{name}\")");
+  }
   expand(pattern, {}, 0, 0.0, 0, nullptr);
 }
 

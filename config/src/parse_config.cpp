@@ -4,14 +4,21 @@
 
 #include "parsers.h"
 
+#include <yaml-cpp/depthguard.h>
+
+#include <tessera/regular_file.h>
+
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <sstream>
+#include <optional>
+#include <stdexcept>
+#include <unordered_map>
 
 namespace tessera::config {
 namespace fs = std::filesystem;
@@ -26,6 +33,11 @@ constexpr const char* kTopKeys = "a mapping with keys tessera, volume, renders";
 SourceMark from_yaml(const YAML::Mark& m) {
   if (m.is_null() || m.line < 0) return {};
   return SourceMark{m.line + 1, m.column + 1};
+}
+
+std::string too_large(std::uint64_t bytes) {
+  return "config is " + std::to_string(bytes) + " bytes (allowed: at most " +
+         std::to_string(detail::kMaxConfigBytes) + " bytes, 4 MiB)";
 }
 
 Config parse_root(const YAML::Node& root, const detail::Document& doc) {
@@ -46,17 +58,16 @@ Config parse_root(const YAML::Node& root, const detail::Document& doc) {
                            .list("a list of renders (mappings with name, camera, "
                                  "transfer_function, ...)",
                                  1);
-  std::vector<SourceMark> name_marks;
+  std::unordered_map<std::string, SourceMark> name_marks;  // name -> where first used
   for (const Value& r : renders) {
     RenderSpec spec = detail::parse_render(r);
     const Value name = *r.map().get("name");
-    for (std::size_t i = 0; i < c.renders.size(); ++i) {
-      if (c.renders[i].name == spec.name) {
-        name.fail("duplicate render name \"" + spec.name + "\" (first used at line " +
-                  std::to_string(name_marks[i].line) + "; allowed: a name used once)");
-      }
+    const auto [it, fresh] = name_marks.emplace(spec.name, name.mark());
+    if (!fresh) {
+      name.fail("duplicate render name \"" + detail::cut_for_message(spec.name) +
+                "\" (first used at line " + std::to_string(it->second.line) +
+                "; allowed: a name used once)");
     }
-    name_marks.push_back(name.mark());
     c.renders.push_back(std::move(spec));
   }
   return c;
@@ -72,7 +83,14 @@ GlobalOptions parse_global(const Value& v) {
   m.allow({"output_dir", "on_error", "threads", "render_final_step", "max_failures",
            "time_limit", "memory_limit_mb"});
   GlobalOptions g;
-  if (const auto d = m.get("output_dir")) g.output_dir = d->string();
+  if (const auto d = m.get("output_dir")) {
+    g.output_dir = d->string();
+    for (const char c : g.output_dir) {
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+        d->fail(d->describe() + " contains a control character (allowed: printable characters)");
+      }
+    }
+  }
   g.on_error = m.choice_or<OnError>(
       "on_error", g.on_error,
       {{"warn", OnError::Warn}, {"disable", OnError::Disable}, {"abort", OnError::Abort}});
@@ -134,16 +152,30 @@ VolumeSpec parse_volume(const Value& v) {
 }
 
 std::string resolve_existing_file(const Value& v) {
-  fs::path p(v.string());
+  const std::string name = v.string();
+  if (name.find('\0') != std::string::npos) {
+    v.fail(v.describe() + " contains a NUL character (allowed: a file name)");
+  }
+  fs::path p(name);
   if (p.is_relative() && !v.doc().base_dir.empty()) p = fs::path(v.doc().base_dir) / p;
   std::error_code ec;
   p = fs::absolute(p, ec).lexically_normal();
-  if (ec) v.fail("cannot resolve \"" + v.string() + "\": " + ec.message());
-  if (!fs::exists(p, ec)) {
-    v.fail("file not found: " + p.string() + " (allowed: an existing file, relative names are "
-           "relative to the YAML file's directory)");
+  const std::string shown = detail::cut_for_message(p.string(), detail::kMessagePathMax);
+  if (ec) v.fail("cannot resolve " + v.describe() + ": " + ec.message());
+  // Only regular files: a FIFO would block the reader, /dev/zero would never end
+  struct stat st{};
+  if (::stat(p.c_str(), &st) != 0) {
+    const int err = errno;
+    if (err == ENOENT || err == ENOTDIR) {
+      v.fail("file not found: " + shown + " (allowed: an existing file, relative names are "
+             "relative to the YAML file's directory)");
+    }
+    v.fail("cannot access " + shown + ": " + std::strerror(err));
   }
-  if (fs::is_directory(p, ec)) v.fail(p.string() + " is a directory (allowed: a file)");
+  if (S_ISDIR(st.st_mode)) v.fail(shown + " is a directory (allowed: a file)");
+  if (!S_ISREG(st.st_mode)) {
+    v.fail(shown + " is " + file_kind_name(st.st_mode) + " (allowed: a regular file)");
+  }
   return p.string();
 }
 
@@ -151,10 +183,24 @@ std::string resolve_existing_file(const Value& v) {
 
 Config parse_config(const std::string& yaml_text, const std::string& file_name_for_messages,
                     const std::string& base_dir) {
-  const detail::Document doc{file_name_for_messages, base_dir};
+  detail::Document doc{file_name_for_messages, base_dir};
+  doc.node_budget = detail::node_budget(yaml_text.size());
+  if (yaml_text.size() > detail::kMaxConfigBytes) {
+    throw ConfigError(doc.file, {}, "", too_large(yaml_text.size()));
+  }
   try {
+    // One document: a second one (after ---) is refused unless it is empty
     const YAML::Node root = YAML::Load(yaml_text);
+    if (const auto second = detail::second_document(yaml_text)) {
+      throw ConfigError(doc.file, *second, "",
+                        "a second YAML document starts here (allowed: one document per config "
+                        "file)");
+    }
     return parse_root(root, doc);
+  } catch (const YAML::DeepRecursion& e) {
+    throw ConfigError(doc.file, from_yaml(e.mark), "",
+                      "invalid YAML: nested too deeply (allowed: the YAML parser's limit of " +
+                          std::to_string(e.depth()) + " levels of recursion)");
   } catch (const YAML::Exception& e) {
     // Syntax errors, and anything yaml-cpp itself rejects while walking the tree
     throw ConfigError(doc.file, from_yaml(e.mark), "", "invalid YAML: " + e.msg);
@@ -162,14 +208,21 @@ Config parse_config(const std::string& yaml_text, const std::string& file_name_f
 }
 
 Config load_config(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ConfigError(path, {}, "", std::string("cannot open config file: ") + std::strerror(errno));
+  // A regular file of at most kMaxConfigBytes, checked before reading
+  std::optional<RegularFile> file;
+  try {
+    file.emplace(path);
+  } catch (const std::exception& e) {
+    throw ConfigError(path, {}, "", std::string("cannot open config file: ") + e.what());
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw ConfigError(path, {}, "", "cannot read config file");
-  return parse_config(text.str(), path, fs::path(path).parent_path().string());
+  if (file->size() > detail::kMaxConfigBytes) throw ConfigError(path, {}, "", too_large(file->size()));
+  std::string text(static_cast<std::size_t>(file->size()), '\0');
+  try {
+    file->read_at(0, text.data(), text.size());
+  } catch (const std::exception& e) {
+    throw ConfigError(path, {}, "", std::string("cannot read config file: ") + e.what());
+  }
+  return parse_config(text, path, fs::path(path).parent_path().string());
 }
 
 const RenderSpec* Config::find_render(const std::string& name) const {

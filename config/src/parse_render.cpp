@@ -16,7 +16,9 @@ using detail::Value;
 
 namespace {
 
-constexpr std::int64_t kMaxImageEdge = 16384;
+constexpr std::int64_t kMaxImageEdge = ImageDesc::kMaxEdge;
+/// Field names are echoed in messages and compared with what the simulation publishes.
+constexpr std::size_t kMaxFieldName = 256;
 
 bool valid_name(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
@@ -31,7 +33,7 @@ ImageDesc parse_image(const Value& v) {
   ImageDesc d;
   d.width = static_cast<int>(m.integer_or("width", d.width, 1, kMaxImageEdge));
   d.height = static_cast<int>(m.integer_or("height", d.height, 1, kMaxImageEdge));
-  d.spp = static_cast<int>(m.integer_or("spp", d.spp, 1, std::numeric_limits<int>::max()));
+  d.spp = static_cast<int>(m.integer_or("spp", d.spp, 1, ImageDesc::kMaxSpp));
   d.target_error = m.number_or("target_error", d.target_error, Range::at_least(0.0));
   return d;
 }
@@ -143,7 +145,16 @@ RenderSpec parse_render(const Value& v) {
   if (!valid_name(r.name)) {
     name.fail(name.describe() + " is not a valid name (allowed: letters, digits, _ and -)");
   }
-  if (const auto f = m.get("field")) r.field = f->string();
+  if (const auto f = m.get("field")) {
+    r.field = f->string();
+    const bool printable = std::all_of(r.field.begin(), r.field.end(), [](char c) {
+      return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
+    });
+    if (!printable || r.field.size() > kMaxFieldName) {
+      f->fail(f->describe() + " is not a field name (allowed: 1 to " +
+              std::to_string(kMaxFieldName) + " printable characters)");
+    }
+  }
   if (const auto t = m.get("trigger")) r.trigger = parse_trigger(*t);
   if (const auto i = m.get("image")) r.image = parse_image(*i);
   r.camera = parse_camera(m.require("camera", "a mapping with at least position"));

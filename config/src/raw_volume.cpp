@@ -1,13 +1,14 @@
 // Reading a raw binary volume into memory, in native byte order.
 #include <tessera/config/raw_volume.h>
+#include <tessera/regular_file.h>
 
 #include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace tessera::config {
@@ -49,10 +50,15 @@ RawVolume load_raw_volume(const VolumeSpec& spec) {
                              std::to_string(spec.dims[1]) + "x" + std::to_string(spec.dims[2]) + " " +
                              dtype_name(spec.dtype) + " values do not fit in memory");
 
-  // Size check before reading anything
-  std::error_code ec;
-  const std::uintmax_t actual = std::filesystem::file_size(spec.file, ec);
-  if (ec) throw std::runtime_error("volume " + spec.file + ": " + ec.message());
+  // A regular file (a FIFO or a device is refused without blocking), size checked before
+  // reading anything
+  std::optional<RegularFile> file;
+  try {
+    file.emplace(spec.file);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("volume ") + e.what());
+  }
+  const std::uintmax_t actual = file->size();
   if (actual != expected) {
     throw std::runtime_error(
         "volume " + spec.file + ": file is " + std::to_string(actual) + " bytes, expected " +
@@ -62,14 +68,11 @@ RawVolume load_raw_volume(const VolumeSpec& spec) {
         std::to_string(elem) + " bytes)");
   }
 
-  std::ifstream in(spec.file, std::ios::binary);
-  if (!in) throw std::runtime_error("volume " + spec.file + ": cannot open: " + std::strerror(errno));
-  in.seekg(static_cast<std::streamoff>(spec.header_bytes));
   v.bytes.resize(static_cast<std::size_t>(payload));
-  in.read(reinterpret_cast<char*>(v.bytes.data()), static_cast<std::streamsize>(payload));
-  if (!in || in.gcount() != static_cast<std::streamsize>(payload)) {
-    throw std::runtime_error("volume " + spec.file + ": read failed after " +
-                             std::to_string(in.gcount()) + " of " + std::to_string(payload) + " bytes");
+  try {
+    file->read_at(static_cast<std::uint64_t>(spec.header_bytes), v.bytes.data(), v.bytes.size());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("volume ") + e.what());
   }
 
   // To native byte order

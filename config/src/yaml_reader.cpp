@@ -1,8 +1,13 @@
 #include "yaml_reader.h"
 
+#include <yaml-cpp/eventhandler.h>
+
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <sstream>
 #include <system_error>
+#include <unordered_map>
 
 namespace tessera::config::detail {
 namespace {
@@ -27,7 +32,86 @@ std::optional<T> parse_integer(std::string_view s) {
   return v;
 }
 
+/// Records whether a document holds anything but an empty (null) root, and where it starts.
+class ContentFinder final : public YAML::EventHandler {
+ public:
+  std::optional<SourceMark> first;
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                const std::string&) override { note(m); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override { note(m); }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override { note(m); }
+  void OnMapEnd() override {}
+
+ private:
+  void note(const YAML::Mark& m) {
+    if (!first) first = SourceMark{m.line + 1, m.column + 1};
+  }
+};
+
+/// A line that starts with a document marker: `---` or `...` then a blank or the end.
+bool has_document_marker(const std::string& text) {
+  for (std::size_t i = 0; i + 3 <= text.size();) {
+    if (text.compare(i, 3, "---") == 0 || text.compare(i, 3, "...") == 0) {
+      if (i + 3 == text.size() || std::string_view(" \t\r\n").find(text[i + 3]) != std::string_view::npos)
+        return true;
+    }
+    const std::size_t nl = text.find('\n', i);
+    if (nl == std::string::npos) break;
+    i = nl + 1;
+  }
+  return false;
+}
+
+/// A number written with more characters than this is shown through format_number.
+constexpr std::size_t kLongNumberText = 24;
+
+/// Control characters as \xHH, so a message stays on one line and shows what is there.
+std::string escape_controls(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+/// `s` cut to `max` characters, in quotes when `quoted`.
+std::string shown_text(std::string_view s, bool quoted, std::size_t max = kMessageValueMax) {
+  const char* q = quoted ? "\"" : "";
+  if (s.size() <= max) return q + escape_controls(s) + q;
+  return q + escape_controls(s.substr(0, max)) + q + "... (" +
+         std::to_string(s.size()) + " characters)";
+}
+
 }  // namespace
+
+std::optional<SourceMark> second_document(const std::string& text) {
+  if (!has_document_marker(text)) return std::nullopt;
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  ContentFinder first, second;
+  if (!parser.HandleNextDocument(first)) return std::nullopt;
+  if (!parser.HandleNextDocument(second)) return std::nullopt;
+  return second.first;
+}
+
+std::string cut_for_message(std::string_view s, std::size_t max) {
+  return shown_text(s, false, max);
+}
 
 bool Range::contains(double v) const {
   const bool lo_ok = lo_open ? v > lo : v >= lo;
@@ -95,7 +179,14 @@ std::string Value::describe() const {
   if (m_node.IsMap()) return "a mapping";
   if (m_node.IsSequence()) return "a list";
   if (m_node.IsScalar()) {
-    return is_plain(m_node) ? m_node.Scalar() : "\"" + m_node.Scalar() + "\"";
+    const std::string& text = m_node.Scalar();
+    if (!is_plain(m_node)) return shown_text(text, true);
+    // A long number reads short: `1e+299 (written with 300 characters)`
+    if (text.size() > kLongNumberText) {
+      if (const auto v = parse_double(text); v && std::isfinite(*v))
+        return format_number(*v) + " (written with " + std::to_string(text.size()) + " characters)";
+    }
+    return cut_for_message(text);
   }
   return "an empty value";
 }
@@ -123,7 +214,13 @@ std::int64_t Value::integer(std::int64_t lo, std::int64_t hi) const {
   if (!range.empty()) allowed += " in " + range;
   if (!is_plain(m_node)) wrong_type(allowed);
   const auto v = parse_integer<std::int64_t>(m_node.Scalar());
-  if (!v) fail(describe() + " is not an integer (allowed: " + allowed + ")");
+  if (!v) {
+    // Digits beyond 64 bits: out of range, not "not an integer"
+    const auto d = parse_double(m_node.Scalar());
+    const bool digits_only = m_node.Scalar().find_first_not_of("+-0123456789") == std::string::npos;
+    if (d && digits_only && !range.empty()) fail(describe() + " is out of range " + range);
+    fail(describe() + " is not an integer (allowed: " + allowed + ")");
+  }
   if (*v < lo || *v > hi) fail(describe() + " is out of range " + range);
   return *v;
 }
@@ -165,6 +262,7 @@ std::vector<Value> Value::list(const std::string& allowed, std::size_t min_size,
                                std::size_t max_size) const {
   if (!m_node.IsSequence()) wrong_type(allowed);
   const std::size_t n = m_node.size();
+  visit(n);
   if (n < min_size || n > max_size) {
     std::string count;
     if (min_size == max_size) count = "";
@@ -181,7 +279,17 @@ std::vector<Value> Value::list(const std::string& allowed, std::size_t min_size,
 }
 
 Value Value::child(const YAML::Node& n, const std::string& key, SourceMark key_mark) const {
-  return Value(n, m_path.empty() ? key : m_path + "." + key, m_doc, key_mark, true);
+  const std::string shown = key.size() > kMessageValueMax ? cut_for_message(key) : key;
+  return Value(n, m_path.empty() ? shown : m_path + "." + shown, m_doc, key_mark, true);
+}
+
+void Value::visit(std::size_t n) const {
+  m_doc->nodes_visited += n;
+  if (m_doc->nodes_visited > m_doc->node_budget) {
+    fail("the config expands to more than " + std::to_string(m_doc->node_budget) +
+         " nodes (aliases counted each time they are used; allowed: at most 1000000, or half "
+         "the file size in bytes when that is more)");
+  }
 }
 
 Value Value::element(const YAML::Node& n, std::size_t index) const {
@@ -192,20 +300,21 @@ Map Value::map(const std::string& allowed) const {
   if (!m_node.IsMap()) wrong_type(allowed);
   std::vector<std::pair<std::string, Value>> entries;
   std::vector<SourceMark> key_marks;
+  std::unordered_map<std::string, std::size_t> index;  // key -> entry, for duplicates
   for (const auto& kv : m_node) {  // kv: a pair of node handles, held by value
+    visit(1);
     const YAML::Node k = kv.first;
     const YAML::Mark km = k.Mark();
     const SourceMark key_mark{km.line + 1, km.column + 1};
     if (!k.IsScalar()) {
       throw ConfigError(m_doc->file, key_mark, m_path, "a key must be a plain word");
     }
-    const std::string key = k.Scalar();
-    for (std::size_t i = 0; i < entries.size(); ++i) {
-      if (entries[i].first == key) {
-        throw ConfigError(m_doc->file, key_mark, entries[i].second.path(),
-                          "duplicate key (first given at line " +
-                              std::to_string(key_marks[i].line) + ")");
-      }
+    const std::string& key = k.Scalar();
+    const auto [it, fresh] = index.emplace(key, entries.size());
+    if (!fresh) {
+      const SourceMark first = key_marks[it->second];
+      throw ConfigError(m_doc->file, key_mark, entries[it->second].second.path(),
+                        "duplicate key (first given at line " + std::to_string(first.line) + ")");
     }
     entries.emplace_back(key, child(kv.second, key, key_mark));
     key_marks.push_back(key_mark);

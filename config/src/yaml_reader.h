@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
@@ -18,11 +19,42 @@
 
 namespace tessera::config::detail {
 
-/// The file being parsed: what messages call it and what relative names resolve against.
+/// Bounds on what loading a config may cost (docs/config.md "Limits"):
+/// - a config file is at most kMaxConfigBytes (checked before reading it; yaml-cpp parses
+///   a few MB per second, so this also bounds the parse to about a second);
+/// - the walk over the tree visits at most node_budget(text size) list elements and mapping
+///   entries, an alias counted each time it is walked: max(kNodeBudgetBase, size / 2). A
+///   file without aliases needs at least two bytes per node ("1," in a flow list, "-\n" in a
+///   block list), so only alias expansion can reach the budget.
+inline constexpr std::size_t kMaxConfigBytes = std::size_t(4) << 20;  // 4 MiB
+inline constexpr std::size_t kNodeBudgetBase = 1'000'000;
+inline constexpr std::size_t node_budget(std::size_t text_bytes) {
+  return text_bytes / 2 > kNodeBudgetBase ? text_bytes / 2 : kNodeBudgetBase;
+}
+
+/// The file being parsed: what messages call it, what relative names resolve against, and
+/// how many nodes the walk has visited (the alias-expansion budget above).
 struct Document {
   std::string file;
   std::string base_dir;
+  std::size_t node_budget = kNodeBudgetBase;
+  mutable std::size_t nodes_visited = 0;
 };
+
+/// Where a second, non-empty YAML document starts in `text`, if there is one. Cheap when the
+/// text has no document marker (a line starting with `---` or `...`); otherwise the text is
+/// scanned once more by yaml-cpp's event parser, for two documents at most (yaml-cpp's own
+/// LoadAll can loop without end on malformed input). Throws YAML::Exception on bad syntax.
+std::optional<SourceMark> second_document(const std::string& text);
+
+/// Values echoed in messages are cut to this many characters, then "..." and the full length:
+/// `"aaaa..." (10485760 characters)`.
+inline constexpr std::size_t kMessageValueMax = 64;
+/// `s` as it may appear in a message: itself when short, else its first `max` characters,
+/// "..." and " (N characters)"; control characters are written as \xHH.
+std::string cut_for_message(std::string_view s, std::size_t max = kMessageValueMax);
+/// File paths in messages are cut at this length instead (a real path is shorter: PATH_MAX).
+inline constexpr std::size_t kMessagePathMax = 4096;
 
 /// An interval of allowed numbers, with its description for messages.
 struct Range {
@@ -100,6 +132,8 @@ class Value {
 
  private:
   [[noreturn]] void wrong_type(const std::string& allowed) const;
+  /// Counts `n` more visited nodes; throws here when the document's budget is exceeded.
+  void visit(std::size_t n) const;
   Vec3 triple(const char* shape, const Range& r) const;
   YAML::Node m_node;
   std::string m_path;

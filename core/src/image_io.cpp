@@ -7,10 +7,14 @@
 /// killed process, not against power loss (no fsync: in-situ output may be on a parallel file
 /// system where fsync per frame is expensive).
 #include <tessera/image_io.h>
+#include <tessera/regular_file.h>
+
+#include "exr_header.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <png.h>
@@ -65,6 +69,13 @@ void write_atomically(const char* what, const std::string& path, WriteFn&& write
 
 /// Checks that the buffers match width x height; throws naming the mismatch.
 void validate(const char* what, const std::string& path, const Image& img) {
+  // A NUL inside the name would silently write a shorter name (two formats onto one file)
+  if (path.empty() || path.find('\0') != std::string::npos) {
+    std::string shown;
+    for (const char c : path) shown += c == '\0' ? std::string("\\x00") : std::string(1, c);
+    throw std::runtime_error(std::string(what) + ": cannot write '" + shown +
+                             "': the path is empty or contains a NUL character");
+  }
   auto fail = [&](const std::string& fault) {
     throw std::runtime_error(std::string(what) + ": cannot write '" + path + "': " + fault);
   };
@@ -129,11 +140,32 @@ bool encode_png(std::FILE* file, int width, int height, const unsigned char* rgb
   return true;
 }
 
+/// OpenEXR input from an already opened, already checked regular file (the same descriptor
+/// that was checked, so the file cannot be swapped in between).
+class FdIStream final : public Imf::IStream {
+ public:
+  explicit FdIStream(const RegularFile& f) : Imf::IStream(f.path().c_str()), m_file(f) {}
+  bool read(char c[], int n) override {
+    if (n < 0 || std::uint64_t(n) > m_file.size() - std::min(m_pos, m_file.size()))
+      throw std::runtime_error("unexpected end of file at byte " + std::to_string(m_pos));
+    m_file.read_at(m_pos, c, static_cast<std::size_t>(n));
+    m_pos += static_cast<std::uint64_t>(n);
+    return m_pos < m_file.size();
+  }
+  std::uint64_t tellg() override { return m_pos; }
+  void seekg(std::uint64_t pos) override { m_pos = pos; }
+
+ private:
+  const RegularFile& m_file;
+  std::uint64_t m_pos = 0;
+};
+
 /// read_exr without the path context; throws the bare fault.
 Image read_exr_pixels(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw std::runtime_error("file does not exist");
-  Imf::InputFile file(path.c_str());
+  const RegularFile regular(path);  // a FIFO or a device is refused here, without blocking
+  detail::check_exr_header(regular);
+  FdIStream stream(regular);
+  Imf::InputFile file(stream);
   const Imf::ChannelList& channels = file.header().channels();
 
   // Required channels: R G B; report every missing one and what the file does have
@@ -207,6 +239,16 @@ void write_exr(const std::string& path, const Image& img) {
 Image read_exr(const std::string& path) {
   try {
     return read_exr_pixels(path);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("read_exr: cannot read '" + path + "': " + e.what());
+  }
+}
+
+ExrSize read_exr_size(const std::string& path) {
+  try {
+    const RegularFile regular(path);
+    const detail::ExrHeaderSummary s = detail::check_exr_header(regular);
+    return ExrSize{static_cast<int>(s.width), static_cast<int>(s.height)};
   } catch (const std::exception& e) {
     throw std::runtime_error("read_exr: cannot read '" + path + "': " + e.what());
   }

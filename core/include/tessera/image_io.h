@@ -4,14 +4,33 @@
 /// All functions throw std::runtime_error naming the path and the fault.
 #include <tessera/image.h>
 
+#include <cstdint>
 #include <string>
 
 namespace tessera {
 
 /// EXR, float32 channels R G B A, plus "variance" and "samples" when the image has them.
 void write_exr(const std::string& path, const Image& img);
-/// Reads R G B (A if present, else 1; variance/samples if present) from any EXR OpenEXR reads.
+/// Reads R G B (A if present, else 1; variance/samples if present) from a single-part,
+/// non-deep scanline or tiled EXR. `path` must be a regular file (a FIFO or a device is
+/// refused without blocking). Before anything is allocated the header is checked:
+/// - data window at most kMaxExrEdge pixels on each side and kMaxExrPixels in all;
+/// - uncompressed pixel bytes at most the file size (no compression) or kMaxExrCompression
+///   times the file size (any compression; deflate itself cannot exceed 1032:1);
+/// - the chunk offset table (8 bytes per scanline block or level-0 tile) fits in the file, and
+///   a tile is at most kMaxExrEdge per side and kMaxExrCompression times the file size;
+/// - every header attribute fits in the file.
+/// OpenEXR's own exceptions (corrupt data, truncated files) come out as std::runtime_error.
 Image read_exr(const std::string& path);
+/// The data window size read_exr would return, from the header alone (the same checks, no
+/// pixel allocation): for estimating memory before reading. Throws like read_exr.
+struct ExrSize {
+  int width = 0, height = 0;
+};
+ExrSize read_exr_size(const std::string& path);
+inline constexpr std::int64_t kMaxExrEdge = 16384;
+inline constexpr std::int64_t kMaxExrPixels = std::int64_t(1) << 27;  ///< 16384 x 8192
+inline constexpr double kMaxExrCompression = 1100.0;
 
 struct ToneMap {
   double exposure = 0.0;   ///< stops: pixel * 2^exposure before tone mapping

@@ -19,8 +19,12 @@ struct VolumeGeometry {
 };
 
 struct ImageDesc {
-  int width = 512, height = 512;
-  int spp = 16;                  ///< samples per pixel per render call
+  /// Largest width and height, and largest spp, that configs and the CLI accept
+  /// (docs/config.md "Limits"): 2^20 samples per pixel is already hours of work per image.
+  static constexpr int kMaxEdge = 16384;
+  static constexpr int kMaxSpp = 1 << 20;
+  int width = 512, height = 512;  ///< in [1, kMaxEdge]
+  int spp = 16;                  ///< samples per pixel per render call, in [1, kMaxSpp]
   /// Adaptive sampling, 0 = off: a pixel stops after min(spp, max(8, spp/16)) samples once the
   /// relative standard error of its mean luminance is below this (docs/physics.md).
   double target_error = 0.0;

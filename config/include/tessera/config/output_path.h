@@ -13,7 +13,9 @@
 namespace tessera::config {
 
 /// Throws std::invalid_argument naming the fault (unknown placeholder, bad spec, unmatched
-/// brace) in a pattern.
+/// brace, a control character such as NUL, a pattern ending in '/') in a pattern. A valid
+/// pattern expands to a non-empty file name with no control characters, so the extensions
+/// appended per format always give distinct paths.
 void validate_output_pattern(const std::string& pattern);
 
 /// The pattern with its placeholders replaced; throws std::invalid_argument like
