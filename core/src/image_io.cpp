@@ -7,11 +7,13 @@
 /// killed process, not against power loss (no fsync: in-situ output may be on a parallel file
 /// system where fsync per frame is expensive).
 #include <tessera/image_io.h>
+#include <tessera/signal_guard.h>
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
+#include <ImfStdIO.h>
 #include <ImfOutputFile.h>
 #include <png.h>
 #include <unistd.h>
@@ -45,6 +47,8 @@ std::string temp_path_for(const std::string& path) {
 /// `what` ("write_exr") and the path.
 template <class WriteFn>
 void write_atomically(const char* what, const std::string& path, WriteFn&& write) {
+  // A file-size limit or a closed pipe fails the write (EFBIG, EPIPE) instead of a signal
+  const BlockWriteSignals no_signals;
   const std::string tmp = temp_path_for(path);
   std::string fault;
   try {
@@ -202,6 +206,27 @@ void write_exr(const std::string& path, const Image& img) {
     file.setFrameBuffer(fb);
     file.writePixels(img.height);
   });
+}
+
+std::pair<std::int64_t, std::int64_t> read_exr_size(const std::string& path) {
+  try {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error("not a regular file");
+    // Magic number and version field, then the first header's attributes: no pixel buffers
+    Imf::StdIFStream in(path.c_str());
+    char head[8];
+    in.read(head, 8);
+    const unsigned char magic[4] = {0x76, 0x2f, 0x31, 0x01};
+    if (std::memcmp(head, magic, 4) != 0) throw std::runtime_error("not an OpenEXR file");
+    int version = 0;
+    for (int i = 3; i >= 0; --i) version = (version << 8) | static_cast<unsigned char>(head[4 + i]);
+    Imf::Header header;
+    header.readFrom(in, version);
+    const Imath::Box2i dw = header.dataWindow();
+    return {static_cast<std::int64_t>(dw.max.x) - dw.min.x + 1, static_cast<std::int64_t>(dw.max.y) - dw.min.y + 1};
+  } catch (const std::exception& e) {
+    throw std::runtime_error("read_exr: cannot read '" + path + "': " + e.what());
+  }
 }
 
 Image read_exr(const std::string& path) {

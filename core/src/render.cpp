@@ -18,7 +18,35 @@
 #include <stdexcept>
 
 namespace tessera {
+
+DeadlineExceeded::DeadlineExceeded(std::size_t tiles_done, std::size_t tiles_total)
+    : std::runtime_error("render deadline passed with " + std::to_string(tiles_done) + "/" +
+                         std::to_string(tiles_total) + " tiles done"),
+      m_done(tiles_done),
+      m_total(tiles_total) {}
+
 namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// The render's deadline (RenderOptions::deadline), polled before each work item and between
+/// passes over a tile: one relaxed load, plus a clock read when a deadline is set. Never per
+/// sample. Once passed, every later poll on every thread says stop.
+class StopCheck {
+ public:
+  explicit StopCheck(Clock::time_point deadline) : m_deadline(deadline) {}
+  bool stop() {
+    if (m_stopped.load(std::memory_order_relaxed)) return true;
+    if (m_deadline == Clock::time_point::max() || Clock::now() < m_deadline) return false;
+    m_stopped.store(true, std::memory_order_relaxed);
+    return true;
+  }
+  bool stopped() const { return m_stopped.load(std::memory_order_relaxed); }
+
+ private:
+  Clock::time_point m_deadline;
+  std::atomic<bool> m_stopped{false};
+};
 
 /// Adds one finite sample to a pixel's sums.
 inline void add_sample(PixelSums& px, const SampleResult& r) {
@@ -87,8 +115,8 @@ class TileSampler {
 /// Uniform sampling: all spp estimates of the tile, sample-major.
 template <class T, Shading S, bool E>
 void sample_uniform(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const Tile& tile,
-                    Film& film, RenderStats& st) {
-  for (int si = 0; si < s.desc.image.spp; ++si)
+                    Film& film, RenderStats& st, StopCheck& stop) {
+  for (int si = 0; si < s.desc.image.spp && !stop.stop(); ++si)
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
         PixelSums& px = film.at(x, y);
@@ -103,7 +131,7 @@ void sample_uniform(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const 
 /// multiples of the block, pilot-sized otherwise.
 template <class T, Shading S, bool E>
 void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const Tile& tile,
-                     Film& film, RenderStats& st) {
+                     Film& film, RenderStats& st, StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.desc.image.width, height = s.desc.image.height, spp = s.desc.image.spp;
   const int pilot = adaptive_pilot(spp);
@@ -111,6 +139,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
   const auto inside = [&](int x, int y) { return x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1; };
   for (int by = tile.y0 / B * B; by < tile.y1; by += B) {
     for (int bx = tile.x0 / B * B; bx < tile.x1; bx += B) {
+      if (stop.stop()) return;
       const int bw = std::min(B, width - bx), bh = std::min(B, height - by);
       // Pilot: every pixel of the block, in raster order.
       for (int j = 0; j < bh; ++j) {
@@ -152,20 +181,20 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
 /// `culled`: the tile's culling verdict.
 template <class T, Shading S, bool E>
 void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium,
-                 const Tile& tile, bool culled, Film& film, RenderStats& st) {
+                 const Tile& tile, bool culled, Film& film, RenderStats& st, StopCheck& stop) {
   TileSampler<T, S, E> ts(s, medium, culled);
-  if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, tile, film, st);
-  else sample_uniform(ts, s, tile, film, st);
+  if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, tile, film, st, stop);
+  else sample_uniform(ts, s, tile, film, st, stop);
   ts.flush(st);
 }
 
 using TileFn = void (*)(const PreparedSceneImpl&, const void* medium, const Tile&, bool culled, Film&,
-                        RenderStats&);
+                        RenderStats&, StopCheck&);
 
 template <class T, Shading S, bool E>
 void tile_entry(const PreparedSceneImpl& s, const void* medium, const Tile& t, bool culled, Film& f,
-                RenderStats& st) {
-  render_tile<T, S, E>(s, *static_cast<const GridMedium<T>*>(medium), t, culled, f, st);
+                RenderStats& st, StopCheck& stop) {
+  render_tile<T, S, E>(s, *static_cast<const GridMedium<T>*>(medium), t, culled, f, st, stop);
 }
 
 /// A unit of parallel work: one tile, or a band of rows of one.
@@ -259,12 +288,14 @@ double preview_scale(const PreparedSceneImpl& s, const GridMedium<T>& medium, in
   const int cols = (s.desc.image.width + kAdaptiveBlock - 1) / kAdaptiveBlock;
   std::vector<double> sigma(rows, 0.0), lum(rows, 0.0);
   std::vector<std::uint64_t> count(rows, 0);
+  StopCheck stop(s.desc.options.deadline);
   tbb::task_arena arena(threads);
   arena.execute([&] {
     tbb::parallel_for(0, rows, [&](int by) {
-      preview_row<T, S, E>(s, medium, by, &sigma[by], &lum[by], &count[by]);
+      if (!stop.stop()) preview_row<T, S, E>(s, medium, by, &sigma[by], &lum[by], &count[by]);
     });
   });
+  if (stop.stopped()) throw DeadlineExceeded(0, s.tiles.size());
   // Row sums added in row order: the same for any thread count.
   double sigma_sum = 0.0, lum_sum = 0.0;
   std::uint64_t n = 0;
@@ -299,6 +330,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   for (const WorkItem& w : work) bands_left[w.tile].fetch_add(1, std::memory_order_relaxed);
   std::atomic<int> done{0};
   std::atomic<bool> reporting{false};
+  StopCheck stop(s.desc.options.deadline);
   const auto t_start = std::chrono::steady_clock::now();
   dispatch_dtype(s.field, [&](auto view) {
     using T = typename decltype(view)::value_type;
@@ -309,9 +341,11 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), 1),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                            if (stop.stop()) return;  // the deadline: skip the rest
                             const WorkItem& w = work[i];
                             const std::size_t tile = static_cast<std::size_t>(tile_indices[w.tile]);
-                            fn(s, &medium, w.rect, s.tile_culled[tile] != 0, film, per_item[i]);
+                            fn(s, &medium, w.rect, s.tile_culled[tile] != 0, film, per_item[i], stop);
+                            if (stop.stopped()) return;  // possibly cut short: not done
                             if (bands_left[w.tile].fetch_sub(1) != 1) continue;
                             const int d = ++done;
                             if (progress && !reporting.exchange(true)) {
@@ -333,6 +367,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   stats.nan_voxels_seen = s.grid.nan_vertices();  // a property of the field, counted at prepare
   stats.threads = threads;
   stats.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  if (stop.stopped()) throw DeadlineExceeded(static_cast<std::size_t>(done.load()), tile_indices.size());
 }
 
 double adaptive_preview_scale(const PreparedSceneImpl& s) {

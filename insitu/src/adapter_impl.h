@@ -39,6 +39,7 @@ struct Adapter::Impl {
   std::string m_error;
   std::vector<RenderResult> m_results;
   bool m_quiet = false;
+  bool m_closed = false;  ///< close() ended an open adapter (execute says so)
 
  private:
   enum class Decision : unsigned char { Skip, Fire, WhenTrigger };

@@ -65,6 +65,7 @@ class MpiParallelContext final : public ParallelContext {
 
   int rank() const override { return m_rank; }
   int size() const override { return m_size; }
+  int ranks_on_node() const override { return m_node_size; }
   bool agree(bool ok) override;
   std::pair<double, double> range(double local_min, double local_max) override;
   FieldView assemble(const FieldView& local, const GlobalPlacement& where) override;

@@ -1,10 +1,14 @@
 #pragma once
 /// Reading and writing images. Writers go through a temporary file in the same directory and
 /// rename it into place, so a crash never leaves a half-written image under the final name.
-/// All functions throw std::runtime_error naming the path and the fault.
+/// All functions throw std::runtime_error naming the path and the fault. Writers hold
+/// BlockWriteSignals (signal_guard.h): a file-size limit or a closed pipe is an error, never
+/// a SIGXFSZ / SIGPIPE in the caller; the temporary file is removed on any failure.
 #include <tessera/image.h>
 
+#include <cstdint>
 #include <string>
+#include <utility>
 
 namespace tessera {
 
@@ -12,6 +16,9 @@ namespace tessera {
 void write_exr(const std::string& path, const Image& img);
 /// Reads R G B (A if present, else 1; variance/samples if present) from any EXR OpenEXR reads.
 Image read_exr(const std::string& path);
+/// Width and height of an EXR's data window, from its header alone (no pixel is read or
+/// allocated): for estimating the memory read_exr will need.
+std::pair<std::int64_t, std::int64_t> read_exr_size(const std::string& path);
 
 struct ToneMap {
   double exposure = 0.0;   ///< stops: pixel * 2^exposure before tone mapping

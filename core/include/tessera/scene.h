@@ -7,6 +7,7 @@
 #include <tessera/tiles.h>
 #include <tessera/transfer_function.h>
 
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct RenderOptions {
   int tile = 8;                  ///< tile edge in pixels; 0 = scanline
   TileOrder order = TileOrder::RowMajor;
   int threads = 0;               ///< 0 = all hardware threads
+  /// Wall-clock deadline of the render (steady clock); max() = none. render_tiles checks it
+  /// before each tile and between passes over a tile (never per sample), prepare() between
+  /// rows of the adaptive preview; past it they stop and throw DeadlineExceeded (render.h).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 struct SceneDesc {
