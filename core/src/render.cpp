@@ -112,6 +112,19 @@ class TileSampler {
   bool m_culled;
 };
 
+/// Calls fn(si) for si in [begin, end) in order, polling the deadline before each run of
+/// kPollSamples samples (a pixel's adaptive samples can number spp). False if stopped.
+constexpr std::int64_t kPollSamples = 1024;
+template <class Fn>
+bool for_samples(int begin, int end, StopCheck& stop, Fn&& fn) {
+  for (std::int64_t c = begin; c < end; c += kPollSamples) {
+    if (stop.stop()) return false;
+    const int e = static_cast<int>(std::min<std::int64_t>(end, c + kPollSamples));
+    for (int si = static_cast<int>(c); si < e; ++si) fn(si);
+  }
+  return true;
+}
+
 /// Uniform sampling: all spp estimates of the tile, sample-major.
 template <class T, Shading S, bool E>
 void sample_uniform(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const Tile& tile,
@@ -148,7 +161,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
           PilotSums& p = sums[static_cast<std::size_t>(j * B + i)];
           p = PilotSums{};
           const bool mine = inside(x, y);
-          for (int si = 0; si < pilot; ++si) {
+          const bool go_on = for_samples(0, pilot, stop, [&](int si) {
             SampleResult r;
             const SampleResult* kept = nullptr;
             if (mine) {
@@ -157,7 +170,8 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
               kept = &r;
             }
             if (kept) p.add(luminance(kept->L));
-          }
+          });
+          if (!go_on) return;
         }
       }
       // The rest of each own pixel's samples, counted from the other pixels' pilots.
@@ -170,7 +184,8 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
             if (q != j * B + i && q % B < bw) others.add(sums[static_cast<std::size_t>(q)]);
           const int n = adaptive_count(others, pilot, spp, s.adaptive_scale);
           PixelSums& px = film.at(x, y);
-          for (int si = pilot; si < n; ++si) ts.accumulate(x, y, px, static_cast<std::uint64_t>(si), st);
+          if (!for_samples(pilot, n, stop, [&](int si) { ts.accumulate(x, y, px, static_cast<std::uint64_t>(si), st); }))
+            return;
         }
       }
     }
@@ -263,7 +278,7 @@ GridMedium<T> make_medium(const PreparedSceneImpl& s, TypedFieldView<T> view) {
 /// the luminance of `pilot` samples of its middle pixel, and those samples' luminance sum.
 template <class T, Shading S, bool E>
 void preview_row(const PreparedSceneImpl& s, const GridMedium<T>& medium, int by, double* sigma_sum,
-                 double* lum_sum, std::uint64_t* count) {
+                 double* lum_sum, std::uint64_t* count, StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.desc.image.width, height = s.desc.image.height;
   const int pilot = adaptive_pilot(s.desc.image.spp);
@@ -272,10 +287,11 @@ void preview_row(const PreparedSceneImpl& s, const GridMedium<T>& medium, int by
   for (int bx = 0; bx * B < width; ++bx) {
     const int x = std::min(bx * B + B / 2, width - 1);
     PilotSums p;
-    for (int i = 0; i < pilot; ++i) {
+    const bool go_on = for_samples(0, pilot, stop, [&](int i) {
       SampleResult r;
       if (ts.draw(x, y, kPreviewIndexBase + static_cast<std::uint64_t>(i), r, false)) p.add(luminance(r.L));
-    }
+    });
+    if (!go_on) return;
     *sigma_sum += p.sigma();
     *lum_sum += p.lum;
     *count += p.n;
@@ -292,7 +308,7 @@ double preview_scale(const PreparedSceneImpl& s, const GridMedium<T>& medium, in
   tbb::task_arena arena(threads);
   arena.execute([&] {
     tbb::parallel_for(0, rows, [&](int by) {
-      if (!stop.stop()) preview_row<T, S, E>(s, medium, by, &sigma[by], &lum[by], &count[by]);
+      if (!stop.stop()) preview_row<T, S, E>(s, medium, by, &sigma[by], &lum[by], &count[by], stop);
     });
   });
   if (stop.stopped()) throw DeadlineExceeded(0, s.tiles.size());

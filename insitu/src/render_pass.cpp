@@ -123,11 +123,7 @@ class Pass {
           scene.options = config::build_render_options(m_spec, m_cfg.global);
           scene.options.frame = static_cast<std::uint64_t>(m_call.step);
           scene.options.deadline = m_deadline;
-          try {
-            prepared = prepare_scene(scene);
-          } catch (const DeadlineExceeded& e) {
-            time_limit_passed(e);
-          }
+          prepared = prepare_scene(scene);
           if (m_spec.output.cinema)
             views = cinema_views(*m_spec.output.cinema, scene.camera, m_binding.global_bounds);
         }))
@@ -265,13 +261,17 @@ class Pass {
     return range;
   }
 
-  /// prepare() with the field's summary for the scene's macrocell edge when there is one;
+  /// prepare() (scene.options.deadline set) with the field's summary for the scene's macrocell edge when there is one;
   /// keeps a summary it had to make for the next prepare of the field.
   PreparedScene prepare_scene(const SceneDesc& scene) {
     SummaryCache::Entry& entry = m_summaries.entry(m_field_name);
     const auto t0 = Clock::now();
-    PreparedScene prepared =
-        prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));
+    PreparedScene prepared;
+    try {
+      prepared = prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));
+    } catch (const DeadlineExceeded& e) {  // the adaptive preview ran past the time limit
+      time_limit_passed(e);
+    }
     m_out.result.prepare_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     if (!prepared.summary_reused()) {
       ++m_out.result.field_passes;

@@ -106,6 +106,26 @@ TEST_CASE("time_limit: a render far too long fails after the limit, writes nothi
   CHECK(tessera_close(a) == TESSERA_OK);
 }
 
+TEST_CASE("time_limit: adaptive sampling (preview in prepare, then tiles) stops too", "[robustness][limits]") {
+  TempDir dir;
+  const std::string out = dir.file("out");
+  std::string render = render_yaml("adaptive", "", "", "density", 64, 2000000);
+  const std::string spp = "spp: 2000000}";
+  render.replace(render.find(spp), spp.size(), "spp: 2000000, target_error: 0.0001}");
+  const std::string cfg = dir.write("a.yaml", config_yaml(out, render, "  time_limit: 1\n"));
+  tessera_adapter* a = nullptr;
+  REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
+  const std::vector<float> v = to_float(blob_values(16));
+  const tessera_field f = dense_field("density", v.data(), 16);
+  const tessera_grid g = unit_grid(16);
+  const auto t0 = Clock::now();
+  CHECK(tessera_execute(a, 0, 0.0, &g, &f, 1) == TESSERA_ERROR_RENDER);
+  CHECK(seconds_since(t0) < 15.0);
+  CHECK_THAT(std::string(tessera_last_error(a)), Contains("passed tessera.time_limit = 1 s"));
+  CHECK_FALSE(fs::exists(out + "/adaptive_0000.exr"));
+  tessera_close(a);
+}
+
 TEST_CASE("time_limit covers every Cinema view of a render", "[robustness][limits]") {
   TempDir dir;
   const std::vector<float> v = to_float(blob_values(16));
