@@ -34,8 +34,9 @@ struct RenderOptions {
   TileOrder order = TileOrder::RowMajor;
   int threads = 0;               ///< 0 = all hardware threads
   /// Wall-clock deadline of the render (steady clock); max() = none. render_tiles checks it
-  /// before each tile and between passes over a tile (never per sample), prepare() between
-  /// rows of the adaptive preview; past it they stop and throw DeadlineExceeded (render.h).
+  /// before each tile, between passes over a tile and every 1024 samples of an adaptive
+  /// pixel, prepare() every 1024 samples of the adaptive preview (never per sample); past it
+  /// they stop and throw DeadlineExceeded (render.h).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
