@@ -46,8 +46,7 @@ constexpr const char* kUnknownMessage = "not an adapter returned by tessera_open
 
 /// The adapter's Impl if the handle is open; otherwise null, with the reason recorded for
 /// tessera_last_error(NULL) as "function: reason" and *status set.
-tessera_adapter::Impl* open_impl(tessera_adapter* a, const char* function,
-                                          tessera_status* status) noexcept;
+tessera_adapter::Impl* open_impl(tessera_adapter* a, const char* function, tessera_status* status) noexcept;
 
 /// The calling thread's last tessera_open / tessera_open_with_output_dir failure
 /// (tessera_last_error(NULL)).
@@ -96,8 +95,7 @@ tessera_status open_adapter(const char* function, const char* yaml_path, int mpi
   return TESSERA_OK;
 }
 
-tessera_adapter::Impl* open_impl(tessera_adapter* a, const char* function,
-                                          tessera_status* status) noexcept {
+tessera_adapter::Impl* open_impl(tessera_adapter* a, const char* function, tessera_status* status) noexcept {
   *status = TESSERA_ERROR_CONFIG;
   if (!a) {
     set_open_error("adapter is NULL", function);
