@@ -28,12 +28,22 @@ T to_number(const std::string& flag, const std::string& text, T lo, T hi) {
   return v;
 }
 
+/// Seconds in [0, 31536000] (a year), as tessera.time_limit.
+double to_seconds(const std::string& flag, const std::string& text) {
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty() || !(v >= 0.0 && v <= 31536000.0))
+    throw std::runtime_error(flag + ": \"" + text.substr(0, 40) + "\" is not a number of seconds in [0, 31536000]");
+  return v;
+}
+
 }  // namespace
 
 const char* usage() {
   return "usage: tessera-render SCENE.yaml [--render NAME] [-o OUT] [--spp N]\n"
          "                      [--width W --height H] [--tile N | --scanline] [--threads N]\n"
-         "                      [--seed N] [--stats FILE.json] [--progress | --quiet]\n"
+         "                      [--seed N] [--time-limit SECONDS] [--stats FILE.json]\n"
+         "                      [--progress | --quiet]\n"
          "\n"
          "Renders every entry of `renders:` in SCENE.yaml (or only --render NAME) from the\n"
          "raw volume named by its `volume:` block. Flags override the YAML.\n"
@@ -48,6 +58,8 @@ const char* usage() {
          "  --scanline         scanline order (same as --tile 0)\n"
          "  --threads N        worker threads (0 = all hardware threads)\n"
          "  --seed N           random seed\n"
+         "  --time-limit S     seconds each render may take (0 = none; default\n"
+         "                     tessera.time_limit); past it: error, no output file\n"
          "  --stats FILE.json  write render statistics as JSON\n"
          "  --progress         show a progress bar (default when stderr is a terminal)\n"
          "  --quiet            print nothing but errors\n"
@@ -91,6 +103,7 @@ Args parse_args(int argc, const char* const* argv) {
     else if (arg == "--seed")
       a.seed = to_number<std::uint64_t>(arg, value(), 0, std::numeric_limits<std::uint64_t>::max());
     else if (arg == "--stats") a.stats = value();
+    else if (arg == "--time-limit") a.time_limit = to_seconds(arg, value());
     else if (arg == "--progress") { no_value(); a.progress = true; }
     else if (arg == "--quiet" || arg == "-q") { no_value(); a.quiet = true; }
     else if (arg.size() > 1 && arg[0] == '-') throw std::runtime_error("unknown option " + shown(arg) + " (see --help)");

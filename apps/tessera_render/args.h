@@ -13,6 +13,7 @@ struct Args {
   std::optional<int> spp, width, height, tile, threads;  ///< --scanline sets tile = 0
   std::optional<std::uint64_t> seed;
   std::optional<std::string> stats;  ///< --stats FILE.json
+  std::optional<double> time_limit;  ///< --time-limit SECONDS (overrides tessera.time_limit)
   bool progress = false;             ///< --progress
   bool quiet = false;                ///< --quiet
   bool help = false;                 ///< -h / --help: print usage, exit 0

@@ -4,9 +4,15 @@
 
 #include <tessera/config/build_scene.h>
 #include <tessera/film.h>
+#include <tessera/image_io.h>
+#include <tessera/memory_estimate.h>
 #include <tessera/render.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <stdexcept>
+#include <thread>
 
 namespace tessera::cli {
 
@@ -37,11 +43,54 @@ SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
   return scene;
 }
 
+void check_memory(const config::Config& cfg, const config::RenderSpec& spec, const VolumeInfo& volume,
+                  const Args& args, const std::vector<OutputTarget>& targets) {
+  RenderFootprint f;
+  f.width = args.width.value_or(spec.image.width);
+  f.height = args.height.value_or(spec.image.height);
+  f.tile = args.tile.value_or(spec.integrator.tile);
+  const int threads = args.threads.value_or(cfg.global.threads);
+  f.threads = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  f.variance = spec.output.variance;
+  f.samples = spec.output.samples;
+  f.exr = f.png = false;
+  for (const OutputTarget& t : targets) (t.format == config::ImageFormat::Exr ? f.exr : f.png) = true;
+  for (int a = 0; a < 3; ++a) f.field_dims[a] = volume.view.dims[a];
+  f.macrocell_edge = majorant_edge(volume.view, spec.integrator.desc);
+  if (spec.background.type == BackgroundType::EnvMap) {
+    const auto [w, h] = read_exr_size(spec.background.file);  // the header only
+    f.envmap_width = w;
+    f.envmap_height = h;
+  }
+  const MemoryEstimate estimate = estimate_render_memory(f);
+  const std::int64_t mb = cfg.global.memory_limit_mb;
+  const std::uint64_t limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(1);
+  if (estimate.total() <= limit) return;
+  throw std::runtime_error(
+      "render '" + spec.name + "' needs an estimated " + estimate.describe() + ", more than " +
+      (mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
+              : "the default tessera.memory_limit_mb (half of the machine's " +
+                    format_bytes(physical_memory_bytes()) + ": " + format_bytes(limit) + ")"));
+}
+
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
                         VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress) {
   using Clock = std::chrono::steady_clock;
-  const SceneDesc scene = scene_for(cfg, spec, volume, args);
+  // Limits: the memory estimate before any allocation (the envmap included), then the clock
+  check_memory(cfg, spec, volume, args, targets);
+  const auto t_begin = Clock::now();
+  const double time_limit = args.time_limit.value_or(cfg.global.time_limit);
+  SceneDesc scene = scene_for(cfg, spec, volume, args);
+  if (time_limit > 0.0)
+    scene.options.deadline = t_begin + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(time_limit));
+  const auto time_limit_passed = [&](const DeadlineExceeded& e) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "render '%s' passed %s = %g s after %.2f s (%zu/%zu tiles done); no image written",
+                  spec.name.c_str(), args.time_limit ? "--time-limit" : "tessera.time_limit", time_limit,
+                  std::chrono::duration<double>(Clock::now() - t_begin).count(), e.tiles_done(), e.tiles_total());
+    return std::runtime_error(buf);
+  };
 
   RenderRecord rec;
   rec.name = spec.name;
@@ -51,14 +100,24 @@ RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spe
 
   // Prepare (majorants, tables, tiles), then render every tile
   const auto t0 = Clock::now();
-  const PreparedScene prepared = prepare(volume.view, scene, volume.summary);
+  PreparedScene prepared;
+  try {
+    prepared = prepare(volume.view, scene, volume.summary);
+  } catch (const DeadlineExceeded& e) {
+    throw time_limit_passed(e);
+  }
   rec.prepare_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   volume.summary = prepared.summary();
 
   Film film(scene.image.width, scene.image.height);
   ProgressBar bar(spec.name, static_cast<int>(prepared.tiles().size()), show_progress);
   RenderStats stats;
-  render(prepared, film, stats, [&bar](int done) { bar.update(done); });
+  try {
+    render(prepared, film, stats, [&bar](int done) { bar.update(done); });
+  } catch (const DeadlineExceeded& e) {
+    bar.finish();
+    throw time_limit_passed(e);
+  }
   bar.finish();
   stats.nan_voxels_seen = volume.nan_voxels;
   rec.stats = stats;

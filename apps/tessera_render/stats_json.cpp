@@ -1,5 +1,7 @@
 #include "stats_json.h"
 
+#include <tessera/signal_guard.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -131,6 +133,7 @@ void write_stats_json(const std::string& path, const std::vector<RenderRecord>& 
   const std::filesystem::path p(path);
   std::error_code ec;
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path(), ec);
+  const BlockWriteSignals no_signals;  // a file-size limit fails the write, not the process
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << stats_json(records);
   out.close();

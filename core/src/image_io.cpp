@@ -10,12 +10,14 @@
 #include <tessera/regular_file.h>
 
 #include "exr_header.h"
+#include <tessera/signal_guard.h>
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfIO.h>
 #include <ImfInputFile.h>
+#include <ImfStdIO.h>
 #include <ImfOutputFile.h>
 #include <png.h>
 #include <unistd.h>
@@ -49,6 +51,8 @@ std::string temp_path_for(const std::string& path) {
 /// `what` ("write_exr") and the path.
 template <class WriteFn>
 void write_atomically(const char* what, const std::string& path, WriteFn&& write) {
+  // A file-size limit or a closed pipe fails the write (EFBIG, EPIPE) instead of a signal
+  const BlockWriteSignals no_signals;
   const std::string tmp = temp_path_for(path);
   std::string fault;
   try {

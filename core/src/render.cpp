@@ -19,6 +19,13 @@
 #include <stdexcept>
 
 namespace tessera {
+
+DeadlineExceeded::DeadlineExceeded(std::size_t tiles_done, std::size_t tiles_total)
+    : std::runtime_error("render deadline passed with " + std::to_string(tiles_done) + "/" +
+                         std::to_string(tiles_total) + " tiles done"),
+      m_done(tiles_done),
+      m_total(tiles_total) {}
+
 namespace {
 
 /// Worker threads for a render: options.threads (0 = the current arena's concurrency), never
@@ -30,6 +37,27 @@ int render_threads(const RenderOptions& o) {
   const int want = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   return std::clamp(want, 1, cap);
 }
+
+using Clock = std::chrono::steady_clock;
+
+/// The render's deadline (RenderOptions::deadline), polled before each work item and between
+/// passes over a tile: one relaxed load, plus a clock read when a deadline is set. Never per
+/// sample. Once passed, every later poll on every thread says stop.
+class StopCheck {
+ public:
+  explicit StopCheck(Clock::time_point deadline) : m_deadline(deadline) {}
+  bool stop() {
+    if (m_stopped.load(std::memory_order_relaxed)) return true;
+    if (m_deadline == Clock::time_point::max() || Clock::now() < m_deadline) return false;
+    m_stopped.store(true, std::memory_order_relaxed);
+    return true;
+  }
+  bool stopped() const { return m_stopped.load(std::memory_order_relaxed); }
+
+ private:
+  Clock::time_point m_deadline;
+  std::atomic<bool> m_stopped{false};
+};
 
 /// Adds one finite sample to a pixel's sums.
 inline void add_sample(PixelSums& px, const SampleResult& r) {
@@ -96,11 +124,24 @@ class TileSampler {
   bool m_culled;
 };
 
+/// Calls fn(si) for si in [begin, end) in order, polling the deadline before each run of
+/// kPollSamples samples (a pixel's adaptive samples can number spp). False if stopped.
+constexpr std::int64_t kPollSamples = 1024;
+template <class Fn>
+bool for_samples(int begin, int end, StopCheck& stop, Fn&& fn) {
+  for (std::int64_t c = begin; c < end; c += kPollSamples) {
+    if (stop.stop()) return false;
+    const int e = static_cast<int>(std::min<std::int64_t>(end, c + kPollSamples));
+    for (int si = static_cast<int>(c); si < e; ++si) fn(si);
+  }
+  return true;
+}
+
 /// Uniform sampling: all spp estimates of the tile, sample-major.
 template <class T, Shading S, bool E>
 void sample_uniform(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const Tile& tile,
-                    Film& film, RenderStats& st) {
-  for (int si = 0; si < s.desc.image.spp; ++si)
+                    Film& film, RenderStats& st, StopCheck& stop) {
+  for (int si = 0; si < s.desc.image.spp && !stop.stop(); ++si)
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
         PixelSums& px = film.at(x, y);
@@ -115,7 +156,7 @@ void sample_uniform(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const 
 /// multiples of the block, pilot-sized otherwise.
 template <class T, Shading S, bool E>
 void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const Tile& tile,
-                     Film& film, RenderStats& st) {
+                     Film& film, RenderStats& st, StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.desc.image.width, height = s.desc.image.height, spp = s.desc.image.spp;
   const int pilot = adaptive_pilot(spp);
@@ -123,6 +164,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
   const auto inside = [&](int x, int y) { return x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1; };
   for (int by = tile.y0 / B * B; by < tile.y1; by += B) {
     for (int bx = tile.x0 / B * B; bx < tile.x1; bx += B) {
+      if (stop.stop()) return;
       const int bw = std::min(B, width - bx), bh = std::min(B, height - by);
       // Pilot: every pixel of the block, in raster order.
       for (int j = 0; j < bh; ++j) {
@@ -131,7 +173,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
           PilotSums& p = sums[static_cast<std::size_t>(j * B + i)];
           p = PilotSums{};
           const bool mine = inside(x, y);
-          for (int si = 0; si < pilot; ++si) {
+          const bool go_on = for_samples(0, pilot, stop, [&](int si) {
             SampleResult r;
             const SampleResult* kept = nullptr;
             if (mine) {
@@ -140,7 +182,8 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
               kept = &r;
             }
             if (kept) p.add(luminance(kept->L));
-          }
+          });
+          if (!go_on) return;
         }
       }
       // The rest of each own pixel's samples, counted from the other pixels' pilots.
@@ -153,7 +196,8 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
             if (q != j * B + i && q % B < bw) others.add(sums[static_cast<std::size_t>(q)]);
           const int n = adaptive_count(others, pilot, spp, s.adaptive_scale);
           PixelSums& px = film.at(x, y);
-          for (int si = pilot; si < n; ++si) ts.accumulate(x, y, px, static_cast<std::uint64_t>(si), st);
+          if (!for_samples(pilot, n, stop, [&](int si) { ts.accumulate(x, y, px, static_cast<std::uint64_t>(si), st); }))
+            return;
         }
       }
     }
@@ -164,20 +208,20 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
 /// `culled`: the tile's culling verdict.
 template <class T, Shading S, bool E>
 void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium,
-                 const Tile& tile, bool culled, Film& film, RenderStats& st) {
+                 const Tile& tile, bool culled, Film& film, RenderStats& st, StopCheck& stop) {
   TileSampler<T, S, E> ts(s, medium, culled);
-  if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, tile, film, st);
-  else sample_uniform(ts, s, tile, film, st);
+  if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, tile, film, st, stop);
+  else sample_uniform(ts, s, tile, film, st, stop);
   ts.flush(st);
 }
 
 using TileFn = void (*)(const PreparedSceneImpl&, const void* medium, const Tile&, bool culled, Film&,
-                        RenderStats&);
+                        RenderStats&, StopCheck&);
 
 template <class T, Shading S, bool E>
 void tile_entry(const PreparedSceneImpl& s, const void* medium, const Tile& t, bool culled, Film& f,
-                RenderStats& st) {
-  render_tile<T, S, E>(s, *static_cast<const GridMedium<T>*>(medium), t, culled, f, st);
+                RenderStats& st, StopCheck& stop) {
+  render_tile<T, S, E>(s, *static_cast<const GridMedium<T>*>(medium), t, culled, f, st, stop);
 }
 
 /// A unit of parallel work: one tile, or a band of rows of one.
@@ -247,7 +291,7 @@ GridMedium<T> make_medium(const PreparedSceneImpl& s, TypedFieldView<T> view) {
 /// the luminance of `pilot` samples of its middle pixel, and those samples' luminance sum.
 template <class T, Shading S, bool E>
 void preview_row(const PreparedSceneImpl& s, const GridMedium<T>& medium, int by, double* sigma_sum,
-                 double* lum_sum, std::uint64_t* count) {
+                 double* lum_sum, std::uint64_t* count, StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.desc.image.width, height = s.desc.image.height;
   const int pilot = adaptive_pilot(s.desc.image.spp);
@@ -256,10 +300,11 @@ void preview_row(const PreparedSceneImpl& s, const GridMedium<T>& medium, int by
   for (int bx = 0; bx * B < width; ++bx) {
     const int x = std::min(bx * B + B / 2, width - 1);
     PilotSums p;
-    for (int i = 0; i < pilot; ++i) {
+    const bool go_on = for_samples(0, pilot, stop, [&](int i) {
       SampleResult r;
       if (ts.draw(x, y, kPreviewIndexBase + static_cast<std::uint64_t>(i), r, false)) p.add(luminance(r.L));
-    }
+    });
+    if (!go_on) return;
     *sigma_sum += p.sigma();
     *lum_sum += p.lum;
     *count += p.n;
@@ -272,12 +317,14 @@ double preview_scale(const PreparedSceneImpl& s, const GridMedium<T>& medium, in
   const int cols = (s.desc.image.width + kAdaptiveBlock - 1) / kAdaptiveBlock;
   std::vector<double> sigma(rows, 0.0), lum(rows, 0.0);
   std::vector<std::uint64_t> count(rows, 0);
+  StopCheck stop(s.desc.options.deadline);
   tbb::task_arena arena(threads);
   arena.execute([&] {
     tbb::parallel_for(0, rows, [&](int by) {
-      preview_row<T, S, E>(s, medium, by, &sigma[by], &lum[by], &count[by]);
+      if (!stop.stop()) preview_row<T, S, E>(s, medium, by, &sigma[by], &lum[by], &count[by], stop);
     });
   });
+  if (stop.stopped()) throw DeadlineExceeded(0, s.tiles.size());
   // Row sums added in row order: the same for any thread count.
   double sigma_sum = 0.0, lum_sum = 0.0;
   std::uint64_t n = 0;
@@ -311,6 +358,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   for (const WorkItem& w : work) bands_left[w.tile].fetch_add(1, std::memory_order_relaxed);
   std::atomic<int> done{0};
   std::atomic<bool> reporting{false};
+  StopCheck stop(s.desc.options.deadline);
   const auto t_start = std::chrono::steady_clock::now();
   dispatch_dtype(s.field, [&](auto view) {
     using T = typename decltype(view)::value_type;
@@ -321,9 +369,11 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), 1),
                         [&](const tbb::blocked_range<std::size_t>& r) {
                           for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                            if (stop.stop()) return;  // the deadline: skip the rest
                             const WorkItem& w = work[i];
                             const std::size_t tile = static_cast<std::size_t>(tile_indices[w.tile]);
-                            fn(s, &medium, w.rect, s.tile_culled[tile] != 0, film, per_item[i]);
+                            fn(s, &medium, w.rect, s.tile_culled[tile] != 0, film, per_item[i], stop);
+                            if (stop.stopped()) return;  // possibly cut short: not done
                             if (bands_left[w.tile].fetch_sub(1) != 1) continue;
                             const int d = ++done;
                             if (progress && !reporting.exchange(true)) {
@@ -345,6 +395,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   stats.nan_voxels_seen = s.grid.nan_vertices();  // a property of the field, counted at prepare
   stats.threads = threads;
   stats.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  if (stop.stopped()) throw DeadlineExceeded(static_cast<std::size_t>(done.load()), tile_indices.size());
 }
 
 double adaptive_preview_scale(const PreparedSceneImpl& s) {

@@ -83,6 +83,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
     for (const config::RenderSpec& spec : m_config.renders) m_renders.emplace_back(spec);
     m_decisions.assign(m_renders.size(), Decision::Skip);
     m_error.clear();
+    m_closed = false;
     return TESSERA_OK;
   } catch (const std::exception& e) {
     m_error = std::string("tessera_open: ") + e.what();
@@ -100,7 +101,7 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     m_results.clear();
     m_error.clear();
     if (!m_ctx) {
-      m_error = "the adapter is not open";
+      m_error = m_closed ? "adapter was closed: execute after close" : "the adapter is not open";
       return TESSERA_ERROR_CONFIG;
     }
     if (m_policy.blocked()) {
@@ -223,6 +224,7 @@ tessera_status Adapter::Impl::field_unchanged(const char* field_name) noexcept {
 }
 
 void Adapter::Impl::close() noexcept {
+  if (m_ctx) m_closed = true;
   m_results.clear();
   m_summaries.clear();
   m_renders.clear();

@@ -39,6 +39,7 @@ struct Adapter::Impl {
   std::string m_error;
   std::vector<RenderResult> m_results;
   bool m_quiet = false;
+  bool m_closed = false;  ///< close() ended an open adapter (execute says so)
 
  private:
   /// Read as bytes by the agreement (rank_agreement.h CallView::fired): keep these values.

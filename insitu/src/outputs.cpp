@@ -2,6 +2,7 @@
 
 #include <tessera/config/output_path.h>
 #include <tessera/image_io.h>
+#include <tessera/signal_guard.h>
 
 #include <unistd.h>
 
@@ -45,6 +46,7 @@ void write_image_files(const std::string& base, const config::OutputSpec& output
 
 void write_text_atomic(const std::string& path, const std::string& text) {
   ensure_directory(fs::path(path).parent_path().string());
+  const BlockWriteSignals no_signals;  // EFBIG / EPIPE, never SIGXFSZ / SIGPIPE
   // A name unique to this process and call, in the same directory, so rename() is atomic
   static std::atomic<unsigned> counter{0};
   const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." +

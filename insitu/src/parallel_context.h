@@ -44,6 +44,9 @@ class ParallelContext {
 
   virtual int rank() const = 0;
   virtual int size() const = 0;
+  /// Ranks sharing this rank's node (its memory), >= 1: the default memory limit divides the
+  /// node's memory among them.
+  virtual int ranks_on_node() const { return 1; }
 
   /// True on every rank iff ok is true on every rank (allreduce of a flag).
   virtual bool agree(bool ok) = 0;

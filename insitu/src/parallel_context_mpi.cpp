@@ -429,8 +429,16 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
   RenderStats local;
   std::string error;
   int grabs = 0;
+  // tessera.time_limit: checked before each grab (and by render_tiles before each tile)
+  const auto deadline = scene.desc().options.deadline;
+  bool timed_out = false;
+  std::int64_t tiles_done = 0;
   const auto grab_and_render = [&] {
-    while (error.empty()) {
+    while (error.empty() && !timed_out) {
+      if (std::chrono::steady_clock::now() >= deadline) {
+        timed_out = true;
+        return;
+      }
       std::int64_t start = 0;
       check(MPI_Fetch_and_op(&step, &start, MPI_INT64_T, 0, 0, MPI_SUM, m_counter_win),
             "MPI_Fetch_and_op");
@@ -443,6 +451,10 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
       try {
         const std::span<const int> grabbed = std::span<const int>(mine).subspan(first);
         arena.execute([&] { render_tiles(scene, grabbed, film, local); });
+        tiles_done += static_cast<std::int64_t>(grabbed.size());
+      } catch (const DeadlineExceeded& e) {
+        timed_out = true;
+        tiles_done += static_cast<std::int64_t>(e.tiles_done());
       } catch (const std::exception& e) {
         error = "rank " + std::to_string(m_rank) + ": " + e.what();
       }
@@ -456,8 +468,14 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
   m_report.tiles = static_cast<int>(mine.size());
   m_report.grabs = grabs;
   m_report.chunk = chunk;
-  if (!agree(error.empty()))
-    throw std::runtime_error(error.empty() ? "rendering failed on another rank" : error);
+  // One reduction, before the gather: ranks that failed, ranks cut short by the deadline and
+  // the tiles finished, so every rank throws alike and none waits in the gather
+  const std::int64_t mine_flags[3] = {error.empty() ? 0 : 1, timed_out ? 1 : 0, tiles_done};
+  std::int64_t all_flags[3] = {};
+  check(MPI_Allreduce(mine_flags, all_flags, 3, MPI_INT64_T, MPI_SUM, m_comm), "MPI_Allreduce");
+  if (all_flags[0] > 0) throw std::runtime_error(error.empty() ? "rendering failed on another rank" : error);
+  if (all_flags[1] > 0)
+    throw DeadlineExceeded(static_cast<std::size_t>(all_flags[2]), static_cast<std::size_t>(ntiles));
 
   // Rank 0 learns who rendered what, then receives each rank's tile rows straight into place.
   const int count = static_cast<int>(mine.size());

@@ -6,6 +6,8 @@
 
 #include <tessera/config/build_scene.h>
 #include <tessera/film.h>
+#include <tessera/image_io.h>
+#include <tessera/memory_estimate.h>
 #include <tessera/render.h>
 
 #include <chrono>
@@ -14,6 +16,7 @@
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
+#include <thread>
 
 namespace tessera::insitu {
 namespace {
@@ -44,7 +47,12 @@ class Pass {
  public:
   Pass(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call,
        SummaryCache& summaries)
-      : m_ctx(ctx), m_cfg(cfg), m_render(render), m_spec(*render.spec), m_call(call), m_summaries(summaries) {
+      : m_ctx(ctx), m_cfg(cfg), m_render(render), m_spec(*render.spec), m_call(call), m_summaries(summaries),
+        m_start(Clock::now()) {
+    // tessera.time_limit: one deadline for the whole run, every Cinema view included
+    if (cfg.global.time_limit > 0.0)
+      m_deadline = m_start + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>(cfg.global.time_limit));
     m_out.result.name = m_spec.name;
     m_out.result.step = call.step;
     m_out.result.time = call.time;
@@ -93,6 +101,11 @@ class Pass {
       if (!(range.first <= range.second)) range = {0.0, 0.0};  // no finite value anywhere
     }
 
+    // Memory: the render's own allocations (replica, film, images, envmap), estimated before
+    // any of them is made; after the `when` decision, so a render that does not fire is not
+    // refused
+    if (!phase(TESSERA_ERROR_RENDER, [&] { check_memory(); })) return std::move(m_out);
+
     // Assemble the global field (zero copy on one rank), once per consecutive use
     if (!phase(TESSERA_ERROR_RENDER, [&] {
           if (m_call.assembled_key != m_spec.field) {
@@ -111,6 +124,7 @@ class Pass {
           scene = config::build_scene(m_spec, m_binding.global_bounds, range, m_binding.geometry);
           scene.options = config::build_render_options(m_spec, m_cfg.global);
           scene.options.frame = static_cast<std::uint64_t>(m_call.step);
+          scene.options.deadline = m_deadline;
           prepared = prepare_scene(scene);
           if (m_spec.output.cinema)
             views = cinema_views(*m_spec.output.cinema, scene.camera, m_binding.global_bounds);
@@ -177,6 +191,63 @@ class Pass {
     return false;
   }
 
+  /// Throws the time-limit failure: the limit, the time taken, the tiles finished.
+  [[noreturn]] void time_limit_passed(const DeadlineExceeded& e) const {
+    char buf[192];
+    std::snprintf(buf, sizeof buf, "passed tessera.time_limit = %g s after %.2f s (%zu/%zu tiles done)",
+                  m_cfg.global.time_limit, std::chrono::duration<double>(Clock::now() - m_start).count(),
+                  e.tiles_done(), e.tiles_total());
+    throw std::runtime_error(buf);
+  }
+
+  /// tessera.memory_limit_mb against the estimate of this render's allocations on this rank
+  /// (memory_estimate.h, plus this rank's share of the node's field replica under MPI).
+  /// Throws naming the estimate, its parts and the limit.
+  void check_memory() const {
+    const bool root = m_ctx.rank() == 0;
+    const int node_ranks = std::max(1, m_ctx.ranks_on_node());
+    const RenderOptions options = config::build_render_options(m_spec, m_cfg.global);
+    RenderFootprint f;
+    f.width = m_spec.image.width;
+    f.height = m_spec.image.height;
+    f.tile = options.tile;
+    f.threads = options.threads > 0 ? options.threads
+                                    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / node_ranks);
+    f.variance = m_spec.output.variance;
+    f.samples = m_spec.output.samples;
+    f.exr = m_spec.output.has_format(config::ImageFormat::Exr);
+    f.png = m_spec.output.has_format(config::ImageFormat::Png);
+    f.writes = root;
+    f.keeps_last_image = root;
+    if (m_spec.output.cinema)
+      f.views = static_cast<int>(m_spec.output.cinema->azimuths.size() * m_spec.output.cinema->elevations.size());
+    FieldView global;  // dims only: what majorant_edge reads
+    std::uint64_t vertices = 1;
+    for (int a = 0; a < 3; ++a) {
+      f.field_dims[a] = global.dims[a] = m_binding.placement.global_dims[a];
+      vertices *= static_cast<std::uint64_t>(std::max<std::int64_t>(1, global.dims[a]));
+    }
+    f.macrocell_edge = majorant_edge(global, m_spec.integrator.desc);
+    if (m_spec.background.type == BackgroundType::EnvMap) {
+      const auto [w, h] = read_exr_size(m_spec.background.file);  // the header only
+      f.envmap_width = w;
+      f.envmap_height = h;
+    }
+    MemoryEstimate estimate = estimate_render_memory(f);
+    if (m_ctx.size() > 1)
+      estimate.add("field replica (this rank's share of its node's)",
+                   vertices * dtype_size(m_binding.local.dtype) / static_cast<std::uint64_t>(node_ranks));
+
+    const std::int64_t mb = m_cfg.global.memory_limit_mb;
+    const std::uint64_t limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(node_ranks);
+    if (estimate.total() <= limit) return;
+    const std::string limit_text =
+        mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
+               : "the default tessera.memory_limit_mb (half of the machine's " + format_bytes(physical_memory_bytes()) +
+                     " over " + std::to_string(node_ranks) + " rank(s) on this node: " + format_bytes(limit) + ")";
+    throw std::runtime_error("needs an estimated " + estimate.describe() + " on this rank, more than " + limit_text);
+  }
+
   std::pair<double, double> cached_range() {
     for (const auto& [key, range] : m_call.ranges)
       if (key == m_spec.field) return range;
@@ -198,13 +269,17 @@ class Pass {
     return range;
   }
 
-  /// prepare() with the field's summary for the scene's macrocell edge when there is one;
+  /// prepare() (scene.options.deadline set) with the field's summary for the scene's macrocell edge when there is one;
   /// keeps a summary it had to make for the next prepare of the field.
   PreparedScene prepare_scene(const SceneDesc& scene) {
     SummaryCache::Entry& entry = m_summaries.entry(m_field_name);
     const auto t0 = Clock::now();
-    PreparedScene prepared =
-        prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));
+    PreparedScene prepared;
+    try {
+      prepared = prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));
+    } catch (const DeadlineExceeded& e) {  // the adaptive preview ran past the time limit
+      time_limit_passed(e);
+    }
     m_out.result.prepare_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
     if (!prepared.summary_reused()) {
       ++m_out.result.field_passes;
@@ -218,7 +293,12 @@ class Pass {
       film = Film(m_spec.image.width, m_spec.image.height);
       RenderStats stats;
       const auto t0 = Clock::now();
-      m_ctx.render(prepared, film, stats);
+      try {
+        m_ctx.render(prepared, film, stats);
+      } catch (const DeadlineExceeded& e) {
+        film = Film();  // the partial image is never resolved nor written
+        time_limit_passed(e);
+      }
       m_out.result.render_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
       m_out.result.stats.add_counters(stats);
       m_out.result.stats.wall_seconds += stats.wall_seconds;
@@ -284,6 +364,8 @@ class Pass {
   FieldBinding m_binding;
   std::string m_field_name;  ///< the simulation's name of the bound field
   PassOutcome m_out;
+  Clock::time_point m_start;  ///< when this render began (its time limit counts from here)
+  Clock::time_point m_deadline = Clock::time_point::max();  ///< tessera.time_limit; max = none
 };
 
 }  // namespace

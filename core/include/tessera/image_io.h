@@ -1,11 +1,14 @@
 #pragma once
 /// Reading and writing images. Writers go through a temporary file in the same directory and
 /// rename it into place, so a crash never leaves a half-written image under the final name.
-/// All functions throw std::runtime_error naming the path and the fault.
+/// All functions throw std::runtime_error naming the path and the fault. Writers hold
+/// BlockWriteSignals (signal_guard.h): a file-size limit or a closed pipe is an error, never
+/// a SIGXFSZ / SIGPIPE in the caller; the temporary file is removed on any failure.
 #include <tessera/image.h>
 
 #include <cstdint>
 #include <string>
+#include <utility>
 
 namespace tessera {
 

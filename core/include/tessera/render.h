@@ -18,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <stdexcept>
 
 namespace tessera {
 
@@ -43,6 +44,20 @@ class PreparedScene {
  private:
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   std::unique_ptr<PreparedSceneImpl> m_impl;
+};
+
+/// Thrown by render_tiles (and by prepare's adaptive preview) once options.deadline has
+/// passed: every thread stops before its next tile or its next pass over a tile, the film
+/// holds a partial image and must be discarded. tiles_done() of tiles_total() tiles of the
+/// call were finished (0 of the scene's tiles when thrown by prepare).
+class DeadlineExceeded : public std::runtime_error {
+ public:
+  DeadlineExceeded(std::size_t tiles_done, std::size_t tiles_total);
+  std::size_t tiles_done() const { return m_done; }
+  std::size_t tiles_total() const { return m_total; }
+
+ private:
+  std::size_t m_done, m_total;
 };
 
 Bounds field_bounds(const FieldView& field, const VolumeGeometry& g);
@@ -72,6 +87,8 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
 /// the tiles are split across calls or ranks): accumulate several adaptive calls into one film
 /// only with a different options.frame each (docs/physics.md section 11).
 /// `progress`, if set, is called from worker threads with the number of tiles finished.
+/// Past scene.desc().options.deadline the remaining tiles are skipped and DeadlineExceeded
+/// is thrown after the workers have stopped (stats then count the work done).
 void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film,
                   RenderStats& stats, const std::function<void(int)>& progress = {});
 

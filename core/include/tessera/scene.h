@@ -7,6 +7,7 @@
 #include <tessera/tiles.h>
 #include <tessera/transfer_function.h>
 
+#include <chrono>
 #include <cstdint>
 #include <vector>
 
@@ -36,6 +37,11 @@ struct RenderOptions {
   int tile = 8;                  ///< tile edge in pixels; 0 = scanline
   TileOrder order = TileOrder::RowMajor;
   int threads = 0;               ///< 0 = all hardware threads
+  /// Wall-clock deadline of the render (steady clock); max() = none. render_tiles checks it
+  /// before each tile, between passes over a tile and every 1024 samples of an adaptive
+  /// pixel, prepare() every 1024 samples of the adaptive preview (never per sample); past it
+  /// they stop and throw DeadlineExceeded (render.h).
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 struct SceneDesc {

@@ -110,7 +110,13 @@ tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, dou
  * (tessera_last_error(adapter) says which). An addition to interfaces.md section 3. */
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name);
 
-/* Releases the adapter (NULL is allowed and returns TESSERA_OK). */
+/* Releases the adapter (NULL is allowed and returns TESSERA_OK). Handles are validated: a
+ * second tessera_close of the same handle, or tessera_execute / tessera_execute_final /
+ * tessera_field_unchanged after its close, returns TESSERA_ERROR_CONFIG and
+ * tessera_last_error(adapter) says "adapter was closed ..." (the library keeps a 16-byte
+ * tombstone per closed handle, so its address never names a newer adapter); a pointer that
+ * tessera_open never returned is refused the same way ("not an adapter returned by
+ * tessera_open"). Closing an adapter while another thread uses it is not supported. */
 tessera_status tessera_close(tessera_adapter* adapter);
 
 /* The adapter's last error message, or "" if the last call succeeded; with NULL, the calling

@@ -1,0 +1,59 @@
+#pragma once
+/// Estimates of one render's own allocations, checked against a per-rank memory limit before
+/// any of them is made (docs/insitu.md and docs/cli.md, "Limits and failure").
+///
+/// The estimate counts what the render allocates, not the caller's data: the film (double
+/// accumulators per pixel), the resolved image and the bytes the writers add, the tile and
+/// work lists, the macrocell summary and majorants, the environment map and its sampling
+/// tables. Callers add their own parts (the adapter: the MPI field replica) with add().
+/// Figures are upper estimates from the element sizes; small fixed costs (a few KiB per
+/// thread) are left out.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tessera {
+
+/// What core needs to know of one render to estimate its allocations.
+struct RenderFootprint {
+  int width = 0, height = 0;   ///< image size in pixels
+  int tile = 8;                ///< tile edge (0 = scanline), as RenderOptions::tile
+  int threads = 1;             ///< worker threads (> 0)
+  bool variance = false;       ///< the resolved image has a variance layer
+  bool samples = false;        ///< the resolved image has a sample-count layer
+  bool exr = true, png = true; ///< formats written (this rank writes: rank 0, or the CLI)
+  bool writes = true;          ///< this rank resolves and writes the image
+  bool keeps_last_image = false;  ///< the image is kept after the write (adapter rank 0)
+  int views = 0;               ///< Cinema views rendered after the main image (0 = none)
+  std::int64_t field_dims[3] = {0, 0, 0};  ///< vertices of the rendered field; 0 = not counted
+  int macrocell_edge = 16;     ///< majorant_edge() of the field and integrator
+  std::int64_t envmap_width = 0, envmap_height = 0;  ///< envmap texels; 0 = no envmap
+};
+
+struct MemoryEstimate {
+  struct Part {
+    std::string name;
+    std::uint64_t bytes;
+  };
+  std::vector<Part> parts;  ///< in the order added; zero-byte parts are not listed
+
+  void add(std::string name, std::uint64_t bytes);
+  std::uint64_t total() const;
+  /// "21.3 GiB (film 14 GiB, images 6 GiB, ...)": the total, then each part.
+  std::string describe() const;
+};
+
+/// The render's own allocations on this rank (saturating: never wraps).
+MemoryEstimate estimate_render_memory(const RenderFootprint& f);
+
+/// Bytes short: 512 B, 3.5 KiB, 21.3 GiB (three significant digits).
+std::string format_bytes(std::uint64_t bytes);
+
+/// Physical memory of the machine in bytes (sysconf), 0 if unknown.
+std::uint64_t physical_memory_bytes();
+
+/// The default per-rank limit: half of physical memory divided by the number of ranks on this
+/// node (ranks_on_node >= 1); 4 GiB if physical memory is unknown.
+std::uint64_t default_memory_limit_bytes(int ranks_on_node);
+
+}  // namespace tessera
