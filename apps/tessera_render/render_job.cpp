@@ -105,6 +105,9 @@ RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spe
     prepared = prepare(volume.view, scene, volume.summary);
   } catch (const DeadlineExceeded& e) {
     throw time_limit_passed(e);
+  } catch (const std::invalid_argument& e) {
+    // prepare() knows no file: say which file and render the faulty value belongs to
+    throw std::invalid_argument(cfg.path + ": render '" + spec.name + "': " + e.what());
   }
   rec.prepare_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   volume.summary = prepared.summary();

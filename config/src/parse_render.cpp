@@ -20,8 +20,11 @@ constexpr std::int64_t kMaxImageEdge = ImageDesc::kMaxEdge;
 /// Field names are echoed in messages and compared with what the simulation publishes.
 constexpr std::size_t kMaxFieldName = 256;
 
+/// Render names end up in file names ({name}), log lines and every message about the render.
+constexpr std::size_t kMaxRenderName = 128;
+
 bool valid_name(const std::string& s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+  return !s.empty() && s.size() <= kMaxRenderName && std::all_of(s.begin(), s.end(), [](char c) {
     return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
            c == '_' || c == '-';
   });
@@ -140,10 +143,11 @@ RenderSpec parse_render(const Value& v) {
   m.allow({"name", "field", "trigger", "image", "camera", "transfer_function", "lights",
            "background", "integrator", "output"});
   RenderSpec r;
-  const Value name = m.require("name", "a name of letters, digits, _ and -");
+  const Value name = m.require("name", "a name of 1 to 128 letters, digits, _ and -");
   r.name = name.string();
   if (!valid_name(r.name)) {
-    name.fail(name.describe() + " is not a valid name (allowed: letters, digits, _ and -)");
+    name.fail(name.describe() + " is not a valid name (allowed: 1 to " + std::to_string(kMaxRenderName) +
+              " letters, digits, _ and -)");
   }
   if (const auto f = m.get("field")) {
     r.field = f->string();

@@ -33,6 +33,10 @@ TEST_CASE("long string values are cut in messages", "[robustness][messages]") {
   e = config_error("renders:\n  - name: \"" + big + "!\"\n");
   CHECK(e.size() < kShortMessage);
   CHECK_THAT(e, Contains("\"" + std::string(64, 'x') + "\"... (1000001 characters) is not a valid name"));
+  // A render name of valid characters but absurd length: it would name files and every log line
+  e = config_error("renders:\n  - name: " + big + "\n");
+  CHECK(e.size() < kShortMessage);
+  CHECK_THAT(e, Contains("(1000000 characters) is not a valid name (allowed: 1 to 128 letters"));
   // A file name: paths are cut at 4096 characters (no real path is longer)
   e = config_error("volume: {file: " + big + ", dims: [1, 1, 1], dtype: uint8}\n"
                    "renders:\n" + minimal_render());
