@@ -8,6 +8,7 @@
 #include "phase_hg.h"
 #include "prepared_scene_impl.h"
 #include "sampling/rng.h"
+#include "stop_check.h"
 #include "surface_brdf.h"
 
 #include <algorithm>
@@ -50,7 +51,10 @@ inline double exp_sample(Rng& rng, double rate) { return exp_unit(rng) / rate; }
 template <class V, Shading S, bool kEmission>
 class PathTracer {
  public:
-  PathTracer(const PreparedSceneImpl& s, const GridMedium<V>& m) : m_s(s), m_m(m) {}
+  /// `stop`, when given, is polled every kStopPollBounces collisions of a path; once it says
+  /// stop the path ends there (the render is then failed by its caller, never written).
+  PathTracer(const PreparedSceneImpl& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
+      : m_s(s), m_m(m), m_stop(stop) {}
 
   SampleResult li(Ray ray, Rng& rng, KernelCounters& k) const {
     const IntegratorDesc& in = m_s.desc.integrator;
@@ -71,6 +75,8 @@ class PathTracer {
       if (!hit) break;
       if (from_camera) out.alpha = 1.0;
       ++depth;
+      // A long path polls the render's deadline now and then (the render then fails)
+      if ((depth & (kStopPollBounces - 1)) == 0 && m_stop && m_stop->stop()) break;
       ++k.real;
       const Vec3 x = ray.o + t_hit * ray.d;
       const Vec3 pv = to_voxel(x);
@@ -145,6 +151,7 @@ class PathTracer {
  private:
   const PreparedSceneImpl& m_s;
   const GridMedium<V>& m_m;
+  StopCheck* m_stop;
 
   Vec3 to_voxel(const Vec3& x) const { return (x - m_s.desc.geometry.origin) * m_s.inv_spacing; }
 

@@ -2,6 +2,7 @@
 
 #include "adaptive_sampling.h"
 #include "path_tracer.h"
+#include "stop_check.h"
 #include "prepared_scene_impl.h"
 
 #include <tbb/blocked_range.h>
@@ -40,25 +41,6 @@ int render_threads(const RenderOptions& o) {
 
 using Clock = std::chrono::steady_clock;
 
-/// The render's deadline (RenderOptions::deadline), polled before each work item and between
-/// passes over a tile: one relaxed load, plus a clock read when a deadline is set. Never per
-/// sample. Once passed, every later poll on every thread says stop.
-class StopCheck {
- public:
-  explicit StopCheck(Clock::time_point deadline) : m_deadline(deadline) {}
-  bool stop() {
-    if (m_stopped.load(std::memory_order_relaxed)) return true;
-    if (m_deadline == Clock::time_point::max() || Clock::now() < m_deadline) return false;
-    m_stopped.store(true, std::memory_order_relaxed);
-    return true;
-  }
-  bool stopped() const { return m_stopped.load(std::memory_order_relaxed); }
-
- private:
-  Clock::time_point m_deadline;
-  std::atomic<bool> m_stopped{false};
-};
-
 /// Adds one finite sample to a pixel's sums.
 inline void add_sample(PixelSums& px, const SampleResult& r) {
   px.r += r.L.x;
@@ -75,8 +57,8 @@ inline void add_sample(PixelSums& px, const SampleResult& r) {
 template <class T, Shading S, bool kEmission>
 class TileSampler {
  public:
-  TileSampler(const PreparedSceneImpl& s, const GridMedium<T>& medium, bool culled)
-      : m_s(s), m_tracer(s, medium), m_culled(culled) {}
+  TileSampler(const PreparedSceneImpl& s, const GridMedium<T>& medium, bool culled, StopCheck& stop)
+      : m_s(s), m_tracer(s, medium, &stop), m_culled(culled) {}
 
   /// Sample `index` of pixel (x, y); false if its radiance is not finite. `own`: the pixel is
   /// in this tile, so the tile's culling applies (another tile's pixel is always traced: a
@@ -209,7 +191,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
 template <class T, Shading S, bool E>
 void render_tile(const PreparedSceneImpl& s, const GridMedium<T>& medium,
                  const Tile& tile, bool culled, Film& film, RenderStats& st, StopCheck& stop) {
-  TileSampler<T, S, E> ts(s, medium, culled);
+  TileSampler<T, S, E> ts(s, medium, culled, stop);
   if (s.desc.image.target_error > 0.0) sample_adaptive(ts, s, tile, film, st, stop);
   else sample_uniform(ts, s, tile, film, st, stop);
   ts.flush(st);
@@ -295,7 +277,7 @@ void preview_row(const PreparedSceneImpl& s, const GridMedium<T>& medium, int by
   constexpr int B = kAdaptiveBlock;
   const int width = s.desc.image.width, height = s.desc.image.height;
   const int pilot = adaptive_pilot(s.desc.image.spp);
-  TileSampler<T, S, E> ts(s, medium, false);
+  TileSampler<T, S, E> ts(s, medium, false, stop);
   const int y = std::min(by * B + B / 2, height - 1);
   for (int bx = 0; bx * B < width; ++bx) {
     const int x = std::min(bx * B + B / 2, width - 1);

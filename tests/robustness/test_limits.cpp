@@ -106,6 +106,32 @@ TEST_CASE("time_limit: a render far too long fails after the limit, writes nothi
   CHECK(tessera_close(a) == TESSERA_OK);
 }
 
+TEST_CASE("time_limit: one endless path inside a tile stops too", "[robustness][limits]") {
+  // The camera inside a dense, white medium with max_bounces 10^6: every path random-walks
+  // until max_bounces (minutes for this one 16x16 tile at 1 spp without a limit). Tiles and
+  // passes are too coarse here: the path itself polls the deadline every 256 collisions.
+  TempDir dir;
+  const std::string out = dir.file("out");
+  const std::string extra =
+      "    camera: {position: center, look_at: [0, 0, 0], up: [0, 0, 1], fov: 40}\n"
+      "    transfer_function: {range: auto, density_scale: 1e308, opacity: [[0, 1], [1, 1]], "
+      "diffuse: [[0, [1, 1, 1]]]}\n"
+      "    integrator: {scattering: multiple, max_bounces: 1000000, shading: phase, tile: 16}\n";
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(out, render_yaml("walk", "", extra, "density", 16, 1), "  time_limit: 1\n"));
+  tessera_adapter* a = nullptr;
+  REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
+  const std::vector<float> v = to_float(blob_values(16));
+  const tessera_field f = dense_field("density", v.data(), 16);
+  const tessera_grid g = unit_grid(16);
+  const auto t0 = Clock::now();
+  CHECK(tessera_execute(a, 0, 0.0, &g, &f, 1) == TESSERA_ERROR_RENDER);
+  CHECK(seconds_since(t0) < 15.0);
+  CHECK_THAT(std::string(tessera_last_error(a)), Contains("passed tessera.time_limit = 1 s"));
+  CHECK_FALSE(fs::exists(out + "/walk_0000.exr"));
+  CHECK(tessera_close(a) == TESSERA_OK);
+}
+
 TEST_CASE("time_limit: adaptive sampling stops too - the preview in prepare and then the tiles", "[robustness][limits]") {
   TempDir dir;
   const std::string out = dir.file("out");
