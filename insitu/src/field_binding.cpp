@@ -1,6 +1,10 @@
 #include "field_binding.h"
 
+#include <tessera/loop_bounds.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -12,6 +16,13 @@ constexpr const char* kAxis = "ijk";
 
 std::string field_label(const tessera_field& f) {
   return std::string("field '") + (f.name ? f.name : "(null)") + "'";
+}
+
+/// A double, short ("1e+308", "0.5"): never std::to_string's 300 digits or "0.000000".
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
 }
 
 std::string triple(const std::int64_t v[3]) {
@@ -45,8 +56,9 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
     const std::string ax = std::string("[") + std::to_string(a) + "] (" + kAxis[a] + ")";
     if (!std::isfinite(g.origin[a])) fail(label, "grid origin" + ax + " is not finite");
     if (!std::isfinite(g.spacing[a]) || !(g.spacing[a] > 0.0))
-      fail(label, "grid spacing" + ax + " = " + std::to_string(g.spacing[a]) +
-                      ", must be finite and > 0");
+      fail(label, "grid spacing" + ax + " = " + num(g.spacing[a]) + ", must be finite and > 0");
+    if (g.spacing[a] < kMinSpacing || g.spacing[a] > kMaxSpacing)
+      fail(label, "grid spacing" + ax + " = " + num(g.spacing[a]) + " is outside [1e-100, 1e100]");
     if (g.global_dims[a] < 1)
       fail(label, "grid global_dims" + ax + " = " + std::to_string(g.global_dims[a]) +
                       ", must be >= 1");
@@ -58,6 +70,20 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
                       std::to_string(g.offset[a]) + " reach past global_dims " +
                       std::to_string(g.global_dims[a]) + " (real dims " + triple(real) +
                       ", global dims " + triple(g.global_dims) + ")");
+  }
+  // The data's corners within 2^40 smallest spacings of 0 (loop_bounds.h), as the CLI's
+  // volume.origin: past that a double no longer resolves a voxel, and every camera or light
+  // placed about the data would be blamed for the grid's fault
+  const double h = std::min({g.spacing[0], g.spacing[1], g.spacing[2]});
+  const double lim = kMaxCoordinateVoxels * h;
+  for (int a = 0; a < 3; ++a) {
+    const double far = g.origin[a] + static_cast<double>(g.global_dims[a] - 1) * g.spacing[a];
+    if (!(std::fabs(g.origin[a]) <= lim && std::fabs(far) <= lim))
+      fail(label, "grid origin [" + num(g.origin[0]) + ", " + num(g.origin[1]) + ", " + num(g.origin[2]) +
+                      "] with spacing [" + num(g.spacing[0]) + ", " + num(g.spacing[1]) + ", " +
+                      num(g.spacing[2]) + "] puts the data (far corner along " + kAxis[a] + " at " + num(far) +
+                      ") beyond 2^40 smallest spacings (" + num(lim) +
+                      ") from 0, where a double no longer resolves a voxel");
   }
 }
 
