@@ -132,6 +132,11 @@ OutputSpec parse_output(const Value& v) {
     if (const auto a = cm.get("elevation"))
       for (const Value& e : a->list("a list of angles in degrees", 1))
         cs.elevations.push_back(e.number(Range::closed(-90.0, 90.0)));
+    const std::size_t views = std::max<std::size_t>(1, cs.azimuths.size()) * std::max<std::size_t>(1, cs.elevations.size());
+    if (views > CinemaSpec::kMaxViews)
+      c->fail(std::to_string(cs.azimuths.size()) + " azimuths x " + std::to_string(cs.elevations.size()) +
+              " elevations make " + std::to_string(views) + " views (allowed: at most " +
+              std::to_string(CinemaSpec::kMaxViews) + " views per render)");
     o.cinema = cs;
   }
   return o;

@@ -326,3 +326,14 @@ TEST_CASE("control characters in output.file are refused at load", "[robustness]
   CHECK_THROWS_WITH(tessera::write_exr(std::string("a\0b.exr", 7), img), Contains("NUL"));
   CHECK_THROWS_WITH(tessera::write_png(std::string("a\0b.png", 7), img), Contains("NUL"));
 }
+
+TEST_CASE("Cinema views are bounded: each one is a whole render", "[robustness][loading]") {
+  std::string az, el;
+  for (int i = 0; i < 100; ++i) az += (i ? ", " : "") + std::to_string(i * 3.6);
+  for (int i = 0; i < 41; ++i) el += (i ? ", " : "") + std::to_string(-80 + 4 * i);
+  const std::string head = "renders:\n" + minimal_render() + "    output: {cinema: {azimuth: [" + az + "], elevation: [";
+  CHECK_THAT(config_error(head + el + "]}}\n"),
+             Contains("renders[0].output.cinema: 100 azimuths x 41 elevations make 4100 views (allowed: at most "
+                      "4096 views per render)"));
+  CHECK(config_error(head + "0, 30, 60]}}\n") == "");
+}

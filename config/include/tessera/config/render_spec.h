@@ -8,6 +8,7 @@
 #include <tessera/scene.h>
 #include <tessera/tiles.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -46,6 +47,8 @@ struct IntegratorSpec {
 struct CinemaSpec {
   std::vector<double> azimuths;            ///< degrees
   std::vector<double> elevations;          ///< degrees, [-90, 90]
+  /// Views (azimuths x elevations) one render may have: each is a whole render and image.
+  static constexpr std::size_t kMaxViews = 4096;
 };
 
 enum class ImageFormat { Exr, Png };
