@@ -55,6 +55,7 @@ int run(int argc, const char* const* argv) {
   std::vector<std::vector<OutputTarget>> targets;
   for (const auto* r : renders) targets.push_back(output_targets(cfg.global, *r, args.output, several));
 
+  check_volume_memory(cfg);  // before a byte of the file is read
   const config::RawVolume volume = config::load_raw_volume(*cfg.volume);
   VolumeInfo info = describe_volume(volume, *cfg.volume, renders.empty() ? IntegratorDesc{} : renders.front()->integrator.desc);
 

@@ -73,6 +73,22 @@ void check_memory(const config::Config& cfg, const config::RenderSpec& spec, con
                     format_bytes(physical_memory_bytes()) + ": " + format_bytes(limit) + ")"));
 }
 
+void check_volume_memory(const config::Config& cfg) {
+  const config::VolumeSpec& v = *cfg.volume;
+  // dims are at most 2^31 each and 2^47 vertices in all (parse_volume): no overflow here
+  const std::uint64_t bytes = static_cast<std::uint64_t>(v.dims[0]) * static_cast<std::uint64_t>(v.dims[1]) *
+                              static_cast<std::uint64_t>(v.dims[2]) * dtype_size(v.dtype);
+  const std::int64_t mb = cfg.global.memory_limit_mb;
+  const std::uint64_t limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(1);
+  if (bytes <= limit) return;
+  throw std::runtime_error(
+      "volume " + v.file + ": " + std::to_string(v.dims[0]) + "x" + std::to_string(v.dims[1]) + "x" +
+      std::to_string(v.dims[2]) + " values need " + format_bytes(bytes) + ", more than " +
+      (mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
+              : "the default tessera.memory_limit_mb (half of the machine's " +
+                    format_bytes(physical_memory_bytes()) + ": " + format_bytes(limit) + ")"));
+}
+
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
                         VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress) {

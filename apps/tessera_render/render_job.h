@@ -40,6 +40,10 @@ SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
 
 /// Renders and writes one image; the returned record holds its statistics and outputs.
 /// volume.summary is reused when it has the render's macrocell edge, else replaced.
+/// The volume's values against tessera.memory_limit_mb (or its default), before the file is
+/// read: a sparse or huge file must fail with the size and the limit, not exhaust memory.
+void check_volume_memory(const config::Config& cfg);
+
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
                         VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress);

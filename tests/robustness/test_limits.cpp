@@ -285,4 +285,20 @@ TEST_CASE("CLI: tessera.memory_limit_mb fails a 16384^2 render before allocating
   CHECK_THAT(r.err, Contains("render 'heavy' needs an estimated") && Contains("film 16 GiB") &&
                         Contains("tessera.memory_limit_mb = 2048 MiB"));
 }
+
+TEST_CASE("CLI: a volume larger than the memory limit fails before its file is read", "[robustness][limits][cli]") {
+  TempDir dir;
+  // A sparse 128 MiB file: costs nothing on disk, but reading it would take 128 MiB
+  {
+    std::ofstream(dir.file("big.raw"), std::ios::binary).put('\0');
+    fs::resize_file(dir.file("big.raw"), std::uintmax_t(128) << 20);
+  }
+  dir.write("scene.yaml", "tessera:\n  output_dir: results\n  memory_limit_mb: 64\n"
+                          "volume: {file: big.raw, dims: [1024, 1024, 32], dtype: float32}\n"
+                          "renders:\n" + render_yaml("r", "", "", "", 16, 1));
+  const Run r = run_cli(dir, "scene.yaml --quiet");
+  CHECK(r.status == 1);
+  CHECK(r.seconds < 5.0);
+  CHECK_THAT(r.err, Contains("1024x1024x32 values need 128 MiB, more than tessera.memory_limit_mb = 64 MiB"));
+}
 #endif
