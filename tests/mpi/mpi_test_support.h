@@ -10,6 +10,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
 #include <functional>
 #include <vector>
 
@@ -25,6 +29,43 @@ inline int world_size() {
   MPI_Comm_size(MPI_COMM_WORLD, &s);
   return s;
 }
+
+/// A scratch directory named by rank 0, the same path on every rank; removed by rank 0 after
+/// a barrier. Collective: every rank constructs and destroys it together.
+class SharedTempDir {
+ public:
+  explicit SharedTempDir(const std::string& prefix = "tessera_mpi_") {
+    std::string path;
+    if (world_rank() == 0) {
+      std::random_device rd;
+      path = (std::filesystem::temp_directory_path() / (prefix + std::to_string(rd()) + std::to_string(rd()))).string();
+      std::filesystem::create_directories(path);
+    }
+    int len = static_cast<int>(path.size());
+    MPI_Bcast(&len, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    path.resize(static_cast<std::size_t>(len));
+    MPI_Bcast(path.data(), len, MPI_CHAR, 0, MPI_COMM_WORLD);
+    m_path = path;
+  }
+  ~SharedTempDir() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    std::error_code ec;
+    if (world_rank() == 0) std::filesystem::remove_all(m_path, ec);
+  }
+  SharedTempDir(const SharedTempDir&) = delete;
+  SharedTempDir& operator=(const SharedTempDir&) = delete;
+
+  std::string file(const std::string& name) const { return (std::filesystem::path(m_path) / name).string(); }
+  /// Rank 0 writes the file; every rank returns its path after the write (collective).
+  std::string write(const std::string& name, const std::string& text) const {
+    if (world_rank() == 0) std::ofstream(file(name)) << text;
+    MPI_Barrier(MPI_COMM_WORLD);
+    return file(name);
+  }
+
+ private:
+  std::string m_path;
+};
 
 /// True on every rank of `comm` iff `ok` on every rank.
 inline bool all_ranks(bool ok, MPI_Comm comm = MPI_COMM_WORLD) {

@@ -25,32 +25,6 @@ namespace {
 
 constexpr std::array<std::int64_t, 3> kGlobal{29, 26, 24};
 
-/// A scratch directory named by rank 0, the same path on every rank; removed by rank 0.
-class SharedTempDir {
- public:
-  SharedTempDir() {
-    std::string path;
-    if (world_rank() == 0) {
-      std::random_device rd;
-      path = (fs::temp_directory_path() / ("tessera_mpi_" + std::to_string(rd()) + std::to_string(rd()))).string();
-      fs::create_directories(path);
-    }
-    int len = static_cast<int>(path.size());
-    MPI_Bcast(&len, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    path.resize(static_cast<std::size_t>(len));
-    MPI_Bcast(path.data(), len, MPI_CHAR, 0, MPI_COMM_WORLD);
-    m_path = path;
-  }
-  ~SharedTempDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    std::error_code ec;
-    if (world_rank() == 0) fs::remove_all(m_path, ec);
-  }
-  std::string file(const std::string& name) const { return (fs::path(m_path) / name).string(); }
-
- private:
-  std::string m_path;
-};
 
 /// One render, far camera so that the volume fills part of the image; EXR only.
 std::string config_text(const std::string& output_dir) {

@@ -35,32 +35,6 @@ struct Watchdog {
   ~Watchdog() { alarm(0); }
 };
 
-/// A scratch directory named by rank 0, the same path on every rank; removed by rank 0.
-class SharedDir {
- public:
-  SharedDir() {
-    std::string path;
-    if (world_rank() == 0) {
-      std::random_device rd;
-      path = (fs::temp_directory_path() / ("tessera_agree_" + std::to_string(rd()) + std::to_string(rd()))).string();
-      fs::create_directories(path);
-    }
-    int len = static_cast<int>(path.size());
-    MPI_Bcast(&len, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    path.resize(static_cast<std::size_t>(len));
-    MPI_Bcast(path.data(), len, MPI_CHAR, 0, MPI_COMM_WORLD);
-    m_path = path;
-  }
-  ~SharedDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    std::error_code ec;
-    if (world_rank() == 0) fs::remove_all(m_path, ec);
-  }
-  std::string file(const std::string& name) const { return (fs::path(m_path) / name).string(); }
-
- private:
-  std::string m_path;
-};
 
 /// A small, fast render; `trigger` and `extra_render` vary it, `global` adds tessera: keys.
 std::string config_text(const std::string& out, const std::string& trigger = "{every: 1}",
@@ -106,7 +80,7 @@ int last_rank() { return world_size() - 1; }
 bool odd_one_out() { return world_rank() == last_rank(); }
 
 /// Writes this rank's config (rank r: cfg_r.yaml) and returns its path.
-std::string write_config(const SharedDir& dir, const std::string& text) {
+std::string write_config(const SharedTempDir& dir, const std::string& text) {
   const std::string path = dir.file("cfg_" + std::to_string(world_rank()) + ".yaml");
   std::ofstream(path) << text;
   MPI_Barrier(MPI_COMM_WORLD);
@@ -134,7 +108,7 @@ TEST_CASE("first_difference names the first differing line", "[mpi][agreement]")
 TEST_CASE("a trigger that differs on one rank fails tessera_open on every rank", "[mpi][agreement][robustness]") {
   if (world_size() < 2) return;
   Watchdog watchdog;
-  SharedDir dir;
+  SharedTempDir dir("tessera_agree_");
   const std::string cfg = write_config(dir, config_text(dir.file("out"), odd_one_out() ? "{every: 2}" : "{every: 1}"));
   const auto t0 = std::chrono::steady_clock::now();
   tessera_adapter* a = nullptr;
@@ -152,7 +126,7 @@ TEST_CASE("a trigger that differs on one rank fails tessera_open on every rank",
 TEST_CASE("an environment knob set on one rank only fails tessera_open on every rank", "[mpi][agreement][robustness]") {
   if (world_size() < 2) return;
   Watchdog watchdog;
-  SharedDir dir;
+  SharedTempDir dir("tessera_agree_");
   const std::string cfg = write_config(dir, config_text(dir.file("out")));
   const char* kKnob = "TESSERA_MPI_RANKS_PER_NODE";
   const char* saved = std::getenv(kKnob);
@@ -192,7 +166,7 @@ TEST_CASE("an environment knob set on one rank only fails tessera_open on every 
 TEST_CASE("a grid that differs on one rank fails the firing call on every rank", "[mpi][agreement][robustness]") {
   if (world_size() < 2) return;
   Watchdog watchdog;
-  SharedDir dir;
+  SharedTempDir dir("tessera_agree_");
   const std::string cfg = write_config(dir, config_text(dir.file("out")));
   const std::string who = "rank " + std::to_string(last_rank());
 
@@ -239,7 +213,7 @@ TEST_CASE("a grid that differs on one rank fails the firing call on every rank",
 TEST_CASE("a step that differs on one rank fails the firing call on every rank", "[mpi][agreement][robustness]") {
   if (world_size() < 2) return;
   Watchdog watchdog;
-  SharedDir dir;
+  SharedTempDir dir("tessera_agree_");
   const std::string cfg = write_config(dir, config_text(dir.file("out")));
   Published pub;
   tessera_adapter* a = nullptr;
@@ -258,7 +232,7 @@ TEST_CASE("a step that differs on one rank fails the firing call on every rank",
 TEST_CASE("a final-step flag on one rank fails the call on every rank", "[mpi][agreement][robustness]") {
   if (world_size() < 2) return;
   Watchdog watchdog;
-  SharedDir dir;
+  SharedTempDir dir("tessera_agree_");
   const std::string out = dir.file("out");
   const std::string who = "rank " + std::to_string(last_rank());
   Published pub;
@@ -298,7 +272,7 @@ TEST_CASE("a final-step flag on one rank fails the call on every rank", "[mpi][a
 
 TEST_CASE("ranks that agree render, and calls where nothing fires stay local", "[mpi][agreement]") {
   Watchdog watchdog;
-  SharedDir dir;
+  SharedTempDir dir("tessera_agree_");
   const std::string cfg = write_config(dir, config_text(dir.file("out"), "{every: 2}"));
   Published pub;
   tessera_adapter* a = nullptr;

@@ -22,38 +22,6 @@ namespace {
 
 constexpr int kN = 16;
 
-/// A scratch directory named by rank 0, the same path on every rank; removed by rank 0.
-class SharedDir {
- public:
-  SharedDir() {
-    std::string path;
-    if (world_rank() == 0) {
-      std::random_device rd;
-      path = (fs::temp_directory_path() / ("tessera_limits_" + std::to_string(rd()) + std::to_string(rd()))).string();
-      fs::create_directories(path);
-    }
-    int len = static_cast<int>(path.size());
-    MPI_Bcast(&len, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    path.resize(static_cast<std::size_t>(len));
-    MPI_Bcast(path.data(), len, MPI_CHAR, 0, MPI_COMM_WORLD);
-    m_path = path;
-  }
-  ~SharedDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    std::error_code ec;
-    if (world_rank() == 0) fs::remove_all(m_path, ec);
-  }
-  std::string file(const std::string& name) const { return (fs::path(m_path) / name).string(); }
-  /// Rank 0 writes the file; every rank returns its path after the write.
-  std::string write(const std::string& name, const std::string& text) const {
-    if (world_rank() == 0) std::ofstream(file(name)) << text;
-    MPI_Barrier(MPI_COMM_WORLD);
-    return file(name);
-  }
-
- private:
-  std::string m_path;
-};
 
 std::string render_entry(const std::string& name, const std::string& trigger, int size, int spp) {
   return "  - name: " + name + "\n    field: density\n    trigger: " + trigger +
@@ -108,7 +76,7 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 }  // namespace
 
 TEST_CASE("time_limit stops every rank and the next call renders", "[mpi][limits]") {
-  SharedDir dir;
+  SharedTempDir dir("tessera_limits_");
   const std::string out = dir.file("out");
   const std::string cfg = dir.write("a.yaml", "tessera:\n  output_dir: " + out + "\n  threads: 1\n  time_limit: 2\nrenders:\n" +
                                                   render_entry("heavy", "{at: [0]}", 64, 1000000) +
@@ -134,7 +102,7 @@ TEST_CASE("time_limit stops every rank and the next call renders", "[mpi][limits
 }
 
 TEST_CASE("memory_limit_mb fails fast on every rank with the estimate", "[mpi][limits]") {
-  SharedDir dir;
+  SharedTempDir dir("tessera_limits_");
   const std::string out = dir.file("out");
   const std::string cfg = dir.write("b.yaml", "tessera:\n  output_dir: " + out + "\n  threads: 1\n  memory_limit_mb: 1024\nrenders:\n" +
                                                   render_entry("huge", "{every: 1}", 16384, 1));

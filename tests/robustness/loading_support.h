@@ -11,9 +11,13 @@
 #include <sstream>
 #include <string>
 
+#include "cli_run.h"
 #include "temp_dir.h"
 
 namespace tessera_test::loading {
+
+using tessera_test::CliRun;
+using tessera_test::run_cli;
 
 /// The message of the ConfigError that parsing `yaml` throws, or "" if it parses.
 inline std::string config_error(const std::string& yaml, const std::string& base_dir = "") {
@@ -55,28 +59,6 @@ inline std::string volume_block(const TempDir& dir, const std::string& file = "v
   return "volume: {file: " + file + ", dims: [2, 2, 2], dtype: float32}\n";
 }
 
-struct Run {
-  int status = -1;
-  std::string err;
-};
-
-#ifdef TESSERA_RENDER_EXE
-/// Runs `prefix tessera-render args` in `dir` (prefix: e.g. "ulimit -v 1000000;"), with a
-/// timeout so that a regression fails instead of hanging; stderr is captured.
-inline Run run_cli(const TempDir& dir, const std::string& args, const std::string& prefix = "",
-                   int timeout_s = 60) {
-  const std::string cmd = "cd '" + dir.path().string() + "' && " + prefix + " timeout " +
-                          std::to_string(timeout_s) + " '" TESSERA_RENDER_EXE "' " + args +
-                          " > stdout.txt 2> stderr.txt";
-  const int raw = std::system(cmd.c_str());
-  Run r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::ifstream in(dir.file("stderr.txt"), std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  r.err = s.str();
-  return r;
-}
-#endif
+using Run = CliRun;
 
 }  // namespace tessera_test::loading

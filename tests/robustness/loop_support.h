@@ -6,6 +6,7 @@
 #include <tessera/render.h>
 #include <tessera/scene.h>
 
+#include "cli_run.h"
 #include "temp_dir.h"
 
 #include <sys/wait.h>
@@ -86,12 +87,6 @@ inline bool film_finite(const tessera::Film& f) {
   return true;
 }
 
-inline std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 /// The ball as a raw file plus a tessera-render config; `subst` replaces the placeholders
 /// SPACING, ORIGIN, CAMPOS, FOV, APERTURE, DENS, OPAC, LIGHT, FREEPATH, STEP, BOUNCES.
@@ -153,26 +148,8 @@ renders:
   dir.write("scene.yaml", text);
 }
 
-struct CliRun {
-  int status = -1;  ///< exit status; 124 when `timeout` killed it
-  std::string out, err;
-  double seconds = 0.0;
-};
-
-/// Runs tessera-render with `args` inside `dir` under `timeout 60` (a hang fails the test
-/// instead of stalling CTest), capturing stdout, stderr and the wall time.
-inline CliRun run_render_cli(const TempDir& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.path().string() + "' && timeout 60 '" TESSERA_RENDER_EXE "' " + args +
-                          " > cli.out 2> cli.err";
-  const auto t0 = std::chrono::steady_clock::now();
-  const int raw = std::system(cmd.c_str());
-  CliRun r;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.out = slurp(dir.file("cli.out"));
-  r.err = slurp(dir.file("cli.err"));
-  return r;
-}
+/// tessera-render under `timeout 60` inside `dir` (cli_run.h).
+inline CliRun run_render_cli(const TempDir& dir, const std::string& args) { return run_cli(dir, args); }
 
 inline bool image_finite(const tessera::Image& im) {
   for (const float v : im.rgba)

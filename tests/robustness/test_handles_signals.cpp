@@ -1,6 +1,7 @@
 // Robustness: no signal escapes an image write (SIGXFSZ under a file-size limit, SIGPIPE) and
 // adapter handles are validated (double close, execute after close, foreign pointers).
 #include "../insitu/insitu_test_support.h"
+#include "cli_run.h"
 
 #include <tessera/adapter.h>
 #include <tessera/image_io.h>
@@ -25,14 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int count_files(const std::string& dir, const std::string& part) {
-  int n = 0;
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) return 0;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.path().filename().string().find(part) != std::string::npos) ++n;
-  return n;
-}
+using tessera_test::count_files;
 
 /// Lowers this process's soft RLIMIT_FSIZE to `bytes` (SIGXFSZ at its default action, which
 /// kills the process) and restores both at scope exit. A test that lets the signal escape
@@ -138,16 +132,11 @@ TEST_CASE("SIGXFSZ: tessera-render under ulimit -f exits 1 with the message, no 
   dir.write("scene.yaml", "tessera:\n  output_dir: results\n"
                           "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
                           "renders:\n" + render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "", 64, 1));
-  // ulimit -f counts 512-byte blocks: 2 = 1024 bytes
-  const std::string cmd = "cd '" + dir.path().string() + "' && (ulimit -f 2 && exec '" TESSERA_RENDER_EXE
-                          "' scene.yaml --quiet) > cli.out 2> cli.err";
-  const int raw = std::system(cmd.c_str());
-  REQUIRE(WIFEXITED(raw));  // not killed by a signal
-  CHECK(WEXITSTATUS(raw) == 1);
-  std::ifstream in(dir.file("cli.err"));
-  std::stringstream err;
-  err << in.rdbuf();
-  CHECK_THAT(err.str(), Contains("tessera-render: error:") && Contains("File too large"));
+  // ulimit -f counts 512-byte blocks: 2 = 1024 bytes. A SIGXFSZ that escaped would show as
+  // status 128 + 25 from `timeout`
+  const tessera_test::CliRun r = tessera_test::run_cli(dir, "scene.yaml --quiet", "ulimit -f 2 &&");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Contains("tessera-render: error:") && Contains("File too large"));
   CHECK(count_files(dir.file("results"), ".tmp") == 0);
   CHECK(count_files(dir.file("results"), "big") == 0);
 }

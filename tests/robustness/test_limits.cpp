@@ -2,6 +2,7 @@
 // "Limits and failure"), through the adapter and the CLI. Times are asserted only as
 // generous bounds ("finishes rather than hangs", "fails before allocating").
 #include "../insitu/insitu_test_support.h"
+#include "cli_run.h"
 
 #include <tessera/memory_estimate.h>
 #include <tessera/film.h>
@@ -28,23 +29,6 @@ namespace {
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// Files under `dir` whose name contains `part` (e.g. ".tmp").
-int count_files(const std::string& dir, const std::string& part) {
-  int n = 0;
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) return 0;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.path().filename().string().find(part) != std::string::npos) ++n;
-  return n;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 /// A 16^3 float32 blob as a raw file and a CLI scene with one render (64x64, huge spp).
 void write_cli_scene(const TempDir& dir, const std::string& global) {
   const std::vector<float> v = to_float(blob_values(16));
@@ -56,19 +40,9 @@ void write_cli_scene(const TempDir& dir, const std::string& global) {
                               render_yaml("heavy", "", "", "", 64, 1000000));
 }
 
-struct Run {
-  int status;
-  std::string err;
-  double seconds;
-};
-
-Run run_cli(const TempDir& dir, const std::string& args) {
-  const auto t0 = Clock::now();
-  const std::string cmd = "cd '" + dir.path().string() + "' && timeout 60 '" TESSERA_RENDER_EXE "' " + args +
-                          " > cli.out 2> cli.err";
-  const int raw = std::system(cmd.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir.path() / "cli.err"), seconds_since(t0)};
-}
+using Run = tessera_test::CliRun;
+using tessera_test::count_files;
+using tessera_test::run_cli;
 
 }  // namespace
 
