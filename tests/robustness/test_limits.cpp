@@ -44,6 +44,26 @@ using Run = tessera_test::CliRun;
 using tessera_test::count_files;
 using tessera_test::run_cli;
 
+/// One execute of a 16^3 blob under `config_text` (whose render `name` passes its time limit
+/// of `limit_s`): TESSERA_ERROR_RENDER within 15 s naming the limit, and no image written.
+void expect_time_limit_failure(const TempDir& dir, const std::string& config_text, const std::string& name,
+                               int limit_s) {
+  const std::string out = dir.file("out");
+  const std::string cfg = dir.write("a.yaml", config_text);
+  tessera_adapter* a = nullptr;
+  REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
+  const std::vector<float> v = to_float(blob_values(16));
+  const tessera_field f = dense_field("density", v.data(), 16);
+  const tessera_grid g = unit_grid(16);
+  const auto t0 = Clock::now();
+  CHECK(tessera_execute(a, 0, 0.0, &g, &f, 1) == TESSERA_ERROR_RENDER);
+  CHECK(seconds_since(t0) < 15.0);
+  CHECK_THAT(std::string(tessera_last_error(a)),
+             Contains("passed tessera.time_limit = " + std::to_string(limit_s) + " s"));
+  CHECK_FALSE(fs::exists(out + "/" + name + "_0000.exr"));
+  CHECK(tessera_close(a) == TESSERA_OK);
+}
+
 }  // namespace
 
 TEST_CASE("time_limit: a render far too long fails after the limit, writes nothing, and the next call renders",
@@ -85,45 +105,22 @@ TEST_CASE("time_limit: one endless path inside a tile stops too", "[robustness][
   // until max_bounces (minutes for this one 16x16 tile at 1 spp without a limit). Tiles and
   // passes are too coarse here: the path itself polls the deadline every 256 collisions.
   TempDir dir;
-  const std::string out = dir.file("out");
   const std::string extra =
       "    camera: {position: center, look_at: [0, 0, 0], up: [0, 0, 1], fov: 40}\n"
       "    transfer_function: {range: auto, density_scale: 1e308, opacity: [[0, 1], [1, 1]], "
       "diffuse: [[0, [1, 1, 1]]]}\n"
       "    integrator: {scattering: multiple, max_bounces: 1000000, shading: phase, tile: 16}\n";
-  const std::string cfg =
-      dir.write("a.yaml", config_yaml(out, render_yaml("walk", "", extra, "density", 16, 1), "  time_limit: 1\n"));
-  tessera_adapter* a = nullptr;
-  REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
-  const std::vector<float> v = to_float(blob_values(16));
-  const tessera_field f = dense_field("density", v.data(), 16);
-  const tessera_grid g = unit_grid(16);
-  const auto t0 = Clock::now();
-  CHECK(tessera_execute(a, 0, 0.0, &g, &f, 1) == TESSERA_ERROR_RENDER);
-  CHECK(seconds_since(t0) < 15.0);
-  CHECK_THAT(std::string(tessera_last_error(a)), Contains("passed tessera.time_limit = 1 s"));
-  CHECK_FALSE(fs::exists(out + "/walk_0000.exr"));
-  CHECK(tessera_close(a) == TESSERA_OK);
+  expect_time_limit_failure(
+      dir, config_yaml(dir.file("out"), render_yaml("walk", "", extra, "density", 16, 1), "  time_limit: 1\n"),
+      "walk", 1);
 }
 
 TEST_CASE("time_limit: adaptive sampling stops too - the preview in prepare and then the tiles", "[robustness][limits]") {
   TempDir dir;
-  const std::string out = dir.file("out");
   std::string render = render_yaml("adaptive", "", "", "density", 64, 1000000);
   const std::string spp = "spp: 1000000}";
   render.replace(render.find(spp), spp.size(), "spp: 1000000, target_error: 0.0001}");
-  const std::string cfg = dir.write("a.yaml", config_yaml(out, render, "  time_limit: 1\n"));
-  tessera_adapter* a = nullptr;
-  REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
-  const std::vector<float> v = to_float(blob_values(16));
-  const tessera_field f = dense_field("density", v.data(), 16);
-  const tessera_grid g = unit_grid(16);
-  const auto t0 = Clock::now();
-  CHECK(tessera_execute(a, 0, 0.0, &g, &f, 1) == TESSERA_ERROR_RENDER);
-  CHECK(seconds_since(t0) < 15.0);
-  CHECK_THAT(std::string(tessera_last_error(a)), Contains("passed tessera.time_limit = 1 s"));
-  CHECK_FALSE(fs::exists(out + "/adaptive_0000.exr"));
-  tessera_close(a);
+  expect_time_limit_failure(dir, config_yaml(dir.file("out"), render, "  time_limit: 1\n"), "adaptive", 1);
 }
 
 TEST_CASE("time_limit covers every Cinema view of a render", "[robustness][limits]") {
