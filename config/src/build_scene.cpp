@@ -133,7 +133,9 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
   // (a spacing outside its range is prepare()'s error to report, not the camera's)
   const double h = std::min({geom.spacing.x, geom.spacing.y, geom.spacing.z});
   const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
-  s.camera.position = res.point("camera.position", resolve_point(spec.camera.position, data_bounds, up));
+  const double fit_radii = fit_distance(spec.camera.fov, spec.image.width, spec.image.height);
+  s.camera.position =
+      res.point("camera.position", resolve_point(spec.camera.position, data_bounds, up, fit_radii));
   s.camera.look_at = res.point("camera.look_at", resolve_point(spec.camera.look_at, data_bounds, up));
   s.camera.up = up;
   s.camera.fov_deg = spec.camera.fov;

@@ -3,13 +3,24 @@
 
 #include "parsers.h"
 
+#include <cstdlib>
+#include <string>
+
 namespace tessera::config::detail {
 
 namespace {
 constexpr const char* kPointAllowed = "[x, y, z], center or {orbit: {azimuth, elevation, distance}}";
+
+// Whether a scalar's text starts like a number (so a word such as `fitt` gets the message that
+// lists `fit`, and a number gets Value::number's range check)
+bool reads_as_number(const std::string& text) {
+  char* end = nullptr;
+  std::strtod(text.c_str(), &end);
+  return end != text.c_str();
+}
 }
 
-PointSpec parse_point(const Value& v) {
+PointSpec parse_point(const Value& v, bool allow_fit) {
   if (v.is_word("center")) return PointSpec::center();
   if (v.is_sequence()) return PointSpec::absolute(v.vec3());
   if (v.is_scalar()) v.fail(v.describe() + " is not a point (allowed: " + std::string(kPointAllowed) + ")");
@@ -22,8 +33,19 @@ PointSpec parse_point(const Value& v) {
   OrbitSpec s;
   s.azimuth = om.number_or("azimuth", 0.0);
   s.elevation = om.number_or("elevation", 0.0, Range::closed(-90.0, 90.0));
-  s.distance = om.require("distance", "a number >= 0, in bounding-sphere radii of the data")
-                   .number(Range::at_least(0.0));
+  const char* distance_allowed = allow_fit
+                                     ? "a number >= 0, in bounding-sphere radii of the data, or fit"
+                                     : "a number >= 0, in bounding-sphere radii of the data";
+  const Value d = om.require("distance", distance_allowed);
+  if (d.is_word("fit")) {
+    if (!allow_fit)
+      d.fail("distance: fit frames the data in the camera's view, so only camera.position takes it "
+             "(allowed here: a number >= 0, in bounding-sphere radii of the data)");
+    return PointSpec::on_orbit_fit(s.azimuth, s.elevation);
+  }
+  if (allow_fit && d.is_scalar() && !reads_as_number(d.node().Scalar()))
+    d.fail(d.describe() + " is not a distance (allowed: " + std::string(distance_allowed) + ")");
+  s.distance = d.number(Range::at_least(0.0));
   return PointSpec::on_orbit(s.azimuth, s.elevation, s.distance);
 }
 

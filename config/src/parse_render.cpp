@@ -73,7 +73,8 @@ CameraSpec parse_camera(const Value& v) {
   m.allow({"position", "look_at", "up", "fov", "aperture", "focus_distance"});
   CameraSpec c;
   c.position = parse_point(m.require("position", "[x, y, z], center or {orbit: {azimuth, "
-                                                 "elevation, distance}}"));
+                                                 "elevation, distance}} (distance: a number or fit)"),
+                           true);
   if (const auto p = m.get("look_at")) c.look_at = parse_point(*p);
   if (const auto u = m.get("up")) {
     c.up = u->vec3();

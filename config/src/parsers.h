@@ -13,7 +13,8 @@ RenderSpec parse_render(const Value& v);
 TriggerSpec parse_trigger(const Value& v);
 CameraSpec parse_camera(const Value& v);
 OutputSpec parse_output(const Value& v);
-PointSpec parse_point(const Value& v);
+/// `allow_fit`: whether an orbit may say `distance: fit` (camera.position only).
+PointSpec parse_point(const Value& v, bool allow_fit = false);
 /// A number or `{relative: r}`, resolving to > 0 (strictly_positive) or >= 0.
 LengthSpec parse_length(const Value& v, bool strictly_positive);
 TransferFunctionSpec parse_transfer_function(const Value& v);

@@ -1,7 +1,12 @@
 // Points and orbits resolved against the data bounds (conventions in build_scene.h).
 #include <tessera/config/build_scene.h>
 
+#include "yaml_reader.h"
+
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace tessera::config {
 
@@ -21,13 +26,34 @@ Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up_in) {
   return std::cos(el) * (std::cos(az) * e1 + std::sin(az) * e2) + std::sin(el) * up;
 }
 
+double fit_distance(double fov_deg, int width, int height) {
+  if (!(fov_deg > 0.0 && fov_deg < 180.0))
+    throw std::invalid_argument("distance: fit: fov " + detail::format_number(fov_deg) + " is outside (0, 180) degrees");
+  if (width < 1 || height < 1)
+    throw std::invalid_argument("distance: fit: image size " + std::to_string(width) + "x" +
+                                std::to_string(height) + " must be at least 1x1");
+  // The camera's image plane spans tan(fov/2) vertically and aspect times that horizontally
+  const double tan_v = std::tan(0.5 * fov_deg * kPi / 180.0);
+  const double tan_h = tan_v * static_cast<double>(width) / height;
+  const double half_min = std::atan(std::min(tan_v, tan_h));
+  // The sphere is tangent to the two frustum planes of the narrower field of view
+  return 1.0 / std::sin(half_min);
+}
+
 Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up) {
+  if (p.is_fit())
+    throw std::logic_error("resolve_point: an orbit with distance: fit needs the camera's fit distance");
+  return resolve_point(p, data_bounds, up, 1.0);
+}
+
+Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up, double fit_radii) {
   switch (p.kind) {
     case PointSpec::Kind::Absolute: return p.xyz;
     case PointSpec::Kind::Center: return data_bounds.center();
-    case PointSpec::Kind::Orbit:
-      return data_bounds.center() +
-             p.orbit.distance * data_bounds.radius() * orbit_direction(p.orbit, up);
+    case PointSpec::Kind::Orbit: {
+      const double radii = p.orbit.fit ? fit_radii : p.orbit.distance;
+      return data_bounds.center() + radii * data_bounds.radius() * orbit_direction(p.orbit, up);
+    }
   }
   return p.xyz;
 }

@@ -84,7 +84,9 @@ void write(YAML::Emitter& out, const PointSpec& p) {
       out << YAML::Flow << YAML::BeginMap << YAML::Key << "orbit" << YAML::Value << YAML::BeginMap;
       field(out, "azimuth", p.orbit.azimuth);
       field(out, "elevation", p.orbit.elevation);
-      field(out, "distance", p.orbit.distance);
+      // `fit` stays a word so the written config re-frames when the data or image changes
+      if (p.orbit.fit) out << YAML::Key << "distance" << YAML::Value << "fit";
+      else field(out, "distance", p.orbit.distance);
       out << YAML::EndMap << YAML::EndMap;
       return;
   }

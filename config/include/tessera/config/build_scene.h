@@ -8,6 +8,12 @@
 /// aligned with up (x, then y, then z on ties) projected onto the plane normal to up and
 /// normalised, e2 = cross(up, e1). For up = +z: e1 = +x, e2 = +y, so azimuth 90 is +y.
 /// Lights resolve their orbit points with the camera's up too.
+///
+/// `distance: fit` (camera.position only) puts the camera at fit_distance(fov, width, height)
+/// radii: the data's bounding sphere is then tangent to the frustum planes of the smaller of
+/// the two fields of view, so the whole data fills that direction of the image without being
+/// cut, and the other direction has room to spare. The framing assumes look_at is `center`
+/// (the default); the aperture of a thin-lens camera does not change it.
 /// Lengths `{relative: r}` resolve to r * R.
 #include <tessera/config/config.h>
 #include <tessera/config/render_spec.h>
@@ -23,8 +29,17 @@ namespace tessera::config {
 /// but must be non-zero.
 Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up);
 
+/// `distance: fit` in bounding-sphere radii: 1 / sin(h), h = half the smaller field of view;
+/// the vertical one is fov_deg, the horizontal one 2 atan(tan(fov_deg / 2) width / height).
+/// Throws std::invalid_argument for a fov outside (0, 180) or an image smaller than 1x1.
+double fit_distance(double fov_deg, int width, int height);
+
 /// Resolves a point against the data bounds; `up` is the camera up used by orbits.
+/// Throws std::logic_error for a `distance: fit` orbit (use the overload below).
 Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up);
+
+/// As above; an orbit with `distance: fit` is put at `fit_radii` bounding-sphere radii.
+Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up, double fit_radii);
 
 /// The TF range, with `auto` replaced by auto_range; an empty auto range (lo == hi, e.g. a
 /// constant field) is widened to [lo - 0.5, hi + 0.5], or by 2^-40 |lo| each way where 0.5

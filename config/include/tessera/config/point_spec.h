@@ -6,10 +6,13 @@
 namespace tessera::config {
 
 /// `{orbit: {azimuth, elevation, distance}}`: a point on a sphere about the data centre.
+/// `distance: fit` (camera.position only) sets `fit`; the distance is then computed when the
+/// scene is built, from the camera's fov and the image's aspect ratio (see build_scene.h).
 struct OrbitSpec {
   double azimuth = 0.0;    ///< degrees, about the camera's up axis from the reference direction
   double elevation = 0.0;  ///< degrees, from the plane normal to up, [-90, 90]
-  double distance = 1.0;   ///< in bounding-sphere radii of the data, >= 0
+  double distance = 1.0;   ///< in bounding-sphere radii of the data, >= 0; unused when fit
+  bool fit = false;        ///< `distance: fit`: the data's bounding sphere just fills the view
 };
 
 /// A point: `[x, y, z]` (world units), the word `center` (centre of the data bounds) or an orbit.
@@ -22,8 +25,13 @@ struct PointSpec {
   static PointSpec absolute(const Vec3& p) { return {Kind::Absolute, p, {}}; }
   static PointSpec center() { return {Kind::Center, Vec3(0.0), {}}; }
   static PointSpec on_orbit(double azimuth, double elevation, double distance) {
-    return {Kind::Orbit, Vec3(0.0), {azimuth, elevation, distance}};
+    return {Kind::Orbit, Vec3(0.0), {azimuth, elevation, distance, false}};
   }
+  /// `{orbit: {azimuth, elevation, distance: fit}}`
+  static PointSpec on_orbit_fit(double azimuth, double elevation) {
+    return {Kind::Orbit, Vec3(0.0), {azimuth, elevation, 1.0, true}};
+  }
+  bool is_fit() const { return kind == Kind::Orbit && orbit.fit; }
 };
 
 /// A length: a number in world units, or `{relative: r}`, r times the bounding-sphere radius.
