@@ -32,11 +32,13 @@ VolumeInfo describe_volume(const config::RawVolume& volume, const config::Volume
 
 SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
                     const VolumeInfo& volume, const Args& args) {
-  SceneDesc scene = config::build_scene(spec, volume.bounds, volume.range, volume.geometry);
+  // The image size first: `distance: fit` frames the camera for the image's aspect ratio
+  config::RenderSpec sized = spec;
+  if (args.width) sized.image.width = *args.width;
+  if (args.height) sized.image.height = *args.height;
+  SceneDesc scene = config::build_scene(sized, volume.bounds, volume.range, volume.geometry);
   scene.options = config::build_render_options(spec, cfg.global);
   if (args.spp) scene.image.spp = *args.spp;
-  if (args.width) scene.image.width = *args.width;
-  if (args.height) scene.image.height = *args.height;
   if (args.tile) scene.options.tile = *args.tile;
   if (args.threads) scene.options.threads = *args.threads;
   if (args.seed) scene.options.seed = *args.seed;

@@ -5,9 +5,14 @@
 
 #include <tessera/camera.h>
 #include <tessera/config/build_scene.h>
+#include <tessera/image_io.h>
 #include <tessera/render.h>
 
+#include "temp_dir.h"
+
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <random>
 #include <string>
 #include <tuple>
@@ -239,3 +244,32 @@ TEST_CASE("a volume framed with distance: fit renders whole, with an empty borde
     CHECK(border == 0.0);
   }
 }
+
+#ifdef TESSERA_RENDER_EXE
+TEST_CASE("tessera-render --width/--height re-frame a distance: fit camera", "[config][fit][cli]") {
+  // A 2:1 render shown at 60 x 160: framed for the 2:1 shape it would cut the box at the sides
+  tessera_test::TempDir dir;
+  const int n = 5;
+  const std::vector<float> field(n * n * n, 1.0f);
+  std::ofstream(dir.file("box.raw"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(field.data()), static_cast<std::streamsize>(field.size() * sizeof(float)));
+  dir.write("scene.yaml",
+            "volume: {file: box.raw, dims: [5, 5, 5], dtype: float32, spacing: [0.5, 0.3, 0.35]}\n"
+            "renders:\n  - name: a\n    image: {width: 160, height: 80, spp: 1}\n"
+            "    camera: {position: {orbit: {azimuth: 37, elevation: 23, distance: fit}}, fov: 35}\n"
+            "    transfer_function: {range: [0, 2], density_scale: 1000, opacity: [[0, 1], [1, 1]]}\n"
+            "    background: {type: constant, color: [0, 0, 0]}\n    output: {file: a, formats: [exr]}\n");
+  const std::string cmd = "cd '" + dir.path().string() + "' && '" TESSERA_RENDER_EXE
+                          "' scene.yaml --quiet --width 60 --height 160 -o tall.exr";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const Image img = read_exr(dir.file("tall.exr"));
+  REQUIRE(img.width == 60);
+  REQUIRE(img.height == 160);
+  const auto alpha = [&](int x, int y) { return img.rgba[4 * (static_cast<std::size_t>(y) * img.width + x) + 3]; };
+  CHECK(alpha(30, 80) > 0.99f);
+  double border = 0.0;
+  for (int x = 0; x < img.width; ++x) border += alpha(x, 0) + alpha(x, img.height - 1);
+  for (int y = 0; y < img.height; ++y) border += alpha(0, y) + alpha(img.width - 1, y);
+  CHECK(border == 0.0);
+}
+#endif
