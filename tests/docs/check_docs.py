@@ -134,7 +134,8 @@ def main():
                 print(f"ok    {where} ({lang})")
             else:
                 failures += 1
-                print(f"FAIL  {where} ({lang}): exit {rc}\n" + "".join("      | " + l + "\n" for l in text.splitlines())
+                hint = f" (scene.yaml line N is {rel} line {line}+N)" if lang in ("yaml", "yml") else ""
+                print(f"FAIL  {where} ({lang}): exit {rc}{hint}\n" + "".join("      | " + l + "\n" for l in text.splitlines())
                       + "".join("      > " + l + "\n" for l in out.strip().splitlines()[-15:]))
     print(f"{checked} blocks checked, {failures} failed")
     return 1 if failures else 0
