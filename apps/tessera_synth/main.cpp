@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <new>
 #include <random>
 #include <type_traits>
 #include <stdexcept>
@@ -197,6 +198,9 @@ int main(int argc, char** argv) try {
   std::printf("wrote %s: %lld x %lld x %lld %s (%s)\n", a.out.c_str(), (long long)nx, (long long)ny,
               (long long)nz, a.dtype.c_str(), a.kind.c_str());
   return 0;
+} catch (const std::bad_alloc&) {
+  std::fprintf(stderr, "tessera-synth: error: out of memory (it holds 8 bytes per voxel plus the output; try smaller --dims)\n");
+  return 1;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "tessera-synth: error: %s\n", e.what());
   return 1;
