@@ -10,7 +10,8 @@ Convention (docs/cli.md, "Examples in the docs are tested"):
     in situ configs are checked too;
   * a ```sh (or ```bash) block is run with `bash -eo pipefail` in a scratch folder holding a
     copy of configs/, with build/bin/ (and PATH) pointing at the programs; tessera-render is
-    run at 48x32 pixels, 2 spp, so that commands on the demo scenes stay fast;
+    run at 48x32 pixels, 2 spp, so that commands on the demo scenes stay fast; Open MPI is
+    allowed to run as root and to oversubscribe;
   * a block right after a line `<!-- fragment -->` (part of a config) or
     `<!-- not run: REASON -->` (a long command: the demo, the test suite, a build) is skipped.
 Any other fence language (```cpp, ```c, plain ```) is not checked.
@@ -121,7 +122,9 @@ def main():
             with tempfile.TemporaryDirectory(prefix="tessera_docs_") as tmp:
                 tmp = os.path.realpath(tmp)
                 bindir = shims(real_bin, tmp)
-                env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""))
+                env = dict(os.environ, PATH=bindir + os.pathsep + os.environ.get("PATH", ""),
+                           OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                           OMPI_MCA_rmaps_base_oversubscribe="1")  # mpirun in containers
                 if lang in ("yaml", "yml"):
                     scene = make_volume(text, tmp)
                     open(os.path.join(tmp, "scene.yaml"), "w").write(scene)
