@@ -4,12 +4,13 @@
 #  2. the heat-equation miniapp under mpirun, rendering in situ every few steps: out/heat/
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+# Builds only the programs the demo runs (build/bin/), not the tests and benchmarks.
+TESSERA_SETUP_TARGETS="tessera-render tessera-synth tessera-heat" bash scripts/setup.sh
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 
 mkdir -p data out
-[ -f data/blobs.raw ] || ./build/apps/tessera_synth/tessera-synth data/blobs.raw --dims 128 128 128 --kind blobs
-./build/apps/tessera-render configs/demo.yaml --stats out/demo/stats.json
+[ -f data/blobs.raw ] || ./build/bin/tessera-synth data/blobs.raw --dims 128 128 128 --kind blobs
+./build/bin/tessera-render configs/demo.yaml --stats out/demo/stats.json
 echo "demo: wrote $(ls out/demo/*.png | tr '\n' ' ')"
 
 # The heat miniapp under mpirun (RANKS, STEPS, GRID: see scripts/run_heat_demo.sh).

@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 out="${1:-out/heat}"
 [ $# -gt 0 ] && shift
 build="${BUILD_DIR:-build}"
-exe="$build/miniapp/tessera-heat"
+exe="$build/bin/tessera-heat"
 if [ ! -x "$exe" ]; then
   cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
   cmake --build "$build" -j"$(nproc)" --target tessera-heat

@@ -9,6 +9,7 @@ pkgs=(build-essential cmake pkg-config libtbb-dev libopenexr-dev libglm-dev liby
 # Opt-in extras, not needed by the normal build:
 #   TESSERA_SETUP_FUZZ=1        clang and its libFuzzer / sanitizer runtimes (scripts/fuzz.sh)
 #   TESSERA_SETUP_SKIP_BUILD=1  install packages only, do not configure or build ./build
+#   TESSERA_SETUP_TARGETS="a b" build only these targets (demo.sh: the three programs)
 if [ "${TESSERA_SETUP_FUZZ:-0}" = 1 ]; then pkgs+=(clang libclang-rt-14-dev); fi
 missing=()
 for p in "${pkgs[@]}"; do
@@ -26,4 +27,5 @@ fi
 
 build_type="${TESSERA_BUILD_TYPE:-Release}"
 cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" ${TESSERA_CMAKE_ARGS:-}
-cmake --build build -j"$(nproc)"
+# shellcheck disable=SC2086  # a list of target names
+cmake --build build -j"$(nproc)" ${TESSERA_SETUP_TARGETS:+--target $TESSERA_SETUP_TARGETS}

@@ -43,7 +43,7 @@ const char* usage() {
   return "usage: tessera-render SCENE.yaml [--render NAME] [-o OUT] [--spp N]\n"
          "                      [--width W --height H] [--tile N | --scanline] [--threads N]\n"
          "                      [--seed N] [--time-limit SECONDS] [--stats FILE.json]\n"
-         "                      [--progress | --quiet]\n"
+         "                      [--progress | --quiet] [--check]\n"
          "\n"
          "Renders every entry of `renders:` in SCENE.yaml (or only --render NAME) from the\n"
          "raw volume named by its `volume:` block. Flags override the YAML.\n"
@@ -63,6 +63,7 @@ const char* usage() {
          "  --stats FILE.json  write render statistics as JSON\n"
          "  --progress         show a progress bar (default when stderr is a terminal)\n"
          "  --quiet            print nothing but errors\n"
+         "  --check            check the scene and its volume file, render nothing\n"
          "  -h, --help         show this help\n"
          "  --version          show the version\n";
 }
@@ -106,6 +107,7 @@ Args parse_args(int argc, const char* const* argv) {
     else if (arg == "--time-limit") a.time_limit = to_seconds(arg, value());
     else if (arg == "--progress") { no_value(); a.progress = true; }
     else if (arg == "--quiet" || arg == "-q") { no_value(); a.quiet = true; }
+    else if (arg == "--check") { no_value(); a.check = true; }
     else if (arg.size() > 1 && arg[0] == '-') throw std::runtime_error("unknown option " + shown(arg) + " (see --help)");
     else if (a.scene.empty()) a.scene = arg;
     else throw std::runtime_error("unexpected argument \"" + shown(arg) + "\" (one SCENE.yaml only)");

@@ -1,5 +1,5 @@
 #pragma once
-// Command line of tessera-render (docs/cli.md, spec/interfaces.md section 2).
+// Command line of tessera-render (docs/cli.md).
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,6 +16,8 @@ struct Args {
   std::optional<double> time_limit;  ///< --time-limit SECONDS (overrides tessera.time_limit)
   bool progress = false;             ///< --progress
   bool quiet = false;                ///< --quiet
+  bool check = false;                ///< --check: validate the scene, its renders' output paths
+                                     ///< and the volume file (size), render nothing, exit 0
   bool help = false;                 ///< -h / --help: print usage, exit 0
   bool version = false;              ///< --version
 };

@@ -58,6 +58,10 @@ int run(int argc, const char* const* argv) {
   check_volume_memory(cfg);  // before a byte of the file is read
   const config::RawVolume volume = config::load_raw_volume(*cfg.volume);
   VolumeInfo info = describe_volume(volume, *cfg.volume, renders.empty() ? IntegratorDesc{} : renders.front()->integrator.desc);
+  if (args.check) {  // --check: scene, selection, output paths and volume are valid
+    if (!args.quiet) std::printf("%s: ok (%zu render%s)\n", args.scene.c_str(), renders.size(), several ? "s" : "");
+    return 0;
+  }
 
   // Render each, reporting as we go
   const bool show_progress = !args.quiet && (args.progress || isatty(STDERR_FILENO));

@@ -22,9 +22,9 @@ class Bench:
         self.build = build
         self.results = results
         self.quick = quick
-        self.render_exe = os.path.join(build, "apps", "tessera-render")
-        self.synth_exe = os.path.join(build, "apps", "tessera_synth", "tessera-synth")
-        self.heat_exe = os.path.join(build, "miniapp", "tessera-heat")
+        self.render_exe = os.path.join(build, "bin", "tessera-render")  # every program: build/bin/
+        self.synth_exe = os.path.join(build, "bin", "tessera-synth")
+        self.heat_exe = os.path.join(build, "bin", "tessera-heat")
         self.rmse_exe = os.path.join(build, "bench", "perf", "tessera-rmse")
         self.data = os.path.join(results, "data")
         for d in (results, self.data):

@@ -193,3 +193,25 @@ TEST_CASE("tessera-render errors are one line and exit status 1", "[cli]") {
   CHECK(r.status == 0);
   CHECK_THAT(r.out, Contains("usage: tessera-render SCENE.yaml"));
 }
+
+TEST_CASE("tessera-render --check validates the scene and the volume without rendering", "[cli]") {
+  TempDir dir;
+  write_scene(dir);
+  const Run ok = run_cli(dir, "scene.yaml --check");
+  INFO(ok.err);
+  CHECK(ok.status == 0);
+  CHECK(ok.out == "scene.yaml: ok (2 renders)\n");
+  CHECK(ok.err.empty());
+  CHECK_FALSE(fs::exists(dir.path() / "results"));  // nothing rendered or written
+  CHECK(run_cli(dir, "scene.yaml --check --render side --quiet").out.empty());
+
+  // A volume file of the wrong size fails as a render would, before any image
+  std::ofstream(dir.file("blob.raw"), std::ios::binary | std::ios::app) << "x";
+  const Run bad = run_cli(dir, "scene.yaml --check");
+  CHECK(bad.status == 1);
+  CHECK_THAT(bad.err, StartsWith("tessera-render: error: "));
+  CHECK_THAT(bad.err, Contains("blob.raw"));
+  CHECK_FALSE(fs::exists(dir.path() / "results"));
+
+  CHECK_THAT(run_cli(dir, "--check=1 scene.yaml").err, Contains("--check takes no value"));
+}
