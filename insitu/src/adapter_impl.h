@@ -49,8 +49,9 @@ struct Adapter::Impl {
   CallData m_call;
   SummaryCache m_summaries;
   /// The simulation's time (wall, outside execute) since the last execute in which a render
-  /// fired, or since open(): m_sim_seconds so far, plus the time since m_sim_since (the
-  /// return of the last execute, or of open) once the next execute starts.
+  /// fired: m_sim_seconds so far, plus the time since m_sim_since (the return of the last
+  /// execute) once the next execute starts. -1 from open() until the first execute returns:
+  /// the first call has no simulation time to compare with.
   std::chrono::steady_clock::time_point m_sim_since{};
   double m_sim_seconds = 0.0;
 };

@@ -57,9 +57,10 @@ struct RenderResult {
   double render_seconds = 0.0;        ///< rendering only (all cameras for a Cinema render)
   double samples_per_second = 0.0;    ///< stats.samples / render_seconds
   double prepare_seconds = 0.0;       ///< this rank's tessera::prepare time (all cameras)
-  /// The simulation's wall time on this rank since the last execute() in which a render fired
-  /// (or since open() for the first): the time spent outside execute() in between, i.e. the
-  /// steps the simulation computed for this image. The same for every render of one call.
+  /// The simulation's wall time on this rank since the last execute() in which a render fired:
+  /// the time spent outside execute() in between (calls that rendered nothing included), i.e.
+  /// the steps the simulation computed for this image. The same for every render of one call;
+  /// 0 in the first execute() after open() (nothing to compare with).
   double simulation_seconds = 0.0;
   /// render_seconds / simulation_seconds: the in situ cost of this render relative to the
   /// simulation it watches (26 = rendering took 26x the simulation's time); 0 when
