@@ -1,6 +1,6 @@
 #include <tessera/scene_warnings.h>
 
-#include <tessera/camera.h>
+#include <glm/glm.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -38,27 +38,47 @@ TfVerdict judge_tf(const TransferFunction& tf, double vmin, double vmax) {
   return v;
 }
 
-/// Where the data's bounds lie for the camera: "" when (possibly) in view, else why not.
-std::string camera_misses(const SceneDesc& desc, const Bounds& b) {
-  const Camera cam(desc.camera, desc.image.width, desc.image.height);
+/// Where the data's bounds lie for the camera (pinhole projection of the eight corners, with
+/// no absolute epsilon so that boxes of any scale are judged alike).
+enum class View { In, Behind, Outside, SubPixel };
+
+View camera_view(const SceneDesc& desc, const Bounds& b) {
+  const CameraDesc& c = desc.camera;
+  const Vec3 f = glm::normalize(c.look_at - c.position);
+  const Vec3 r = glm::normalize(glm::cross(f, c.up));
+  const Vec3 u = glm::cross(r, f);
+  const double ty = std::tan(0.5 * c.fov_deg * M_PI / 180.0);
+  const double tx = ty * double(desc.image.width) / double(desc.image.height);
   int in_front = 0;
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  for (int c = 0; c < 8; ++c) {
-    const Vec3 p((c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z);
-    double px, py;
-    if (!cam.project(p, &px, &py)) continue;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 p((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
+    const Vec3 v = p - c.position;
+    const double z = glm::dot(v, f);
+    if (!(z > 0.0)) continue;
     ++in_front;
-    x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
+    const double sx = glm::dot(v, r) / z, sy = glm::dot(v, u) / z;
+    x0 = std::min(x0, sx), x1 = std::max(x1, sx), y0 = std::min(y0, sy), y1 = std::max(y1, sy);
   }
+  if (in_front == 0) return View::Behind;
+  if (in_front < 8) return View::In;  // the box straddles the camera plane: part of it may show
+  if (x1 < -tx || x0 > tx || y1 < -ty || y0 > ty) return View::Outside;
+  // Pixels covered by the projected box (clipped to the image)
+  const double px = (std::min(x1, tx) - std::max(x0, -tx)) / (2.0 * tx) * desc.image.width;
+  const double py = (std::min(y1, ty) - std::max(y0, -ty)) / (2.0 * ty) * desc.image.height;
+  if (!(px * py >= 1.0)) return View::SubPixel;
+  return View::In;
+}
+
+/// "" when the data is (possibly) in view, else why not, naming the bounds.
+std::string camera_misses(const SceneDesc& desc, const Bounds& b) {
+  const View v = camera_view(desc, b);
+  if (v == View::In) return "";
   const std::string where = "the data's bounds (" + interval(b.lo.x, b.hi.x) + " x " + interval(b.lo.y, b.hi.y) +
                             " x " + interval(b.lo.z, b.hi.z) + ")";
-  if (in_front == 0) return where + " are behind the camera (camera.look_at points away from them)";
-  // Some corners behind: the box straddles the camera plane, so part of it may show
-  if (in_front < 8) return "";
-  const double w = desc.image.width, h = desc.image.height;
-  if (x1 < 0.0 || x0 > w || y1 < 0.0 || y0 > h)
-    return where + " are outside the camera's view (camera.look_at or fov misses them)";
-  return "";
+  if (v == View::Behind) return where + " are behind the camera (camera.look_at points away from them)";
+  if (v == View::Outside) return where + " are outside the camera's view (camera.look_at or fov misses them)";
+  return where + " cover less than one pixel of the image (camera too far or fov too wide)";
 }
 
 }  // namespace
@@ -129,7 +149,7 @@ std::vector<std::string> render_warnings(const PreparedScene& scene, const Rende
     else if (v.invisible)
       cause = "the opacity transfer function is 0 over the data's values";
     else if (!camera_misses(desc, b).empty())
-      cause = "the camera looks away from the data";
+      cause = "the camera does not see the data (behind it, outside its view or under a pixel)";
     else if (depth < kThinVolumeDepth)
       cause = "transfer_function.density_scale too small (optical depth at most " + num(depth) +
               " across the volume: density_scale " + num(desc.tf.density_scale) + " x opacity " + num(v.max_opacity) +

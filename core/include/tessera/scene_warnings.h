@@ -24,8 +24,9 @@ inline constexpr double kThinVolumeDepth = 0.05;
 ///  - transfer_function.range disjoint from the data's finite range (both named), or the
 ///    opacity TF zero over the whole data range (the range overlaps but every value there
 ///    maps to opacity 0): nothing of the field is visible;
-///  - the data's bounds entirely behind the camera or outside its view (checked on the eight
-///    corners of the bounds; a box the camera is inside or straddles counts as in view).
+///  - the data's bounds entirely behind the camera, outside its view, or covering less than
+///    one pixel (pinhole projection of the eight corners of the bounds; a box the camera is
+///    inside or straddles counts as in view).
 /// Uses scene.summary() (finite min/max, NaN count: the field prepare() saw, under MPI the
 /// assembled global field) and scene.desc(); reads no field value.
 std::vector<std::string> scene_warnings(const PreparedScene& scene);
@@ -33,7 +34,7 @@ std::vector<std::string> scene_warnings(const PreparedScene& scene);
 /// scene_warnings(scene), then render_warnings(stats), then, when stats.samples > 0 and
 /// stats.real_collisions == 0, "nothing of the field is visible: 0 real collisions in N
 /// samples; likely cause: ..." naming the first that applies: the transfer function (range or
-/// opacity), the camera (looking away), density_scale (optical depth of the whole volume below
+/// opacity), the camera (data behind, outside the view or under a pixel), density_scale (optical depth of the whole volume below
 /// kThinVolumeDepth), else a list of what to check. `stats` are the render's (summed over
 /// ranks and cameras where there are several).
 std::vector<std::string> render_warnings(const PreparedScene& scene, const RenderStats& stats);
