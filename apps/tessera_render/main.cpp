@@ -77,7 +77,7 @@ int run(int argc, const char* const* argv) {
       std::fflush(stdout);
     }
     // Warnings go to stderr even with --quiet: they say the image may be wrong
-    for (const std::string& w : render_warnings(rec.stats))
+    for (const std::string& w : rec.warnings)
       std::fprintf(stderr, "tessera-render: warning: %s: %s\n", rec.name.c_str(), w.c_str());
     records.push_back(std::move(rec));
   }

@@ -7,6 +7,7 @@
 #include <tessera/image_io.h>
 #include <tessera/memory_estimate.h>
 #include <tessera/render.h>
+#include <tessera/scene_warnings.h>
 
 #include <algorithm>
 #include <chrono>
@@ -142,6 +143,7 @@ RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spe
   bar.finish();
   stats.nan_voxels_seen = volume.nan_voxels;
   rec.stats = stats;
+  rec.warnings = render_warnings(prepared, stats);
 
   // Write
   const Image image = film.resolve(spec.output.variance, spec.output.samples);

@@ -70,7 +70,7 @@ void counters(std::string& out, const RenderStats& s, double prepare_seconds, co
   out += quote("threads") + ": " + std::to_string(s.threads);
 }
 
-/// ",\n<indent>"warnings": [...]" (render_warnings, each prefixed by `prefix`).
+/// ",\n<indent>"warnings": [...]" (RenderRecord::warnings, each prefixed by `prefix`).
 void warnings(std::string& out, const std::vector<std::string>& list, const char* indent) {
   out += ",\n";
   out += indent;
@@ -108,7 +108,7 @@ std::string stats_json(const std::vector<RenderRecord>& records) {
   // Top level: every render's warnings, each naming its render
   std::vector<std::string> all_warnings;
   for (const auto& r : records)
-    for (const std::string& w : render_warnings(r.stats)) all_warnings.push_back(r.name + ": " + w);
+    for (const std::string& w : r.warnings) all_warnings.push_back(r.name + ": " + w);
   warnings(out, all_warnings, "  ");
   out += ",\n  \"renders\": [";
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -122,7 +122,7 @@ std::string stats_json(const std::vector<RenderRecord>& records) {
     for (std::size_t j = 0; j < r.outputs.size(); ++j) out += (j ? ", " : "") + quote(r.outputs[j]);
     out += "],\n";
     counters(out, r.stats, r.prepare_seconds, "      ");
-    warnings(out, render_warnings(r.stats), "      ");
+    warnings(out, r.warnings, "      ");
     out += "\n    }";
   }
   out += records.empty() ? "]\n}\n" : "\n  ]\n}\n";

@@ -14,6 +14,9 @@ struct RenderRecord {
   RenderStats stats;             ///< wall_seconds: render only (no prepare, no I/O)
   double prepare_seconds = 0.0;  ///< tessera::prepare (majorant grid, tables, tiles)
   std::vector<std::string> outputs;
+  /// What may be wrong with the image (tessera::render_warnings(prepared, stats),
+  /// scene_warnings.h), one sentence each; never a failure.
+  std::vector<std::string> warnings;
 };
 
 /// The JSON text: the totals over `records` at top level, plus a "renders" array with one

@@ -3,6 +3,7 @@
 #include "outputs.h"
 #include "rank_agreement.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
@@ -84,6 +85,8 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
     m_decisions.assign(m_renders.size(), Decision::Skip);
     m_error.clear();
     m_closed = false;
+    m_sim_seconds = -1.0;  // unknown until the first execute has returned
+    m_sim_since = std::chrono::steady_clock::now();
     return TESSERA_OK;
   } catch (const std::exception& e) {
     m_error = std::string("tessera_open: ") + e.what();
@@ -97,6 +100,17 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
 tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tessera_grid* grid,
                                       const tessera_field* fields, std::int64_t nfields,
                                       bool final_step) noexcept {
+  // The simulation's time since the last call, added on entry; on every return the clock
+  // restarts, and a call in which a render fired starts the sum afresh
+  if (m_sim_seconds >= 0.0)
+    m_sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - m_sim_since).count();
+  struct SimClock {
+    Impl& impl;
+    ~SimClock() {
+      if (impl.m_sim_seconds < 0.0 || !impl.m_results.empty()) impl.m_sim_seconds = 0.0;
+      impl.m_sim_since = std::chrono::steady_clock::now();
+    }
+  } sim_clock{*this};
   try {
     m_results.clear();
     m_error.clear();
@@ -141,6 +155,7 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     m_call.grid = grid;
     m_call.fields = fields;
     m_call.nfields = nfields;
+    m_call.simulation_seconds = std::max(0.0, m_sim_seconds);
     m_call.ranges.clear();
     m_call.assembled_key.reset();
     tessera_status status = TESSERA_OK;

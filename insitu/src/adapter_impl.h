@@ -10,6 +10,7 @@
 #include <tessera/adapter.h>
 #include <tessera/config/config.h>
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -47,6 +48,12 @@ struct Adapter::Impl {
   std::vector<Decision> m_decisions;  ///< per render, sized at open: no allocation per call
   CallData m_call;
   SummaryCache m_summaries;
+  /// The simulation's time (wall, outside execute) since the last execute in which a render
+  /// fired: m_sim_seconds so far, plus the time since m_sim_since (the return of the last
+  /// execute) once the next execute starts. -1 from open() until the first execute returns:
+  /// the first call has no simulation time to compare with.
+  std::chrono::steady_clock::time_point m_sim_since{};
+  double m_sim_seconds = 0.0;
 };
 
 }  // namespace tessera::insitu

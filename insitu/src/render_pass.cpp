@@ -9,6 +9,7 @@
 #include <tessera/image_io.h>
 #include <tessera/memory_estimate.h>
 #include <tessera/render.h>
+#include <tessera/scene_warnings.h>
 
 #include <chrono>
 #include <cmath>
@@ -148,10 +149,12 @@ class Pass {
 
     RenderResult& r = m_out.result;
     r.samples_per_second = r.render_seconds > 0.0 ? r.stats.samples / r.render_seconds : 0.0;
+    r.simulation_seconds = m_call.simulation_seconds;
+    r.cost_ratio = r.simulation_seconds > 0.0 ? r.render_seconds / r.simulation_seconds : 0.0;
     if (root && !quiet) log_line(summary());
     // Warnings about the image (rank 0 holds the stats summed over ranks): never a failure
     if (root) {
-      r.warnings = render_warnings(r.stats);
+      r.warnings = render_warnings(prepared, r.stats);
       for (const std::string& w : r.warnings)
         log_line("warning: render '" + r.name + "' at step " + std::to_string(r.step) + ": " + w);
     }
@@ -349,6 +352,12 @@ class Pass {
                   r.name.c_str(), static_cast<long long>(r.step), r.time, m_spec.image.width,
                   m_spec.image.height, m_spec.image.spp, r.render_seconds, r.samples_per_second);
     std::string line = buf;
+    // The in situ cost: this render against the simulation's time it watched
+    if (r.simulation_seconds > 0.0) {
+      std::snprintf(buf, sizeof buf, ", %.3gx the simulation's %.3g s since the last render", r.cost_ratio,
+                    r.simulation_seconds);
+      line += buf;
+    }
     if (m_spec.output.cinema) line += ", " + std::to_string(r.files.size()) + " files";
     else
       for (std::size_t i = 0; i < r.files.size(); ++i) line += (i ? ", " : " -> ") + r.files[i];

@@ -45,6 +45,8 @@ struct CallData {
   const tessera_grid* grid = nullptr;
   const tessera_field* fields = nullptr;
   std::int64_t nfields = 0;
+  /// The simulation's wall time since the last call that rendered (0 in the first call), this rank.
+  double simulation_seconds = 0.0;
   /// Global finite min/max per field, computed at most once per call.
   std::vector<std::pair<std::string, std::pair<double, double>>> ranges;
   /// The last assembled field (valid until the next assemble).

@@ -171,9 +171,12 @@ int run(int argc, char** argv) {
 
   const double sim = slowest(sim_seconds), ren = slowest(render_seconds);
   char line[256];
+  // The in situ cost: rendering (every execute call) against the simulation's own time
+  char cost[64] = "";
+  if (sim > 0.0) std::snprintf(cost, sizeof cost, " (%.3gx the simulation)", ren / sim);
   std::snprintf(line, sizeof line,
-                "tessera-heat: %lld steps, %d renders (%d failed calls): simulation %.2f s, rendering %.2f s",
-                static_cast<long long>(opt.steps), renders, failures, sim, ren);
+                "tessera-heat: %lld steps, %d renders (%d failed calls): simulation %.2f s, rendering %.2f s%s",
+                static_cast<long long>(opt.steps), renders, failures, sim, ren, cost);
   say(rank, line);
   return 0;
 }

@@ -215,3 +215,24 @@ TEST_CASE("tessera-render --check validates the scene and the volume without ren
 
   CHECK_THAT(run_cli(dir, "--check=1 scene.yaml").err, Contains("--check takes no value"));
 }
+
+TEST_CASE("tessera-render warns, without failing, when the range misses the data", "[cli][warnings]") {
+  TempDir dir;
+  write_scene(dir);  // values in [300, 400]
+  std::string yaml = slurp(dir.path() / "scene.yaml");
+  const std::string side_range = "range: [300, 400]";
+  REQUIRE(yaml.find(side_range) != std::string::npos);
+  yaml.replace(yaml.find(side_range), side_range.size(), "range: [1000, 2000]");
+  dir.write("scene.yaml", yaml);
+  const Run r = run_cli(dir, "scene.yaml --render side --stats run.json");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(fs::exists(dir.path() / "results/side/img_000.exr"));
+  CHECK_THAT(r.err, Contains("tessera-render: warning: side: transfer_function.range [1000, 2000] misses the data's "
+                             "values [300.004, 392.004]: nothing of the field is visible"));
+  CHECK_THAT(r.err, Contains("nothing of the field is visible: 0 real collisions in 256 samples; likely cause: "
+                             "transfer_function.range"));
+  const std::string json = slurp(dir.path() / "run.json");
+  CHECK_THAT(json, Contains("\"side: transfer_function.range [1000, 2000] misses the data's values [300"));
+  CHECK_THAT(json, Contains("\"warnings\": [\"transfer_function.range [1000, 2000] misses"));
+}

@@ -36,7 +36,8 @@ inline constexpr double kDiscardedWarnFraction = 1e-3;
 
 /// Warnings about a finished render, one sentence each (no prefix, no newline), empty when
 /// there is nothing to say: discarded_samples / samples above kDiscardedWarnFraction, and
-/// stalled_paths > 0. A warning never fails a render; callers print or record them.
+/// stalled_paths > 0. A warning never fails a render; callers print or record them. With the
+/// prepared scene at hand, render_warnings(prepared, stats) (scene_warnings.h) says more.
 std::vector<std::string> render_warnings(const RenderStats& stats);
 
 }  // namespace tessera

@@ -57,14 +57,27 @@ struct RenderResult {
   double render_seconds = 0.0;        ///< rendering only (all cameras for a Cinema render)
   double samples_per_second = 0.0;    ///< stats.samples / render_seconds
   double prepare_seconds = 0.0;       ///< this rank's tessera::prepare time (all cameras)
+  /// The simulation's wall time on this rank since the last execute() in which a render fired:
+  /// the time spent outside execute() in between (calls that rendered nothing included), i.e.
+  /// the steps the simulation computed for this image. The same for every render of one call;
+  /// 0 in the first execute() after open() (nothing to compare with).
+  double simulation_seconds = 0.0;
+  /// render_seconds / simulation_seconds: the in situ cost of this render relative to the
+  /// simulation it watches (26 = rendering took 26x the simulation's time); 0 when
+  /// simulation_seconds is 0. Also in the rank-0 log line unless quiet.
+  double cost_ratio = 0.0;
   /// Passes this render made over its field's values on this rank (the FieldSummary: macrocell
   /// ranges, NaN count, finite min/max). 0: it reused one made earlier in the same call by
   /// another render, or kept from the last call after field_unchanged(); at most 1 per
   /// macrocell edge otherwise, however many Cinema cameras.
   int field_passes = 0;
   RenderStats stats;                  ///< summed over ranks on rank 0 (and over Cinema cameras)
-  /// Rank 0: what may be wrong with the image although it rendered (tessera::render_warnings
-  /// of `stats`: too many discarded samples, paths ended by a loop guard), one sentence each.
+  /// Rank 0: what may be wrong with the image although it rendered, one sentence each
+  /// (tessera::render_warnings(prepared, stats), scene_warnings.h: transfer-function range
+  /// missing the data's values or opacity 0 over them, constant field, NaN vertices, data out
+  /// of the camera's view, no real collision with its likely cause, too many discarded
+  /// samples, paths ended by a loop guard). Decided on rank 0 alone from the global field's
+  /// summary and the stats summed over ranks.
   /// Also logged on rank 0 as "tessera: warning: render 'NAME' at step N: ...", quiet or not.
   /// A warning never changes `status`.
   std::vector<std::string> warnings;
