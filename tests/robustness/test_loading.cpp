@@ -151,8 +151,13 @@ TEST_CASE("a file without aliases never reaches the node budget", "[robustness][
 TEST_CASE("the alias bomb fails with bounded memory through the CLI", "[robustness][loading]") {
   TempDir dir;
   dir.write("bomb.yaml", alias_bomb(30'000, 60'000));
-  // 1 GB of address space: without the budget the walk needs many GB
+  // 1 GB of address space: without the budget the walk needs many GB. AddressSanitizer
+  // reserves terabytes of shadow memory, so there the budget is checked without the cap.
+#if defined(__SANITIZE_ADDRESS__)
+  const Run r = run_cli(dir, "bomb.yaml", "", 60);
+#else
   const Run r = run_cli(dir, "bomb.yaml", "ulimit -v 1000000;", 60);
+#endif
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Contains("bomb.yaml:2:"));
   CHECK_THAT(r.err, Contains("the config expands to more than"));
