@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the project and all its tests with AddressSanitizer + UndefinedBehaviorSanitizer
 # (gcc, RelWithDebInfo, frame pointers kept, any UB report fatal) into ./build-asan and runs
-# them with CTest: first everything but the MPI tests, then the MPI tests (label "mpi") with
+# them with CTest: first everything but the MPI tests and the docs examples (label "docs", run by
+# scripts/test.sh), then the MPI tests (label "mpi") with
 # Open MPI's own never-freed allocations suppressed (scripts/lsan_openmpi.supp).
 #   TESSERA_SANITIZE_MPI=0   skip the MPI tests
 #   extra arguments          go to both ctest runs (e.g. -R furnace)
