@@ -59,6 +59,7 @@ int run(int argc, const char* const* argv) {
   const config::RawVolume volume = config::load_raw_volume(*cfg.volume);
   VolumeInfo info = describe_volume(volume, *cfg.volume, renders.empty() ? IntegratorDesc{} : renders.front()->integrator.desc);
   if (args.check) {  // --check: scene, selection, output paths and volume are valid
+    for (const std::string& w : info.warnings) std::fprintf(stderr, "tessera-render: warning: %s\n", w.c_str());
     if (!args.quiet) std::printf("%s: ok (%zu render%s)\n", args.scene.c_str(), renders.size(), several ? "s" : "");
     return 0;
   }

@@ -7,6 +7,7 @@
 #include <tessera/image_io.h>
 #include <tessera/memory_estimate.h>
 #include <tessera/render.h>
+#include <tessera/axis_order_check.h>
 #include <tessera/scene_warnings.h>
 
 #include <algorithm>
@@ -28,6 +29,8 @@ VolumeInfo describe_volume(const config::RawVolume& volume, const config::Volume
   v.summary = FieldSummary::build(v.view, majorant_edge(v.view, first_integrator));
   v.range = {v.summary->value_min(), v.summary->value_max()};
   v.nan_voxels = v.summary->nan_vertices();
+  // Same byte count, wrong order: loads fine and renders stripes (a few thousand samples)
+  if (const auto s = suspect_axis_order(v.view)) v.warnings.push_back(axis_order_warning(*s, "volume.dims"));
   return v;
 }
 
@@ -143,7 +146,8 @@ RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spe
   bar.finish();
   stats.nan_voxels_seen = volume.nan_voxels;
   rec.stats = stats;
-  rec.warnings = render_warnings(prepared, stats);
+  rec.warnings = volume.warnings;
+  for (std::string& w : render_warnings(prepared, stats)) rec.warnings.push_back(std::move(w));
 
   // Write
   const Image image = film.resolve(spec.output.variance, spec.output.samples);

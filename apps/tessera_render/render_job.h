@@ -12,7 +12,9 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <utility>
+#include <vector>
 
 namespace tessera::cli {
 
@@ -26,6 +28,8 @@ struct VolumeInfo {
   /// The one pass over the values (range and NaN count come from it), for `edge`; renders
   /// with that macrocell edge prepare from it, run_render replaces it for another edge.
   std::shared_ptr<const FieldSummary> summary;
+  /// What the data itself suggests is wrong (dims in a suspicious order), for every render.
+  std::vector<std::string> warnings;
 };
 
 /// Reads the volume once: a FieldSummary for macrocell edge `edge` (majorant_edge of the

@@ -236,3 +236,39 @@ TEST_CASE("tessera-render warns, without failing, when the range misses the data
   CHECK_THAT(json, Contains("\"side: transfer_function.range [1000, 2000] misses the data's values [300"));
   CHECK_THAT(json, Contains("\"warnings\": [\"transfer_function.range [1000, 2000] misses"));
 }
+
+TEST_CASE("tessera-render warns when volume.dims look swapped and names the order that fits", "[cli][warnings]") {
+  TempDir dir;
+  // A smooth 24 x 12 x 6 field; the same bytes declared as [6, 12, 24] render as stripes
+  std::vector<float> v;
+  for (int k = 0; k < 6; ++k)
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 24; ++i) v.push_back(float(std::sin(0.25 * i) + std::cos(0.3 * j) + 0.2 * k));
+  std::ofstream(dir.file("v.raw"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
+  const auto scene = [](const char* dims) {
+    return std::string("volume: {file: v.raw, dims: ") + dims + R"(, dtype: float32}
+renders:
+  - name: r
+    image: {width: 8, height: 8, spp: 1}
+    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: fit}}}
+    transfer_function: {range: auto, opacity: [[0, 0], [1, 1]]}
+)";
+  };
+  dir.write("right.yaml", scene("[24, 12, 6]"));
+  dir.write("swapped.yaml", scene("[6, 12, 24]"));
+  const Run right = run_cli(dir, "right.yaml --check");
+  CHECK(right.status == 0);
+  CHECK(right.err.empty());
+
+  const Run check = run_cli(dir, "swapped.yaml --check");
+  CHECK(check.status == 0);  // a warning never fails
+  CHECK_THAT(check.err, Contains("tessera-render: warning: volume.dims [6, 12, 24] may be in the wrong order"));
+  CHECK_THAT(check.err, Contains("dims [24, 12, 6] make the data smooth"));
+
+  const Run render = run_cli(dir, "swapped.yaml --quiet --stats run.json");
+  INFO(render.err);
+  CHECK(render.status == 0);
+  CHECK_THAT(render.err, Contains("tessera-render: warning: r: volume.dims [6, 12, 24] may be in the wrong order"));
+  CHECK_THAT(slurp(dir.path() / "run.json"), Contains("volume.dims [6, 12, 24] may be in the wrong order"));
+}
