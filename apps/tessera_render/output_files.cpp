@@ -1,7 +1,7 @@
 #include "output_files.h"
 
+#include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>
-#include <tessera/image_io.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,12 +14,12 @@ using config::ImageFormat;
 
 namespace {
 
-/// The format an explicit extension names, if any.
+/// The format an explicit extension names (any case), if any.
 std::optional<ImageFormat> format_of_extension(const fs::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext == ".exr") return ImageFormat::Exr;
-  if (ext == ".png") return ImageFormat::Png;
+  for (const config::OutputFormat& f : config::output_formats())
+    if (ext == f.extension) return f.value;
   return std::nullopt;
 }
 
@@ -33,7 +33,7 @@ std::vector<OutputTarget> output_targets(const config::GlobalOptions& global,
     const fs::path stem = fs::path(global.output_dir) /
                           config::format_output_path(spec.output.file, spec.name, 0, 0.0, 0);
     for (const ImageFormat f : spec.output.formats)
-      targets.push_back({stem.string() + config::format_extension(f), f});
+      targets.push_back({stem.string() + config::output_format(f).extension, f});
     return targets;
   }
 
@@ -49,7 +49,7 @@ std::vector<OutputTarget> output_targets(const config::GlobalOptions& global,
   }
   if (several) out += "_" + spec.name;
   for (const ImageFormat f : spec.output.formats)
-    targets.push_back({out.string() + config::format_extension(f), f});
+    targets.push_back({out.string() + config::output_format(f).extension, f});
   return targets;
 }
 
@@ -62,8 +62,7 @@ void write_outputs(const std::vector<OutputTarget>& targets, const Image& image,
       fs::create_directories(p.parent_path(), ec);
       if (ec) throw std::runtime_error("cannot create directory " + p.parent_path().string() + ": " + ec.message());
     }
-    if (t.format == ImageFormat::Exr) write_exr(t.path, image);
-    else write_png(t.path, image, output.tone_map());
+    config::output_format(t.format).write(t.path, image, output);
   }
 }
 

@@ -42,30 +42,20 @@ std::string number(double v) {
   return std::string(buf, end);
 }
 
-/// The counters and derived rates shared by the totals and each render, one per line.
+/// The times, derived rates and every counter of kRenderCounters (in its order), shared by
+/// the totals and each render, one per line.
 void counters(std::string& out, const RenderStats& s, double prepare_seconds, const char* indent) {
   const auto field = [&](const char* name, const std::string& value) {
     out += indent;
     out += quote(name) + ": " + value + ",\n";
   };
-  const auto u64 = [](std::uint64_t v) { return std::to_string(v); };
   field("wall_seconds", number(s.wall_seconds));
   field("prepare_seconds", number(prepare_seconds));
-  field("samples", u64(s.samples));
   field("samples_per_second", number(s.wall_seconds > 0 ? double(s.samples) / s.wall_seconds : 0.0));
-  field("density_lookups", u64(s.density_lookups()));
-  field("free_flight_lookups", u64(s.free_flight_lookups));
-  field("transmittance_lookups", u64(s.transmittance_lookups));
-  field("gradient_lookups", u64(s.gradient_lookups));
-  field("real_collisions", u64(s.real_collisions));
-  field("null_collisions", u64(s.null_collisions));
+  field("density_lookups", std::to_string(s.density_lookups()));
   field("lookups_per_real_collision",
         number(s.real_collisions > 0 ? double(s.free_flight_lookups) / double(s.real_collisions) : 0.0));
-  field("nan_voxels_seen", u64(s.nan_voxels_seen));
-  field("discarded_samples", u64(s.discarded_samples));
-  field("stalled_paths", u64(s.stalled_paths));
-  field("tiles_total", u64(s.tiles_total));
-  field("tiles_skipped", u64(s.tiles_skipped));
+  for (const RenderCounter& c : kRenderCounters) field(c.name, std::to_string(s.*c.field));
   out += indent;
   out += quote("threads") + ": " + std::to_string(s.threads);
 }
@@ -82,24 +72,13 @@ void warnings(std::string& out, const std::vector<std::string>& list, const char
 }  // namespace
 
 std::string stats_json(const std::vector<RenderRecord>& records) {
-  // Totals: counters and times add up; threads is the largest used
+  // Totals: counters combine by their rule (stats.h), times add up; threads is the largest used
   RenderStats total;
   double prepare_total = 0.0;
   for (const auto& r : records) {
-    const RenderStats& s = r.stats;
-    total.samples += s.samples;
-    total.free_flight_lookups += s.free_flight_lookups;
-    total.transmittance_lookups += s.transmittance_lookups;
-    total.gradient_lookups += s.gradient_lookups;
-    total.real_collisions += s.real_collisions;
-    total.null_collisions += s.null_collisions;
-    total.discarded_samples += s.discarded_samples;
-    total.stalled_paths += s.stalled_paths;
-    total.nan_voxels_seen = std::max(total.nan_voxels_seen, s.nan_voxels_seen);
-    total.tiles_total += s.tiles_total;
-    total.tiles_skipped += s.tiles_skipped;
-    total.wall_seconds += s.wall_seconds;
-    total.threads = std::max(total.threads, s.threads);
+    total.add_counters(r.stats);
+    total.wall_seconds += r.stats.wall_seconds;
+    total.threads = std::max(total.threads, r.stats.threads);
     prepare_total += r.prepare_seconds;
   }
 

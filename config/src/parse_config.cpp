@@ -2,6 +2,7 @@
 #include <tessera/config/config.h>
 #include <tessera/loop_bounds.h>
 
+#include "enum_names.h"
 #include "parsers.h"
 
 #include <yaml-cpp/depthguard.h>
@@ -91,9 +92,7 @@ GlobalOptions parse_global(const Value& v) {
       }
     }
   }
-  g.on_error = m.choice_or<OnError>(
-      "on_error", g.on_error,
-      {{"warn", OnError::Warn}, {"disable", OnError::Disable}, {"abort", OnError::Abort}});
+  g.on_error = m.choice_or("on_error", g.on_error, kOnErrorNames);
   g.threads = static_cast<int>(m.integer_or("threads", g.threads, 0, 65536));
   g.render_final_step = m.boolean_or("render_final_step", g.render_final_step);
   g.max_failures = static_cast<int>(
@@ -115,12 +114,7 @@ VolumeSpec parse_volume(const Value& v) {
   // Dims, and a size that fits in memory arithmetic
   const auto dims = m.require("dims", "[nx, ny, nz], integers >= 1").list("[nx, ny, nz]", 3, 3);
   for (int i = 0; i < 3; ++i) s.dims[i] = dims[i].integer(1, std::int64_t(1) << 31);
-  s.dtype = m.require("dtype", "uint8, int16, uint16, float32 or float64")
-                .choice<DType>({{"uint8", DType::UInt8},
-                                {"int16", DType::Int16},
-                                {"uint16", DType::UInt16},
-                                {"float32", DType::Float32},
-                                {"float64", DType::Float64}});
+  s.dtype = m.require("dtype", join_words(names_of(kDTypeNames))).choice(kDTypeNames);
   const double bytes = double(s.dims[0]) * double(s.dims[1]) * double(s.dims[2]) * 8.0;
   if (bytes > double(std::int64_t(1) << 50)) {
     m.get("dims")->fail("too many vertices (allowed: at most 2^47 vertices)");
@@ -145,8 +139,7 @@ VolumeSpec parse_volume(const Value& v) {
                                       "x" + std::to_string(s.dims[2]) + " " + why);
     }
   }
-  s.byte_order = m.choice_or<ByteOrder>("byte_order", s.byte_order,
-                                        {{"little", ByteOrder::Little}, {"big", ByteOrder::Big}});
+  s.byte_order = m.choice_or("byte_order", s.byte_order, kByteOrderNames);
   s.header_bytes = m.integer_or("header_bytes", 0, 0, std::numeric_limits<std::int64_t>::max());
   return s;
 }
@@ -231,13 +224,6 @@ const RenderSpec* Config::find_render(const std::string& name) const {
   return nullptr;
 }
 
-const char* on_error_name(OnError e) {
-  switch (e) {
-    case OnError::Warn: return "warn";
-    case OnError::Disable: return "disable";
-    case OnError::Abort: return "abort";
-  }
-  return "warn";
-}
+const char* on_error_name(OnError e) { return detail::name_of(detail::kOnErrorNames, e); }
 
 }  // namespace tessera::config

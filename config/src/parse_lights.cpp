@@ -1,7 +1,11 @@
 // `lights:` (rect and sphere area lights) and `background:`.
 #include <tessera/config/light_spec.h>
 
+#include "enum_names.h"
 #include "parsers.h"
+
+#include <string>
+#include <vector>
 
 namespace tessera::config::detail {
 namespace {
@@ -22,11 +26,10 @@ void parse_rect_size(const Value& v, LightSpec& l) {
 }  // namespace
 
 LightSpec parse_light(const Value& v) {
-  const Map m = v.map("a mapping {type: rect | sphere, ...}");
+  const std::vector<std::string> types = names_of(kLightTypeNames);
+  const Map m = v.map("a mapping {type: " + join_words(types, " | ", " | ") + ", ...}");
   LightSpec l;
-  l.type = m.require("type", "rect or sphere")
-               .choice<LightSpec::Type>({{"rect", LightSpec::Type::Rect},
-                                         {"sphere", LightSpec::Type::Sphere}});
+  l.type = m.require("type", join_words(types)).choice(kLightTypeNames);
   const std::string point = "[x, y, z], center or {orbit: {azimuth, elevation, distance}}";
   if (l.type == LightSpec::Type::Rect) {
     m.allow({"type", "position", "target", "size", "color", "intensity"});
@@ -53,12 +56,10 @@ LightSpec parse_light(const Value& v) {
 }
 
 BackgroundSpec parse_background(const Value& v) {
-  const Map m = v.map("a mapping {type: constant | gradient | envmap, ...}");
+  const std::vector<std::string> types = names_of(kBackgroundTypeNames);
+  const Map m = v.map("a mapping {type: " + join_words(types, " | ", " | ") + ", ...}");
   BackgroundSpec b;
-  b.type = m.require("type", "constant, gradient or envmap")
-               .choice<BackgroundType>({{"constant", BackgroundType::Constant},
-                                        {"gradient", BackgroundType::Gradient},
-                                        {"envmap", BackgroundType::EnvMap}});
+  b.type = m.require("type", join_words(types)).choice(kBackgroundTypeNames);
   switch (b.type) {
     case BackgroundType::Constant:
       m.allow({"type", "color", "intensity", "visible"});

@@ -1,13 +1,17 @@
 // One entry of `renders:`: name, field, trigger, image, camera, output (the larger blocks,
 // transfer function, lights, background and integrator, have files of their own).
+#include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>
 #include <tessera/config/render_spec.h>
 
+#include "enum_names.h"
 #include "parsers.h"
 
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace tessera::config {
 using detail::Map;
@@ -111,17 +115,16 @@ OutputSpec parse_output(const Value& v) {
   }
   if (const auto f = m.get("formats")) {
     o.formats.clear();
-    for (const Value& e : f->list("a list of formats: exr, png", 1, 2)) {
-      const ImageFormat fmt = e.choice<ImageFormat>({{"exr", ImageFormat::Exr}, {"png", ImageFormat::Png}});
+    const auto formats = output_formats();
+    for (const Value& e : f->list("a list of formats: " + detail::join_words(detail::names_of(formats), ", "), 1,
+                                  formats.size())) {
+      const ImageFormat fmt = e.choice(formats);
       if (o.has_format(fmt)) e.fail(std::string(format_name(fmt)) + " given twice (allowed: each format once)");
       o.formats.push_back(fmt);
     }
   }
   o.exposure = m.number_or("exposure", o.exposure, Range::closed(-64.0, 64.0));
-  o.tonemap = m.choice_or<ToneMap::Curve>("tonemap", o.tonemap,
-                                          {{"aces", ToneMap::Curve::Aces},
-                                           {"reinhard", ToneMap::Curve::Reinhard},
-                                           {"clamp", ToneMap::Curve::Clamp}});
+  o.tonemap = m.choice_or("tonemap", o.tonemap, detail::kToneMapNames);
   o.variance = m.boolean_or("variance", o.variance);
   o.samples = m.boolean_or("samples", o.samples);
   if (const auto c = m.get("cinema")) {
@@ -171,7 +174,10 @@ RenderSpec parse_render(const Value& v) {
   r.transfer_function = parse_transfer_function(
       m.require("transfer_function", "a mapping with at least opacity"));
   if (const auto l = m.get("lights")) {
-    for (const Value& e : l->list("a list of lights, each {type: rect, ...} or {type: sphere, ...}"))
+    std::vector<std::string> shapes;
+    for (const std::string& type : detail::names_of(detail::kLightTypeNames))
+      shapes.push_back("{type: " + type + ", ...}");
+    for (const Value& e : l->list("a list of lights, each " + detail::join_words(shapes)))
       r.lights.push_back(parse_light(e));
   }
   if (const auto b = m.get("background")) r.background = parse_background(*b);
@@ -185,8 +191,5 @@ RenderSpec parse_render(const Value& v) {
 bool OutputSpec::has_format(ImageFormat f) const {
   return std::find(formats.begin(), formats.end(), f) != formats.end();
 }
-
-const char* format_name(ImageFormat f) { return f == ImageFormat::Exr ? "exr" : "png"; }
-const char* format_extension(ImageFormat f) { return f == ImageFormat::Exr ? ".exr" : ".png"; }
 
 }  // namespace tessera::config

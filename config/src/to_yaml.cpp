@@ -1,6 +1,7 @@
 // The effective config as YAML: every default written out, accepted again by parse_config.
 #include <tessera/config/config.h>
 
+#include "enum_names.h"
 #include "yaml_reader.h"
 
 #include <yaml-cpp/yaml.h>
@@ -14,6 +15,7 @@ namespace tessera::config {
 namespace {
 
 using detail::format_number;
+using detail::name_of;
 
 // `write(out, x)` writes x as one YAML node, chosen by the type of x; `field(out, key, x)` writes
 // a map entry. Every overload is declared here, before the templates that call them.
@@ -112,7 +114,7 @@ void write(YAML::Emitter& out, ImageFormat f) { write(out, format_name(f)); }
 void write(YAML::Emitter& out, const GlobalOptions& g) {
   out << YAML::BeginMap;
   field(out, "output_dir", g.output_dir);
-  field(out, "on_error", on_error_name(g.on_error));
+  field(out, "on_error", name_of(detail::kOnErrorNames, g.on_error));
   field(out, "threads", g.threads);
   field(out, "render_final_step", g.render_final_step);
   field(out, "max_failures", g.max_failures);
@@ -126,10 +128,10 @@ void write(YAML::Emitter& out, const VolumeSpec& v) {
   field(out, "file", v.file);
   key(out, "dims");
   flow_seq(out, v.dims[0], v.dims[1], v.dims[2]);
-  field(out, "dtype", dtype_name(v.dtype));
+  field(out, "dtype", name_of(detail::kDTypeNames, v.dtype));
   field(out, "spacing", v.spacing);
   field(out, "origin", v.origin);
-  field(out, "byte_order", v.byte_order == ByteOrder::Big ? "big" : "little");
+  field(out, "byte_order", name_of(detail::kByteOrderNames, v.byte_order));
   field(out, "header_bytes", v.header_bytes);
   out << YAML::EndMap;
 }
@@ -186,7 +188,7 @@ void write(YAML::Emitter& out, const TransferFunctionSpec& tf) {
 void write(YAML::Emitter& out, const LightSpec& l) {
   out << YAML::Flow << YAML::BeginMap;
   const bool rect = l.type == LightSpec::Type::Rect;
-  field(out, "type", rect ? "rect" : "sphere");
+  field(out, "type", name_of(detail::kLightTypeNames, l.type));
   field(out, "position", l.position);
   if (rect) {
     field(out, "target", l.target);
@@ -202,21 +204,18 @@ void write(YAML::Emitter& out, const LightSpec& l) {
 
 void write(YAML::Emitter& out, const BackgroundSpec& b) {
   out << YAML::BeginMap;
-  key(out, "type");
+  field(out, "type", name_of(detail::kBackgroundTypeNames, b.type));
   switch (b.type) {
     case BackgroundType::Constant:
-      out << "constant";
       field(out, "color", b.color);
       break;
     case BackgroundType::Gradient:
-      out << "gradient";
       field(out, "top", b.top);
       field(out, "middle", b.middle);
       field(out, "bottom", b.bottom);
       field(out, "up", b.up);
       break;
     case BackgroundType::EnvMap:
-      out << "envmap";
       field(out, "file", b.file);
       field(out, "up", b.up);
       break;
@@ -229,23 +228,22 @@ void write(YAML::Emitter& out, const BackgroundSpec& b) {
 void write(YAML::Emitter& out, const IntegratorSpec& s) {
   const IntegratorDesc& d = s.desc;
   out << YAML::BeginMap;
-  field(out, "scattering", d.scattering == Scattering::Single ? "single" : "multiple");
+  field(out, "scattering", name_of(detail::kScatteringNames, d.scattering));
   field(out, "max_bounces", d.max_bounces);
   field(out, "rr_depth", d.rr_depth);
-  field(out, "shading",
-        d.shading == Shading::Phase ? "phase" : d.shading == Shading::Brdf ? "brdf" : "hybrid");
+  field(out, "shading", name_of(detail::kShadingNames, d.shading));
   field(out, "gradient_factor", d.gradient_factor);
   field(out, "phase_g", d.phase_g);
-  field(out, "free_path", d.free_path == FreePath::Delta ? "delta" : "raymarch");
-  field(out, "majorant", d.majorant == MajorantMode::Grid ? "grid" : "global");
+  field(out, "free_path", name_of(detail::kFreePathNames, d.free_path));
+  field(out, "majorant", name_of(detail::kMajorantNames, d.majorant));
   field(out, "macrocell", d.macrocell);
   field(out, "step", d.step);
-  field(out, "shadow", d.shadow == ShadowMode::Ratio ? "ratio" : "delta");
+  field(out, "shadow", name_of(detail::kShadowNames, d.shadow));
   field(out, "shadow_roulette", d.shadow_roulette);
   field(out, "culling", d.culling);
   field(out, "seed", s.seed);
   field(out, "tile", s.tile);
-  field(out, "tile_order", s.tile_order == TileOrder::RowMajor ? "row" : "morton");
+  field(out, "tile_order", name_of(detail::kTileOrderNames, s.tile_order));
   out << YAML::EndMap;
 }
 
@@ -254,9 +252,7 @@ void write(YAML::Emitter& out, const OutputSpec& o) {
   field(out, "file", o.file);
   field(out, "formats", o.formats);
   field(out, "exposure", o.exposure);
-  field(out, "tonemap", o.tonemap == ToneMap::Curve::Aces       ? "aces"
-                        : o.tonemap == ToneMap::Curve::Reinhard ? "reinhard"
-                                                                : "clamp");
+  field(out, "tonemap", name_of(detail::kToneMapNames, o.tonemap));
   field(out, "variance", o.variance);
   field(out, "samples", o.samples);
   if (o.cinema) {

@@ -136,10 +136,10 @@ std::string format_number(double v) {
   return std::string(buf, ec == std::errc() ? end : buf);
 }
 
-std::string join_words(const std::vector<std::string>& words, const char* last_sep) {
+std::string join_words(const std::vector<std::string>& words, const char* last_sep, const char* sep) {
   std::string s;
   for (std::size_t i = 0; i < words.size(); ++i) {
-    if (i > 0) s += (i + 1 == words.size()) ? last_sep : ", ";
+    if (i > 0) s += (i + 1 == words.size()) ? last_sep : sep;
     s += words[i];
   }
   return s;

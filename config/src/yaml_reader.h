@@ -111,9 +111,10 @@ class Value {
   bool boolean() const;
   /// Any scalar, as text (a non-empty string unless allow_empty).
   std::string string(bool allow_empty = false) const;
-  /// One of the given words.
-  template <class E>
-  E choice(std::initializer_list<std::pair<const char*, E>> options) const;
+  /// One of the words of `table` (rows with .name and .value: EnumName in enum_names.h,
+  /// OutputFormat); a wrong word's message lists them all, in table order.
+  template <class Table>
+  auto choice(const Table& table) const;
   /// `[x, y, z]`, each inside `r`.
   Vec3 vec3(const Range& r = Range::any()) const;
   /// `[r, g, b]`, each inside `r`.
@@ -164,11 +165,10 @@ class Map {
   bool boolean_or(std::string_view key, bool fallback) const;
   Vec3 vec3_or(std::string_view key, const Vec3& fallback, const Range& r = Range::any()) const;
   Color color_or(std::string_view key, const Color& fallback, const Range& r) const;
-  template <class E>
-  E choice_or(std::string_view key, E fallback,
-              std::initializer_list<std::pair<const char*, E>> options) const {
+  template <class Table, class E>
+  E choice_or(std::string_view key, E fallback, const Table& table) const {
     const auto v = get(key);
-    return v ? v->choice(options) : fallback;
+    return v ? v->choice(table) : fallback;
   }
 
  private:
@@ -177,15 +177,16 @@ class Map {
   std::vector<SourceMark> m_key_marks;
 };
 
-/// "a, b or c" from a list of words.
-std::string join_words(const std::vector<std::string>& words, const char* last_sep = " or ");
+/// "a, b or c" from a list of words (`sep` between all but the last two).
+std::string join_words(const std::vector<std::string>& words, const char* last_sep = " or ",
+                       const char* sep = ", ");
 
-template <class E>
-E Value::choice(std::initializer_list<std::pair<const char*, E>> options) const {
+template <class Table>
+auto Value::choice(const Table& table) const {
   std::vector<std::string> names;
-  for (const auto& [name, e] : options) {
-    if (is_word(name)) return e;
-    names.emplace_back(name);
+  for (const auto& row : table) {
+    if (is_word(row.name)) return row.value;
+    names.emplace_back(row.name);
   }
   if (is_scalar()) fail(describe() + " is not allowed (allowed: " + join_words(names) + ")");
   wrong_type(join_words(names));

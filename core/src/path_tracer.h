@@ -3,6 +3,7 @@
 /// field's element type, the shading mode and whether an emission TF exists, so the hot loop
 /// holds no code for what the scene does not use. Allocates nothing, throws nothing.
 #include <tessera/loop_bounds.h>
+#include <tessera/stats.h>
 
 #include "grid_medium.h"
 #include "phase_hg.h"
@@ -16,10 +17,9 @@
 
 namespace tessera {
 
-struct KernelCounters {
-  std::uint64_t free_flight = 0, transmittance = 0, gradient = 0, real = 0, null = 0;
-  std::uint64_t stalled = 0;  ///< paths ended by a loop guard (RenderStats::stalled_paths)
-};
+/// The estimator counts into RenderStats' own fields (free_flight_lookups, real_collisions,
+/// stalled_paths, ...), so a tile's counts reach the render's with RenderStats::add_counters.
+using KernelCounters = RenderStats;
 
 struct SampleResult {
   Color L{0.0};
@@ -77,7 +77,7 @@ class PathTracer {
       ++depth;
       // A long path polls the render's deadline now and then (the render then fails)
       if ((depth & (kStopPollBounces - 1)) == 0 && m_stop && m_stop->stop()) break;
-      ++k.real;
+      ++k.real_collisions;
       const Vec3 x = ray.o + t_hit * ray.d;
       const Vec3 pv = to_voxel(x);
       const double u = m_m.u(pv);
@@ -89,7 +89,7 @@ class PathTracer {
       Vec3 normal(0.0);
       if constexpr (S != Shading::Phase) {
         const Vec3 gv = m_m.gradient_voxel(pv);
-        k.gradient += 6;
+        k.gradient_lookups += 6;
         const double gmag = glm::length(gv);
         if (gmag > 0.0) {
           const Vec3 gw = gv * m_s.inv_spacing;  // world-space direction of grad u
@@ -176,7 +176,7 @@ class PathTracer {
 
   /// Ends the path for a loop guard: counted once, *stalled set.
   static bool stall(KernelCounters& k, bool* stalled) {
-    ++k.stalled;
+    ++k.stalled_paths;
     *stalled = true;
     return true;
   }
@@ -199,7 +199,7 @@ class PathTracer {
       double budget = kMaxMarchSteps + 2.0;
       for (double t = t0 + rng.uniform() * h; t < t1; t += h) {
         if (--budget < 0.0) return !stall(k, stalled);
-        ++k.free_flight;
+        ++k.free_flight_lookups;
         sum += m_m.sigma_t(ov + t * dv) * h;
         if (sum >= tau) {
           *t_hit = t;
@@ -217,13 +217,13 @@ class PathTracer {
         if (t_next >= tb) return false;
         if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) return stall(k, stalled);
         t = t_next;
-        ++k.free_flight;
+        ++k.free_flight_lookups;
         const double sigma = m_m.sigma_t(ov + t * dv);
         if (rng.uniform() * maj < sigma) {
           *t_hit = t;
           return true;
         }
-        ++k.null;
+        ++k.null_collisions;
       }
     });
     return stopped && !*stalled;
@@ -231,7 +231,7 @@ class PathTracer {
 
   /// Transmittance between world distances ta and tb along the ray (ratio or delta tracking).
   /// The loop guards of free_flight end the estimate at 0 (an occluded shadow ray adds no
-  /// light), counted in k.stalled.
+  /// light), counted in k.stalled_paths.
   double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
@@ -240,7 +240,7 @@ class PathTracer {
     t1 = std::min(t1, tb);
     if (!(t0 < t1) || m_s.grid.max_majorant() <= 0.0) return 1.0;
     if (!(t1 < INFINITY)) {
-      ++k.stalled;
+      ++k.stalled_paths;
       return 0.0;
     }
     const bool ratio = m_s.desc.integrator.shadow == ShadowMode::Ratio;
@@ -254,12 +254,12 @@ class PathTracer {
         const double t_next = t + dt;
         if (t_next >= b) return false;
         if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) {
-          ++k.stalled;
+          ++k.stalled_paths;
           T = 0.0;
           return true;
         }
         t = t_next;
-        ++k.transmittance;
+        ++k.transmittance_lookups;
         const double sigma = m_m.sigma_t(ov + t * dv);
         if (ratio) {
           T *= 1.0 - sigma / maj;

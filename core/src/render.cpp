@@ -89,14 +89,8 @@ class TileSampler {
     return &m_last;
   }
 
-  void flush(RenderStats& st) const {
-    st.free_flight_lookups += m_k.free_flight;
-    st.transmittance_lookups += m_k.transmittance;
-    st.gradient_lookups += m_k.gradient;
-    st.real_collisions += m_k.real;
-    st.null_collisions += m_k.null;
-    st.stalled_paths += m_k.stalled;
-  }
+  /// Adds the tracer's counts (field lookups, collisions, stalled paths) to `st`.
+  void flush(RenderStats& st) const { st.add_counters(m_k); }
 
  private:
   const PreparedSceneImpl& m_s;

@@ -1,19 +1,23 @@
 #include <tessera/stats.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <iterator>
 
 namespace tessera {
 
+// Every integer field is a row of kRenderCounters: 11 counters, then wall_seconds and threads
+// (an int, padded to 8 bytes).
+static_assert(sizeof(RenderStats) ==
+                  sizeof(std::uint64_t) * std::size(kRenderCounters) + 2 * sizeof(double),
+              "a RenderStats field is missing from kRenderCounters (or a non-counter was added)");
+
 void RenderStats::add_counters(const RenderStats& o) {
-  samples += o.samples;
-  free_flight_lookups += o.free_flight_lookups;
-  transmittance_lookups += o.transmittance_lookups;
-  gradient_lookups += o.gradient_lookups;
-  real_collisions += o.real_collisions;
-  null_collisions += o.null_collisions;
-  discarded_samples += o.discarded_samples;
-  stalled_paths += o.stalled_paths;
-  tiles_skipped += o.tiles_skipped;
+  for (const RenderCounter& c : kRenderCounters) {
+    std::uint64_t& mine = this->*c.field;
+    const std::uint64_t theirs = o.*c.field;
+    mine = c.combine == RenderCounter::Combine::Sum ? mine + theirs : std::max(mine, theirs);
+  }
 }
 
 std::vector<std::string> render_warnings(const RenderStats& s) {

@@ -14,6 +14,14 @@ namespace {
 
 constexpr const char* kAxis = "ijk";
 
+// bind_field turns a tessera_dtype into a DType by its value: the two enums must list the
+// dtypes in the same order, from the same first value.
+static_assert(static_cast<int>(DType::UInt8) == TESSERA_UINT8, "tessera_dtype and DType differ");
+static_assert(static_cast<int>(DType::Int16) == TESSERA_INT16, "tessera_dtype and DType differ");
+static_assert(static_cast<int>(DType::UInt16) == TESSERA_UINT16, "tessera_dtype and DType differ");
+static_assert(static_cast<int>(DType::Float32) == TESSERA_FLOAT32, "tessera_dtype and DType differ");
+static_assert(static_cast<int>(DType::Float64) == TESSERA_FLOAT64, "tessera_dtype and DType differ");
+
 std::string field_label(const tessera_field& f) {
   return std::string("field '") + (f.name ? f.name : "(null)") + "'";
 }

@@ -1,7 +1,7 @@
 #include "outputs.h"
 
+#include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>
-#include <tessera/image_io.h>
 #include <tessera/signal_guard.h>
 
 #include <unistd.h>
@@ -35,11 +35,9 @@ void write_image_files(const std::string& base, const config::OutputSpec& output
                        const Image& img, std::vector<std::string>& files) {
   ensure_directory(fs::path(base).parent_path().string());
   for (const config::ImageFormat f : output.formats) {
-    const std::string path = base + config::format_extension(f);
-    if (f == config::ImageFormat::Exr)
-      write_exr(path, img);
-    else
-      write_png(path, img, output.tone_map());
+    const config::OutputFormat& format = config::output_format(f);
+    const std::string path = base + format.extension;
+    format.write(path, img, output);
     files.push_back(path);
   }
 }

@@ -3,7 +3,7 @@
 /// adapter logic is the same with and without MPI.
 ///
 /// Two implementations, chosen at build time: parallel_context_serial.cpp (no MPI; a single
-/// rank) and parallel_context_mpi.cpp (TESSERA_WITH_MPI). Every member is collective: all ranks
+/// rank) and parallel_context_mpi*.cpp (TESSERA_WITH_MPI). Every member is collective: all ranks
 /// of the communicator call it in the same order. Errors throw std::runtime_error; callers must
 /// first agree() on local failures so that no rank is left waiting in a collective.
 #include <tessera/field_view.h>

@@ -1,5 +1,6 @@
 #pragma once
-/// MpiParallelContext: the MPI implementation of ParallelContext (parallel_context.h).
+/// MpiParallelContext: the MPI implementation of ParallelContext (parallel_context.h), one
+/// file per job: setup, field replica, tile scheduler, film, statistics (named below).
 ///
 /// Field assembly: every rank needs the whole field to trace rays through it. The field is
 /// assembled into ONE replica per node, in an MPI-3 shared-memory window (the node leader
@@ -90,12 +91,35 @@ class MpiParallelContext final : public ParallelContext {
   std::uint64_t replica_bytes() const { return m_replica_bytes; }
 
  private:
-  struct RankBox;
+  // Setup (parallel_context_mpi_setup.cpp)
   void connect_nodes(int ranks_per_node);
+
+  // Field replica (parallel_context_mpi_replica.cpp)
+  struct RankBox;
   void ensure_replica(std::uint64_t bytes);
   void free_replica();
   void exchange_boxes(const FieldView& local, const std::vector<RankBox>& boxes);
+
+  // Tile scheduler (parallel_context_mpi_tiles.cpp): render() with more than one rank is
+  // share_film, render_grabbed_tiles, gather_film, reduce_stats, in that order on every rank.
   void render_multi(const PreparedScene& scene, Film& film, RenderStats& stats);
+  /// Renders tiles grabbed from the shared counter until none is left, into `film` and
+  /// `local`; returns the tiles this rank rendered. Ends in an agreement: throws on every
+  /// rank alike if any rank failed or passed the deadline.
+  std::vector<int> render_grabbed_tiles(const PreparedScene& scene, Film& film, RenderStats& local);
+
+  // Film (parallel_context_mpi_film.cpp)
+  /// Checks that the ranks prepared the same image and gives every rank rank 0's starting
+  /// film (empty, or its samples so far).
+  void share_film(const PreparedScene& scene, Film& film, MPI_Datatype pixel);
+  /// Rank 0 receives the pixels of every other rank's tiles (`mine` on each rank) into `film`.
+  void gather_film(const std::vector<Tile>& tiles, const std::vector<int>& mine, int width,
+                   MPI_Datatype pixel, Film& film);
+
+  // Statistics (parallel_context_mpi_stats.cpp)
+  /// Rank 0: adds the counters of all ranks to `stats` (threads: the total over ranks; wall
+  /// time: the slowest rank's). Other ranks add their own.
+  void reduce_stats(const RenderStats& local, RenderStats& stats);
 
   bool m_mpi = false;
   bool m_connected = false;

@@ -1,5 +1,5 @@
 #pragma once
-/// Command line of tessera-heat (spec/interfaces.md section 4; docs/miniapp.md):
+/// Command line of tessera-heat (docs/miniapp.md):
 ///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
 #include <array>
 #include <cstdint>

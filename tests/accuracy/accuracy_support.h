@@ -508,7 +508,7 @@ inline PixelTest absorbing_box_test(const FieldView& view, const tessera::SceneD
   return compare_binomial(film, T, 1.0);
 }
 
-/// Henyey-Greenstein, written from the spec (section 3) for the references.
+/// Henyey-Greenstein, written from docs/physics.md "Scattering models" for the references.
 inline double hg(double cos_theta, double g) {
   const double d = 1.0 + g * g - 2.0 * g * cos_theta;
   return (1.0 - g * g) / (4.0 * kPi * d * std::sqrt(d));

@@ -1,6 +1,6 @@
-// Stress: 1e5 accumulated frames (docs/accuracy.md, "Accumulation"; physics spec section 8:
-// after 1e5 samples a pixel's mean differs from the exact mean of its samples by < 1e-6
-// relative).
+// Stress: 1e5 accumulated frames (docs/accuracy.md, "Accumulation"; docs/physics.md
+// "Accumulation and output": after 1e5 samples a pixel's mean differs from the exact mean of
+// its samples by < 1e-6 relative).
 //
 // A 2 x 2 image of a lit cloud with a small bright light (samples spanning several orders of
 // magnitude) is rendered at 1 spp 100000 times into one film. Each frame's individual sample

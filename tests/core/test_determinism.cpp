@@ -1,6 +1,7 @@
-// Determinism (physics spec section 7): every sample's random stream depends only on (seed,
-// frame, pixel, sample index), so a scene renders to bit-identical pixels for any thread
-// count, tile edge, tile order, and any split of the tile list across render_tiles calls.
+// Determinism (docs/physics.md "Random numbers and determinism"): every sample's random
+// stream depends only on (seed, frame, pixel, sample index), so a scene renders to
+// bit-identical pixels for any thread count, tile edge, tile order, and any split of the tile
+// list across render_tiles calls.
 #include <tessera/render.h>
 
 #include <catch2/catch.hpp>

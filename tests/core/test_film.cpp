@@ -1,6 +1,6 @@
-// Tests for Film::resolve: pixel value = mean of its samples (spec section 8: after 1e5
-// samples within 1e-6 relative of the exact mean), variance of the mean from the luminance
-// sums, empty pixels black with alpha 0.
+// Tests for Film::resolve: pixel value = mean of its samples (docs/physics.md "Accumulation
+// and output": after 1e5 samples within 1e-6 relative of the exact mean), variance of the
+// mean from the luminance sums, empty pixels black with alpha 0.
 #include <tessera/film.h>
 
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
-// White-furnace tests of the multiple-scattering estimator (physics spec section 6): a medium
-// that scatters without absorbing (albedo 1) under a constant background of radiance L and no
+// White-furnace tests of the multiple-scattering estimator (docs/physics.md "The
+// estimator"): a medium that scatters without absorbing (albedo 1) under a constant background of radiance L and no
 // other light leaves every pixel's expected radiance exactly L, whatever the density, the
 // phase asymmetry or the majorant layout. Lambertian surface events (no specular) conserve
 // energy too, so the furnace also holds in brdf and hybrid shading.

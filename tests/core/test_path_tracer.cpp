@@ -1,5 +1,5 @@
-// Tests of the estimator's structure (physics spec section 6): single scattering is exactly the
-// path tracer with one real collision; it loses the multiply-scattered energy in a furnace;
+// Tests of the estimator's structure (docs/physics.md "The estimator"): single scattering is
+// exactly the path tracer with one real collision; it loses the multiply-scattered energy in a furnace;
 // and next-event estimation to area lights, MIS-weighted against phase / BRDF sampling, keeps
 // a furnace enclosed by rect lights at the lights' radiance.
 //

@@ -101,12 +101,11 @@ bool same_pixels(const tessera::Film& a, const tessera::Film& b) {
          std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0;
 }
 
+/// Every counter of kRenderCounters (summed over ranks, or the field's NaN count) equal.
 bool same_counters(const tessera::RenderStats& a, const tessera::RenderStats& b) {
-  return a.samples == b.samples && a.free_flight_lookups == b.free_flight_lookups &&
-         a.transmittance_lookups == b.transmittance_lookups && a.gradient_lookups == b.gradient_lookups &&
-         a.real_collisions == b.real_collisions && a.null_collisions == b.null_collisions &&
-         a.discarded_samples == b.discarded_samples && a.tiles_total == b.tiles_total &&
-         a.tiles_skipped == b.tiles_skipped;
+  for (const tessera::RenderCounter& c : tessera::kRenderCounters)
+    if (a.*c.field != b.*c.field) return false;
+  return true;
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 #pragma once
-/// Pinhole / thin-lens camera (physics spec section 5).
+/// Pinhole / thin-lens camera (docs/physics.md "Camera").
 #include <tessera/math.h>
 
 #include <type_traits>

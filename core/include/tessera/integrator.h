@@ -1,5 +1,5 @@
 #pragma once
-/// Integrator options (physics spec section 6).
+/// Integrator options (docs/physics.md "The estimator").
 #include <cstdint>
 
 namespace tessera {

@@ -28,7 +28,39 @@ struct RenderStats {
   std::uint64_t density_lookups() const {
     return free_flight_lookups + transmittance_lookups + gradient_lookups;
   }
+  /// Combines every integer counter of `o` into this one by its rule in kRenderCounters
+  /// (summed, or the larger kept). wall_seconds and threads are left alone: how they combine
+  /// depends on what is being combined (threads of one render vs ranks vs renders).
   void add_counters(const RenderStats& o);
+};
+
+/// One integer counter of RenderStats: its name (as `--stats` JSON and the docs spell it),
+/// the field, and how two values combine.
+struct RenderCounter {
+  enum class Combine {
+    Sum,  ///< counted events: tiles, threads, ranks and renders add up
+    Max,  ///< a property of the field, the same wherever it is counted: the larger is kept
+  };
+  const char* name;
+  std::uint64_t RenderStats::*field;
+  Combine combine;
+};
+
+/// Every integer counter of RenderStats, in the order `--stats` writes them. Whatever sums,
+/// flushes, reduces over MPI ranks or prints the counters loops over this table, so a new
+/// counter is one field above plus one row here (stats.cpp asserts that no field is missing).
+inline constexpr RenderCounter kRenderCounters[] = {
+    {"samples", &RenderStats::samples, RenderCounter::Combine::Sum},
+    {"free_flight_lookups", &RenderStats::free_flight_lookups, RenderCounter::Combine::Sum},
+    {"transmittance_lookups", &RenderStats::transmittance_lookups, RenderCounter::Combine::Sum},
+    {"gradient_lookups", &RenderStats::gradient_lookups, RenderCounter::Combine::Sum},
+    {"real_collisions", &RenderStats::real_collisions, RenderCounter::Combine::Sum},
+    {"null_collisions", &RenderStats::null_collisions, RenderCounter::Combine::Sum},
+    {"nan_voxels_seen", &RenderStats::nan_voxels_seen, RenderCounter::Combine::Max},
+    {"discarded_samples", &RenderStats::discarded_samples, RenderCounter::Combine::Sum},
+    {"stalled_paths", &RenderStats::stalled_paths, RenderCounter::Combine::Sum},
+    {"tiles_total", &RenderStats::tiles_total, RenderCounter::Combine::Sum},
+    {"tiles_skipped", &RenderStats::tiles_skipped, RenderCounter::Combine::Sum},
 };
 
 /// Fraction of discarded (non-finite) samples above which render_warnings warns: 1e-3.

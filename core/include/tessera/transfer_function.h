@@ -76,7 +76,7 @@ class ColorTF {
   Color m_v[kMaxTfPoints] = {};
 };
 
-/// Everything that maps a field value to optical properties (physics spec section 2).
+/// Everything that maps a field value to optical properties (docs/physics.md "Field and medium").
 struct TransferFunction {
   double lo = 0.0, hi = 1.0;       ///< value range mapped to u = 0 .. 1 (lo < hi)
   double density_scale = 1.0;      ///< sigma_t = density_scale * opacity(u), 1/world unit

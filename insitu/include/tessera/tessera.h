@@ -1,4 +1,4 @@
-/* Tessera in situ C API (spec/interfaces.md section 3; docs/c-api.md).
+/* Tessera in situ C API (docs/c-api.md).
  *
  * A simulation opens an adapter once with a YAML config, calls tessera_execute once per
  * step with descriptors of its own arrays, and closes it at the end. Field memory is read in
@@ -72,8 +72,7 @@ tessera_status tessera_open(const char* yaml_path, int mpi_comm_f, tessera_adapt
  * has loaded and validated: images, Cinema databases and tessera_effective_config.yaml (which
  * shows the override) go under it. Kept as given (a relative directory is relative to the
  * process's working directory, not to the YAML file). NULL or "" = the config's output_dir.
- * Every rank passes the same value. Same statuses and error reporting as tessera_open. An
- * addition to interfaces.md section 3. */
+ * Every rank passes the same value. Same statuses and error reporting as tessera_open. */
 tessera_status tessera_open_with_output_dir(const char* yaml_path, int mpi_comm_f,
                                             const char* output_dir, tessera_adapter** out);
 
@@ -90,7 +89,7 @@ tessera_status tessera_execute(tessera_adapter* adapter, int64_t step, double ti
 /* As tessera_execute, for the simulation's last step: with the global option
  * render_final_step: true every render fires, whatever its trigger; otherwise the same as
  * tessera_execute. (Field memory is not valid at tessera_close, so the final render happens
- * here.) An addition to interfaces.md section 3. */
+ * here.) */
 tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, double time,
                                      const tessera_grid* grid, const tessera_field* fields,
                                      int nfields);
@@ -107,7 +106,7 @@ tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, dou
  * reused only if every rank made this call before the execute (they agree inside it).
  * Returns TESSERA_OK; TESSERA_ERROR_CONFIG for a NULL adapter (tessera_last_error(NULL) says
  * so); TESSERA_ERROR_DATA for a NULL field_name or a name no render of the config can use
- * (tessera_last_error(adapter) says which). An addition to interfaces.md section 3. */
+ * (tessera_last_error(adapter) says which). */
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name);
 
 /* Releases the adapter (NULL is allowed and returns TESSERA_OK). Handles are validated: a

@@ -1,5 +1,5 @@
 #pragma once
-/// Loading a Tessera YAML config (docs/config.md; schema in spec/interfaces.md section 1)
+/// Loading a Tessera YAML config (schema and rules: docs/config.md)
 /// into plain, fully validated structs. The same schema serves the in situ adapter and the
 /// tessera-render CLI; the CLI additionally needs a `volume:` block.
 ///

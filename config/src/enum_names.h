@@ -1,0 +1,68 @@
+#pragma once
+// Private: one table per enum of the schema, name <-> value. The parsers read them (which
+// word means which value, and the allowed words in messages, in table order) and to_yaml
+// writes from them, so each name is spelled once. Image formats have their own table with
+// extension and writer (tessera/config/output_formats.h); dtype names are core's dtype_name.
+#include <tessera/config/config.h>
+
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace tessera::config::detail {
+
+/// One word of the schema and the enum value it stands for.
+template <class E>
+struct EnumName {
+  const char* name;
+  E value;
+};
+
+inline constexpr EnumName<OnError> kOnErrorNames[] = {
+    {"warn", OnError::Warn}, {"disable", OnError::Disable}, {"abort", OnError::Abort}};
+inline const EnumName<DType> kDTypeNames[] = {
+    {dtype_name(DType::UInt8), DType::UInt8},     {dtype_name(DType::Int16), DType::Int16},
+    {dtype_name(DType::UInt16), DType::UInt16},   {dtype_name(DType::Float32), DType::Float32},
+    {dtype_name(DType::Float64), DType::Float64}};
+inline constexpr EnumName<ByteOrder> kByteOrderNames[] = {{"little", ByteOrder::Little},
+                                                          {"big", ByteOrder::Big}};
+inline constexpr EnumName<LightSpec::Type> kLightTypeNames[] = {{"rect", LightSpec::Type::Rect},
+                                                                {"sphere", LightSpec::Type::Sphere}};
+inline constexpr EnumName<BackgroundType> kBackgroundTypeNames[] = {
+    {"constant", BackgroundType::Constant},
+    {"gradient", BackgroundType::Gradient},
+    {"envmap", BackgroundType::EnvMap}};
+inline constexpr EnumName<Scattering> kScatteringNames[] = {{"single", Scattering::Single},
+                                                            {"multiple", Scattering::Multiple}};
+inline constexpr EnumName<Shading> kShadingNames[] = {
+    {"phase", Shading::Phase}, {"brdf", Shading::Brdf}, {"hybrid", Shading::Hybrid}};
+inline constexpr EnumName<FreePath> kFreePathNames[] = {{"delta", FreePath::Delta},
+                                                        {"raymarch", FreePath::Raymarch}};
+inline constexpr EnumName<MajorantMode> kMajorantNames[] = {{"grid", MajorantMode::Grid},
+                                                            {"global", MajorantMode::Global}};
+inline constexpr EnumName<ShadowMode> kShadowNames[] = {{"ratio", ShadowMode::Ratio},
+                                                        {"delta", ShadowMode::Delta}};
+inline constexpr EnumName<TileOrder> kTileOrderNames[] = {{"row", TileOrder::RowMajor},
+                                                          {"morton", TileOrder::Morton}};
+inline constexpr EnumName<ToneMap::Curve> kToneMapNames[] = {{"aces", ToneMap::Curve::Aces},
+                                                             {"reinhard", ToneMap::Curve::Reinhard},
+                                                             {"clamp", ToneMap::Curve::Clamp}};
+
+/// The name of `value` in `table`: rows with .name and .value (EnumName, OutputFormat).
+/// Every value of an enum has a row; "" would mean a table is missing one.
+template <class Table, class E>
+const char* name_of(const Table& table, E value) {
+  for (const auto& row : table)
+    if (row.value == value) return row.name;
+  return "";
+}
+
+/// The names of `table`, in its order.
+template <class Table>
+std::vector<std::string> names_of(const Table& table) {
+  std::vector<std::string> names;
+  for (const auto& row : table) names.emplace_back(row.name);
+  return names;
+}
+
+}  // namespace tessera::config::detail
