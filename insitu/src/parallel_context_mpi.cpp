@@ -20,7 +20,9 @@ namespace tessera::insitu {
 namespace {
 
 constexpr int kPixelTag = 0x7e55;
+constexpr int kAuxTag = 0x7e56;  ///< image.denoise: the auxiliary sums, beside the pixels
 static_assert(std::is_trivially_copyable_v<PixelSums>, "pixels travel as raw bytes");
+static_assert(std::is_trivially_copyable_v<AuxSums>, "auxiliary sums travel as raw bytes");
 
 using detail::check;
 
@@ -113,16 +115,19 @@ void copy_box(const FieldView& v, void* replica, const std::int64_t global[3], c
   }
 }
 
-/// Whole pixels of a Film, moved as raw bytes (doubles and counters exactly as they are).
-MPI_Datatype pixel_type(TypeList& keep) {
+/// Whole pixels of a Film (PixelSums, or with `bytes` = sizeof(AuxSums) its auxiliary sums),
+/// moved as raw bytes (doubles and counters exactly as they are).
+MPI_Datatype pixel_type(TypeList& keep, std::size_t bytes = sizeof(PixelSums)) {
   MPI_Datatype t;
-  check(MPI_Type_contiguous(static_cast<int>(sizeof(PixelSums)), MPI_BYTE, &t), "MPI_Type_contiguous");
+  check(MPI_Type_contiguous(static_cast<int>(bytes), MPI_BYTE, &t), "MPI_Type_contiguous");
   return keep.commit(t);
 }
 
-/// The rows of the given tiles inside a width-wide Film, relative to its first pixel.
+/// The rows of the given tiles inside a width-wide Film, relative to its first pixel (of
+/// `pixel_bytes` each: PixelSums, or AuxSums for the auxiliary sums).
 MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int> indices, int width,
-                            MPI_Datatype pixel, TypeList& keep, std::uint64_t& pixels) {
+                            MPI_Datatype pixel, TypeList& keep, std::uint64_t& pixels,
+                            std::size_t pixel_bytes = sizeof(PixelSums)) {
   std::vector<int> lengths;
   std::vector<MPI_Aint> displs;
   for (int t : indices) {
@@ -130,7 +135,7 @@ MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int>
     for (int y = tile.y0; y < tile.y1; ++y) {
       lengths.push_back(tile.x1 - tile.x0);
       displs.push_back(static_cast<MPI_Aint>((static_cast<std::int64_t>(y) * width + tile.x0) *
-                                             static_cast<std::int64_t>(sizeof(PixelSums))));
+                                             static_cast<std::int64_t>(pixel_bytes)));
       pixels += static_cast<std::uint64_t>(tile.x1 - tile.x0);
     }
   }
@@ -393,11 +398,14 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
                                  ? "rank 0's film is " + std::to_string(head[4]) + "x" + std::to_string(head[5]) +
                                        ", the image " + std::to_string(width) + "x" + std::to_string(height)
                                  : std::string("ranks prepared different images or tile lists"));
-  if (film.width() != width || film.height() != height) film = Film(width, height);
+  if (film.width() != width || film.height() != height) film = Film(width, height, film.has_aux());
+  // image.denoise: the auxiliary sums travel beside the pixels (every rank's film has them)
+  const MPI_Datatype aux_pixel = film.has_aux() ? pixel_type(keep, sizeof(AuxSums)) : MPI_DATATYPE_NULL;
   if (head[3] == kEmpty) {
     if (m_rank != 0) film.clear();
   } else {
     check(MPI_Bcast(film.pixels().data(), width * height, pixel, 0, m_comm), "MPI_Bcast");
+    if (film.has_aux()) check(MPI_Bcast(film.aux().data(), width * height, aux_pixel, 0, m_comm), "MPI_Bcast");
     if (m_rank == 0) m_report.render_bytes += film.pixels().size() * sizeof(PixelSums) * (m_size - 1);
   }
 
@@ -498,6 +506,12 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
       const MPI_Datatype rows = tile_rows_type(tiles, mine, width, pixel, keep, pixels);
       check(MPI_Send(film.pixels().data(), 1, rows, 0, kPixelTag, m_comm), "MPI_Send");
       m_report.render_bytes += pixels * sizeof(PixelSums);
+      if (film.has_aux()) {
+        std::uint64_t aux_pixels = 0;
+        const MPI_Datatype aux_rows = tile_rows_type(tiles, mine, width, aux_pixel, keep, aux_pixels, sizeof(AuxSums));
+        check(MPI_Send(film.aux().data(), 1, aux_rows, 0, kAuxTag, m_comm), "MPI_Send");
+        m_report.render_bytes += aux_pixels * sizeof(AuxSums);
+      }
     }
   } else {
     std::vector<MPI_Request> requests;
@@ -508,6 +522,11 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
       const MPI_Datatype rows = tile_rows_type(tiles, theirs, width, pixel, keep, pixels);
       requests.emplace_back();
       check(MPI_Irecv(film.pixels().data(), 1, rows, r, kPixelTag, m_comm, &requests.back()), "MPI_Irecv");
+      if (film.has_aux()) {
+        const MPI_Datatype aux_rows = tile_rows_type(tiles, theirs, width, aux_pixel, keep, pixels, sizeof(AuxSums));
+        requests.emplace_back();
+        check(MPI_Irecv(film.aux().data(), 1, aux_rows, r, kAuxTag, m_comm, &requests.back()), "MPI_Irecv");
+      }
     }
     check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
   }
