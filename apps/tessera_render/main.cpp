@@ -57,7 +57,7 @@ int run(int argc, const char* const* argv) {
   for (const auto* r : renders) targets.push_back(output_targets(cfg.global, *r, args.output, several));
   // image.denoise: the library is found (or the run fails) before anything is read or rendered
   for (const auto* r : renders) {
-    if (!r->image.denoise) continue;
+    if (!args.denoise.value_or(r->image.denoise)) continue;
     try {
       require_denoiser();
     } catch (const DenoiserUnavailable& e) {

@@ -44,6 +44,7 @@ SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
   if (args.tile) scene.options.tile = *args.tile;
   if (args.threads) scene.options.threads = *args.threads;
   if (args.seed) scene.options.seed = *args.seed;
+  if (args.denoise) scene.image.denoise = *args.denoise;
   return scene;
 }
 
@@ -57,7 +58,7 @@ void check_memory(const config::Config& cfg, const config::RenderSpec& spec, con
   f.threads = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   f.variance = spec.output.variance;
   f.samples = spec.output.samples;
-  f.denoise = spec.image.denoise;
+  f.denoise = args.denoise.value_or(spec.image.denoise);
   f.exr = f.png = false;
   for (const OutputTarget& t : targets) (t.format == config::ImageFormat::Exr ? f.exr : f.png) = true;
   for (int a = 0; a < 3; ++a) f.field_dims[a] = volume.view.dims[a];
