@@ -270,5 +270,5 @@ TEST_CASE("image.denoise must be a boolean", "[config]") {
   const std::string e = test::config_error("renders:\n  - name: a\n    camera: {position: [0, 0, 5]}\n"
                                            "    transfer_function: {opacity: [[0, 1]]}\n"
                                            "    image: {denoise: 3}\n");
-  CHECK_THAT(e, Contains("scene.yaml:5:22: renders[0].image.denoise: ") && Contains("(allowed: true or false)"));
+  CHECK_THAT(e, Contains("scene.yaml:5:13: renders[0].image.denoise: 3 is not a boolean") && Contains("(allowed: true or false)"));
 }
