@@ -148,7 +148,7 @@ Loaded load_oidn() {
   for (const std::string& p : oidn_search_paths()) {
     const std::string why = try_load(p, l);
     if (why.empty()) return l;
-    tried += (tried.empty() ? "" : "; ") + p + ": " + why;
+    tried += (tried.empty() ? "" : "; ") + (why.rfind(p, 0) == 0 ? why : p + ": " + why);  // dlerror names it
   }
   const std::string py = python3_on_path();
   l.error = "Intel Open Image Denoise 2.x not found (tried TESSERA_OIDN_LIBRARY: unset; " +
