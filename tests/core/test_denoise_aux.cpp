@@ -152,7 +152,7 @@ TEST_CASE("denoise aux buffers hold the first collision's albedo and normal", "[
   CHECK(albedo_max > 0.0f);
 }
 
-TEST_CASE("EXR keeps RGBA and adds the denoised layer; PNG shows the denoised image", "[denoise][image_io]") {
+TEST_CASE("EXR keeps RGBA and adds the denoised layer, PNG shows the denoised image", "[denoise][image_io]") {
   tessera_test::TempDir dir;
   tessera::Image img;
   img.width = 5;

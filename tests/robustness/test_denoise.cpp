@@ -120,7 +120,7 @@ TEST_CASE("denoise: not found anywhere, the error lists the places tried and how
   CHECK_FALSE(fs::exists(dir.path() / "results"));
 }
 
-TEST_CASE("denoise: the EXR's RGBA is bit-identical with denoise on and off; denoised.R/G/B added",
+TEST_CASE("denoise: the EXR's RGBA is bit-identical with denoise on and off, denoised.R/G/B added",
           "[robustness][denoise]") {
   try {
     tessera::require_denoiser();
