@@ -144,10 +144,14 @@ TEST_CASE("denoise: the EXR's RGBA is bit-identical with denoise on and off, den
   CHECK(tessera_test::slurp(off.file("results/d.png")) != tessera_test::slurp(on.file("results/d.png")));
 }
 
-TEST_CASE("denoise: the adapter fails at tessera_open without OIDN, else writes the layer", "[robustness][denoise]") {
+TEST_CASE("denoise: the adapter fails at tessera_open without OIDN, else writes the layer, Cinema views too",
+          "[robustness][denoise]") {
   TempDir dir;
   const std::string out = dir.file("out");
-  const std::string cfg = dir.write("a.yaml", config_yaml(out, with_denoise(render_yaml("d", "{every: 1}"), true)));
+  const std::string cinema = "    output: {file: \"{name}_{step:04d}\", formats: [exr, png], "
+                             "cinema: {azimuth: [0, 90], elevation: [0]}}\n";
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(out, with_denoise(render_yaml("d", "{every: 1}", cinema), true)));
   bool available = true;
   try {
     tessera::require_denoiser();  // this process's one lookup (denoiser.h)
@@ -171,4 +175,13 @@ TEST_CASE("denoise: the adapter fails at tessera_open without OIDN, else writes 
   CHECK(tessera_close(a) == TESSERA_OK);
   const tessera::Image img = tessera::read_exr(out + "/d_0000.exr");
   CHECK(img.denoised.size() == img.rgba.size() / 4 * 3);
+  // Every Cinema view is denoised like the main image
+  int views = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out + "/d.cdb"))
+    if (e.path().extension() == ".exr") {
+      ++views;
+      const tessera::Image v = tessera::read_exr(e.path().string());
+      CHECK(v.denoised.size() == v.rgba.size() / 4 * 3);
+    }
+  CHECK(views == 2);
 }
