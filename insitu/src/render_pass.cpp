@@ -371,6 +371,10 @@ class Pass {
                   r.name.c_str(), static_cast<long long>(r.step), r.time, m_spec.image.width,
                   m_spec.image.height, m_spec.image.spp, r.render_seconds, r.samples_per_second);
     std::string line = buf;
+    if (m_spec.image.denoise) {
+      std::snprintf(buf, sizeof buf, ", denoised in %.3f s", r.denoise_seconds);
+      line += buf;
+    }
     // The in situ cost: this render against the simulation's time it watched
     if (r.simulation_seconds > 0.0) {
       std::snprintf(buf, sizeof buf, ", %.3gx the simulation's %.3g s since the last render", r.cost_ratio,
