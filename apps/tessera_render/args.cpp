@@ -43,7 +43,7 @@ const char* usage() {
   return "usage: tessera-render SCENE.yaml [--render NAME] [-o OUT] [--spp N]\n"
          "                      [--width W --height H] [--tile N | --scanline] [--threads N]\n"
          "                      [--seed N] [--time-limit SECONDS] [--stats FILE.json]\n"
-         "                      [--progress | --quiet] [--check]\n"
+         "                      [--denoise | --no-denoise] [--progress | --quiet] [--check]\n"
          "\n"
          "Renders every entry of `renders:` in SCENE.yaml (or only --render NAME) from the\n"
          "raw volume named by its `volume:` block. Flags override the YAML.\n"
@@ -60,6 +60,8 @@ const char* usage() {
          "  --seed N           random seed\n"
          "  --time-limit S     seconds each render may take (0 = none; default\n"
          "                     tessera.time_limit); past it: error, no output file\n"
+         "  --denoise          denoise the PNG with Open Image Denoise (image.denoise: true)\n"
+         "  --no-denoise       do not denoise (image.denoise: false)\n"
          "  --stats FILE.json  write render statistics as JSON\n"
          "  --progress         show a progress bar (default when stderr is a terminal)\n"
          "  --quiet            print nothing but errors\n"
@@ -108,6 +110,11 @@ Args parse_args(int argc, const char* const* argv) {
     else if (arg == "--progress") { no_value(); a.progress = true; }
     else if (arg == "--quiet" || arg == "-q") { no_value(); a.quiet = true; }
     else if (arg == "--check") { no_value(); a.check = true; }
+    else if (arg == "--denoise" || arg == "--no-denoise") {
+      no_value();
+      if (a.denoise && *a.denoise != (arg == "--denoise")) throw std::runtime_error("--denoise and --no-denoise exclude each other");
+      a.denoise = arg == "--denoise";
+    }
     else if (arg.size() > 1 && arg[0] == '-') throw std::runtime_error("unknown option " + shown(arg) + " (see --help)");
     else if (a.scene.empty()) a.scene = arg;
     else throw std::runtime_error("unexpected argument \"" + shown(arg) + "\" (one SCENE.yaml only)");

@@ -14,6 +14,7 @@ struct Args {
   std::optional<std::uint64_t> seed;
   std::optional<std::string> stats;  ///< --stats FILE.json
   std::optional<double> time_limit;  ///< --time-limit SECONDS (overrides tessera.time_limit)
+  std::optional<bool> denoise;       ///< --denoise / --no-denoise (overrides image.denoise)
   bool progress = false;             ///< --progress
   bool quiet = false;                ///< --quiet
   bool check = false;                ///< --check: validate the scene, its renders' output paths

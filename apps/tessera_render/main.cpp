@@ -7,6 +7,7 @@
 
 #include <tessera/config/config.h>
 #include <tessera/config/raw_volume.h>
+#include <tessera/denoiser.h>
 
 #include <unistd.h>
 
@@ -54,6 +55,16 @@ int run(int argc, const char* const* argv) {
   const bool several = renders.size() > 1;
   std::vector<std::vector<OutputTarget>> targets;
   for (const auto* r : renders) targets.push_back(output_targets(cfg.global, *r, args.output, several));
+  // image.denoise: the library is found (or the run fails) before anything is read or rendered
+  for (const auto* r : renders) {
+    if (!args.denoise.value_or(r->image.denoise)) continue;
+    try {
+      require_denoiser();
+    } catch (const DenoiserUnavailable& e) {
+      throw std::runtime_error(cfg.path + ": render '" + r->name + "': image.denoise: " + e.what());
+    }
+    break;
+  }
 
   check_volume_memory(cfg);  // before a byte of the file is read
   const config::RawVolume volume = config::load_raw_volume(*cfg.volume);

@@ -35,13 +35,14 @@ bool valid_name(const std::string& s) {
 }
 
 ImageDesc parse_image(const Value& v) {
-  const Map m = v.map("a mapping with keys width, height, spp, target_error");
-  m.allow({"width", "height", "spp", "target_error"});
+  const Map m = v.map("a mapping with keys width, height, spp, target_error, denoise");
+  m.allow({"width", "height", "spp", "target_error", "denoise"});
   ImageDesc d;
   d.width = static_cast<int>(m.integer_or("width", d.width, 1, kMaxImageEdge));
   d.height = static_cast<int>(m.integer_or("height", d.height, 1, kMaxImageEdge));
   d.spp = static_cast<int>(m.integer_or("spp", d.spp, 1, ImageDesc::kMaxSpp));
   d.target_error = m.number_or("target_error", d.target_error, Range::at_least(0.0));
+  d.denoise = m.boolean_or("denoise", d.denoise);
   return d;
 }
 

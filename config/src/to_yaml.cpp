@@ -157,6 +157,7 @@ void write(YAML::Emitter& out, const ImageDesc& image) {
   field(out, "height", image.height);
   field(out, "spp", image.spp);
   field(out, "target_error", image.target_error);
+  field(out, "denoise", image.denoise);
   out << YAML::EndMap;
 }
 

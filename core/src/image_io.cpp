@@ -39,6 +39,8 @@ namespace {
 
 constexpr const char* k_rgba_names[4] = {"R", "G", "B", "A"};
 constexpr std::size_t k_px_stride = 4 * sizeof(float);  ///< interleaved RGBA float pixel
+constexpr const char* k_denoised_names[3] = {"denoised.R", "denoised.G", "denoised.B"};
+constexpr std::size_t k_rgb_stride = 3 * sizeof(float);  ///< interleaved RGB float pixel
 
 /// A file name next to `path`, unique within this process and across processes.
 std::string temp_path_for(const std::string& path) {
@@ -96,6 +98,9 @@ void validate(const char* what, const std::string& path, const Image& img) {
   if (!img.samples.empty() && img.samples.size() != n)
     fail("samples has " + std::to_string(img.samples.size()) +
          " floats, expected 0 or width*height = " + std::to_string(n));
+  if (!img.denoised.empty() && img.denoised.size() != n * 3)
+    fail("denoised has " + std::to_string(img.denoised.size()) +
+         " floats, expected 0 or width*height*3 = " + std::to_string(n * 3));
 }
 
 /// libpng error state: the message survives the longjmp out of libpng.
@@ -203,6 +208,11 @@ Image read_exr_pixels(const std::string& path) {
     img.samples.resize(n);
     fb.insert("samples", Imf::Slice::Make(Imf::FLOAT, img.samples.data(), dw));
   }
+  if (channels.findChannel(k_denoised_names[0])) {
+    img.denoised.assign(n * 3, 0.0f);
+    for (int c = 0; c < 3; ++c)
+      fb.insert(k_denoised_names[c], Imf::Slice::Make(Imf::FLOAT, img.denoised.data() + c, dw, k_rgb_stride));
+  }
   file.setFrameBuffer(fb);
   file.readPixels(dw.min.y, dw.max.y);
   return img;
@@ -222,6 +232,8 @@ void write_exr(const std::string& path, const Image& img) {
     for (const char* name : k_rgba_names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     if (!img.variance.empty()) header.channels().insert("variance", Imf::Channel(Imf::FLOAT));
     if (!img.samples.empty()) header.channels().insert("samples", Imf::Channel(Imf::FLOAT));
+    if (!img.denoised.empty())
+      for (const char* name : k_denoised_names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
 
     // Frame buffer: interleaved RGBA plus the planar extras; row 0 = top = data window min y
     const Imath::Box2i& dw = header.dataWindow();
@@ -233,6 +245,10 @@ void write_exr(const std::string& path, const Image& img) {
       fb.insert("variance", Imf::Slice::Make(Imf::FLOAT, img.variance.data(), dw));
     if (!img.samples.empty())
       fb.insert("samples", Imf::Slice::Make(Imf::FLOAT, img.samples.data(), dw));
+    if (!img.denoised.empty())
+      for (int c = 0; c < 3; ++c)
+        fb.insert(k_denoised_names[c],
+                  Imf::Slice::Make(Imf::FLOAT, img.denoised.data() + c, dw, k_rgb_stride));
 
     Imf::OutputFile file(tmp.c_str(), header);
     file.setFrameBuffer(fb);
@@ -285,12 +301,14 @@ double tonemap_channel(double v, const ToneMap& tm) {
 void write_png(const std::string& path, const Image& img, const ToneMap& tm) {
   validate("write_png", path, img);
 
-  // Quantise: rgb through the tone map, alpha linear and clamped
+  // Quantise: rgb (the denoised one when the image has it) through the tone map, alpha
+  // linear and clamped
   const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
   std::vector<unsigned char> rgba8(n * 4);
+  const bool denoised = !img.denoised.empty();
   for (std::size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c)
-      rgba8[i * 4 + c] = to_byte(tonemap_channel(img.rgba[i * 4 + c], tm));
+      rgba8[i * 4 + c] = to_byte(tonemap_channel(denoised ? img.denoised[i * 3 + c] : img.rgba[i * 4 + c], tm));
     const double a = tm.alpha ? img.rgba[i * 4 + 3] : 1.0;
     rgba8[i * 4 + 3] = to_byte(a > 0.0 ? std::min(a, 1.0) : 0.0);
   }

@@ -76,6 +76,7 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
 
   // Film: the double accumulators of every pixel, on every rank (film.h)
   e.add("film", mul(mul(pixels, sizeof(PixelSums)), 1 + views));
+  if (f.denoise) e.add("denoise buffers", mul(mul(pixels, sizeof(AuxSums)), 1 + views));
 
   // Images: the resolved float image (RGBA + layers), the 8-bit PNG copy, OpenEXR's
   // line-block buffers (16 scanlines, raw and compressed); the last image kept by the adapter
@@ -86,6 +87,14 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
     if (f.png) bytes = sum(bytes, mul(pixels, 4));
     if (f.exr) bytes = sum(bytes, mul(mul(nonneg(f.width), layers * sizeof(float)), 2 * 16));
     e.add("images", bytes);
+    // Denoising: albedo, normal and denoised RGB beside the image, OIDN's working memory,
+    // and the EXR's three extra channels
+    if (f.denoise) {
+      u64 d = mul(mul(pixels, 9 * sizeof(float)), 1 + views + (f.keeps_last_image ? 1 : 0));
+      d = sum(d, mul(pixels, kDenoiserBytesPerPixel));
+      if (f.exr) d = sum(d, mul(mul(nonneg(f.width), 3 * sizeof(float)), 2 * 16));
+      e.add("denoise buffers", d);
+    }
   }
 
   // Tiles and work lists: the tile list and culling flags (prepare), the tile indices, work

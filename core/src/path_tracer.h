@@ -24,6 +24,11 @@ using KernelCounters = RenderStats;
 struct SampleResult {
   Color L{0.0};
   double alpha = 0.0;
+  /// The denoiser's features at the camera ray's first real collision (0 if none): the
+  /// diffuse TF colour clamped to [0, 1], and the shading normal (unit, facing the camera;
+  /// 0 where the shading has no gradient normal: phase shading or a zero gradient).
+  Color albedo{0.0};
+  Vec3 normal{0.0};
 };
 
 /// Power-heuristic weight pa^2 / (pa^2 + pb^2); 0 when both are 0 or either is NaN. When a
@@ -105,6 +110,10 @@ class PathTracer {
             }
           }
         }
+      }
+      if (from_camera) {
+        out.albedo = glm::clamp(albedo, Color(0.0), Color(1.0));
+        out.normal = normal;
       }
       const Color f0 = surface && m_s.has_specular ? m_s.desc.tf.specular.eval(u) : Color(0.0);
       const double rough = surface ? m_s.desc.tf.roughness.eval(u) : 0.0;

@@ -53,6 +53,16 @@ inline void add_sample(PixelSums& px, const SampleResult& r) {
   ++px.n;
 }
 
+/// Adds the kept sample's auxiliary features (the denoiser's albedo and normal) to the
+/// pixel's AuxSums, beside add_sample: the same samples in the same order, so the sums are
+/// as deterministic as the colour's.
+inline void add_aux(AuxSums& aux, const SampleResult& r) {
+  for (int c = 0; c < 3; ++c) {
+    aux.albedo[c] += r.albedo[c];
+    aux.normal[c] += r.normal[c];
+  }
+}
+
 /// One tile's sampling: draws samples of pixels with the tile's tracer and counters.
 template <class T, Shading S, bool kEmission>
 class TileSampler {
@@ -76,9 +86,11 @@ class TileSampler {
     return is_finite(r.L);
   }
 
-  /// Draw sample `index` of the pixel into its sums (a non-finite one is counted and
-  /// dropped). Returns the sample when it was kept, for the caller's own bookkeeping.
-  const SampleResult* accumulate(int x, int y, PixelSums& px, std::uint64_t index, RenderStats& st) {
+  /// Draw sample `index` of the pixel into its sums, and into `aux` when given (a non-finite
+  /// one is counted and dropped). Returns the sample when it was kept, for the caller's own
+  /// bookkeeping.
+  const SampleResult* accumulate(int x, int y, PixelSums& px, AuxSums* aux, std::uint64_t index,
+                                 RenderStats& st) {
     ++st.samples;
     ++px.drawn;
     if (!draw(x, y, index, m_last)) {
@@ -86,6 +98,7 @@ class TileSampler {
       return nullptr;
     }
     add_sample(px, m_last);
+    if (aux) add_aux(*aux, m_last);
     return &m_last;
   }
 
@@ -121,7 +134,7 @@ void sample_uniform(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const 
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
         PixelSums& px = film.at(x, y);
-        ts.accumulate(x, y, px, px.drawn, st);  // continues the pixel's sample indices
+        ts.accumulate(x, y, px, film.aux_at(x, y), px.drawn, st);  // continues the pixel's sample indices
       }
 }
 
@@ -153,7 +166,7 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
             SampleResult r;
             const SampleResult* kept = nullptr;
             if (mine) {
-              kept = ts.accumulate(x, y, film.at(x, y), static_cast<std::uint64_t>(si), st);
+              kept = ts.accumulate(x, y, film.at(x, y), film.aux_at(x, y), static_cast<std::uint64_t>(si), st);
             } else if (ts.draw(x, y, static_cast<std::uint64_t>(si), r, false)) {
               kept = &r;
             }
@@ -172,7 +185,8 @@ void sample_adaptive(TileSampler<T, S, E>& ts, const PreparedSceneImpl& s, const
             if (q != j * B + i && q % B < bw) others.add(sums[static_cast<std::size_t>(q)]);
           const int n = adaptive_count(others, pilot, spp, s.adaptive_scale);
           PixelSums& px = film.at(x, y);
-          if (!for_samples(pilot, n, stop, [&](int si) { ts.accumulate(x, y, px, static_cast<std::uint64_t>(si), st); }))
+          AuxSums* aux = film.aux_at(x, y);
+          if (!for_samples(pilot, n, stop, [&](int si) { ts.accumulate(x, y, px, aux, static_cast<std::uint64_t>(si), st); }))
             return;
         }
       }

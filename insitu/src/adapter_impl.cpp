@@ -3,6 +3,8 @@
 #include "outputs.h"
 #include "rank_agreement.h"
 
+#include <tessera/denoiser.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <optional>
@@ -29,6 +31,17 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
       if (!yaml_path) throw std::invalid_argument("config path is NULL");
       m_config = config::load_config(yaml_path);
       if (output_dir && *output_dir) m_config.global.output_dir = output_dir;
+      // image.denoise: the library is found now, not after days of simulation (rank 0 denoises)
+      for (std::size_t i = 0; i < m_config.renders.size() && m_ctx->rank() == 0; ++i) {
+        if (!m_config.renders[i].image.denoise) continue;
+        try {
+          require_denoiser();
+        } catch (const DenoiserUnavailable& e) {
+          throw std::runtime_error(m_config.path + ": renders[" + std::to_string(i) + "].image.denoise (render '" +
+                                   m_config.renders[i].name + "'): " + e.what());
+        }
+        break;
+      }
       effective = config::to_yaml(m_config);
     } catch (const std::exception& e) {
       ok = false;

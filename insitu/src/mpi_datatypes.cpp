@@ -7,6 +7,7 @@
 namespace tessera::insitu::detail {
 
 static_assert(std::is_trivially_copyable_v<PixelSums>, "pixels travel as raw bytes");
+static_assert(std::is_trivially_copyable_v<AuxSums>, "auxiliary sums travel as raw bytes");
 
 TypeList::~TypeList() {
   for (MPI_Datatype& t : m_types) MPI_Type_free(&t);
@@ -53,14 +54,15 @@ MPI_Datatype replica_box_type(DType dtype, const std::int64_t global[3], const s
   return keep.commit(t);
 }
 
-MPI_Datatype pixel_type(TypeList& keep) {
+MPI_Datatype pixel_type(TypeList& keep, std::size_t bytes) {
   MPI_Datatype t;
-  check(MPI_Type_contiguous(static_cast<int>(sizeof(PixelSums)), MPI_BYTE, &t), "MPI_Type_contiguous");
+  check(MPI_Type_contiguous(static_cast<int>(bytes), MPI_BYTE, &t), "MPI_Type_contiguous");
   return keep.commit(t);
 }
 
 MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int> indices, int width,
-                            MPI_Datatype pixel, TypeList& keep, std::uint64_t& pixels) {
+                            MPI_Datatype pixel, TypeList& keep, std::uint64_t& pixels,
+                            std::size_t pixel_bytes) {
   std::vector<int> lengths;
   std::vector<MPI_Aint> displs;
   for (int t : indices) {
@@ -68,7 +70,7 @@ MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int>
     for (int y = tile.y0; y < tile.y1; ++y) {
       lengths.push_back(tile.x1 - tile.x0);
       displs.push_back(static_cast<MPI_Aint>((static_cast<std::int64_t>(y) * width + tile.x0) *
-                                             static_cast<std::int64_t>(sizeof(PixelSums))));
+                                             static_cast<std::int64_t>(pixel_bytes)));
       pixels += static_cast<std::uint64_t>(tile.x1 - tile.x0);
     }
   }

@@ -40,12 +40,15 @@ MPI_Datatype strided_view_type(const FieldView& v, TypeList& keep);
 MPI_Datatype replica_box_type(DType dtype, const std::int64_t global[3], const std::int64_t offset[3],
                               const std::int64_t dims[3], TypeList& keep);
 
-/// Whole pixels of a Film, moved as raw bytes (doubles and counters exactly as they are).
-MPI_Datatype pixel_type(TypeList& keep);
+/// Whole pixels of a Film (PixelSums, or with `bytes` = sizeof(AuxSums) its auxiliary sums
+/// for image.denoise), moved as raw bytes (doubles and counters exactly as they are).
+MPI_Datatype pixel_type(TypeList& keep, std::size_t bytes = sizeof(PixelSums));
 
 /// The rows of the tiles `indices` inside a width-wide Film, relative to its first pixel, in
-/// units of `pixel`. Adds the number of pixels they cover to `pixels`.
+/// units of `pixel` (of `pixel_bytes` each: PixelSums, or AuxSums for the auxiliary sums).
+/// Adds the number of pixels they cover to `pixels`.
 MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int> indices, int width,
-                            MPI_Datatype pixel, TypeList& keep, std::uint64_t& pixels);
+                            MPI_Datatype pixel, TypeList& keep, std::uint64_t& pixels,
+                            std::size_t pixel_bytes = sizeof(PixelSums));
 
 }  // namespace tessera::insitu::detail

@@ -15,6 +15,7 @@ namespace {
 using detail::check;
 
 constexpr int kPixelTag = 0x7e55;
+constexpr int kAuxTag = 0x7e56;  ///< image.denoise: the auxiliary sums, beside the pixels
 
 bool film_is_empty(const Film& film) {
   for (const PixelSums& p : film.pixels())
@@ -40,11 +41,17 @@ void MpiParallelContext::share_film(const PreparedScene& scene, Film& film, MPI_
                                  ? "rank 0's film is " + std::to_string(head[4]) + "x" + std::to_string(head[5]) +
                                        ", the image " + std::to_string(width) + "x" + std::to_string(height)
                                  : std::string("ranks prepared different images or tile lists"));
-  if (film.width() != width || film.height() != height) film = Film(width, height);
+  if (film.width() != width || film.height() != height) film = Film(width, height, film.has_aux());
   if (head[3] == kEmpty) {
     if (m_rank != 0) film.clear();
   } else {
     check(MPI_Bcast(film.pixels().data(), width * height, pixel, 0, m_comm), "MPI_Bcast");
+    if (film.has_aux()) {  // image.denoise: every rank's film has them (same config)
+      detail::TypeList keep;
+      const MPI_Datatype aux_pixel = detail::pixel_type(keep, sizeof(AuxSums));
+      check(MPI_Bcast(film.aux().data(), width * height, aux_pixel, 0, m_comm), "MPI_Bcast");
+      if (m_rank == 0) m_report.render_bytes += film.aux().size() * sizeof(AuxSums) * (m_size - 1);
+    }
     if (m_rank == 0) m_report.render_bytes += film.pixels().size() * sizeof(PixelSums) * (m_size - 1);
   }
 }
@@ -52,6 +59,8 @@ void MpiParallelContext::share_film(const PreparedScene& scene, Film& film, MPI_
 void MpiParallelContext::gather_film(const std::vector<Tile>& tiles, const std::vector<int>& mine, int width,
                                      MPI_Datatype pixel, Film& film) {
   detail::TypeList keep;
+  // image.denoise: the auxiliary sums travel beside the pixels (every rank's film has them)
+  const MPI_Datatype aux_pixel = film.has_aux() ? detail::pixel_type(keep, sizeof(AuxSums)) : MPI_DATATYPE_NULL;
   // Rank 0 learns who rendered what, then receives each rank's tile rows straight into place.
   const int count = static_cast<int>(mine.size());
   std::vector<int> counts(m_rank == 0 ? m_size : 0), displs(m_rank == 0 ? m_size : 0), all;
@@ -73,6 +82,13 @@ void MpiParallelContext::gather_film(const std::vector<Tile>& tiles, const std::
       const MPI_Datatype rows = detail::tile_rows_type(tiles, mine, width, pixel, keep, pixels);
       check(MPI_Send(film.pixels().data(), 1, rows, 0, kPixelTag, m_comm), "MPI_Send");
       m_report.render_bytes += pixels * sizeof(PixelSums);
+      if (film.has_aux()) {
+        std::uint64_t aux_pixels = 0;
+        const MPI_Datatype aux_rows =
+            detail::tile_rows_type(tiles, mine, width, aux_pixel, keep, aux_pixels, sizeof(AuxSums));
+        check(MPI_Send(film.aux().data(), 1, aux_rows, 0, kAuxTag, m_comm), "MPI_Send");
+        m_report.render_bytes += aux_pixels * sizeof(AuxSums);
+      }
     }
   } else {
     std::vector<MPI_Request> requests;
@@ -83,6 +99,13 @@ void MpiParallelContext::gather_film(const std::vector<Tile>& tiles, const std::
       const MPI_Datatype rows = detail::tile_rows_type(tiles, theirs, width, pixel, keep, pixels);
       requests.emplace_back();
       check(MPI_Irecv(film.pixels().data(), 1, rows, r, kPixelTag, m_comm, &requests.back()), "MPI_Irecv");
+      if (film.has_aux()) {
+        std::uint64_t aux_pixels = 0;
+        const MPI_Datatype aux_rows =
+            detail::tile_rows_type(tiles, theirs, width, aux_pixel, keep, aux_pixels, sizeof(AuxSums));
+        requests.emplace_back();
+        check(MPI_Irecv(film.aux().data(), 1, aux_rows, r, kAuxTag, m_comm, &requests.back()), "MPI_Irecv");
+      }
     }
     check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
   }

@@ -5,6 +5,7 @@
 #include "outputs.h"
 
 #include <tessera/config/build_scene.h>
+#include <tessera/denoiser.h>
 #include <tessera/film.h>
 #include <tessera/image_io.h>
 #include <tessera/memory_estimate.h>
@@ -135,9 +136,10 @@ class Pass {
     // The render's own camera
     Film film;
     if (!render_film(prepared, film)) return std::move(m_out);
+    Image img;
+    if (!resolve_image(film, img)) return std::move(m_out);
     if (!phase(TESSERA_ERROR_IO, [&] {
           if (!root) return;
-          Image img = film.resolve(m_spec.output.variance, m_spec.output.samples);
           write_image_files(output_base(m_cfg.global.output_dir, m_spec, m_call.step, m_call.time, 0),
                             m_spec.output, img, m_out.result.files);
           m_render.last_image = std::move(img);
@@ -218,6 +220,7 @@ class Pass {
                                     : std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / node_ranks);
     f.variance = m_spec.output.variance;
     f.samples = m_spec.output.samples;
+    f.denoise = m_spec.image.denoise;
     f.exr = m_spec.output.has_format(config::ImageFormat::Exr);
     f.png = m_spec.output.has_format(config::ImageFormat::Png);
     f.writes = root;
@@ -291,9 +294,24 @@ class Pass {
     return prepared;
   }
 
+  /// Rank 0 resolves the film into `img` and, with image.denoise, denoises it (the PNG
+  /// shows the denoised RGB, the EXR gains denoised.R/G/B); a denoiser failure fails the
+  /// render with TESSERA_ERROR_RENDER. Other ranks leave `img` empty.
+  bool resolve_image(const Film& film, Image& img) {
+    return phase(TESSERA_ERROR_RENDER, [&] {
+      if (m_ctx.rank() != 0) return;
+      img = film.resolve(m_spec.output.variance, m_spec.output.samples);
+      if (!m_spec.image.denoise) return;
+      const auto t0 = Clock::now();
+      denoise(img);
+      m_out.result.denoise_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    });
+  }
+
   bool render_film(const PreparedScene& prepared, Film& film) {
     return phase(TESSERA_ERROR_RENDER, [&] {
-      film = Film(m_spec.image.width, m_spec.image.height);
+      // With image.denoise every rank keeps the auxiliary sums: they travel with the pixels
+      film = Film(m_spec.image.width, m_spec.image.height, m_spec.image.denoise);
       RenderStats stats;
       const auto t0 = Clock::now();
       try {
@@ -324,9 +342,10 @@ class Pass {
         return false;
       Film film;
       if (!render_film(prepared, film)) return false;
+      Image img;
+      if (!resolve_image(film, img)) return false;
       if (!phase(TESSERA_ERROR_IO, [&] {
             if (!root) return;
-            const Image img = film.resolve(m_spec.output.variance, m_spec.output.samples);
             const std::string rel = cinema_file_base(m_spec, m_call.step, m_call.time, view);
             const std::size_t first = m_out.result.files.size();
             write_image_files((std::filesystem::path(dir) / rel).string(), m_spec.output, img,
@@ -352,6 +371,10 @@ class Pass {
                   r.name.c_str(), static_cast<long long>(r.step), r.time, m_spec.image.width,
                   m_spec.image.height, m_spec.image.spp, r.render_seconds, r.samples_per_second);
     std::string line = buf;
+    if (m_spec.image.denoise) {
+      std::snprintf(buf, sizeof buf, ", denoised in %.3f s", r.denoise_seconds);
+      line += buf;
+    }
     // The in situ cost: this render against the simulation's time it watched
     if (r.simulation_seconds > 0.0) {
       std::snprintf(buf, sizeof buf, ", %.3gx the simulation's %.3g s since the last render", r.cost_ratio,

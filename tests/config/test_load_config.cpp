@@ -46,6 +46,7 @@ TEST_CASE("a full config loads with the values written", "[config]") {
   CHECK(r.image.height == 200);
   CHECK(r.image.spp == 8);
   CHECK(r.image.target_error == 0.01);
+  CHECK(r.image.denoise);
 
   // Camera
   CHECK(r.camera.position.kind == PointSpec::Kind::Absolute);
@@ -183,6 +184,7 @@ renders:
   CHECK(r.image.height == 512);
   CHECK(r.image.spp == 16);
   CHECK(r.image.target_error == 0.0);
+  CHECK_FALSE(r.image.denoise);
   CHECK(r.camera.look_at.kind == PointSpec::Kind::Center);
   CHECK(r.camera.up == Vec3(0.0, 0.0, 1.0));
   CHECK(r.camera.fov == 30.0);
@@ -262,4 +264,11 @@ TEST_CASE("colormaps cover [0, 1] with colours in [0, 1]", "[config]") {
   CHECK(colormap("grayscale").front().c == Color(0.0));
   CHECK(colormap("grayscale").back().c == Color(1.0));
   CHECK_THROWS_WITH(colormap("jet"), Contains("viridis"));
+}
+
+TEST_CASE("image.denoise must be a boolean", "[config]") {
+  const std::string e = test::config_error("renders:\n  - name: a\n    camera: {position: [0, 0, 5]}\n"
+                                           "    transfer_function: {opacity: [[0, 1]]}\n"
+                                           "    image: {denoise: 3}\n");
+  CHECK_THAT(e, Contains("scene.yaml:5:13: renders[0].image.denoise: 3 is not a boolean") && Contains("(allowed: true or false)"));
 }

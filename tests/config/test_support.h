@@ -43,7 +43,7 @@ renders:
   - name: close
     field: temperature
     trigger: {every: 10}
-    image: {width: 320, height: 200, spp: 8, target_error: 0.01}
+    image: {width: 320, height: 200, spp: 8, target_error: 0.01, denoise: true}
     camera:
       position: [2.0, 1.5, 2.5]
       look_at: [0.5, 0.5, 0.5]

@@ -22,6 +22,7 @@ TEST_CASE("to_yaml round-trips a full config", "[config][to_yaml]") {
   CHECK(b.global.on_error == OnError::Disable);
   REQUIRE(b.renders.size() == 3);
   CHECK(b.renders[0].camera.aperture == 0.1);
+  CHECK(b.renders[0].image.denoise);
   CHECK(b.renders[0].integrator.seed == 18446744073709551615ull);
   CHECK(b.renders[0].integrator.desc.phase_g == -0.3);
   CHECK(b.renders[0].transfer_function.opacity[1].u == 0.4);

@@ -96,9 +96,11 @@ bool holds(const tessera::FieldView& v, const std::vector<unsigned char>& expect
   return true;
 }
 
+/// Pixels, and the denoiser's auxiliary sums when the films have them, bit for bit.
 bool same_pixels(const tessera::Film& a, const tessera::Film& b) {
-  return a.width() == b.width() && a.height() == b.height() &&
-         std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0;
+  return a.width() == b.width() && a.height() == b.height() && a.has_aux() == b.has_aux() &&
+         std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0 &&
+         std::memcmp(a.aux().data(), b.aux().data(), a.aux().size() * sizeof(tessera::AuxSums)) == 0;
 }
 
 /// Every counter of kRenderCounters (summed over ranks, or the field's NaN count) equal.
@@ -170,7 +172,9 @@ TEST_CASE("renders over 1, 2, 3 and 4 ranks are bit-identical to a one-rank rend
     // The reference: core alone, one call, all tiles, twice into the same film (progressive).
     const tessera::SceneDesc ref_scene = scene_for(scattering, 2);
     const tessera::PreparedScene ref_prepared = tessera::prepare(whole, ref_scene);
-    tessera::Film ref_once(ref_scene.image.width, ref_scene.image.height);
+    // image.denoise's auxiliary sums travel with the pixels: with them for multiple scattering
+    const bool aux = scattering == tessera::Scattering::Multiple;
+    tessera::Film ref_once(ref_scene.image.width, ref_scene.image.height, aux);
     tessera::RenderStats ref_stats;
     tessera::render(ref_prepared, ref_once, ref_stats);
     tessera::Film ref_twice = ref_once;
@@ -189,7 +193,7 @@ TEST_CASE("renders over 1, 2, 3 and 4 ranks are bit-identical to a one-rank rend
             const LocalArray local(box, DType::Float32, Layout::MirroredJ, value);
             const tessera::FieldView replica = ctx.assemble(local.view(), placement(box, kGlobal));
             const tessera::PreparedScene prepared = tessera::prepare(replica, scene_for(scattering, threads));
-            tessera::Film film(ref_scene.image.width, ref_scene.image.height);
+            tessera::Film film(ref_scene.image.width, ref_scene.image.height, aux);
             tessera::RenderStats stats;
             ctx.render(prepared, film, stats);
             // Every tile rendered exactly once across the ranks.

@@ -12,9 +12,10 @@
 
 namespace tessera {
 
-/// EXR, float32 channels R G B A, plus "variance" and "samples" when the image has them.
+/// EXR, float32 channels R G B A, plus "variance", "samples" and the layer "denoised.R/G/B"
+/// when the image has them (R G B A stay the unbiased estimate).
 void write_exr(const std::string& path, const Image& img);
-/// Reads R G B (A if present, else 1; variance/samples if present) from a single-part,
+/// Reads R G B (A if present, else 1; variance/samples/denoised.R/G/B if present) from a single-part,
 /// non-deep scanline or tiled EXR. `path` must be a regular file (a FIFO or a device is
 /// refused without blocking). Before anything is allocated the header is checked:
 /// - data window at most kMaxExrEdge pixels on each side and kMaxExrPixels in all;
@@ -42,7 +43,8 @@ struct ToneMap {
   /// already contains the background.
   bool alpha = false;
 };
-/// 8-bit sRGB PNG, RGBA (alpha from A when tm.alpha, else opaque). Tone map as documented in docs/physics.md.
+/// 8-bit sRGB PNG, RGBA (alpha from A when tm.alpha, else opaque); RGB from img.denoised
+/// when the image has it. Tone map as documented in docs/physics.md.
 void write_png(const std::string& path, const Image& img, const ToneMap& tm = {});
 
 /// Apply exposure + curve + sRGB OETF to one linear value; result in [0, 1].

@@ -21,6 +21,10 @@ struct RenderFootprint {
   int threads = 1;             ///< worker threads (> 0)
   bool variance = false;       ///< the resolved image has a variance layer
   bool samples = false;        ///< the resolved image has a sample-count layer
+  /// image.denoise: the film's auxiliary sums (AuxSums per pixel), and where the image is
+  /// written the albedo, normal and denoised layers (3 floats per pixel each) and OIDN's
+  /// working memory (kDenoiserBytesPerPixel)
+  bool denoise = false;
   bool exr = true, png = true; ///< formats written (this rank writes: rank 0, or the CLI)
   bool writes = true;          ///< this rank resolves and writes the image
   bool keeps_last_image = false;  ///< the image is kept after the write (adapter rank 0)
@@ -29,6 +33,10 @@ struct RenderFootprint {
   int macrocell_edge = 16;     ///< majorant_edge() of the field and integrator
   std::int64_t envmap_width = 0, envmap_height = 0;  ///< envmap texels; 0 = no envmap
 };
+
+/// Open Image Denoise's own working memory per pixel, an upper estimate from its CPU
+/// device at 512x512 (docs/cli.md, "Denoising").
+inline constexpr std::uint64_t kDenoiserBytesPerPixel = 256;
 
 struct MemoryEstimate {
   struct Part {

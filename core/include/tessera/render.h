@@ -86,6 +86,9 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
 /// samples and its sample indices start at 0 in every call (so the decision is the same however
 /// the tiles are split across calls or ranks): accumulate several adaptive calls into one film
 /// only with a different options.frame each (docs/physics.md section 11).
+/// When the film has auxiliary sums (Film(w, h, true), for image.denoise) each kept sample's
+/// first-collision albedo and normal are added beside its colour, in the same order; the
+/// colour sums are the same bit for bit either way.
 /// `progress`, if set, is called from worker threads with the number of tiles finished.
 /// Past scene.desc().options.deadline the remaining tiles are skipped and DeadlineExceeded
 /// is thrown after the workers have stopped (stats then count the work done).

@@ -29,6 +29,11 @@ struct ImageDesc {
   /// Adaptive sampling, 0 = off: a pixel stops after min(spp, max(8, spp/16)) samples once the
   /// relative standard error of its mean luminance is below this (docs/physics.md).
   double target_error = 0.0;
+  /// Denoise the displayed image (PNG) with Intel Open Image Denoise (denoiser.h). In core it
+  /// only says that the caller makes its Film with auxiliary buffers (Film(w, h, true)):
+  /// render_tiles accumulates the first collision's albedo and normal whenever the film has
+  /// them. The RGBA estimate is the same bit for bit with or without.
+  bool denoise = false;
 };
 
 struct RenderOptions {

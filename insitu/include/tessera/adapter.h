@@ -57,6 +57,7 @@ struct RenderResult {
   double render_seconds = 0.0;        ///< rendering only (all cameras for a Cinema render)
   double samples_per_second = 0.0;    ///< stats.samples / render_seconds
   double prepare_seconds = 0.0;       ///< this rank's tessera::prepare time (all cameras)
+  double denoise_seconds = 0.0;       ///< rank 0: image.denoise time (all cameras); 0 when off
   /// The simulation's wall time on this rank since the last execute() in which a render fired:
   /// the time spent outside execute() in between (calls that rendered nothing included), i.e.
   /// the steps the simulation computed for this image. The same for every render of one call;

@@ -1,0 +1,240 @@
+/// Open Image Denoise through dlopen: the lookup of denoiser.h, the few C functions used
+/// (declared here from OIDN 2.x's public C API, include/OpenImageDenoise/oidn.h), one CPU
+/// device per process.
+#include <tessera/denoiser.h>
+
+#include <dlfcn.h>
+#include <glob.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <system_error>
+#include <type_traits>
+
+namespace tessera {
+namespace {
+
+// ---- The subset of OIDN's C API used here (values as in oidn.h) ----
+using OIDNDevice = void*;
+using OIDNFilter = void*;
+constexpr int kOidnDeviceTypeCpu = 1;   // OIDN_DEVICE_TYPE_CPU
+constexpr int kOidnFormatFloat3 = 3;    // OIDN_FORMAT_FLOAT3
+constexpr int kOidnErrorNone = 0;       // OIDN_ERROR_NONE
+
+struct OidnApi {
+  OIDNDevice (*newDevice)(int type) = nullptr;
+  void (*commitDevice)(OIDNDevice) = nullptr;
+  int (*getDeviceError)(OIDNDevice, const char** message) = nullptr;
+  int (*getDeviceInt)(OIDNDevice, const char* name) = nullptr;
+  OIDNFilter (*newFilter)(OIDNDevice, const char* type) = nullptr;
+  void (*setSharedFilterImage)(OIDNFilter, const char* name, void* ptr, int format, std::size_t width,
+                               std::size_t height, std::size_t byte_offset, std::size_t pixel_stride,
+                               std::size_t row_stride) = nullptr;
+  void (*setFilterBool)(OIDNFilter, const char* name, bool value) = nullptr;
+  void (*commitFilter)(OIDNFilter) = nullptr;
+  void (*executeFilter)(OIDNFilter) = nullptr;
+  void (*releaseFilter)(OIDNFilter) = nullptr;
+};
+
+/// The outcome of the one load per process.
+struct Loaded {
+  OidnApi api;
+  std::string path;   ///< what was loaded
+  std::string error;  ///< empty on success
+};
+
+constexpr const char* kSoname = "libOpenImageDenoise.so.2";
+constexpr const char* kPyoidnLib = "pyoidn/oidn/lib/libOpenImageDenoise.so.2";
+constexpr const char* kInstallHint =
+    "install it with `python3 -m pip install pyoidn` (for the python3 on PATH), or set "
+    "TESSERA_OIDN_LIBRARY=/path/to/libOpenImageDenoise.so.2";
+
+bool is_file(const std::string& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+void glob_into(const std::string& pattern, std::vector<std::string>& out) {
+  glob_t g{};
+  if (::glob(pattern.c_str(), 0, nullptr, &g) == 0)
+    for (std::size_t i = 0; i < g.gl_pathc; ++i)
+      if (is_file(g.gl_pathv[i])) out.emplace_back(g.gl_pathv[i]);
+  ::globfree(&g);
+}
+
+/// The first `python3` on PATH that is an executable file, "" if none.
+std::string python3_on_path() {
+  const char* path = std::getenv("PATH");
+  if (!path) return "";
+  const std::string all(path);
+  for (std::size_t a = 0; a <= all.size();) {
+    std::size_t b = all.find(':', a);
+    if (b == std::string::npos) b = all.size();
+    const std::string dir = b > a ? all.substr(a, b - a) : ".";
+    const std::string exe = dir + "/python3";
+    if (is_file(exe) && ::access(exe.c_str(), X_OK) == 0) return exe;
+    a = b + 1;
+  }
+  return "";
+}
+
+/// The pyoidn candidates (step 3 of denoiser.h).
+std::vector<std::string> pyoidn_paths() {
+  std::vector<std::string> out;
+  const std::string py = python3_on_path();
+  if (!py.empty()) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(py).parent_path();
+    glob_into((dir / "../lib/python3*/site-packages/").string() + kPyoidnLib, out);
+    std::error_code ec;
+    const fs::path real = fs::canonical(py, ec);
+    if (!ec && real.parent_path() != fs::canonical(dir, ec))
+      glob_into((real.parent_path() / "../lib/python3*/site-packages/").string() + kPyoidnLib, out);
+  }
+  if (const char* home = std::getenv("HOME"); home && *home)
+    glob_into(std::string(home) + "/.local/lib/python3*/site-packages/" + kPyoidnLib, out);
+  glob_into(std::string("/usr/local/lib/python3*/dist-packages/") + kPyoidnLib, out);
+  return out;
+}
+
+/// dlopen + dlsym of every function; "" on success, else why not.
+std::string try_load(const std::string& path, Loaded& l) {
+  ::dlerror();
+  void* h = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!h) {
+    const char* e = ::dlerror();
+    return e ? e : "dlopen failed";
+  }
+  OidnApi api;
+  const auto sym = [&](auto& fn, const char* name) {
+    if (fn == nullptr && (fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(::dlsym(h, name))) == nullptr)
+      throw std::string(name);
+  };
+  try {
+    sym(api.newDevice, "oidnNewDevice");
+    sym(api.commitDevice, "oidnCommitDevice");
+    sym(api.getDeviceError, "oidnGetDeviceError");
+    sym(api.getDeviceInt, "oidnGetDeviceInt");
+    sym(api.newFilter, "oidnNewFilter");
+    sym(api.setSharedFilterImage, "oidnSetSharedFilterImage");
+    sym(api.setFilterBool, "oidnSetFilterBool");
+    sym(api.commitFilter, "oidnCommitFilter");
+    sym(api.executeFilter, "oidnExecuteFilter");
+    sym(api.releaseFilter, "oidnReleaseFilter");
+  } catch (const std::string& missing) {
+    ::dlclose(h);
+    return "not Open Image Denoise 2.x (it has no function " + missing + ")";
+  }
+  l.api = api;
+  l.path = path;
+  return "";
+}
+
+Loaded load_oidn() {
+  Loaded l;
+  const char* env = std::getenv("TESSERA_OIDN_LIBRARY");
+  if (env && *env) {
+    const std::string why = try_load(env, l);
+    if (!why.empty())
+      l.error = "cannot load Intel Open Image Denoise from TESSERA_OIDN_LIBRARY=" +
+                std::string(env) + ": " + why + "; point it at libOpenImageDenoise.so.2 of OIDN 2.x, or unset it and " +
+                kInstallHint;
+    return l;
+  }
+  std::string tried;
+  for (const std::string& p : oidn_search_paths()) {
+    const std::string why = try_load(p, l);
+    if (why.empty()) return l;
+    tried += (tried.empty() ? "" : "; ") + (why.rfind(p, 0) == 0 ? why : p + ": " + why);  // dlerror names it
+  }
+  const std::string py = python3_on_path();
+  l.error = "Intel Open Image Denoise 2.x not found (tried TESSERA_OIDN_LIBRARY: unset; " +
+            tried + "; pyoidn of " + (py.empty() ? std::string("python3 on PATH: no python3 on PATH") : py) +
+            " and the user/system site directories: not installed); " + kInstallHint;
+  return l;
+}
+
+const Loaded& oidn() {
+  static const Loaded loaded = load_oidn();  // once per process, thread-safe
+  return loaded;
+}
+
+/// The OIDN error of the device, "" if none (clears it).
+std::string device_error(const OidnApi& api, OIDNDevice dev) {
+  const char* msg = nullptr;
+  if (api.getDeviceError(dev, &msg) == kOidnErrorNone) return "";
+  return msg && *msg ? msg : "unknown Open Image Denoise error";
+}
+
+}  // namespace
+
+std::vector<std::string> oidn_search_paths() {
+  const char* env = std::getenv("TESSERA_OIDN_LIBRARY");
+  if (env && *env) return {env};
+  std::vector<std::string> out{kSoname};
+  for (std::string& p : pyoidn_paths()) out.push_back(std::move(p));
+  return out;
+}
+
+std::string require_denoiser() {
+  const Loaded& l = oidn();
+  if (!l.error.empty()) throw DenoiserUnavailable(l.error);
+  return l.path;
+}
+
+void denoise(Image& img) {
+  require_denoiser();
+  const OidnApi& api = oidn().api;
+  const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
+  if (img.width <= 0 || img.height <= 0 || img.rgba.size() != n * 4)
+    throw std::invalid_argument("denoise: image " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                                " with " + std::to_string(img.rgba.size()) + " RGBA floats");
+  const bool albedo = img.albedo.size() == n * 3;
+  bool normal = albedo && img.normal.size() == n * 3;  // OIDN takes a normal only with an albedo
+  if (normal) {
+    normal = false;
+    for (const float v : img.normal) normal = normal || v != 0.0f;  // phase shading: none
+  }
+  img.denoised.assign(n * 3, 0.0f);
+
+  // One CPU device per process, made on first use and kept; calls take turns
+  static std::mutex mutex;
+  static OIDNDevice device = nullptr;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (!device) {
+    OIDNDevice d = api.newDevice(kOidnDeviceTypeCpu);
+    if (!d) throw std::runtime_error("Open Image Denoise: cannot create a CPU device");
+    api.commitDevice(d);
+    if (const std::string e = device_error(api, d); !e.empty())
+      throw std::runtime_error("Open Image Denoise: CPU device: " + e);
+    if (api.getDeviceInt(d, "versionMajor") < 2)
+      throw DenoiserUnavailable(oidn().path + " is older than Open Image Denoise 2.x");
+    device = d;  // kept for the life of the process
+  }
+
+  // The "RT" filter on the image's own buffers: RGB read from RGBA (16-byte pixels)
+  const OIDNFilter f = api.newFilter(device, "RT");
+  if (!f) throw std::runtime_error("Open Image Denoise: cannot create the RT filter: " + device_error(api, device));
+  const std::size_t w = static_cast<std::size_t>(img.width), h = static_cast<std::size_t>(img.height);
+  api.setSharedFilterImage(f, "color", img.rgba.data(), kOidnFormatFloat3, w, h, 0, 4 * sizeof(float), 0);
+  if (albedo) api.setSharedFilterImage(f, "albedo", img.albedo.data(), kOidnFormatFloat3, w, h, 0, 0, 0);
+  if (normal) api.setSharedFilterImage(f, "normal", img.normal.data(), kOidnFormatFloat3, w, h, 0, 0, 0);
+  api.setSharedFilterImage(f, "output", img.denoised.data(), kOidnFormatFloat3, w, h, 0, 0, 0);
+  api.setFilterBool(f, "hdr", true);
+  api.commitFilter(f);
+  std::string e = device_error(api, device);
+  if (e.empty()) {
+    api.executeFilter(f);
+    e = device_error(api, device);
+  }
+  api.releaseFilter(f);
+  if (!e.empty()) {
+    img.denoised.clear();
+    throw std::runtime_error("Open Image Denoise: " + e);
+  }
+}
+
+}  // namespace tessera
