@@ -45,7 +45,9 @@ class RectLight {
     if (std::fabs(glm::dot(p, m_u)) > m_hw || std::fabs(glm::dot(p, m_v)) > m_hh) return -1.0;
     return t;
   }
+  static constexpr bool kInfinite = false;
   Color radiance() const { return m_L; }
+  Color radiance(const Vec3&) const { return m_L; }  ///< the same in every direction
   /// A world box holding the rectangle: the centre +- half its diagonal on every axis.
   void bounds(Vec3* lo, Vec3* hi) const {
     *lo = m_c - Vec3(m_reach);
@@ -97,7 +99,9 @@ class SphereLight {
     const double t = -b - std::sqrt(h2);
     return t > 0.0 ? t : -1.0;
   }
+  static constexpr bool kInfinite = false;
   Color radiance() const { return m_L; }
+  Color radiance(const Vec3&) const { return m_L; }  ///< the same in every direction
   void bounds(Vec3* lo, Vec3* hi) const {
     *lo = m_c - Vec3(m_r);
     *hi = m_c + Vec3(m_r);
