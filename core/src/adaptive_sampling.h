@@ -52,16 +52,18 @@ struct PilotSums {
   }
 };
 
-struct PreparedSceneImpl;
-/// The preview's scale for a prepared scene (0 when adaptive sampling is off); render.cpp.
-double adaptive_preview_scale(const PreparedSceneImpl& s);
+struct KernelScene;
+struct RenderOptions;
+/// The preview's scale for a kernel scene (0 when adaptive sampling is off), on
+/// options.threads threads within options.deadline (DeadlineExceeded past it); render.cpp.
+double adaptive_preview_scale(const KernelScene& ks, const RenderOptions& options);
 
 /// Sample index of the preview's i-th sample of a pixel: far above any count a film reaches,
 /// so preview streams are never the image's.
 inline constexpr std::uint64_t kPreviewIndexBase = std::uint64_t{1} << 62;
 
 /// Samples for a pixel given the summed pilots of the other pixels of its block and the
-/// preview's scale (PreparedSceneImpl::adaptive_scale).
+/// preview's scale (KernelScene::adaptive_scale).
 inline int adaptive_count(const PilotSums& others, int pilot, int spp, double scale) {
   if (others.n < 2) return spp;
   const double need = others.sigma() * scale;

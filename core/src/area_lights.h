@@ -32,6 +32,7 @@ class RectLight {
     m_hw = 0.5 * d.width;
     m_hh = 0.5 * d.height;
     m_area = d.width * d.height;
+    m_reach = 0.5 * std::hypot(d.width, d.height);
   }
 
   /// Hit distance along the ray in (0, inf) of the front side, or -1.
@@ -44,7 +45,14 @@ class RectLight {
     if (std::fabs(glm::dot(p, m_u)) > m_hw || std::fabs(glm::dot(p, m_v)) > m_hh) return -1.0;
     return t;
   }
+  static constexpr bool kInfinite = false;
   Color radiance() const { return m_L; }
+  Color radiance(const Vec3&) const { return m_L; }  ///< the same in every direction
+  /// A world box holding the rectangle: the centre +- half its diagonal on every axis.
+  void bounds(Vec3* lo, Vec3* hi) const {
+    *lo = m_c - Vec3(m_reach);
+    *hi = m_c + Vec3(m_reach);
+  }
   double pdf(const Vec3& x, const Vec3& wi, double t) const {
     const double cos_l = -glm::dot(wi, m_n);
     return cos_l > 0.0 ? t * t / (cos_l * m_area) : 0.0;
@@ -67,6 +75,7 @@ class RectLight {
   Vec3 m_c{0.0}, m_n{0.0, 0.0, 1.0}, m_u{1.0, 0.0, 0.0}, m_v{0.0, 1.0, 0.0};
   Color m_L{0.0};
   double m_hw = 0.5, m_hh = 0.5, m_area = 1.0;
+  double m_reach = 0.5;  ///< half the diagonal
 };
 
 class SphereLight {
@@ -90,7 +99,13 @@ class SphereLight {
     const double t = -b - std::sqrt(h2);
     return t > 0.0 ? t : -1.0;
   }
+  static constexpr bool kInfinite = false;
   Color radiance() const { return m_L; }
+  Color radiance(const Vec3&) const { return m_L; }  ///< the same in every direction
+  void bounds(Vec3* lo, Vec3* hi) const {
+    *lo = m_c - Vec3(m_r);
+    *hi = m_c + Vec3(m_r);
+  }
   /// Uniform sampling of the visible cone.
   double pdf(const Vec3& x, const Vec3&, double) const {
     const double d2 = glm::dot(x - m_c, x - m_c);

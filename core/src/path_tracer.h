@@ -1,16 +1,19 @@
 #pragma once
-/// PathTracer<T, S, kEmission>: the per-sample estimator of docs/physics.md, templated on the
-/// field's element type, the shading mode and whether an emission TF exists, so the hot loop
-/// holds no code for what the scene does not use. Allocates nothing, throws nothing.
+/// PathTracer<K>: the per-sample estimator of docs/physics.md, templated on a KernelTraits K
+/// (kernel_dispatch.h: the field's element type, the shading mode, whether an emission TF
+/// exists, the free-path strategy and the shadow estimator), so the hot loop holds no code
+/// and no branch for what the frame does not use. Reads a KernelScene and its LightSet only:
+/// it names no concrete light type. Allocates nothing, throws nothing.
 #include <tessera/loop_bounds.h>
 #include <tessera/stats.h>
 
 #include "grid_medium.h"
+#include "kernel_scene.h"
 #include "phase_hg.h"
-#include "prepared_scene_impl.h"
 #include "sampling/rng.h"
 #include "stop_check.h"
 #include "surface_brdf.h"
+#include "tracking.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +24,8 @@ namespace tessera {
 /// stalled_paths, ...), so a tile's counts reach the render's with RenderStats::add_counters.
 using KernelCounters = RenderStats;
 
+/// What one camera sample returns: radiance and alpha (1 once the path met the medium).
+/// With the first real collision's albedo and normal, the denoiser's features (image.denoise).
 struct SampleResult {
   Color L{0.0};
   double alpha = 0.0;
@@ -48,23 +53,19 @@ inline double power_heuristic(double pa, double pb) {
   return r * r / (1.0 + r * r);
 }
 
-/// Unit-rate exponential sample -log(1 - u): 1 - u is exact for u = k 2^-53, so log() loses
-/// nothing against log1p(-u) here and costs about half as much (it is on every tracking step).
-inline double exp_unit(Rng& rng) { return -std::log(1.0 - rng.uniform()); }
-inline double exp_sample(Rng& rng, double rate) { return exp_unit(rng) / rate; }
-
-template <class V, Shading S, bool kEmission>
+template <class K>
 class PathTracer {
  public:
+  using V = typename K::Value;
+  static constexpr Shading S = K::kShading;
+
   /// `stop`, when given, is polled every kStopPollBounces collisions of a path; once it says
   /// stop the path ends there (the render is then failed by its caller, never written).
-  PathTracer(const PreparedSceneImpl& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
-      : m_s(s), m_m(m), m_stop(stop) {}
+  PathTracer(const KernelScene& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
+      : m_s(s), m_m(m), m_L(s.lights), m_stop(stop) {}
 
   SampleResult li(Ray ray, Rng& rng, KernelCounters& k) const {
-    const IntegratorDesc& in = m_s.desc.integrator;
-    // Single scattering is the path tracer with one real collision (spec section 6).
-    const int max_depth = in.scattering == Scattering::Single ? 1 : in.max_bounces;
+    const TransferFunction& tf = *m_s.tf;
     SampleResult out;
     Color beta(1.0);
     bool from_camera = true;
@@ -86,10 +87,10 @@ class PathTracer {
       const Vec3 x = ray.o + t_hit * ray.d;
       const Vec3 pv = to_voxel(x);
       const double u = m_m.u(pv);
-      if constexpr (kEmission) out.L += beta * m_s.desc.tf.emission.eval(u);
+      if constexpr (K::kEmission) out.L += beta * tf.emission.eval(u);
       // Choose the scattering model at this point.
       const Vec3 wo = -ray.d;
-      const Color albedo = m_s.desc.tf.diffuse.eval(u);
+      const Color albedo = tf.diffuse.eval(u);
       bool surface = false;
       Vec3 normal(0.0);
       if constexpr (S != Shading::Phase) {
@@ -105,7 +106,7 @@ class PathTracer {
             if constexpr (S == Shading::Brdf) {
               surface = true;
             } else {
-              const double p_brdf = 1.0 - std::exp(-in.gradient_factor * gmag);
+              const double p_brdf = 1.0 - std::exp(-m_s.gradient_factor * gmag);
               surface = rng.uniform() < p_brdf;
             }
           }
@@ -115,11 +116,11 @@ class PathTracer {
         out.albedo = glm::clamp(albedo, Color(0.0), Color(1.0));
         out.normal = normal;
       }
-      const Color f0 = surface && m_s.has_specular ? m_s.desc.tf.specular.eval(u) : Color(0.0);
-      const double rough = surface ? m_s.desc.tf.roughness.eval(u) : 0.0;
+      const Color f0 = surface && m_s.has_specular ? tf.specular.eval(u) : Color(0.0);
+      const double rough = surface ? tf.roughness.eval(u) : 0.0;
       const SurfaceBrdf brdf(normal, albedo, f0, rough);
       // Next-event estimation to one light, MIS-weighted against phase/BRDF sampling.
-      if (m_s.light_count > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, rng, k);
+      if (m_L.count() > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, rng, k);
       // Sample the continuation direction.
       Vec3 wi;
       double pdf_dir;
@@ -132,18 +133,18 @@ class PathTracer {
         weight = brdf.eval(wo, wi) / pdf_dir;
       } else {
         const double u1 = rng.uniform(), u2 = rng.uniform();
-        pdf_dir = hg_sample(ray.d, in.phase_g, u1, u2, &wi);
+        pdf_dir = hg_sample(ray.d, m_s.phase_g, u1, u2, &wi);
         weight = albedo;
       }
       beta *= weight;
       if (is_black(beta)) break;
       const Ray next{x, wi};
-      if (depth >= max_depth) {
+      if (depth >= m_s.max_depth) {
         // Last collision: the sampled direction only gathers emitters, with transmittance.
         gather_with_transmittance(next, pdf_dir, beta, rng, k, out.L);
         break;
       }
-      if (depth >= in.rr_depth) {
+      if (depth >= m_s.rr_depth) {
         const double q = max_component(beta);
         if (q < 1.0) {
           if (rng.uniform() >= q) break;
@@ -158,11 +159,12 @@ class PathTracer {
   }
 
  private:
-  const PreparedSceneImpl& m_s;
+  const KernelScene& m_s;
   const GridMedium<V>& m_m;
+  const LightSet m_L;
   StopCheck* m_stop;
 
-  Vec3 to_voxel(const Vec3& x) const { return (x - m_s.desc.geometry.origin) * m_s.inv_spacing; }
+  Vec3 to_voxel(const Vec3& x) const { return (x - m_s.origin) * m_s.inv_spacing; }
 
   /// Ray/box clip in voxel space; returns false if the ray misses the box or it is degenerate.
   bool clip(const Vec3& ov, const Vec3& dv, double* t0, double* t1) const {
@@ -190,128 +192,88 @@ class PathTracer {
     return true;
   }
 
-  /// Free-flight sampling along the ray: delta tracking against the majorant grid, or the
-  /// biased fixed-step march. True and *t_hit on a real collision. Loop guards: a ray the
-  /// box clip leaves unbounded (zero or NaN direction), a step that does not advance t, or a
-  /// traversal over its step budget (loop_bounds.h) sets *stalled and returns false.
+  /// Free-flight sampling along the ray: delta tracking on the tracking loop (tracking.h),
+  /// or the biased fixed-step march, as K says. True and *t_hit on a real collision. Loop
+  /// guards: a ray the box clip leaves unbounded (zero or NaN direction), a step that does not
+  /// advance t, or a traversal over its step budget (loop_bounds.h) sets *stalled and
+  /// returns false.
   bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit, bool* stalled) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
-    if (!clip(ov, dv, &t0, &t1) || m_s.grid.max_majorant() <= 0.0) return false;
+    if (!clip(ov, dv, &t0, &t1) || m_s.max_majorant <= 0.0) return false;
     if (!(t1 < INFINITY)) return !stall(k, stalled);
-    if (m_s.desc.integrator.free_path == FreePath::Raymarch) {
+    if constexpr (K::kFreePath == FreePath::Raymarch) {
       const double h = m_s.march_step;
       // t only grows, so if the last step advances every step does
       if (!(t1 + h > t1)) return !stall(k, stalled);
-      const double tau = exp_unit(rng);
-      double sum = 0.0;
-      double budget = kMaxMarchSteps + 2.0;
-      for (double t = t0 + rng.uniform() * h; t < t1; t += h) {
-        if (--budget < 0.0) return !stall(k, stalled);
+      const int r = march_free_flight(m_m, ov, dv, t0, t1, h, rng, t_hit, [&] { ++k.free_flight_lookups; });
+      if (r < 0) return !stall(k, stalled);
+      return r > 0;
+    } else {
+      const TrackEnd end = sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double t, double maj) {
         ++k.free_flight_lookups;
-        sum += m_m.sigma_t(ov + t * dv) * h;
-        if (sum >= tau) {
+        if (rng.uniform() * maj < m_m.sigma_t(p)) {
           *t_hit = t;
-          return true;
-        }
-      }
-      return false;
-    }
-    double budget = kMaxTrackingSteps;
-    const bool stopped = traverse_macrocells(m_m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
-      if (maj <= 0.0) return false;  // empty cell: crossed in closed form
-      for (double t = ta;;) {
-        const double dt = exp_sample(rng, maj);
-        const double t_next = t + dt;
-        if (t_next >= tb) return false;
-        if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) return stall(k, stalled);
-        t = t_next;
-        ++k.free_flight_lookups;
-        const double sigma = m_m.sigma_t(ov + t * dv);
-        if (rng.uniform() * maj < sigma) {
-          *t_hit = t;
-          return true;
+          return false;  // a real collision
         }
         ++k.null_collisions;
-      }
-    });
-    return stopped && !*stalled;
+        return true;
+      });
+      if (end == TrackEnd::Stalled) return !stall(k, stalled);
+      return end == TrackEnd::Stopped;
+    }
   }
 
-  /// Transmittance between world distances ta and tb along the ray (ratio or delta tracking).
-  /// The loop guards of free_flight end the estimate at 0 (an occluded shadow ray adds no
-  /// light), counted in k.stalled_paths.
+  /// Transmittance between world distances ta and tb along the ray, by K's shadow estimator
+  /// on the tracking loop. The loop guards of free_flight end the estimate at 0 (an occluded
+  /// shadow ray adds no light), counted in k.stalled_paths.
   double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
     if (!clip(ov, dv, &t0, &t1)) return 1.0;
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
-    if (!(t0 < t1) || m_s.grid.max_majorant() <= 0.0) return 1.0;
+    if (!(t0 < t1) || m_s.max_majorant <= 0.0) return 1.0;
     if (!(t1 < INFINITY)) {
       ++k.stalled_paths;
       return 0.0;
     }
-    const bool ratio = m_s.desc.integrator.shadow == ShadowMode::Ratio;
-    const bool roulette = m_s.desc.integrator.shadow_roulette;
+    const bool roulette = m_s.shadow_roulette;
     double T = 1.0;
-    double budget = kMaxTrackingSteps;
-    traverse_macrocells(m_m, ov, dv, t0, t1, [&](double a, double b, double maj) {
-      if (maj <= 0.0) return false;
-      for (double t = a;;) {
-        const double dt = exp_sample(rng, maj);
-        const double t_next = t + dt;
-        if (t_next >= b) return false;
-        if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) {
-          ++k.stalled_paths;
-          T = 0.0;
-          return true;
-        }
-        t = t_next;
-        ++k.transmittance_lookups;
-        const double sigma = m_m.sigma_t(ov + t * dv);
-        if (ratio) {
-          T *= 1.0 - sigma / maj;
-          if (roulette && T < 0.1) {
-            if (rng.uniform() < 0.5) T = 0.0;
-            else T *= 2.0;
-          }
-        } else if (rng.uniform() * maj < sigma) {
-          T = 0.0;
-        }
-        if (T <= 0.0) return true;
-      }
+    const TrackEnd end = sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) {
+      ++k.transmittance_lookups;
+      TransmittanceStep<K::kShadow>::apply(T, m_m.sigma_t(p), maj, roulette, rng);
+      return !(T <= 0.0);
     });
+    if (end == TrackEnd::Stalled) {
+      ++k.stalled_paths;
+      T = 0.0;
+    }
     return std::max(T, 0.0);
   }
 
-  double light_select_pdf() const { return 1.0 / m_s.light_count; }
-
   /// Emitters met along `ray` before distance t_end (all lights are transparent), plus the
-  /// background when the ray escaped, MIS-weighted against light sampling unless from the camera.
+  /// infinite lights when the ray escaped, MIS-weighted against light sampling unless from
+  /// the camera (which sees the background as shown, emitting or not).
   void gather_emitters(const Ray& ray, double t_end, bool hit, bool from_camera, double pdf_prev,
                        const Color& beta, Color& L) const {
-    const double psel = m_s.light_count > 0 ? light_select_pdf() : 0.0;
-    for (const RectLight& l : m_s.rects) {
-      const double t = l.intersect_front(ray);
+    for (int i = 0; i < m_L.area_count(); ++i) {
+      const Light& l = m_L[i];
+      const double t = l.intersect(ray);
       if (t > 0.0 && t < t_end) {
-        const double w = from_camera ? 1.0 : power_heuristic(pdf_prev, psel * l.pdf(ray.o, ray.d, t));
-        L += beta * l.radiance() * w;
+        const double w =
+            from_camera ? 1.0 : power_heuristic(pdf_prev, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, t));
+        L += beta * l.radiance(ray.d) * w;
       }
     }
-    for (const SphereLight& l : m_s.spheres) {
-      const double t = l.intersect_front(ray);
-      if (t > 0.0 && t < t_end) {
-        const double w = from_camera ? 1.0 : power_heuristic(pdf_prev, psel * l.pdf(ray.o, ray.d, t));
-        L += beta * l.radiance() * w;
-      }
+    if (hit) return;
+    if (from_camera) {
+      if (m_L.background_visible()) L += beta * m_L.background(ray.d);
+      return;
     }
-    if (!hit) {
-      if (from_camera) {
-        if (m_s.env.visible()) L += beta * m_s.env.eval(ray.d);
-      } else if (m_s.env.emits()) {
-        L += beta * m_s.env.eval(ray.d) * power_heuristic(pdf_prev, psel * m_s.env.pdf(ray.d));
-      }
+    for (int i = m_L.area_count(); i < m_L.count(); ++i) {
+      const Light& l = m_L[i];
+      L += beta * l.radiance(ray.d) * power_heuristic(pdf_prev, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, INFINITY));
     }
   }
 
@@ -319,18 +281,14 @@ class PathTracer {
   /// flight is sampled: each emitter is weighted by the transmittance up to it.
   void gather_with_transmittance(const Ray& ray, double pdf_dir, const Color& beta, Rng& rng,
                                  KernelCounters& k, Color& L) const {
-    if (m_s.light_count == 0) return;
+    if (m_L.count() == 0) return;
     struct Hit { double t; Color Le; double pdf; };
     Hit hits[kMaxLights];
     int n = 0;
-    const double psel = light_select_pdf();
-    for (const RectLight& l : m_s.rects) {
-      const double t = l.intersect_front(ray);
-      if (t > 0.0) hits[n++] = {t, l.radiance(), psel * l.pdf(ray.o, ray.d, t)};
-    }
-    for (const SphereLight& l : m_s.spheres) {
-      const double t = l.intersect_front(ray);
-      if (t > 0.0) hits[n++] = {t, l.radiance(), psel * l.pdf(ray.o, ray.d, t)};
+    for (int i = 0; i < m_L.area_count(); ++i) {
+      const Light& l = m_L[i];
+      const double t = l.intersect(ray);
+      if (t > 0.0) hits[n++] = {t, l.radiance(ray.d), m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, t)};
     }
     std::sort(hits, hits + n, [](const Hit& a, const Hit& b) { return a.t < b.t; });
     double T = 1.0, t_prev = 0.0;
@@ -339,41 +297,34 @@ class PathTracer {
       t_prev = hits[i].t;
       if (T > 0.0) L += beta * hits[i].Le * (T * power_heuristic(pdf_dir, hits[i].pdf));
     }
-    if (m_s.env.emits() && T > 0.0) {
+    // The infinite lights, behind everything: one transmittance estimate to infinity
+    if (m_L.area_count() < m_L.count() && T > 0.0) {
       T *= transmittance(ray, t_prev, INFINITY, rng, k);
-      if (T > 0.0)
-        L += beta * m_s.env.eval(ray.d) * (T * power_heuristic(pdf_dir, psel * m_s.env.pdf(ray.d)));
+      if (!(T > 0.0)) return;
+      for (int i = m_L.area_count(); i < m_L.count(); ++i) {
+        const Light& l = m_L[i];
+        L += beta * l.radiance(ray.d) *
+             (T * power_heuristic(pdf_dir, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, INFINITY)));
+      }
     }
   }
 
-  /// Next-event estimation to one light chosen uniformly (background included when it emits).
+  /// Next-event estimation to one light chosen by the light sampler.
   Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface,
                      const SurfaceBrdf& brdf, const Color& albedo, Rng& rng,
                      KernelCounters& k) const {
-    const int nl = m_s.light_count;
-    const int nrect = static_cast<int>(m_s.rects.size()), nsph = static_cast<int>(m_s.spheres.size());
-    const int pick = std::min(nl - 1, static_cast<int>(rng.uniform() * nl));
+    const int pick = m_L.sampler().pick(rng.uniform());
     const double u1 = rng.uniform(), u2 = rng.uniform();
-    LightSample ls;
-    if (pick < nrect) {
-      ls = m_s.rects[pick].sample(x, u1, u2);
-    } else if (pick < nrect + nsph) {
-      ls = m_s.spheres[pick - nrect].sample(x, u1, u2);
-    } else {
-      double pdf;
-      Vec3 wi;
-      const Color Le = m_s.env.sample(u1, u2, &wi, &pdf);
-      ls = LightSample{wi, INFINITY, Le, pdf};
-    }
+    const LightSample ls = m_L[pick].sample(x, u1, u2);
     if (!(ls.pdf > 0.0) || is_black(ls.L)) return Color(0.0);
-    const double pdf_light = ls.pdf * light_select_pdf();
+    const double pdf_light = ls.pdf * m_L.sampler().pmf(pick);
     Color f;
     double pdf_b;
     if (surface) {
       f = brdf.eval(wo, ls.wi);
       pdf_b = brdf.pdf(wo, ls.wi);
     } else {
-      const double p = hg_eval(glm::dot(d_in, ls.wi), m_s.desc.integrator.phase_g);
+      const double p = hg_eval(glm::dot(d_in, ls.wi), m_s.phase_g);
       f = albedo * p;
       pdf_b = p;
     }

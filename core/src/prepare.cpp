@@ -213,14 +213,13 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
                 std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
   p.grid.update(scene.tf, p.sigma_max);
   p.env = Environment(scene.background);
-  for (const auto& l : scene.rect_lights) p.rects.emplace_back(l);
-  for (const auto& l : scene.sphere_lights) p.spheres.emplace_back(l);
-  p.light_count = static_cast<int>(p.rects.size() + p.spheres.size()) + (p.env.emits() ? 1 : 0);
+  p.lights = make_lights(scene, &p.env);
   p.has_emission = !scene.tf.emission.is_zero();
   p.has_specular = !scene.tf.specular.is_zero();
   p.tiles = make_tiles(scene.image.width, scene.image.height, scene.options.tile, scene.options.order);
   p.tile_culled = cull_tiles(p);
-  p.adaptive_scale = adaptive_preview_scale(p);  // needs everything above
+  p.kernel = make_kernel_scene(p);
+  p.kernel.adaptive_scale = adaptive_preview_scale(p.kernel, scene.options);  // renders with the above
   return ps;
 }
 

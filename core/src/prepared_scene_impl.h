@@ -1,17 +1,17 @@
 #pragma once
-/// What prepare() derives from a SceneDesc and a field; read-only while rendering.
+/// What prepare() derives from a SceneDesc and a field, and owns: read-only while rendering.
+/// The kernels read none of it directly but the KernelScene `kernel`, which points into it.
 #include <tessera/camera.h>
 #include <tessera/render.h>
 
-#include "area_lights.h"
 #include "environment.h"
+#include "kernel_scene.h"
+#include "light_set.h"
 #include "majorant_grid.h"
 
 #include <vector>
 
 namespace tessera {
-
-inline constexpr int kMaxLights = 64;
 
 struct PreparedSceneImpl {
   SceneDesc desc;
@@ -20,8 +20,7 @@ struct PreparedSceneImpl {
   Camera camera;
   MajorantGrid grid;
   Environment env;
-  std::vector<RectLight> rects;
-  std::vector<SphereLight> spheres;
+  std::vector<Light> lights;   ///< every light, in LightSet order (light_set.h)
   std::vector<Tile> tiles;
   std::vector<std::uint8_t> tile_culled;  ///< per tile: 1 = nothing to trace (tile_culling.h)
   Vec3 inv_spacing{1.0};
@@ -29,9 +28,9 @@ struct PreparedSceneImpl {
   double sigma_max = 0.0;    ///< extinction clamp, 1 / world unit (loop_bounds.h)
   bool has_emission = false;
   bool has_specular = false;
-  int light_count = 0;       ///< rects + spheres + (background if it emits)
-  double adaptive_scale = 0.0;  ///< samples per unit of sigma (adaptive_sampling.h); 0 = off
   bool summary_reused = false;  ///< the grid's FieldSummary came from the caller
+  /// The kernels' view of all of the above (kernel_scene.h), made last by prepare().
+  KernelScene kernel;
 };
 
 }  // namespace tessera

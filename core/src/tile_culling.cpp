@@ -34,12 +34,12 @@ std::vector<std::uint8_t> cull_tiles(const PreparedSceneImpl& p) {
   // World boxes of everything a camera ray can meet besides the background.
   std::vector<std::pair<Vec3, Vec3>> boxes;
   if (p.grid.max_majorant() > 0.0) boxes.emplace_back(p.bounds.lo, p.bounds.hi);
-  for (const RectLightDesc& l : p.desc.rect_lights) {
-    const double r = 0.5 * std::hypot(l.width, l.height);
-    boxes.emplace_back(l.position - Vec3(r), l.position + Vec3(r));
+  for (const Light& l : p.lights) {
+    if (l.infinite()) continue;  // the background: what culled tiles are filled with
+    Vec3 lo, hi;
+    l.bounds(&lo, &hi);
+    boxes.emplace_back(lo, hi);
   }
-  for (const SphereLightDesc& l : p.desc.sphere_lights)
-    boxes.emplace_back(l.center - Vec3(l.radius), l.center + Vec3(l.radius));
   std::vector<ScreenBox> screen;
   for (const auto& [lo, hi] : boxes) {
     // Pad by a relative epsilon so that rounding never culls a ray that grazes the box.

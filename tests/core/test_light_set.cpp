@@ -1,0 +1,103 @@
+// Tests for the light set the kernels see (light_set.h) and the kernel scene prepare() makes
+// (kernel_scene.h): every kind behind one interface, in the documented order, with the
+// selection strategy's pmf; pdf() agrees with sample() through the set for every kind.
+// Deterministic (fixed points and sample positions); no statistics.
+#include <tessera/render.h>
+
+#include <catch2/catch.hpp>
+
+#include "kernel_scene.h"
+#include "light_set.h"
+#include "prepared_scene_impl.h"
+#include "test_support.h"
+
+#include <cmath>
+#include <type_traits>
+#include <vector>
+
+using tessera::Color;
+using tessera::Vec3;
+
+namespace {
+
+tessera::SceneDesc lit_scene() {
+  tessera::SceneDesc s;
+  s.tf.opacity = tessera::ScalarTF::constant(1.0);
+  s.camera.position = Vec3(0.5, 0.5, 4.0);
+  s.camera.look_at = Vec3(0.5);
+  s.image = {16, 12, 1, 0.0};
+  s.sphere_lights.push_back({Vec3(3.0, 0.5, 0.5), 0.3, Color(2.0)});  // listed before the rect
+  s.rect_lights.push_back({Vec3(0.5, 3.0, 0.5), Vec3(0.5), 1.0, 0.5, Color(4.0)});
+  s.background.color = Color(0.2, 0.3, 0.4);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("kernel scene and light set are trivially copyable views", "[light_set][kernel_scene]") {
+  STATIC_REQUIRE(std::is_trivially_copyable_v<tessera::KernelScene>);
+  STATIC_REQUIRE(std::is_trivially_copyable_v<tessera::LightSet>);
+  STATIC_REQUIRE(std::is_trivially_copyable_v<tessera::Light>);
+}
+
+TEST_CASE("prepare fills the kernel scene: rects, spheres, then the emitting background",
+          "[light_set][kernel_scene]") {
+  const std::vector<float> field = tessera_test::constant_field(4, 4, 4, 0.5f);
+  const tessera::FieldView view = tessera::FieldView::contiguous(field.data(), tessera::DType::Float32, 4, 4, 4);
+  tessera::SceneDesc s = lit_scene();
+  const tessera::PreparedScene ps = tessera::prepare(view, s);
+  const tessera::KernelScene& ks = ps.impl().kernel;
+  CHECK(ks.width == 16);
+  CHECK(ks.height == 12);
+  CHECK(ks.tile_count == ps.tiles().size());
+  CHECK(ks.tiles == ps.tiles().data());
+  CHECK(ks.field.data == field.data());
+  const tessera::LightSet& L = ks.lights;
+  REQUIRE(L.count() == 3);
+  REQUIRE(L.area_count() == 2);
+  // Order: the rect (met at y = 3), the sphere (met at x = 2.7), the background (infinite)
+  const tessera::Ray up{Vec3(0.5, 0.5, 0.5), Vec3(0.0, 1.0, 0.0)};
+  const tessera::Ray east{Vec3(0.5, 0.5, 0.5), Vec3(1.0, 0.0, 0.0)};
+  CHECK(L[0].intersect(up) == Approx(2.5));
+  CHECK(L[0].intersect(east) < 0.0);
+  CHECK(L[1].intersect(east) == Approx(2.2));
+  CHECK(L[1].intersect(up) < 0.0);
+  CHECK(L[2].infinite());
+  CHECK(L[2].intersect(up) < 0.0);
+  CHECK(L[0].radiance(up.d) == Color(4.0));
+  CHECK(L[2].radiance(up.d) == Color(0.2, 0.3, 0.4));
+  // Uniform selection: each light 1/3; pick covers every index in order
+  for (int i = 0; i < 3; ++i) CHECK(L.sampler().pmf(i) == 1.0 / 3.0);
+  CHECK(L.sampler().pick(0.0) == 0);
+  CHECK(L.sampler().pick(0.34) == 1);
+  CHECK(L.sampler().pick(0.67) == 2);
+  CHECK(L.sampler().pick(std::nextafter(1.0, 0.0)) == 2);
+  // A black background is not a light, but camera rays still see it
+  s.background.color = Color(0.0);
+  const tessera::PreparedScene dark = tessera::prepare(view, s);
+  CHECK(dark.impl().kernel.lights.count() == 2);
+  CHECK(dark.impl().kernel.lights.background_visible());
+}
+
+TEST_CASE("through the set, every kind's pdf() equals the pdf its sample() reports",
+          "[light_set]") {
+  const std::vector<float> field = tessera_test::constant_field(4, 4, 4, 0.5f);
+  const tessera::FieldView view = tessera::FieldView::contiguous(field.data(), tessera::DType::Float32, 4, 4, 4);
+  const tessera::PreparedScene ps = tessera::prepare(view, lit_scene());
+  const tessera::LightSet& L = ps.impl().kernel.lights;
+  const Vec3 x(0.5, 0.6, 0.4);
+  for (int i = 0; i < L.count(); ++i) {
+    for (const auto& [u1, u2] : {std::pair{0.1, 0.2}, std::pair{0.5, 0.5}, std::pair{0.9, 0.7}}) {
+      const tessera::LightSample s = L[i].sample(x, u1, u2);
+      INFO("light " << i << " u " << u1 << " " << u2);
+      REQUIRE(s.pdf > 0.0);
+      CHECK(std::fabs(glm::length(s.wi) - 1.0) < 1e-12);
+      CHECK(L[i].pdf(x, s.wi, s.dist) == Approx(s.pdf).epsilon(1e-9));
+      if (!L[i].infinite()) {
+        CHECK(L[i].intersect(tessera::Ray{x, s.wi}) == Approx(s.dist).epsilon(1e-9));
+      } else {
+        CHECK(std::isinf(s.dist));
+      }
+    }
+  }
+}
