@@ -57,9 +57,14 @@ program heat
     call system_clock(t1)
     ticks_sim = ticks_sim + (t1 - t0)
 
-    ! Visualization: describe the current level in place and hand it over
+    ! Visualization: describe the current level in place and hand it over (the last step
+    ! through tessera_execute_final, which renders everything with render_final_step: true)
     fields(1) = tessera_field_from("temperature", u(:, :, :, cur), ghosts=1)
-    st = tessera_execute(viz, int(step, int64), step * dt, grid, fields)
+    if (step < steps) then
+      st = tessera_execute(viz, int(step, int64), step * dt, grid, fields)
+    else
+      st = tessera_execute_final(viz, int(step, int64), step * dt, grid, fields)
+    end if
     if (st /= TESSERA_OK) call report("tessera_execute", tessera_last_error(viz))
     call system_clock(t0)
     ticks_viz = ticks_viz + (t0 - t1)

@@ -1,10 +1,40 @@
-# cmake -DBUILD_DIR=<tessera build> -DCONSUMER=consumer -DWORK=DIR -DCONFIG_TYPE=Release
+# cmake -DBUILD_DIR=<tessera build> -DDOC=docs/fortran.md -DWORK=DIR -DCONFIG_TYPE=Release
 #       -DGENERATOR=... -DFortran_COMPILER=... -DC_COMPILER=... -DCXX_COMPILER=...
 #       -P install_consumer.cmake
-# Installs the built Tessera into DIR/prefix, then configures, builds and runs consumer/ (a
-# project(... Fortran) with find_package(Tessera) and tessera::fortran) against that prefix.
+# Installs the built Tessera into DIR/prefix, then configures, builds and runs the example
+# project of docs/fortran.md (its blocks marked `<!-- file: NAME -->`: a project(... Fortran)
+# with find_package(Tessera) and tessera::fortran) against that prefix.
 cmake_minimum_required(VERSION 3.22)
 file(REMOVE_RECURSE "${WORK}")
+
+# The example's files, from the fenced block after each `<!-- file: NAME -->`
+set(CONSUMER "${WORK}/example")
+file(READ "${DOC}" rest)
+set(names "")
+while(TRUE)
+  string(FIND "${rest}" "<!-- file: " at)
+  if(at EQUAL -1)
+    break()
+  endif()
+  math(EXPR at "${at} + 11")
+  string(SUBSTRING "${rest}" ${at} -1 rest)
+  string(FIND "${rest}" " -->" end)
+  string(SUBSTRING "${rest}" 0 ${end} name)
+  string(FIND "${rest}" "```" fence)
+  string(SUBSTRING "${rest}" ${fence} -1 rest)
+  string(FIND "${rest}" "\n" eol)
+  math(EXPR eol "${eol} + 1")
+  string(SUBSTRING "${rest}" ${eol} -1 rest)
+  string(FIND "${rest}" "\n```" end)
+  math(EXPR end "${end} + 1")
+  string(SUBSTRING "${rest}" 0 ${end} body)
+  file(WRITE "${CONSUMER}/${name}" "${body}")
+  list(APPEND names ${name})
+  string(SUBSTRING "${rest}" ${end} -1 rest)
+endwhile()
+if(NOT names STREQUAL "CMakeLists.txt;viz.yaml;sim.f90")
+  message(FATAL_ERROR "${DOC}: expected the blocks CMakeLists.txt, viz.yaml, sim.f90; found: ${names}")
+endif()
 
 function(run_checked what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
@@ -32,10 +62,11 @@ if(last_output MATCHES "CMake Warning")
   message(FATAL_ERROR "the consumer's configure warned:\n${last_output}")
 endif()
 run_checked("build the consumer" "${CMAKE_COMMAND}" --build "${WORK}/build" --config ${CONFIG_TYPE})
-file(MAKE_DIRECTORY "${WORK}/run")
-execute_process(COMMAND "${WORK}/build/tessera_consumer" WORKING_DIRECTORY "${WORK}/run"
+execute_process(COMMAND "${WORK}/build/sim" WORKING_DIRECTORY "${CONSUMER}"
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 60)
-if(NOT rc EQUAL 0 OR NOT EXISTS "${WORK}/run/out/consumer_000002.exr")
-  message(FATAL_ERROR "the consumer failed (${rc}) or wrote no image:\n${out}\n${err}")
-endif()
-message(STATUS "${out}")
+foreach(image sim_000000.exr sim_000005.png sim_000010.exr)
+  if(NOT rc EQUAL 0 OR NOT EXISTS "${CONSUMER}/out/${image}")
+    message(FATAL_ERROR "the example failed (${rc}) or wrote no out/${image}:\n${out}\n${err}")
+  endif()
+endforeach()
+message(STATUS "the example of ${DOC} built against ${WORK}/prefix and rendered:\n${err}")
