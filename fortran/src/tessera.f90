@@ -75,13 +75,13 @@ module tessera
     module procedure field_from_u8, field_from_u16
   end interface tessera_field_from_unsigned
   !> st = tessera_execute(viz, step, time, grid, fields(:)); step integer(8) (or default
-  !> integer), time real(8). Renders whatever fires at this step (docs/c-api.md).
+  !> integer), time real(8) (or real(4)). Renders whatever fires at this step (docs/c-api.md).
   interface tessera_execute
-    module procedure execute_i8, execute_i4
+    module procedure execute_i8, execute_i4, execute_i8_r4, execute_i4_r4
   end interface tessera_execute
   !> As tessera_execute, for the last step (render_final_step: true renders every render).
   interface tessera_execute_final
-    module procedure execute_final_i8, execute_final_i4
+    module procedure execute_final_i8, execute_final_i4, execute_final_i8_r4, execute_final_i4_r4
   end interface tessera_execute_final
 
   public :: tessera_field_from, tessera_field_from_unsigned, tessera_execute, &
@@ -204,6 +204,7 @@ contains
 
   ! ---- Execute ------------------------------------------------------------------------------
 
+  ! The specifics: step integer(8) or default integer, time real(8) or real(4)
   integer function execute_i8(viz, step, time, grid, fields) result(st)
     type(tessera_adapter), intent(in) :: viz
     integer(c_int64_t), intent(in) :: step
@@ -222,6 +223,24 @@ contains
     st = run_execute(.false., viz, int(step, c_int64_t), time, grid, fields)
   end function execute_i4
 
+  integer function execute_i8_r4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int64_t), intent(in) :: step
+    real(c_float), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.false., viz, step, real(time, c_double), grid, fields)
+  end function execute_i8_r4
+
+  integer function execute_i4_r4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int32_t), intent(in) :: step
+    real(c_float), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.false., viz, int(step, c_int64_t), real(time, c_double), grid, fields)
+  end function execute_i4_r4
+
   integer function execute_final_i8(viz, step, time, grid, fields) result(st)
     type(tessera_adapter), intent(in) :: viz
     integer(c_int64_t), intent(in) :: step
@@ -239,6 +258,24 @@ contains
     type(tessera_field), intent(in) :: fields(:)
     st = run_execute(.true., viz, int(step, c_int64_t), time, grid, fields)
   end function execute_final_i4
+
+  integer function execute_final_i8_r4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int64_t), intent(in) :: step
+    real(c_float), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.true., viz, step, real(time, c_double), grid, fields)
+  end function execute_final_i8_r4
+
+  integer function execute_final_i4_r4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int32_t), intent(in) :: step
+    real(c_float), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.true., viz, int(step, c_int64_t), real(time, c_double), grid, fields)
+  end function execute_final_i4_r4
 
   !> Builds the C descriptors (names NUL-terminated in a local buffer that lives until the C
   !> call returns) and calls tessera_execute or tessera_execute_final.

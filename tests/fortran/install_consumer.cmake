@@ -1,9 +1,12 @@
-# cmake -DBUILD_DIR=<tessera build> -DDOC=docs/fortran.md -DWORK=DIR -DCONFIG_TYPE=Release
+# cmake -DBUILD_DIR=<tessera build> -DDOC=docs/fortran.md -DSOURCE_DIR=<tessera source> -DWORK=DIR -DCONFIG_TYPE=Release
 #       -DGENERATOR=... -DFortran_COMPILER=... -DC_COMPILER=... -DCXX_COMPILER=...
 #       -P install_consumer.cmake
-# Installs the built Tessera into DIR/prefix, then configures, builds and runs the example
-# project of docs/fortran.md (its blocks marked `<!-- file: NAME -->`: a project(... Fortran)
-# with find_package(Tessera) and tessera::fortran) against that prefix.
+# Installs the built Tessera into DIR/prefix, then, against that prefix:
+#  1. configures, builds and runs the example project of docs/fortran.md (its blocks marked
+#     `<!-- file: NAME -->`: a project(... Fortran) with find_package(Tessera) and
+#     tessera::fortran);
+#  2. builds section_render.f90 (one process) the same way and requires its images to be
+#     byte-identical to the installed tessera-render's (compare_with_cli.cmake).
 cmake_minimum_required(VERSION 3.22)
 file(REMOVE_RECURSE "${WORK}")
 
@@ -70,3 +73,22 @@ foreach(image sim_000000.exr sim_000005.png sim_000010.exr)
   endif()
 endforeach()
 message(STATUS "the example of ${DOC} built against ${WORK}/prefix and rendered:\n${err}")
+
+# The section program, as a project of its own, against the installed tessera-render
+file(WRITE "${WORK}/section/CMakeLists.txt" "cmake_minimum_required(VERSION 3.22)
+project(section LANGUAGES Fortran)
+find_package(Tessera REQUIRED)
+add_executable(section \"${SOURCE_DIR}/tests/fortran/section_render.f90\"
+  \"${SOURCE_DIR}/miniapp/fortran/heat_parallel_serial.f90\")
+target_link_libraries(section PRIVATE tessera::fortran)
+")
+run_checked("configure the section project" "${CMAKE_COMMAND}" -S "${WORK}/section"
+  -B "${WORK}/section-build" -G "${GENERATOR}" -DCMAKE_BUILD_TYPE=${CONFIG_TYPE}
+  "-DCMAKE_PREFIX_PATH=${WORK}/prefix" "-DCMAKE_Fortran_COMPILER=${Fortran_COMPILER}"
+  "-DCMAKE_C_COMPILER=${C_COMPILER}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
+run_checked("build the section project" "${CMAKE_COMMAND}" --build "${WORK}/section-build"
+  --config ${CONFIG_TYPE})
+run_checked("installed section program vs installed tessera-render" "${CMAKE_COMMAND}"
+  "-DEXE=${WORK}/section-build/section" "-DRENDER=${WORK}/prefix/bin/tessera-render"
+  "-DWORK=${WORK}/section-run" -DNP=1 -P "${CMAKE_CURRENT_LIST_DIR}/compare_with_cli.cmake")
+message(STATUS "installed package: section images identical to tessera-render's:\n${last_output}")

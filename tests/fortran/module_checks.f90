@@ -85,7 +85,7 @@ program module_checks
     'field_unchanged of an unknown name: ' // tessera_last_error(viz))
 
   ! Renders of the integer dtypes (int16, then uint8 through execute_final)
-  st = tessera_execute(viz, 2_int64, 0.5_real64, grid, [tessera_field_from('density', h)])
+  st = tessera_execute(viz, 2, 0.5, grid, [tessera_field_from('density', h)])   ! default kinds
   call check(st == TESSERA_OK .and. tessera_last_error(viz) == '', 'int16 render: ' // tessera_last_error(viz))
   st = tessera_execute_final(viz, 3, 0.75_real64, grid, [tessera_field_from_unsigned('density', b)])
   call check(st == TESSERA_OK, 'uint8 render: ' // tessera_last_error(viz))
