@@ -10,7 +10,7 @@ program module_checks
   real(real64), allocatable, target :: a(:, :, :)
   integer(c_int16_t), allocatable, target :: h(:, :, :)
   integer(c_int8_t), allocatable, target :: b(:, :, :)
-  type(tessera_field) :: f, none(1)
+  type(tessera_field) :: f, none(1), no_fields(0)
   type(tessera_adapter) :: viz, never
   type(tessera_grid) :: grid
   character(len=:), allocatable :: msg
@@ -80,6 +80,12 @@ program module_checks
   st = tessera_execute(viz, 1_int64, 0.0_real64, grid, none)
   call check(st == TESSERA_ERROR_DATA .and. index(tessera_last_error(viz), 'null') > 0, &
     'unset field: ' // tessera_last_error(viz))
+  st = tessera_execute(viz, 1_int64, 0.0_real64, grid, no_fields)
+  call check(st == TESSERA_ERROR_DATA .and. index(tessera_last_error(viz), 'density') > 0, &
+    'no fields: ' // tessera_last_error(viz))
+  st = tessera_execute(viz, 1_int64, 0.0_real64, grid, [tessera_field_from('density', a(:, 1:0, :))])
+  call check(st == TESSERA_ERROR_DATA .and. index(tessera_last_error(viz), 'null') > 0, &
+    'empty array: ' // tessera_last_error(viz))
   st = tessera_field_unchanged(viz, 'pressure')
   call check(st == TESSERA_ERROR_DATA .and. index(tessera_last_error(viz), 'pressure') > 0, &
     'field_unchanged of an unknown name: ' // tessera_last_error(viz))
