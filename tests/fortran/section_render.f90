@@ -8,6 +8,7 @@
 !>                along i), one ghost layer;
 !>   render f64s: v(0:2*NX+2:2, NY+2:0:-1, :) of a real(8) array: every other element along
 !>                i, j reversed (negative stride), ghosts_lo=[1,2,1], ghosts_hi=[1,1,2].
+!> f32 and f64s use `range: auto` (the field's min/max, which must not see the ghosts).
 !> Ghosts inside the domain hold their neighbour's values (as after a halo exchange); ghosts
 !> outside it, the unused components and the elements between the strided ones hold 1e6, so
 !> an image that read them would differ. Under MPI each rank holds a slab along k.
@@ -136,14 +137,15 @@ contains
     close(u)
 
     config = 'tessera: {output_dir: unused, threads: 2}' // new_line('a') // 'renders:' // new_line('a') // &
-      render('f64', 'density64') // render('f32', 'density32') // render('f64s', 'density64s')
+      render('f64', 'density64', '[0, 1]') // render('f32', 'density32', 'auto') // &
+      render('f64s', 'density64s', 'auto')
     call write_text(dir // '/section.yaml', config)
     call write_text(dir // '/scene64.yaml', config // volume('density64.raw', 'float64'))
     call write_text(dir // '/scene32.yaml', config // volume('density32.raw', 'float32'))
   end subroutine write_inputs
 
-  function render(name, field) result(text)
-    character(*), intent(in) :: name, field
+  function render(name, field, range) result(text)
+    character(*), intent(in) :: name, field, range
     character(len=:), allocatable :: text
     character(len=*), parameter :: nl = new_line('a')
     text = '  - name: ' // name // nl // &
@@ -153,7 +155,7 @@ contains
       '    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: fit}},' // nl // &
       '             look_at: center, up: [0, 0, 1], fov: 35}' // nl // &
       '    transfer_function:' // nl // &
-      '      range: [0, 1]' // nl // &
+      '      range: ' // range // nl // &
       '      density_scale: 40' // nl // &
       '      opacity: [[0.0, 0.0], [0.2, 0.05], [1.0, 1.0]]' // nl // &
       '      diffuse: [[0.0, [0.2, 0.3, 0.9]], [1.0, [0.9, 0.4, 0.2]]]' // nl // &
