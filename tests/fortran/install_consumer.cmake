@@ -1,6 +1,8 @@
 # cmake -DBUILD_DIR=<tessera build> -DDOC=docs/fortran.md -DSOURCE_DIR=<tessera source> -DWORK=DIR -DCONFIG_TYPE=Release
 #       -DGENERATOR=... -DFortran_COMPILER=... -DC_COMPILER=... -DCXX_COMPILER=...
-#       -P install_consumer.cmake
+#       [-DEXE_LINKER_FLAGS=...] -P install_consumer.cmake
+# (EXE_LINKER_FLAGS: the build's, e.g. -fsanitize=... of scripts/sanitize.sh, which the
+# installed static libraries need at link time.)
 # Installs the built Tessera into DIR/prefix, then, against that prefix:
 #  1. configures, builds and runs the example project of docs/fortran.md (its blocks marked
 #     `<!-- file: NAME -->`: a project(... Fortran) with find_package(Tessera) and
@@ -60,7 +62,8 @@ endif()
 run_checked("configure the consumer" "${CMAKE_COMMAND}" -S "${CONSUMER}" -B "${WORK}/build"
   -G "${GENERATOR}" -DCMAKE_BUILD_TYPE=${CONFIG_TYPE} "-DCMAKE_PREFIX_PATH=${WORK}/prefix"
   "-DCMAKE_Fortran_COMPILER=${Fortran_COMPILER}" "-DCMAKE_C_COMPILER=${C_COMPILER}"
-  "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
+  "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
+  "-DCMAKE_EXE_LINKER_FLAGS=${EXE_LINKER_FLAGS}")
 if(last_output MATCHES "CMake Warning")
   message(FATAL_ERROR "the consumer's configure warned:\n${last_output}")
 endif()
@@ -85,7 +88,8 @@ target_link_libraries(section PRIVATE tessera::fortran)
 run_checked("configure the section project" "${CMAKE_COMMAND}" -S "${WORK}/section"
   -B "${WORK}/section-build" -G "${GENERATOR}" -DCMAKE_BUILD_TYPE=${CONFIG_TYPE}
   "-DCMAKE_PREFIX_PATH=${WORK}/prefix" "-DCMAKE_Fortran_COMPILER=${Fortran_COMPILER}"
-  "-DCMAKE_C_COMPILER=${C_COMPILER}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
+  "-DCMAKE_C_COMPILER=${C_COMPILER}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
+  "-DCMAKE_EXE_LINKER_FLAGS=${EXE_LINKER_FLAGS}")
 run_checked("build the section project" "${CMAKE_COMMAND}" --build "${WORK}/section-build"
   --config ${CONFIG_TYPE})
 run_checked("installed section program vs installed tessera-render" "${CMAKE_COMMAND}"
