@@ -332,7 +332,9 @@ contains
   ! associated with the actual array or section itself (no copy-in), and c_loc of its
   ! elements are addresses in the simulation's memory. The byte stride along an axis is the
   ! address difference of u(1,1,1) and its neighbour along that axis (an axis of extent 1
-  ! gets the contiguous value; the C API ignores it).
+  ! gets the contiguous value; the C API ignores it). An expression or a section with a vector
+  ! subscript is evaluated into a temporary that is freed on return: callers must not pass one
+  ! (nothing here can tell; docs/fortran.md says so).
 
   function field_from_r8(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
     character(*), intent(in) :: name
