@@ -94,6 +94,7 @@ program section_render
 
   st = tessera_close(viz)
   call expect(st == TESSERA_OK, 'tessera_close: ' // tessera_last_error(viz))
+  deallocate(w, s, v)
   call parallel_stop()
 
 contains
