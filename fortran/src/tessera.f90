@@ -1,0 +1,461 @@
+!> Tessera's Fortran module (docs/fortran.md): Fortran 2008 over the C API of
+!> <tessera/tessera.h> (docs/c-api.md), with iso_c_binding. Same functions, statuses and
+!> lifetimes as in C; what it adds:
+!>   * tessera_field_from(name, u, ...) describes a simulation array in place: the address of
+!>     u's first element and its byte strides are taken from the array itself (address
+!>     differences of neighbours), so an array section such as u(:, :, :, 2) or
+!>     u(2:10:2, :, :) is read where it lies, without a copy;
+!>   * strings are Fortran strings (trailing blanks dropped, as Fortran compares them), and
+!>     tessera_last_error returns character(:), allocatable;
+!>   * a field's name is kept inside type(tessera_field); tessera_execute builds the C
+!>     descriptors, with NUL-terminated names in its own storage, for the duration of the call.
+!> Field memory is read only during tessera_execute / tessera_execute_final, and only when a
+!> render fires; the array must stay allocated (not moved) from tessera_field_from until then.
+module tessera
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_loc, c_f_pointer, &
+    c_char, c_null_char, c_int, c_int32_t, c_int64_t, c_intptr_t, c_size_t, c_double, c_float, &
+    c_int8_t, c_int16_t
+  implicit none
+  private
+
+  !> Statuses, as tessera_status in C.
+  integer, parameter, public :: TESSERA_OK = 0, TESSERA_ERROR_CONFIG = 1, TESSERA_ERROR_DATA = 2, &
+    TESSERA_ERROR_RENDER = 3, TESSERA_ERROR_IO = 4, TESSERA_ERROR_DISABLED = 5
+  !> Element types, as tessera_dtype in C.
+  integer, parameter, public :: TESSERA_UINT8 = 0, TESSERA_INT16 = 1, TESSERA_UINT16 = 2, &
+    TESSERA_FLOAT32 = 3, TESSERA_FLOAT64 = 4
+  !> The communicator argument of tessera_open for a run without MPI.
+  integer, parameter, public :: TESSERA_NO_MPI = -1
+
+  !> An adapter handle (opaque). Set by tessera_open; not changed by tessera_close, so that a
+  !> call after the close is refused with "adapter was closed" as in C.
+  type, public :: tessera_adapter
+    type(c_ptr), private :: handle = c_null_ptr
+  end type tessera_adapter
+
+  !> Where this rank's real (non-ghost) vertices sit globally; the C struct itself.
+  type, bind(C), public :: tessera_grid
+    real(c_double) :: origin(3) = 0.0_c_double      !< world position of global vertex (0,0,0)
+    real(c_double) :: spacing(3) = 1.0_c_double     !< > 0 and finite
+    integer(c_int64_t) :: global_dims(3) = 0        !< vertices of the whole domain
+    integer(c_int64_t) :: offset(3) = 0             !< global index of this rank's first real vertex
+  end type tessera_grid
+
+  !> One scalar field, never copied: what tessera_field_from fills in. The components mirror
+  !> the C struct tessera_field (dims, byte strides, ghosts along i j k = the array's first,
+  !> second and third index); data points into the simulation's array.
+  type, public :: tessera_field
+    character(len=:), allocatable :: name           !< kept here, passed to C by tessera_execute
+    type(c_ptr) :: data = c_null_ptr                !< first element (ghosts included)
+    integer :: dtype = -1                           !< TESSERA_UINT8 .. TESSERA_FLOAT64
+    integer(c_int64_t) :: dims(3) = 0               !< extent incl. ghosts
+    integer(c_int64_t) :: byte_strides(3) = 0       !< address differences of neighbours
+    integer(c_int64_t) :: ghosts_lo(3) = 0          !< ghost layers at the low end of each axis
+    integer(c_int64_t) :: ghosts_hi(3) = 0          !< ... and at the high end
+  end type tessera_field
+
+  !> The C layout of tessera_field (built inside tessera_execute only).
+  type, bind(C) :: c_tessera_field
+    type(c_ptr) :: name = c_null_ptr
+    type(c_ptr) :: data = c_null_ptr
+    integer(c_int) :: dtype = 0
+    integer(c_int64_t) :: dims(3) = 0, byte_strides(3) = 0, ghosts_lo(3) = 0, ghosts_hi(3) = 0
+  end type c_tessera_field
+
+  !> f = tessera_field_from(name, u [, ghosts] [, ghosts_lo] [, ghosts_hi]) for u real(4),
+  !> real(8) or integer(2) (TESSERA_INT16), dimension(:,:,:), u(i, j, k) = vertex (i, j, k).
+  !> ghosts: layers at both ends of every axis (default 0); ghosts_lo(3) / ghosts_hi(3), when
+  !> present, replace it at that end. u is read in place (see the module header).
+  interface tessera_field_from
+    module procedure field_from_r4, field_from_r8, field_from_i2
+  end interface tessera_field_from
+  !> The unsigned dtypes, which have no Fortran kind: integer(1) read as TESSERA_UINT8 and
+  !> integer(2) as TESSERA_UINT16, i.e. the bits as unsigned (a stored -1 is 255 / 65535).
+  interface tessera_field_from_unsigned
+    module procedure field_from_u8, field_from_u16
+  end interface tessera_field_from_unsigned
+  !> st = tessera_execute(viz, step, time, grid, fields(:)); step integer(8) (or default
+  !> integer), time real(8) (or real(4)). Renders whatever fires at this step (docs/c-api.md).
+  interface tessera_execute
+    module procedure execute_i8, execute_i4, execute_i8_r4, execute_i4_r4
+  end interface tessera_execute
+  !> As tessera_execute, for the last step (render_final_step: true renders every render).
+  interface tessera_execute_final
+    module procedure execute_final_i8, execute_final_i4, execute_final_i8_r4, execute_final_i4_r4
+  end interface tessera_execute_final
+
+  public :: tessera_field_from, tessera_field_from_unsigned, tessera_execute, &
+    tessera_execute_final, tessera_open, tessera_open_with_output_dir, tessera_close, &
+    tessera_field_unchanged, tessera_last_error
+
+  interface
+    function c_open(path, comm, out) bind(C, name="tessera_open") result(st)
+      import :: c_char, c_int, c_ptr
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int), value :: comm
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: st
+    end function c_open
+    function c_open_with_output_dir(path, comm, dir, out) &
+        bind(C, name="tessera_open_with_output_dir") result(st)
+      import :: c_char, c_int, c_ptr
+      character(kind=c_char), intent(in) :: path(*), dir(*)
+      integer(c_int), value :: comm
+      type(c_ptr), intent(out) :: out
+      integer(c_int) :: st
+    end function c_open_with_output_dir
+    function c_execute(a, step, time, grid, fields, n) bind(C, name="tessera_execute") result(st)
+      import :: c_ptr, c_int64_t, c_double, c_int, tessera_grid
+      type(c_ptr), value :: a, fields
+      integer(c_int64_t), value :: step
+      real(c_double), value :: time
+      type(tessera_grid), intent(in) :: grid
+      integer(c_int), value :: n
+      integer(c_int) :: st
+    end function c_execute
+    function c_execute_final(a, step, time, grid, fields, n) &
+        bind(C, name="tessera_execute_final") result(st)
+      import :: c_ptr, c_int64_t, c_double, c_int, tessera_grid
+      type(c_ptr), value :: a, fields
+      integer(c_int64_t), value :: step
+      real(c_double), value :: time
+      type(tessera_grid), intent(in) :: grid
+      integer(c_int), value :: n
+      integer(c_int) :: st
+    end function c_execute_final
+    function c_field_unchanged(a, name) bind(C, name="tessera_field_unchanged") result(st)
+      import :: c_ptr, c_char, c_int
+      type(c_ptr), value :: a
+      character(kind=c_char), intent(in) :: name(*)
+      integer(c_int) :: st
+    end function c_field_unchanged
+    function c_close(a) bind(C, name="tessera_close") result(st)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: a
+      integer(c_int) :: st
+    end function c_close
+    function c_last_error(a) bind(C, name="tessera_last_error") result(p)
+      import :: c_ptr
+      type(c_ptr), value :: a
+      type(c_ptr) :: p
+    end function c_last_error
+    function c_strlen(s) bind(C, name="strlen") result(n)
+      import :: c_ptr, c_size_t
+      type(c_ptr), value :: s
+      integer(c_size_t) :: n
+    end function c_strlen
+  end interface
+
+contains
+
+  ! ---- Adapter lifetime ---------------------------------------------------------------------
+
+  !> Loads and validates the YAML config (tessera_open in C). comm: an MPI Fortran
+  !> communicator handle (MPI_COMM_WORLD from `use mpi`, comm%MPI_VAL from `use mpi_f08`) or
+  !> -1 (TESSERA_NO_MPI). output_dir, when present and not blank, replaces the config's
+  !> tessera.output_dir (tessera_open_with_output_dir). On failure viz holds no adapter and
+  !> tessera_last_error(viz) says why (FILE:LINE:COL: key.path: ... for a config error).
+  integer function tessera_open(path, comm, viz, output_dir) result(st)
+    character(*), intent(in) :: path
+    integer, intent(in) :: comm
+    type(tessera_adapter), intent(out) :: viz
+    character(*), intent(in), optional :: output_dir
+    if (present(output_dir)) then
+      st = c_open_with_output_dir(c_string(path), int(comm, c_int), c_string(output_dir), viz%handle)
+    else
+      st = c_open(c_string(path), int(comm, c_int), viz%handle)
+    end if
+  end function tessera_open
+
+  !> tessera_open_with_output_dir in C (argument order as there); "" = the config's output_dir.
+  integer function tessera_open_with_output_dir(path, comm, output_dir, viz) result(st)
+    character(*), intent(in) :: path, output_dir
+    integer, intent(in) :: comm
+    type(tessera_adapter), intent(out) :: viz
+    st = tessera_open(path, comm, viz, output_dir)
+  end function tessera_open_with_output_dir
+
+  !> Releases the adapter (collective). viz keeps its (now closed) handle: a later call with it
+  !> returns TESSERA_ERROR_CONFIG, "adapter was closed". A never-opened viz is TESSERA_OK.
+  integer function tessera_close(viz) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    st = c_close(viz%handle)
+  end function tessera_close
+
+  !> The adapter's last error message, "" after a success; for an adapter that failed to open
+  !> (or was never opened) or with no argument, this thread's last tessera_open failure.
+  function tessera_last_error(viz) result(msg)
+    type(tessera_adapter), intent(in), optional :: viz
+    character(:), allocatable :: msg
+    if (present(viz)) then
+      msg = from_c_string(c_last_error(viz%handle))
+    else
+      msg = from_c_string(c_last_error(c_null_ptr))
+    end if
+  end function tessera_last_error
+
+  !> The promise that field `name` has the same values at the next execute as at the last one
+  !> (tessera_field_unchanged in C; one-shot).
+  integer function tessera_field_unchanged(viz, name) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    character(*), intent(in) :: name
+    st = c_field_unchanged(viz%handle, c_string(name))
+  end function tessera_field_unchanged
+
+  ! ---- Execute ------------------------------------------------------------------------------
+
+  ! The specifics: step integer(8) or default integer, time real(8) or real(4)
+  integer function execute_i8(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int64_t), intent(in) :: step
+    real(c_double), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.false., viz, step, time, grid, fields)
+  end function execute_i8
+
+  integer function execute_i4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int32_t), intent(in) :: step
+    real(c_double), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.false., viz, int(step, c_int64_t), time, grid, fields)
+  end function execute_i4
+
+  integer function execute_i8_r4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int64_t), intent(in) :: step
+    real(c_float), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.false., viz, step, real(time, c_double), grid, fields)
+  end function execute_i8_r4
+
+  integer function execute_i4_r4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int32_t), intent(in) :: step
+    real(c_float), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.false., viz, int(step, c_int64_t), real(time, c_double), grid, fields)
+  end function execute_i4_r4
+
+  integer function execute_final_i8(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int64_t), intent(in) :: step
+    real(c_double), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.true., viz, step, time, grid, fields)
+  end function execute_final_i8
+
+  integer function execute_final_i4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int32_t), intent(in) :: step
+    real(c_double), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.true., viz, int(step, c_int64_t), time, grid, fields)
+  end function execute_final_i4
+
+  integer function execute_final_i8_r4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int64_t), intent(in) :: step
+    real(c_float), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.true., viz, step, real(time, c_double), grid, fields)
+  end function execute_final_i8_r4
+
+  integer function execute_final_i4_r4(viz, step, time, grid, fields) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int32_t), intent(in) :: step
+    real(c_float), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    st = run_execute(.true., viz, int(step, c_int64_t), real(time, c_double), grid, fields)
+  end function execute_final_i4_r4
+
+  !> Builds the C descriptors (names NUL-terminated in a local buffer that lives until the C
+  !> call returns) and calls tessera_execute or tessera_execute_final.
+  integer function run_execute(final, viz, step, time, grid, fields) result(st)
+    logical, intent(in) :: final
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int64_t), intent(in) :: step
+    real(c_double), intent(in) :: time
+    type(tessera_grid), intent(in) :: grid
+    type(tessera_field), intent(in) :: fields(:)
+    type(c_tessera_field), allocatable, target :: cf(:)
+    character(kind=c_char), allocatable, target :: names(:)
+    type(c_ptr) :: first
+    integer :: i, j, n, pos, total
+
+    ! Names: one buffer, each NUL-terminated (an unset name stays NULL: C reports it)
+    n = size(fields)
+    total = 1
+    do i = 1, n
+      if (allocated(fields(i)%name)) total = total + len(fields(i)%name) + 1
+    end do
+    allocate(cf(n), names(total))
+
+    ! Descriptors, as the C struct
+    pos = 1
+    do i = 1, n
+      cf(i)%data = fields(i)%data
+      cf(i)%dtype = int(fields(i)%dtype, c_int)
+      cf(i)%dims = fields(i)%dims
+      cf(i)%byte_strides = fields(i)%byte_strides
+      cf(i)%ghosts_lo = fields(i)%ghosts_lo
+      cf(i)%ghosts_hi = fields(i)%ghosts_hi
+      if (allocated(fields(i)%name)) then
+        do j = 1, len(fields(i)%name)
+          names(pos + j - 1) = fields(i)%name(j:j)
+        end do
+        names(pos + len(fields(i)%name)) = c_null_char
+        cf(i)%name = c_loc(names(pos))
+        pos = pos + len(fields(i)%name) + 1
+      end if
+    end do
+
+    first = c_null_ptr
+    if (n > 0) first = c_loc(cf(1))
+    if (final) then
+      st = c_execute_final(viz%handle, step, time, grid, first, int(n, c_int))
+    else
+      st = c_execute(viz%handle, step, time, grid, first, int(n, c_int))
+    end if
+  end function run_execute
+
+  ! ---- Field descriptors --------------------------------------------------------------------
+  ! Each specific takes u as assumed shape with TARGET, never CONTIGUOUS: the dummy is then
+  ! associated with the actual array or section itself (no copy-in), and c_loc of its
+  ! elements are addresses in the simulation's memory. The byte stride along an axis is the
+  ! address difference of u(1,1,1) and its neighbour along that axis (an axis of extent 1
+  ! gets the contiguous value; the C API ignores it). An expression or a section with a vector
+  ! subscript is evaluated into a temporary that is freed on return: callers must not pass one
+  ! (nothing here can tell; docs/fortran.md says so).
+
+  function field_from_r8(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
+    character(*), intent(in) :: name
+    real(c_double), intent(in), target :: u(:, :, :)
+    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
+    type(tessera_field) :: f
+    f = describe(name, TESSERA_FLOAT64, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
+    if (size(u) == 0) return
+    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
+                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
+  end function field_from_r8
+
+  function field_from_r4(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
+    character(*), intent(in) :: name
+    real(c_float), intent(in), target :: u(:, :, :)
+    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
+    type(tessera_field) :: f
+    f = describe(name, TESSERA_FLOAT32, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
+    if (size(u) == 0) return
+    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
+                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
+  end function field_from_r4
+
+  function field_from_i2(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
+    character(*), intent(in) :: name
+    integer(c_int16_t), intent(in), target :: u(:, :, :)
+    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
+    type(tessera_field) :: f
+    f = describe(name, TESSERA_INT16, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
+    if (size(u) == 0) return
+    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
+                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
+  end function field_from_i2
+
+  function field_from_u16(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
+    character(*), intent(in) :: name
+    integer(c_int16_t), intent(in), target :: u(:, :, :)
+    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
+    type(tessera_field) :: f
+    f = describe(name, TESSERA_UINT16, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
+    if (size(u) == 0) return
+    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
+                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
+  end function field_from_u16
+
+  function field_from_u8(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
+    character(*), intent(in) :: name
+    integer(c_int8_t), intent(in), target :: u(:, :, :)
+    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
+    type(tessera_field) :: f
+    f = describe(name, TESSERA_UINT8, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
+    if (size(u) == 0) return
+    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
+                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
+  end function field_from_u8
+
+  !> Name, dtype, extent and ghosts; strides as if contiguous until locate() measures them.
+  !> An empty array keeps data NULL (tessera_execute then reports the field).
+  function describe(name, dtype, extent, element_bits, ghosts, ghosts_lo, ghosts_hi) result(f)
+    character(*), intent(in) :: name
+    integer, intent(in) :: dtype, element_bits
+    integer(c_int64_t), intent(in) :: extent(3)
+    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
+    type(tessera_field) :: f
+    f%name = trim(name)
+    f%dtype = dtype
+    f%dims = extent
+    f%byte_strides(1) = element_bits / 8
+    f%byte_strides(2) = f%byte_strides(1) * max(extent(1), 1_c_int64_t)
+    f%byte_strides(3) = f%byte_strides(2) * max(extent(2), 1_c_int64_t)
+    if (present(ghosts)) then
+      f%ghosts_lo = ghosts
+      f%ghosts_hi = ghosts
+    end if
+    if (present(ghosts_lo)) f%ghosts_lo = ghosts_lo
+    if (present(ghosts_hi)) f%ghosts_hi = ghosts_hi
+  end function describe
+
+  !> data = the first element; stride along each axis of extent > 1 = address difference of
+  !> the first element's neighbour along it.
+  subroutine locate(f, first, next_i, next_j, next_k)
+    type(tessera_field), intent(inout) :: f
+    type(c_ptr), intent(in) :: first, next_i, next_j, next_k
+    integer(c_intptr_t) :: a0
+    f%data = first
+    a0 = address(first)
+    if (f%dims(1) > 1) f%byte_strides(1) = int(address(next_i) - a0, c_int64_t)
+    if (f%dims(2) > 1) f%byte_strides(2) = int(address(next_j) - a0, c_int64_t)
+    if (f%dims(3) > 1) f%byte_strides(3) = int(address(next_k) - a0, c_int64_t)
+  end subroutine locate
+
+  ! ---- Strings ------------------------------------------------------------------------------
+
+  integer(c_intptr_t) function address(p)
+    type(c_ptr), intent(in) :: p
+    address = transfer(p, address)
+  end function address
+
+  !> s without trailing blanks, NUL-terminated, for a character(kind=c_char) :: x(*) argument.
+  function c_string(s) result(c)
+    character(*), intent(in) :: s
+    character(kind=c_char, len=:), allocatable :: c
+    c = trim(s) // c_null_char
+  end function c_string
+
+  !> Copy of a NUL-terminated C string ("" for NULL).
+  function from_c_string(p) result(s)
+    type(c_ptr), intent(in) :: p
+    character(:), allocatable :: s
+    character(kind=c_char), pointer :: chars(:)
+    integer :: i, n
+    if (.not. c_associated(p)) then
+      s = ""
+      return
+    end if
+    n = int(c_strlen(p))
+    call c_f_pointer(p, chars, [n])
+    allocate(character(len=n) :: s)
+    do i = 1, n
+      s(i:i) = chars(i)
+    end do
+  end function from_c_string
+
+end module tessera

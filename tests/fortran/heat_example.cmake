@@ -1,0 +1,37 @@
+# cmake -DEXE=tessera-heat-fortran -DCONFIG=configs/heat.yaml -DWORK=DIR -DNP=N [-DMPIEXEC=mpiexec]
+#       -P heat_example.cmake
+# Runs the Fortran heat example for 10 steps on 24^3 vertices as one process; with NP > 1 also
+# under mpiexec -n NP (slabs along k, halo exchange), and requires the images of both runs to
+# be byte-identical (each vertex's value does not depend on the decomposition).
+cmake_minimum_required(VERSION 3.22)
+file(REMOVE_RECURSE "${WORK}")
+set(args --config "${CONFIG}" --steps 10 --grid 24 24 24)
+
+function(run_checked what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+                  TIMEOUT 150)
+  if(NOT rc EQUAL 0 OR err MATCHES "failed")
+    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
+  endif()
+  message(STATUS "${what}: ${out}")
+endfunction()
+
+run_checked("tessera-heat-fortran" "${EXE}" ${args} --output-dir "${WORK}/one")
+set(images heat_far_000000.exr heat_far_000010.exr heat_close_000010.exr heat_close_000010.png)
+foreach(image IN LISTS images)
+  if(NOT EXISTS "${WORK}/one/${image}")
+    message(FATAL_ERROR "tessera-heat-fortran wrote no ${WORK}/one/${image}")
+  endif()
+endforeach()
+if(NP GREATER 1)
+  run_checked("mpiexec -n ${NP} tessera-heat-fortran" "${MPIEXEC}" -n ${NP} "${EXE}" ${args}
+    --output-dir "${WORK}/np${NP}")
+  foreach(image IN LISTS images)
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${WORK}/one/${image}"
+      "${WORK}/np${NP}/${image}" RESULT_VARIABLE rc)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "${image}: -n ${NP} differs from one process")
+    endif()
+  endforeach()
+  message(STATUS "-n ${NP} images identical to one process: ${images}")
+endif()
