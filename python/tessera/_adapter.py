@@ -4,7 +4,7 @@ import warnings
 from . import _tessera
 from ._arrays import field_descriptor, triple
 from ._config import config_source
-from ._errors import TesseraWarning
+from ._errors import TesseraError, TesseraWarning
 
 
 def _ghost_triple(value, what):
@@ -52,6 +52,8 @@ class Adapter:
         TesseraWarning and go on (last_status, last_error and results say what failed);
         ``abort`` raises (DataError, RenderError, OutputError, DisabledError).
         """
+        if self._impl is None:
+            raise TesseraError("execute: the adapter is closed")
         if not isinstance(fields, dict):
             raise TypeError("fields: a dict {name: array} is needed")
         lo = _ghost_triple(ghosts, "ghosts")
