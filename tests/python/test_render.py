@@ -41,7 +41,7 @@ def test_renders_in_place_without_copying(scene):
     assert peak < big.nbytes // 8, f"peak {peak} bytes while rendering a {big.nbytes}-byte field"
 
 
-@pytest.mark.parametrize("layout", ["fortran", "sliced", "negative", "strided_component"])
+@pytest.mark.parametrize("layout", ["fortran", "sliced", "negative", "strided_component", "read_only"])
 def test_layouts_render_the_same_vertices(scene, tmp_path, layout):
     """The same logical field held in other layouts gives the same bits, read in place."""
     data, path, ref = scene
@@ -56,6 +56,10 @@ def test_layouts_render_the_same_vertices(scene, tmp_path, layout):
     elif layout == "negative":
         held = np.ascontiguousarray(xyz[::-1, :, ::-1])
         arr = held[::-1, :, ::-1]
+    elif layout == "read_only":  # e.g. np.frombuffer over bytes
+        held = np.frombuffer(data.tobytes(), np.float32).reshape(data.shape)
+        assert not held.flags.writeable
+        arr = held.T
     else:  # one component of a (nx, ny, nz, 3) array
         held = np.zeros(xyz.shape + (3,), np.float32)
         held[..., 1] = xyz
