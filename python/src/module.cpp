@@ -8,8 +8,9 @@
 namespace tessera::python {
 namespace {
 
-/// The package's exception classes, in ErrorKind order (set by _set_error_types).
-nb::object g_error_types[5];
+/// The package's exception classes, in ErrorKind order (set by _set_error_types). Strong
+/// references kept for the life of the process: no destructor runs after Python has finalized.
+PyObject* g_error_types[5] = {};
 
 }  // namespace
 
@@ -48,25 +49,26 @@ config::Config load_config_source(const std::string& source, bool is_text, const
 void register_errors(nb::module_& m) {
   m.def("_set_error_types", [](nb::object config, nb::object data, nb::object render, nb::object output,
                                nb::object disabled) {
-    g_error_types[0] = std::move(config);
-    g_error_types[1] = std::move(data);
-    g_error_types[2] = std::move(render);
-    g_error_types[3] = std::move(output);
-    g_error_types[4] = std::move(disabled);
+    const nb::object types[5] = {config, data, render, output, disabled};
+    for (int i = 0; i < 5; ++i) {
+      Py_XDECREF(g_error_types[i]);
+      g_error_types[i] = types[i].inc_ref().ptr();
+    }
   });
   nb::register_exception_translator([](const std::exception_ptr& p, void*) {
     try {
       std::rethrow_exception(p);
     } catch (const PyError& e) {
-      const nb::object& type = g_error_types[static_cast<int>(e.kind)];
-      if (!type.is_valid()) {
+      PyObject* type_ptr = g_error_types[static_cast<int>(e.kind)];
+      if (!type_ptr) {
         PyErr_SetString(PyExc_RuntimeError, e.message.c_str());
         return;
       }
+      nb::handle type(type_ptr);
       nb::object exc = e.kind == ErrorKind::Config
                            ? type(e.message, e.file, e.line, e.column, e.key_path)
                            : type(e.message);
-      PyErr_SetObject(type.ptr(), exc.ptr());
+      PyErr_SetObject(type_ptr, exc.ptr());
     }
   });
 }
