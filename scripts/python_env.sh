@@ -5,7 +5,9 @@
 # Prints the venv's python on stdout's last line.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if ! python3 -c 'import ensurepip' 2>/dev/null; then
+# venv support, and Python.h for the Python package's extension module (TESSERA_BUILD_PYTHON)
+has_headers='import os, sys, sysconfig; sys.exit(not os.path.exists(os.path.join(sysconfig.get_paths()["include"], "Python.h")))'
+if ! python3 -c 'import ensurepip' 2>/dev/null || ! python3 -c "$has_headers"; then
   sudo_cmd=""
   [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
   $sudo_cmd apt-get update -qq

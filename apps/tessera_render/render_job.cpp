@@ -21,10 +21,15 @@ namespace tessera::cli {
 
 VolumeInfo describe_volume(const config::RawVolume& volume, const config::VolumeSpec& spec,
                            const IntegratorDesc& first_integrator) {
+  return describe_field(volume.view(), spec.geometry(), first_integrator);
+}
+
+VolumeInfo describe_field(const FieldView& view, const VolumeGeometry& geometry,
+                          const IntegratorDesc& first_integrator) {
   VolumeInfo v;
-  v.view = volume.view();
+  v.view = view;
   v.view.validate("field");
-  v.geometry = spec.geometry();
+  v.geometry = geometry;
   v.bounds = field_bounds(v.view, v.geometry);
   // One pass: the range (as field_range) and the NaN vertices come with the majorant ranges
   v.summary = FieldSummary::build(v.view, majorant_edge(v.view, first_integrator));
@@ -101,6 +106,15 @@ void check_volume_memory(const config::Config& cfg) {
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
                         VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress) {
+  RenderedImage r = render_image(cfg, spec, volume, args, targets, show_progress);
+  write_outputs(targets, r.image, spec.output);
+  for (const auto& t : targets) r.record.outputs.push_back(t.path);
+  return std::move(r.record);
+}
+
+RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& spec,
+                           VolumeInfo& volume, const Args& args,
+                           const std::vector<OutputTarget>& targets, bool show_progress) {
   using Clock = std::chrono::steady_clock;
   // Limits: the memory estimate before any allocation (the envmap included), then the clock
   check_memory(cfg, spec, volume, args, targets);
@@ -152,16 +166,13 @@ RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spe
   rec.warnings = volume.warnings;
   for (std::string& w : render_warnings(prepared, stats)) rec.warnings.push_back(std::move(w));
 
-  // Write
   Image image = film.resolve(spec.output.variance, spec.output.samples);
   if (scene.image.denoise) {
     const auto t_denoise = Clock::now();
-    denoise(image);  // the PNG shows it, the EXR gains denoised.R/G/B
+    denoise(image);  // the PNG shows it, the EXR gains denoised.R/G/B; RGBA stays as rendered
     rec.denoise_seconds = std::chrono::duration<double>(Clock::now() - t_denoise).count();
   }
-  write_outputs(targets, image, spec.output);
-  for (const auto& t : targets) rec.outputs.push_back(t.path);
-  return rec;
+  return RenderedImage{std::move(rec), std::move(image)};
 }
 
 }  // namespace tessera::cli

@@ -8,6 +8,7 @@
 #include <tessera/config/raw_volume.h>
 #include <tessera/field_summary.h>
 #include <tessera/field_view.h>
+#include <tessera/image.h>
 #include <tessera/scene.h>
 
 #include <cstdint>
@@ -37,6 +38,11 @@ struct VolumeInfo {
 VolumeInfo describe_volume(const config::RawVolume& volume, const config::VolumeSpec& spec,
                            const IntegratorDesc& first_integrator);
 
+/// As describe_volume, for a field that is already in memory (the Python package's numpy
+/// array, read in place): validates `view` (std::invalid_argument naming "field").
+VolumeInfo describe_field(const FieldView& view, const VolumeGeometry& geometry,
+                          const IntegratorDesc& first_integrator);
+
 /// The scene for `spec` with the command line's overrides (--spp, --width, --height, --tile,
 /// --scanline, --threads, --seed) applied over the YAML.
 SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
@@ -51,5 +57,18 @@ void check_volume_memory(const config::Config& cfg);
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
                         VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress);
+
+/// One render's image and its record (outputs empty): run_render without the writing.
+struct RenderedImage {
+  RenderRecord record;
+  Image image;  ///< film.resolve(output.variance, output.samples): what the EXR holds
+};
+
+/// Everything run_render does before writing: the memory check (against `targets`' formats;
+/// none = no image buffers), scene, time limit, prepare, render, warnings. tessera.render
+/// (python/) calls it with default Args and no targets, so its pixels are the CLI's.
+RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& spec,
+                           VolumeInfo& volume, const Args& args,
+                           const std::vector<OutputTarget>& targets, bool show_progress);
 
 }  // namespace tessera::cli

@@ -20,7 +20,8 @@ tessera_status Adapter::open(const std::string& yaml_path, int mpi_comm_f) {
 
 tessera_status Adapter::open(const std::string& yaml_path, int mpi_comm_f, const OpenOptions& options) {
   if (!m_impl) m_impl = std::make_unique<Impl>();
-  return m_impl->open(yaml_path.c_str(), mpi_comm_f, options.output_dir.c_str());
+  return m_impl->open(yaml_path.c_str(), mpi_comm_f, options.output_dir.c_str(),
+                      options.yaml_text.empty() ? nullptr : &options.yaml_text);
 }
 
 tessera_status Adapter::execute(std::int64_t step, double time, const tessera_grid& grid,

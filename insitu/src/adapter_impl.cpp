@@ -12,7 +12,7 @@
 namespace tessera::insitu {
 
 tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
-                                   const char* output_dir) noexcept {
+                                   const char* output_dir, const std::string* yaml_text) noexcept {
   close();
   try {
     // Communicator: duplicated only; the nodes are set up once the ranks agree (below)
@@ -29,7 +29,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
     std::string effective;  // the canonical text of the config as this rank will use it
     try {
       if (!yaml_path) throw std::invalid_argument("config path is NULL");
-      m_config = config::load_config(yaml_path);
+      m_config = yaml_text ? config::parse_config(*yaml_text, yaml_path, "") : config::load_config(yaml_path);
       if (output_dir && *output_dir) m_config.global.output_dir = output_dir;
       // image.denoise: the library is found now, not after days of simulation (rank 0 denoises)
       for (std::size_t i = 0; i < m_config.renders.size() && m_ctx->rank() == 0; ++i) {

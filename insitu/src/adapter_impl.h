@@ -21,7 +21,9 @@ namespace tessera::insitu {
 struct Adapter::Impl {
   /// output_dir: replaces the config's tessera.output_dir after it has loaded and validated;
   /// nullptr or "" keeps the config's.
-  tessera_status open(const char* yaml_path, int mpi_comm_f, const char* output_dir) noexcept;
+  /// yaml_text: the config's text (yaml_path names it in messages); nullptr = read yaml_path.
+  tessera_status open(const char* yaml_path, int mpi_comm_f, const char* output_dir,
+                      const std::string* yaml_text = nullptr) noexcept;
   /// fields/nfields as the C API receives them; checked only if a render fires.
   tessera_status execute(std::int64_t step, double time, const tessera_grid* grid,
                          const tessera_field* fields, std::int64_t nfields,

@@ -12,6 +12,10 @@ Convention (docs/cli.md, "Examples in the docs are tested"):
     copy of configs/, with build/bin/ (and PATH) pointing at the programs; tessera-render is
     run at 48x32 pixels, 2 spp, so that commands on the demo scenes stay fast; Open MPI is
     allowed to run as root and to oversubscribe;
+  * a ```python block is run as a script by the Python in TESSERA_DOCS_PYTHON (the project
+    venv's, with the package built in build/python on PYTHONPATH; tests/docs/CMakeLists.txt
+    sets both) in a scratch folder holding a copy of configs/, with matplotlib drawing off
+    screen (MPLBACKEND=Agg); without TESSERA_DOCS_PYTHON it is skipped, saying so;
   * a block right after a line `<!-- fragment -->` (part of a config) or
     `<!-- not run: REASON -->` (a long command: the demo, the test suite, a build) is skipped.
 Any other fence language (```cpp, ```c, plain ```) is not checked.
@@ -112,11 +116,14 @@ def main():
     for md in files:
         rel = os.path.relpath(md, repo)
         for line, lang, text, skipped in blocks(md):
-            if lang not in ("yaml", "yml", "sh", "bash", "shell"):
+            if lang not in ("yaml", "yml", "sh", "bash", "shell", "python"):
                 continue
             where = f"{rel}:{line}"
             if skipped:
                 print(f"skip  {where} ({lang}, marked)")
+                continue
+            if lang == "python" and not os.environ.get("TESSERA_DOCS_PYTHON"):
+                print(f"skip  {where} (python, TESSERA_DOCS_PYTHON not set: no Python package built)")
                 continue
             checked += 1
             with tempfile.TemporaryDirectory(prefix="tessera_docs_") as tmp:
@@ -129,6 +136,10 @@ def main():
                     scene = make_volume(text, tmp)
                     open(os.path.join(tmp, "scene.yaml"), "w").write(scene)
                     rc, out = run([os.path.join(bindir, "tessera-render"), "scene.yaml", "--check"], tmp, env)
+                elif lang == "python":
+                    shutil.copytree(os.path.join(repo, "configs"), os.path.join(tmp, "configs"))
+                    open(os.path.join(tmp, "block.py"), "w").write(text)
+                    rc, out = run([os.environ["TESSERA_DOCS_PYTHON"], "block.py"], tmp, dict(env, MPLBACKEND="Agg"))
                 else:
                     shutil.copytree(os.path.join(repo, "configs"), os.path.join(tmp, "configs"))
                     open(os.path.join(tmp, "block.sh"), "w").write(text)

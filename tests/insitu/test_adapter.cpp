@@ -173,6 +173,35 @@ TEST_CASE("OpenOptions::output_dir: errors as for the config's output_dir", "[in
   CHECK_FALSE(fs::exists(dir.file("out")));
 }
 
+TEST_CASE("OpenOptions::yaml_text: a config from memory renders as the same file does", "[insitu]") {
+  TempDir dir;
+  const std::string text = config_yaml(dir.file("out"), render_yaml("main", ""));
+  const std::string cfg = dir.write("a.yaml", text);
+  constexpr int n = 12;
+  const std::vector<float> sim = to_float(blob_values(n));
+  const tessera_field field = dense_field("density", sim.data(), n);
+
+  Adapter from_file;
+  from_file.set_quiet(true);
+  REQUIRE(from_file.open(cfg) == TESSERA_OK);
+  REQUIRE(from_file.execute(0, 0.0, unit_grid(n), {&field, 1}) == TESSERA_OK);
+
+  // The text, under a name that is no file: the same image
+  Adapter from_text;
+  from_text.set_quiet(true);
+  OpenOptions options;
+  options.yaml_text = text;
+  REQUIRE(from_text.open("config dict", -1, options) == TESSERA_OK);
+  REQUIRE(from_text.execute(0, 0.0, unit_grid(n), {&field, 1}) == TESSERA_OK);
+  CHECK(same_pixels(*from_file.last_image("main"), *from_text.last_image("main")));
+
+  // Errors name the given name and the key, as for a file
+  options.yaml_text = text + "bogus: 1\n";
+  CHECK(from_text.open("config dict", -1, options) == TESSERA_ERROR_CONFIG);
+  CHECK_THAT(from_text.last_error(), Catch::StartsWith("config dict:") && Catch::Contains("bogus"));
+  CHECK_FALSE(from_text.is_open());
+}
+
 TEST_CASE("triggers: every, at, when (field maximum), render_final_step", "[insitu]") {
   TempDir dir;
   const std::string renders = render_yaml("every3", "{every: 3}") + render_yaml("at", "{at: [2, 5]}") +

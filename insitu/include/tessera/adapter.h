@@ -44,6 +44,11 @@ struct OpenOptions {
   /// Kept as given (a relative directory is relative to the process's working directory);
   /// "" = the config's output_dir.
   std::string output_dir;
+  /// The config's YAML text, when it comes from memory rather than a file (the Python
+  /// package's dict configs): validated exactly as a file is, with `yaml_path` only the name
+  /// error messages print and relative file names inside resolved against the working
+  /// directory. "" = read `yaml_path`.
+  std::string yaml_text;
 };
 
 /// The outcome of one render in the last execute() call (one entry per render that fired).

@@ -1,0 +1,138 @@
+// tessera._tessera.Adapter: tessera.Adapter's C++ half over tessera::insitu::Adapter (the C
+// API's own implementation). Open, execute and close run with the GIL released; the fields
+// arrive as descriptors of the caller's arrays (tessera/_arrays.py), read in place.
+#include "binding_support.h"
+
+#include <tessera/adapter.h>
+
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <array>
+#include <cstdint>
+#include <new>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace tessera::python {
+namespace {
+
+using Int3 = std::array<std::int64_t, 3>;
+using Double3 = std::array<double, 3>;
+/// name, data address, dtype code, dims, byte strides, ghosts low, ghosts high
+using FieldTuple = std::tuple<std::string, std::uintptr_t, int, Int3, Int3, Int3, Int3>;
+
+class PyAdapter {
+ public:
+  /// Validates the config here first (a ConfigError with its key path), then opens.
+  PyAdapter(const std::string& source, bool is_text, const std::string& name, int comm_f,
+            const std::string& output_dir, bool quiet) {
+    load_config_source(source, is_text, name);
+    insitu::OpenOptions options;
+    options.output_dir = output_dir;
+    if (is_text) options.yaml_text = source;
+    m_adapter.set_quiet(quiet);
+    tessera_status s;
+    {
+      nb::gil_scoped_release unlocked;
+      s = m_adapter.open(is_text ? name : source, comm_f, options);
+    }
+    if (s != TESSERA_OK) throw error_for_status(s, m_adapter.last_error());
+  }
+
+  /// Returns the status; with `on_error: abort` a failure raises instead.
+  int execute(std::int64_t step, double time, Double3 origin, Double3 spacing, Int3 global_dims,
+              Int3 offset, const std::vector<FieldTuple>& fields, bool final_step) {
+    tessera_grid grid{};
+    for (int a = 0; a < 3; ++a) {
+      grid.origin[a] = origin[a];
+      grid.spacing[a] = spacing[a];
+      grid.global_dims[a] = global_dims[a];
+      grid.offset[a] = offset[a];
+    }
+    std::vector<tessera_field> descs(fields.size());
+    for (std::size_t f = 0; f < fields.size(); ++f) {
+      const auto& [name, data, dtype, dims, strides, lo, hi] = fields[f];
+      tessera_field& d = descs[f];
+      d.name = name.c_str();
+      d.data = reinterpret_cast<const void*>(data);
+      d.dtype = static_cast<tessera_dtype>(dtype);
+      for (int a = 0; a < 3; ++a) {
+        d.dims[a] = dims[a];
+        d.byte_strides[a] = strides[a];
+        d.ghosts_lo[a] = lo[a];
+        d.ghosts_hi[a] = hi[a];
+      }
+    }
+    try {
+      nb::gil_scoped_release unlocked;
+      return m_adapter.execute(step, time, grid, descs, final_step);
+    } catch (const insitu::AdapterError& e) {
+      throw error_for_status(e.status(), e.what());
+    }
+  }
+
+  void close() {
+    nb::gil_scoped_release unlocked;
+    m_adapter.close();
+  }
+
+  const std::string& last_error() const { return m_adapter.last_error(); }
+  bool is_open() const { return m_adapter.is_open(); }
+
+  /// The renders of the last execute, one dict each; `image`: a float32 (H, W, 4) copy of the
+  /// image on rank 0 when the render succeeded, else None.
+  nb::list results() const {
+    nb::list out;
+    for (const insitu::RenderResult& r : m_adapter.last_results()) {
+      nb::dict d;
+      d["name"] = r.name;
+      d["step"] = r.step;
+      d["time"] = r.time;
+      d["status"] = static_cast<int>(r.status);
+      d["error"] = r.error;
+      d["files"] = nb::cast(r.files);
+      d["render_seconds"] = r.render_seconds;
+      d["prepare_seconds"] = r.prepare_seconds;
+      d["samples_per_second"] = r.samples_per_second;
+      d["simulation_seconds"] = r.simulation_seconds;
+      d["cost_ratio"] = r.cost_ratio;
+      d["warnings"] = nb::cast(r.warnings);
+      const Image* img = r.status == TESSERA_OK ? m_adapter.last_image(r.name) : nullptr;
+      if (img) {
+        const std::size_t shape[3] = {static_cast<std::size_t>(img->height), static_cast<std::size_t>(img->width), 4};
+        nb::ndarray<nb::numpy, const float, nb::ndim<3>> view(img->rgba.data(), 3, shape, nb::handle());
+        d["image"] = nb::cast(view, nb::rv_policy::copy);
+      } else {
+        d["image"] = nb::none();
+      }
+      out.append(d);
+    }
+    return out;
+  }
+
+ private:
+  insitu::Adapter m_adapter;
+};
+
+}  // namespace
+
+void register_adapter(nb::module_& m) {
+  nb::class_<PyAdapter>(m, "Adapter")
+      .def(nb::init<const std::string&, bool, const std::string&, int, const std::string&, bool>(),
+           nb::arg("source"), nb::arg("is_text"), nb::arg("name"), nb::arg("comm_f"), nb::arg("output_dir"),
+           nb::arg("quiet"))
+      .def("execute", &PyAdapter::execute, nb::arg("step"), nb::arg("time"), nb::arg("origin"),
+           nb::arg("spacing"), nb::arg("global_dims"), nb::arg("offset"), nb::arg("fields"),
+           nb::arg("final_step"))
+      .def("close", &PyAdapter::close)
+      .def("last_error", &PyAdapter::last_error)
+      .def("is_open", &PyAdapter::is_open)
+      .def("results", &PyAdapter::results);
+}
+
+}  // namespace tessera::python

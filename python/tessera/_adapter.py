@@ -1,0 +1,102 @@
+"""tessera.Adapter: the in situ adapter (C API, docs/c-api.md) for simulations in Python."""
+import warnings
+
+from . import _tessera
+from ._arrays import field_descriptor, triple
+from ._config import config_source
+from ._errors import TesseraError, TesseraWarning
+
+
+def _ghost_triple(value, what):
+    return triple(value, what, int)
+
+
+class Adapter:
+    """Opens the adapter at construction (collective over ``comm``), renders in execute(),
+    releases everything in close(); also a context manager.
+
+    config: a YAML file name or a dict of the same schema; checked at once (ConfigError with
+        the key path).
+    comm: an mpi4py communicator (every rank of it constructs, executes and closes together)
+        or None for one process.
+    output_dir: replaces the config's ``tessera.output_dir`` (None: the config's).
+    quiet: no per-render log line on stderr (failures are still reported).
+    """
+
+    def __init__(self, config, comm=None, output_dir=None, quiet=False):
+        source, is_text, name = config_source(config)
+        comm_f = -1 if comm is None else int(comm.py2f())
+        self._comm = comm  # kept alive while the adapter uses its duplicate
+        self._impl = _tessera.Adapter(source, is_text, name, comm_f, "" if output_dir is None else str(output_dir),
+                                      bool(quiet))
+        self.last_status = 0
+        self.last_error = ""
+        self.results = []
+
+    def execute(self, step, time, fields, *, spacing=1.0, origin=0.0, global_dims=None, offset=0,
+                ghosts=0, ghosts_hi=None, final=False):
+        """Renders what the triggers fire at ``step`` and returns ``{render name: image}``:
+        float32 (height, width, 4) linear RGBA arrays of the renders that succeeded, on rank 0
+        (an empty dict on other ranks and when nothing fired). The outputs the config asks for
+        are written too.
+
+        fields: ``{name: 3D array}``, each read in place during this call only (any dtype and
+            strides of tessera.render; ``u[i, j, k]`` is vertex (i, j, k), ghosts included).
+        spacing, origin: the grid (a number or 3); origin is global vertex (0, 0, 0).
+        global_dims: vertices of the whole domain (default: this rank's real vertices, i.e.
+            one process owns everything); offset: global index of this rank's first real vertex.
+        ghosts: ghost layers at the low end of each axis (and the high end unless ghosts_hi).
+        final: the simulation's last step (``render_final_step`` renders every render).
+
+        A failing render follows the config's ``on_error``: ``warn`` and ``disable`` issue a
+        TesseraWarning and go on (last_status, last_error and results say what failed);
+        ``abort`` raises (DataError, RenderError, OutputError, DisabledError).
+        """
+        if self._impl is None:
+            raise TesseraError("execute: the adapter is closed")
+        if not isinstance(fields, dict):
+            raise TypeError("fields: a dict {name: array} is needed")
+        lo = _ghost_triple(ghosts, "ghosts")
+        hi = lo if ghosts_hi is None else _ghost_triple(ghosts_hi, "ghosts_hi")
+        held, descs = [], []
+        for fname, array in fields.items():
+            a, address, code, dims, strides = field_descriptor(array, f"fields['{fname}']")
+            held.append(a)
+            descs.append((str(fname), address, code, dims, strides, lo, hi))
+        if global_dims is None:
+            first = descs[0][3] if descs else (1, 1, 1)
+            global_dims = tuple(first[a] - lo[a] - hi[a] for a in range(3))
+        status = self._impl.execute(int(step), float(time), triple(origin, "origin"), triple(spacing, "spacing"),
+                                    _ghost_triple(global_dims, "global_dims"), _ghost_triple(offset, "offset"),
+                                    descs, bool(final))
+        del held  # the arrays were read in place during the call
+        self.last_status = status
+        self.last_error = self._impl.last_error()
+        self.results = self._impl.results()
+        if status != 0:
+            warnings.warn(f"tessera: step {step}: {self.last_error}", TesseraWarning, stacklevel=2)
+        images = {}
+        for r in self.results:
+            for w in r["warnings"]:
+                warnings.warn(f"render '{r['name']}' at step {step}: {w}", TesseraWarning, stacklevel=2)
+            if r["image"] is not None:
+                images[r["name"]] = r["image"]
+        return images
+
+    def close(self):
+        """Releases the adapter (collective); idempotent."""
+        if self._impl is not None:
+            self._impl.close()
+            self._impl = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __del__(self):
+        # Not collective-safe under MPI: close() explicitly (or use `with`) there
+        if getattr(self, "_impl", None) is not None and self._comm is None:
+            self.close()

@@ -1,0 +1,51 @@
+"""tessera.render: one image of a numpy array, as tessera-render makes it."""
+import warnings
+
+from . import _tessera
+from ._arrays import field_descriptor, triple
+from ._config import config_source
+from ._errors import TesseraWarning
+
+# Test hook: the address of the first vertex the renderer read in the last render() call
+_last_field_address = None
+
+
+def render(volume, config, render=None, spacing=None, origin=None):
+    """Renders the 3D array ``volume`` in place and returns a float32 array of shape
+    (height, width, 4): linear RGBA, the pixels tessera-render writes to its EXR for the same
+    data and render (bit for bit).
+
+    volume: numpy array of uint8, int16, uint16, float32 or float64 (native byte order), any
+        strides (views, transposes, negative steps, Fortran order: never copied).
+        ``volume[i, j, k]`` is vertex (i, j, k) along x, y, z: pass a C-ordered (nz, ny, nx)
+        array as ``volume.T``.
+    config: a YAML file name or a dict of the same schema; a ``volume:`` block, if any, is
+        used for its spacing and origin only.
+    render: the render's name or index in ``renders`` (default: the first).
+    spacing, origin: world spacing and position of vertex (0, 0, 0), a number or 3 numbers;
+        default: the config's ``volume:`` block, else (1, 1, 1) and (0, 0, 0).
+
+    Raises ConfigError (a ValueError, with the key path), TypeError (dtype), DataError,
+    RenderError. Warnings about the image (e.g. a transfer-function range that misses the data)
+    are issued as TesseraWarning. The GIL is released while rendering.
+    """
+    global _last_field_address
+    source, is_text, name = config_source(config)
+    array, address, code, dims, strides = field_descriptor(volume)
+    if render is None:
+        render_name, render_index = "", -1
+    elif isinstance(render, str):
+        render_name, render_index = render, -1
+    elif isinstance(render, int) and not isinstance(render, bool) and render >= 0:
+        render_name, render_index = "", render
+    else:
+        raise TypeError(f"render: a render name or an index >= 0 is needed, got {render!r}")
+    spacing = None if spacing is None else triple(spacing, "spacing")
+    origin = None if origin is None else triple(origin, "origin")
+    image, messages, seen = _tessera.render_array(source, is_text, name, render_name, render_index,
+                                                  address, code, dims, strides, spacing, origin)
+    del array  # held until here: the renderer read it in place
+    _last_field_address = seen
+    for m in messages:
+        warnings.warn(m, TesseraWarning, stacklevel=2)
+    return image

@@ -1,0 +1,32 @@
+"""Run by test_adapter.py under mpirun -n 1 and -n 2: the conftest field split along k across
+the ranks of an mpi4py communicator, each rank's block with one ghost layer (NaN where there is
+no neighbour), published through tessera.Adapter. Rank 0 saves the image to argv[1]."""
+import sys
+
+import numpy as np
+from mpi4py import MPI
+
+import tessera
+from conftest import field
+from test_adapter import CONFIG
+
+comm = MPI.COMM_WORLD
+data = field().T.astype(np.float64)  # (nx, ny, nz): vertex (i, j, k)
+nz = data.shape[2]
+lo = nz * comm.rank // comm.size
+hi = nz * (comm.rank + 1) // comm.size
+# The block with one ghost layer on every side, ghosts from the neighbours (NaN outside)
+block = np.full((data.shape[0] + 2, data.shape[1] + 2, hi - lo + 2), np.nan)
+block[1:-1, 1:-1, 1:-1] = data[:, :, lo:hi]
+if lo > 0:
+    block[1:-1, 1:-1, 0] = data[:, :, lo - 1]
+if hi < nz:
+    block[1:-1, 1:-1, -1] = data[:, :, hi]
+with tessera.Adapter(CONFIG, comm, output_dir=sys.argv[2], quiet=True) as viz:
+    images = viz.execute(0, 0.0, {"temperature": block}, spacing=(1.0, 1.5, 2.0), origin=(-3, 0, 1),
+                         global_dims=data.shape, offset=(0, 0, lo), ghosts=1)
+    assert viz.last_status == 0, viz.last_error
+if comm.rank == 0:
+    np.save(sys.argv[1], images["main"])
+else:
+    assert images == {}

@@ -1,0 +1,126 @@
+"""tessera.Adapter: the in situ adapter from Python (serial, and mpi4py at -n 2)."""
+import os
+import shutil
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+import tessera
+from conftest import HERE, field, same_bits
+
+CONFIG = {
+    "tessera": {"threads": 2, "on_error": "warn"},
+    "renders": [{
+        "name": "main",
+        "field": "temperature",
+        "trigger": {"every": 2},
+        "image": {"width": 32, "height": 24, "spp": 4},
+        "camera": {"position": {"orbit": {"azimuth": 30, "elevation": 20, "distance": "fit"}},
+                   "look_at": "center", "up": [0, 0, 1], "fov": 30},
+        "transfer_function": {"range": "auto", "density_scale": 2.0, "opacity": [[0, 0], [1, 1]],
+                              "diffuse": "viridis"},
+        "integrator": {"seed": 7, "tile": 8},
+        "output": {"file": "{name}_{step:03d}", "formats": ["exr"]},
+    }],
+}
+GRID = {"spacing": (1.0, 1.5, 2.0), "origin": (-3, 0, 1)}
+
+
+def with_ghosts(xyz, g=1, fill=np.nan):
+    out = np.full(tuple(n + 2 * g for n in xyz.shape), fill, dtype=xyz.dtype)
+    out[g:-g, g:-g, g:-g] = xyz
+    return out
+
+
+def test_execute_returns_the_image_it_writes(tmp_path):
+    data = field().T
+    with tessera.Adapter(CONFIG, output_dir=tmp_path, quiet=True) as viz:
+        assert viz.execute(1, 0.5, {"temperature": data}, **GRID) == {}  # every: 2
+        images = viz.execute(2, 1.0, {"temperature": data}, **GRID)
+        assert viz.last_status == 0 and viz.last_error == ""
+        result = viz.results[0]
+    assert list(images) == ["main"] and images["main"].shape == (24, 32, 4)
+    assert result["files"] == [os.path.join(str(tmp_path), "main_002.exr")]
+    assert same_bits(images["main"], tessera._tessera._read_exr(result["files"][0]))
+    assert (tmp_path / "tessera_effective_config.yaml").exists()
+
+
+def step0(tmp_path, array, **kw):
+    """The image of one adapter's execute at step 0."""
+    with tessera.Adapter(CONFIG, output_dir=tmp_path, quiet=True) as viz:
+        return viz.execute(0, 0.0, {"temperature": array}, **GRID, **kw)["main"]
+
+
+def test_adapter_image_equals_tessera_render(tmp_path):
+    data = field().T
+    assert same_bits(step0(tmp_path, data), tessera.render(data, CONFIG, **GRID))
+
+
+def test_ghost_layers_are_skipped(tmp_path):
+    data = field(dtype=np.float64).T
+    plain = step0(tmp_path, data)
+    assert same_bits(plain, step0(tmp_path, with_ghosts(data, 2, 1e30), ghosts=2))
+    lo_only = np.full((data.shape[0] + 1, data.shape[1] + 3, data.shape[2]), np.nan)
+    lo_only[1:, 3:, :] = data
+    assert same_bits(plain, step0(tmp_path, lo_only, ghosts=(1, 3, 0), ghosts_hi=0))
+
+
+def test_config_errors_name_the_key(tmp_path):
+    bad = {"renders": [dict(CONFIG["renders"][0], trigger={"every": 0})]}
+    with pytest.raises(tessera.ConfigError) as e:
+        tessera.Adapter(bad, output_dir=tmp_path)
+    assert e.value.key_path == "renders[0].trigger.every"
+    assert str(e.value).startswith("config dict: renders[0].trigger.every: ")
+    path = tmp_path / "viz.yaml"
+    path.write_text("renders:\n  - name: a\n    colour: red\n")
+    with pytest.raises(tessera.ConfigError, match=rf"^{path}:3:5: renders\[0\]\.colour"):
+        tessera.Adapter(str(path), output_dir=tmp_path)
+
+
+def test_failures_follow_on_error(tmp_path):
+    data = field().T
+    inside = dict(CONFIG["renders"][0], camera={"position": [0, 10, 10], "look_at": [5, 5, 5]})
+    warn_cfg = {"tessera": {"on_error": "warn"}, "renders": [inside]}
+    with tessera.Adapter(warn_cfg, output_dir=tmp_path, quiet=True) as viz:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            images = viz.execute(0, 0.0, {"wrong_name": data}, **GRID)
+        assert images == {} and viz.last_status == 2  # TESSERA_ERROR_DATA
+        assert "temperature" in viz.last_error
+        assert any(issubclass(w.category, tessera.TesseraWarning) for w in caught)
+    abort_cfg = {"tessera": {"on_error": "abort"}, "renders": [inside]}
+    with tessera.Adapter(abort_cfg, output_dir=tmp_path, quiet=True) as viz:
+        with pytest.raises(tessera.DataError, match="temperature"):
+            viz.execute(0, 0.0, {"wrong_name": data}, **GRID)
+
+
+def test_closed_adapter_and_bad_fields(tmp_path):
+    viz = tessera.Adapter(CONFIG, output_dir=tmp_path, quiet=True)
+    with pytest.raises(TypeError, match="dtype int64"):
+        viz.execute(0, 0.0, {"temperature": np.zeros((4, 4, 4), np.int64)})
+    viz.close()
+    viz.close()  # idempotent
+    with pytest.raises(tessera.TesseraError, match="closed"):
+        viz.execute(0, 0.0, {"temperature": field().T})
+
+
+def run_mpi(ranks, tmp_path):
+    out = tmp_path / f"np{ranks}.npy"
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1",
+               PYTHONPATH=os.pathsep.join([HERE, os.environ.get("PYTHONPATH", "")]))
+    subprocess.run(["mpirun", "-n", str(ranks), sys.executable, os.path.join(HERE, "mpi_adapter_run.py"),
+                    str(out), str(tmp_path / f"out{ranks}")], check=True, env=env, timeout=120)
+    return np.load(out)
+
+
+def test_mpi4py_two_ranks_bit_identical_to_one(tmp_path):
+    pytest.importorskip("mpi4py")
+    if shutil.which("mpirun") is None:
+        pytest.skip("no mpirun")
+    one, two = run_mpi(1, tmp_path), run_mpi(2, tmp_path)
+    assert one[..., 3].max() > 0.1
+    assert same_bits(one, two)
