@@ -42,7 +42,7 @@ double to_seconds(const std::string& flag, const std::string& text) {
 const char* usage() {
   return "usage: tessera-render SCENE.yaml [--render NAME] [-o OUT] [--spp N]\n"
          "                      [--width W --height H] [--tile N | --scanline] [--threads N]\n"
-         "                      [--seed N] [--time-limit SECONDS] [--stats FILE.json]\n"
+         "                      [--seed N] [--step N] [--time-limit SECONDS] [--stats FILE.json]\n"
          "                      [--denoise | --no-denoise] [--progress | --quiet] [--check]\n"
          "\n"
          "Renders every entry of `renders:` in SCENE.yaml (or only --render NAME) from the\n"
@@ -58,6 +58,8 @@ const char* usage() {
          "  --scanline         scanline order (same as --tile 0)\n"
          "  --threads N        worker threads (0 = all hardware threads)\n"
          "  --seed N           random seed\n"
+         "  --step N           render as the adapter does at simulation step N: that step's\n"
+         "                     random numbers and {step} in output names (default 0)\n"
          "  --time-limit S     seconds each render may take (0 = none; default\n"
          "                     tessera.time_limit); past it: error, no output file\n"
          "  --denoise          denoise the PNG with Open Image Denoise (image.denoise: true)\n"
@@ -105,6 +107,9 @@ Args parse_args(int argc, const char* const* argv) {
     else if (arg == "--threads") a.threads = to_number<int>(arg, value(), 0, 65536);
     else if (arg == "--seed")
       a.seed = to_number<std::uint64_t>(arg, value(), 0, std::numeric_limits<std::uint64_t>::max());
+    else if (arg == "--step")
+      a.step = to_number<std::int64_t>(arg, value(), std::numeric_limits<std::int64_t>::min(),
+                                       std::numeric_limits<std::int64_t>::max());
     else if (arg == "--stats") a.stats = value();
     else if (arg == "--time-limit") a.time_limit = to_seconds(arg, value());
     else if (arg == "--progress") { no_value(); a.progress = true; }

@@ -12,6 +12,9 @@ struct Args {
   std::optional<std::string> output; ///< -o OUT
   std::optional<int> spp, width, height, tile, threads;  ///< --scanline sets tile = 0
   std::optional<std::uint64_t> seed;
+  /// --step N: render as the adapter does at simulation step N (frame N's random numbers,
+  /// {step} = N in output names); default 0.
+  std::int64_t step = 0;
   std::optional<std::string> stats;  ///< --stats FILE.json
   std::optional<double> time_limit;  ///< --time-limit SECONDS (overrides tessera.time_limit)
   std::optional<bool> denoise;       ///< --denoise / --no-denoise (overrides image.denoise)

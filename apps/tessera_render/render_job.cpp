@@ -52,6 +52,7 @@ SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
   if (args.tile) scene.options.tile = *args.tile;
   if (args.threads) scene.options.threads = *args.threads;
   if (args.seed) scene.options.seed = *args.seed;
+  scene.options.frame = static_cast<std::uint64_t>(args.step);  // as the adapter at this step
   if (args.denoise) scene.image.denoise = *args.denoise;
   return scene;
 }

@@ -55,7 +55,7 @@ nb::object to_numpy(std::vector<float>&& rgba, int width, int height) {
 nb::tuple render_array(const std::string& source, bool is_text, const std::string& name,
                        const std::string& render_name, std::int64_t render_index, std::uintptr_t data,
                        int dtype, Int3 dims, Int3 byte_strides, std::optional<Double3> spacing,
-                       std::optional<Double3> origin) {
+                       std::optional<Double3> origin, std::int64_t step) {
   const config::Config cfg = load_config_source(source, is_text, name);
   const config::RenderSpec& spec = select_render(cfg, render_name, render_index);
   if (dtype < 0 || dtype > static_cast<int>(DType::Float64)) throw std::invalid_argument("dtype code out of range");
@@ -90,7 +90,9 @@ nb::tuple render_array(const std::string& source, bool is_text, const std::strin
     }
     seen = reinterpret_cast<std::uintptr_t>(info.view.data);
     try {
-      rendered = cli::render_image(cfg, spec, info, cli::Args{}, {}, false);
+      cli::Args args;
+      args.step = step;  // the random numbers of this step, as the adapter and tessera-render --step
+      rendered = cli::render_image(cfg, spec, info, args, {}, false);
     } catch (const std::bad_alloc&) {
       throw;
     } catch (const std::exception& e) {
@@ -120,7 +122,7 @@ void register_render(nb::module_& m) {
   m.def("_read_exr", &read_exr_rgba, nb::arg("path"));
   m.def("render_array", &render_array, nb::arg("source"), nb::arg("is_text"), nb::arg("name"),
         nb::arg("render_name"), nb::arg("render_index"), nb::arg("data"), nb::arg("dtype"), nb::arg("dims"),
-        nb::arg("byte_strides"), nb::arg("spacing").none(), nb::arg("origin").none());
+        nb::arg("byte_strides"), nb::arg("spacing").none(), nb::arg("origin").none(), nb::arg("step"));
 }
 
 }  // namespace tessera::python

@@ -10,7 +10,16 @@ from ._errors import TesseraWarning
 _last_field_address = None
 
 
-def render(volume, config, render=None, spacing=None, origin=None):
+def _step(step):
+    if isinstance(step, bool) or not isinstance(step, (int,)) and not hasattr(step, "__index__"):
+        raise TypeError(f"step: an integer is needed, got {step!r}")
+    step = int(step.__index__()) if not isinstance(step, int) else step
+    if not -2**63 <= step < 2**63:
+        raise ValueError(f"step: {step} is outside the 64-bit range")
+    return step
+
+
+def render(volume, config, render=None, spacing=None, origin=None, step=0):
     """Renders the 3D array ``volume`` in place and returns a float32 array of shape
     (height, width, 4): linear RGBA, the pixels tessera-render writes to its EXR for the same
     data and render (bit for bit).
@@ -24,6 +33,8 @@ def render(volume, config, render=None, spacing=None, origin=None):
     render: the render's name or index in ``renders`` (default: the first).
     spacing, origin: world spacing and position of vertex (0, 0, 0), a number or 3 numbers;
         default: the config's ``volume:`` block, else (1, 1, 1) and (0, 0, 0).
+    step: render as the adapter does at this simulation step (its random numbers), as
+        ``tessera-render --step``; default 0.
 
     Raises ConfigError (a ValueError, with the key path), TypeError (dtype), DataError,
     RenderError. Warnings about the image (e.g. a transfer-function range that misses the data)
@@ -43,7 +54,8 @@ def render(volume, config, render=None, spacing=None, origin=None):
     spacing = None if spacing is None else triple(spacing, "spacing")
     origin = None if origin is None else triple(origin, "origin")
     image, messages, seen = _tessera.render_array(source, is_text, name, render_name, render_index,
-                                                  address, code, dims, strides, spacing, origin)
+                                                  address, code, dims, strides, spacing, origin,
+                                                  _step(step))
     del array  # held until here: the renderer read it in place
     _last_field_address = seen
     for m in messages:

@@ -3,6 +3,7 @@
 #include "../config/test_support.h"
 
 #include <tessera/image_io.h>
+#include <tessera/tessera.h>
 
 #include <sys/wait.h>
 
@@ -271,4 +272,61 @@ renders:
   CHECK(render.status == 0);
   CHECK_THAT(render.err, Contains("tessera-render: warning: r: volume.dims [6, 12, 24] may be in the wrong order"));
   CHECK_THAT(slurp(dir.path() / "run.json"), Contains("volume.dims [6, 12, 24] may be in the wrong order"));
+}
+
+TEST_CASE("tessera-render --step N renders what the adapter renders at step N, bit for bit", "[cli][insitu]") {
+  TempDir dir;
+  const int n = 9;  // spacing 1/8: the same double in the YAML and the grid
+  std::vector<float> v;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x = (i - 4) / 2.0, y = (j - 4) / 2.0, z = (k - 4) / 2.0;
+        v.push_back(static_cast<float>(std::exp(-(x * x + y * y + z * z))));
+      }
+  std::ofstream(dir.file("v.raw"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
+  // One file for both: the adapter ignores `volume:`, the CLI reads it (same grid as below)
+  dir.write("s.yaml", R"(tessera: {output_dir: out}
+volume: {file: v.raw, dims: [9, 9, 9], dtype: float32, spacing: [0.125, 0.125, 0.125]}
+renders:
+  - name: r
+    field: density
+    trigger: {at: [7]}
+    image: {width: 20, height: 14, spp: 3}
+    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: fit}}}
+    transfer_function: {range: auto, density_scale: 20, opacity: [[0, 0], [1, 1]]}
+    lights: [{type: sphere, position: [2, 2, 2], radius: 0.3, intensity: 8}]
+    integrator: {scattering: multiple}
+    output: {file: "{name}_{step:04d}", formats: [exr]}
+)");
+  tessera_field f{};
+  f.name = "density";
+  f.data = v.data();
+  f.dtype = TESSERA_FLOAT32;
+  for (int a = 0; a < 3; ++a) f.dims[a] = n;
+  f.byte_strides[0] = 4;
+  f.byte_strides[1] = 4LL * n;
+  f.byte_strides[2] = 4LL * n * n;
+  tessera_grid g{};
+  for (int a = 0; a < 3; ++a) {
+    g.spacing[a] = 1.0 / (n - 1);
+    g.global_dims[a] = n;
+  }
+  tessera_adapter* ad = nullptr;
+  const std::string cfg = dir.file("s.yaml");
+  REQUIRE(tessera_open_with_output_dir(cfg.c_str(), -1, dir.file("adapter").c_str(), &ad) == TESSERA_OK);
+  REQUIRE(tessera_execute(ad, 7, 0.7, &g, &f, 1) == TESSERA_OK);
+  REQUIRE(tessera_close(ad) == TESSERA_OK);
+
+  const Run step7 = run_cli(dir, "s.yaml --step 7 --quiet");
+  INFO(step7.err);
+  REQUIRE(step7.status == 0);
+  const tessera::Image from_adapter = tessera::read_exr(dir.file("adapter/r_0007.exr"));
+  const tessera::Image from_cli = tessera::read_exr(dir.file("out/r_0007.exr"));  // {step} = 7 too
+  CHECK(from_cli.rgba == from_adapter.rgba);
+
+  REQUIRE(run_cli(dir, "s.yaml --quiet").status == 0);  // step 0: other random numbers
+  CHECK(tessera::read_exr(dir.file("out/r_0000.exr")).rgba != from_adapter.rgba);
+  CHECK_THAT(run_cli(dir, "s.yaml --step x").err, Contains("--step: \"x\" is not an integer"));
 }

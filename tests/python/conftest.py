@@ -52,13 +52,14 @@ def write_scene(folder, data_czyx, name="scene.yaml"):
     return path
 
 
-def cli_image(scene, render="main", tmp=None):
-    """tessera-render's EXR of ``render`` as float32 (H, W, 4)."""
+def cli_image(scene, render="main", tmp=None, step=0):
+    """tessera-render's EXR of ``render`` (at ``step``: --step) as float32 (H, W, 4)."""
     exe = os.environ.get("TESSERA_RENDER_EXE")
     if not exe:
         pytest.skip("TESSERA_RENDER_EXE is not set")
-    out = os.path.join(tmp or os.path.dirname(scene), f"cli_{render}.exr")
-    subprocess.run([exe, scene, "--render", render, "-o", out, "--quiet"], check=True, timeout=120)
+    out = os.path.join(tmp or os.path.dirname(scene), f"cli_{render}_{step}.exr")
+    subprocess.run([exe, scene, "--render", render, "-o", out, "--quiet", "--step", str(step)],
+                   check=True, timeout=120)
     return tessera._tessera._read_exr(out)
 
 

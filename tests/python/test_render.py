@@ -27,6 +27,15 @@ def test_transposed_view_is_bit_identical_to_the_cli(scene):
     assert same_bits(img, ref)
 
 
+def test_step_draws_that_steps_random_numbers_as_the_cli(scene, tmp_path):
+    data, path, ref = scene
+    img = tessera.render(data.T, path, step=12)
+    assert same_bits(img, cli_image(path, tmp=str(tmp_path), step=12))
+    assert not same_bits(img, ref)  # step 0's noise differs
+    with pytest.raises(TypeError, match="step"):
+        tessera.render(data.T, path, step=1.5)
+
+
 def test_renders_in_place_without_copying(scene):
     data, path, _ = scene
     big = field(64, 64, 64, np.float64)  # 2 MiB: a copy would show in tracemalloc's peak
