@@ -54,21 +54,26 @@ class Adapter:
         """
         if self._impl is None:
             raise TesseraError("execute: the adapter is closed")
-        if not isinstance(fields, dict):
-            raise TypeError("fields: a dict {name: array} is needed")
-        lo = _ghost_triple(ghosts, "ghosts")
-        hi = lo if ghosts_hi is None else _ghost_triple(ghosts_hi, "ghosts_hi")
-        held, descs = [], []
-        for fname, array in fields.items():
-            a, address, code, dims, strides = field_descriptor(array, f"fields['{fname}']")
-            held.append(a)
-            descs.append((str(fname), address, code, dims, strides, lo, hi))
-        if global_dims is None:
-            first = descs[0][3] if descs else (1, 1, 1)
-            global_dims = tuple(first[a] - lo[a] - hi[a] for a in range(3))
-        status = self._impl.execute(int(step), float(time), triple(origin, "origin"), triple(spacing, "spacing"),
-                                    _ghost_triple(global_dims, "global_dims"), _ghost_triple(offset, "offset"),
-                                    descs, bool(final))
+        try:
+            if not isinstance(fields, dict):
+                raise TypeError("fields: a dict {name: array} is needed")
+            lo = _ghost_triple(ghosts, "ghosts")
+            hi = lo if ghosts_hi is None else _ghost_triple(ghosts_hi, "ghosts_hi")
+            held, descs = [], []
+            for fname, array in fields.items():
+                a, address, code, dims, strides = field_descriptor(array, f"fields['{fname}']")
+                held.append(a)
+                descs.append((str(fname), address, code, dims, strides, lo, hi))
+            if global_dims is None:
+                first = descs[0][3] if descs else (1, 1, 1)
+                global_dims = tuple(first[a] - lo[a] - hi[a] for a in range(3))
+            grid = (triple(origin, "origin"), triple(spacing, "spacing"), _ghost_triple(global_dims, "global_dims"),
+                    _ghost_triple(offset, "offset"))
+        except Exception:
+            if self._comm is not None:
+                self._enter_without_fields(step, time, final)
+            raise
+        status = self._impl.execute(int(step), float(time), *grid, descs, bool(final))
         del held  # the arrays were read in place during the call
         self.last_status = status
         self.last_error = self._impl.last_error()
@@ -82,6 +87,18 @@ class Adapter:
             if r["image"] is not None:
                 images[r["name"]] = r["image"]
         return images
+
+    def _enter_without_fields(self, step, time, final):
+        """An argument this rank could not describe, under MPI: the other ranks are entering
+        the collective call, so this rank enters it too, with no fields. A render that fires
+        then fails on every rank (its field is missing here, and the ranks agree on failure
+        before any collective) instead of leaving the others waiting; the caller then raises
+        the argument's own error on this rank."""
+        try:
+            self._impl.execute(int(step), float(time), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1, 1, 1), (0, 0, 0),
+                               [], bool(final))
+        except Exception:  # the argument error raised next says what is wrong
+            pass
 
     def close(self):
         """Releases the adapter (collective); idempotent."""

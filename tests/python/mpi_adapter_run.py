@@ -22,6 +22,27 @@ if lo > 0:
     block[1:-1, 1:-1, 0] = data[:, :, lo - 1]
 if hi < nz:
     block[1:-1, 1:-1, -1] = data[:, :, hi]
+if len(sys.argv) > 3 and sys.argv[3] == "bad-array-on-last-rank":
+    # The last rank passes an array it cannot describe (int32): it raises TypeError, the others
+    # get a failed render (on_error: warn), and nobody waits forever in the collective.
+    import warnings
+    bad = comm.rank == comm.size - 1
+    with tessera.Adapter(CONFIG, comm, output_dir=sys.argv[2], quiet=True) as viz:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", tessera.TesseraWarning)
+            try:
+                viz.execute(0, 0.0, {"temperature": block.astype(np.int32) if bad else block},
+                            global_dims=data.shape, offset=(0, 0, lo), ghosts=1)
+                assert not bad and viz.last_status != 0, "the render should fail on every rank"
+            except TypeError as e:
+                assert bad and "int32" in str(e), e
+        # The next step works again on every rank
+        viz.execute(2, 0.0, {"temperature": block}, global_dims=data.shape, offset=(0, 0, lo), ghosts=1)
+        assert viz.last_status == 0, viz.last_error
+    if comm.rank == 0:
+        np.save(sys.argv[1], np.zeros(1))
+    sys.exit(0)
+
 with tessera.Adapter(CONFIG, comm, output_dir=sys.argv[2], quiet=True) as viz:
     images = viz.execute(0, 0.0, {"temperature": block}, spacing=(1.0, 1.5, 2.0), origin=(-3, 0, 1),
                          global_dims=data.shape, offset=(0, 0, lo), ghosts=1)

@@ -107,13 +107,13 @@ def test_closed_adapter_and_bad_fields(tmp_path):
         viz.execute(0, 0.0, {"temperature": field().T})
 
 
-def run_mpi(ranks, tmp_path):
-    out = tmp_path / f"np{ranks}.npy"
+def run_mpi(ranks, tmp_path, *extra):
+    out = tmp_path / f"np{ranks}{''.join(extra)}.npy"
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1",
                PYTHONPATH=os.pathsep.join([HERE, os.environ.get("PYTHONPATH", "")]))
     subprocess.run(["mpirun", "-n", str(ranks), sys.executable, os.path.join(HERE, "mpi_adapter_run.py"),
-                    str(out), str(tmp_path / f"out{ranks}")], check=True, env=env, timeout=120)
+                    str(out), str(tmp_path / f"out{ranks}"), *extra], check=True, env=env, timeout=120)
     return np.load(out)
 
 
@@ -124,3 +124,10 @@ def test_mpi4py_two_ranks_bit_identical_to_one(tmp_path):
     one, two = run_mpi(1, tmp_path), run_mpi(2, tmp_path)
     assert one[..., 3].max() > 0.1
     assert same_bits(one, two)
+
+
+def test_mpi4py_an_array_one_rank_cannot_describe_fails_everywhere_without_a_hang(tmp_path):
+    pytest.importorskip("mpi4py")
+    if shutil.which("mpirun") is None:
+        pytest.skip("no mpirun")
+    run_mpi(2, tmp_path, "bad-array-on-last-rank")  # the script asserts; timeout = hang
