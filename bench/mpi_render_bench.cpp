@@ -84,7 +84,7 @@ tessera::SceneDesc make_scene(const Args& a) {
   s.camera.look_at = Vec3(0.9, 0.9, 0.5);
   s.camera.up = Vec3(0.0, 0.0, 1.0);
   s.camera.fov_deg = 40.0;
-  s.rect_lights.push_back({Vec3(0.5, 0.5, 3.0), Vec3(0.5, 0.5, 0.5), 1.2, 1.2, Color(6.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 3.0), Vec3(0.5, 0.5, 0.5), 1.2, 1.2, Color(6.0)});
   s.background.color = Color(0.2, 0.2, 0.25);
   s.integrator.scattering = tessera::Scattering::Single;
   s.image = {a.width, a.height, a.spp, 0.0};

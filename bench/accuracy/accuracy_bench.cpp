@@ -183,7 +183,7 @@ void raymarch(const std::string& dir) {
   tessera::SceneDesc r = s;
   r.tf.diffuse = tessera::ColorTF::constant(Color(0.9));
   r.background.color = Color(0.0);
-  r.rect_lights.push_back({Vec3(0.5, 1.6, 0.5), Vec3(0.5, 0.0, 0.5), 0.7, 0.7, Color(6.0)});
+  r.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 1.6, 0.5), Vec3(0.5, 0.0, 0.5), 0.7, 0.7, Color(6.0)});
   r.image = {16, 16, 65536 / g_div, 0.0};
   r.options.seed = 3000;
   const ImageMean delta = image_mean(render(view, r));

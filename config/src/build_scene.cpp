@@ -159,13 +159,13 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
       r.width = res.length(key + "size", l.width.resolve(radius));
       r.height = res.length(key + "size", l.height.resolve(radius));
       r.radiance = radiance;
-      s.rect_lights.push_back(r);
+      s.lights.push_back(r);
     } else {
       SphereLightDesc sp;
       sp.center = res.point(key + "position", resolve_point(l.position, data_bounds, up));
       sp.radius = res.length(key + "radius", l.radius.resolve(radius));
       sp.radiance = radiance;
-      s.sphere_lights.push_back(sp);
+      s.lights.push_back(sp);
     }
   }
 

@@ -3,13 +3,13 @@
 /// radiance / pdf / sample by index, and the light-selection strategy as its own small type.
 /// The integrator (path_tracer.h) names no concrete light type.
 ///
-/// Order of the array (kept so that images stay bit-identical): rect lights, sphere lights,
-/// then the infinite lights (the background, when it emits). Area lights come first and are
-/// the ones a ray can meet at a finite distance: indices [0, area_count()).
+/// Order of the array (kept so that images stay bit-identical): the area lights kind by kind
+/// in the order of LightDesc's alternatives (rect lights, then sphere lights), each kind in
+/// list order, then the infinite lights (the background, when it emits). Area lights are the
+/// ones a ray can meet at a finite distance: indices [0, area_count()).
 ///
-/// A new light kind: its prepared class (intersect_front, radiance, pdf, sample, bounds,
-/// kInfinite), a member and a case in Light below, its loop in make_lights; its description
-/// in lights.h / SceneDesc and its checks in prepare(); on the config side its parser.
+/// Light and make_lights follow LightDesc (lights.h) generically: a new kind needs nothing
+/// here (its file and LightDesc entry, docs/lights.md).
 #include <tessera/scene.h>
 
 #include "area_lights.h"
@@ -18,6 +18,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
+#include <variant>
 #include <vector>
 
 namespace tessera {
@@ -45,25 +47,48 @@ class EnvironmentLight {
   const Environment* m_env;
 };
 
+namespace detail {
+template <class V>
+struct KernelLights;
+template <class... D>
+struct KernelLights<std::variant<D...>> {
+  using type = std::variant<typename LightKind<D>::Kernel..., EnvironmentLight>;
+};
+}  // namespace detail
+
+/// The prepared light kinds: one per alternative of LightDesc, in its order, then the
+/// background. Derived from LightDesc, so the two cannot disagree.
+using KernelLight = detail::KernelLights<LightDesc>::type;
+static_assert(std::variant_size_v<KernelLight> == std::variant_size_v<LightDesc> + 1);
+
+namespace detail {
+/// fn(the alternative v holds): an if-chain over the alternatives (no std::visit, so no
+/// exception path in the kernels; v is never valueless, every alternative being trivially
+/// copyable).
+template <std::size_t I, class V, class Fn>
+decltype(auto) dispatch_light(const V& v, Fn& fn) {
+  if constexpr (I + 1 == std::variant_size_v<V>) {
+    return fn(*std::get_if<I>(&v));
+  } else {
+    if (v.index() == I) return fn(*std::get_if<I>(&v));
+    return dispatch_light<I + 1>(v, fn);
+  }
+}
+}  // namespace detail
+
 /// One prepared light of any kind, by value (trivially copyable). Every kind K offers
 /// kInfinite, intersect_front(ray) (distance in (0, inf) to its emitting side, or -1),
 /// radiance(d), pdf(x, wi, t), sample(x, u1, u2) and, when finite, bounds(lo, hi); the
-/// methods here dispatch on the kind once, in dispatch(). A new kind: its class, one member
-/// of Storage, one case of dispatch, one constructor, and its loop in make_lights.
+/// methods here dispatch on the kind once, in dispatch().
 class Light {
  public:
-  explicit Light(const RectLight& l) : m_kind(Kind::Rect) { m_u.rect = l; }
-  explicit Light(const SphereLight& l) : m_kind(Kind::Sphere) { m_u.sphere = l; }
-  explicit Light(const EnvironmentLight& l) : m_kind(Kind::Environment) { m_u.env = l; }
+  template <class K, class = std::enable_if_t<!std::is_same_v<std::decay_t<K>, Light>>>
+  explicit Light(const K& l) : m_v(std::in_place_type<K>, l) {}
 
   /// fn(the concrete light); every instantiation returns the same type.
   template <class Fn>
   decltype(auto) dispatch(Fn&& fn) const {
-    switch (m_kind) {
-      case Kind::Rect: return fn(m_u.rect);
-      case Kind::Sphere: return fn(m_u.sphere);
-      case Kind::Environment: default: return fn(m_u.env);
-    }
+    return detail::dispatch_light<0>(m_v, fn);
   }
 
   /// True for a light at infinity (met only by rays that leave the scene).
@@ -96,15 +121,7 @@ class Light {
   }
 
  private:
-  enum class Kind : std::uint8_t { Rect, Sphere, Environment };
-  union Storage {
-    Storage() {}
-    RectLight rect;
-    SphereLight sphere;
-    EnvironmentLight env;
-  };
-  Kind m_kind;
-  Storage m_u;
+  KernelLight m_v;
 };
 static_assert(std::is_trivially_copyable_v<Light>);
 
@@ -150,12 +167,24 @@ class LightSet {
 };
 static_assert(std::is_trivially_copyable_v<LightSet>);
 
-/// Every light of the scene in the set's order (rects, spheres, then the background when it
-/// emits). `env` must outlive the result.
+namespace detail {
+template <std::size_t I>
+void append_kind(const std::vector<LightDesc>& lights, std::vector<Light>* out) {
+  using Desc = std::variant_alternative_t<I, LightDesc>;
+  for (const LightDesc& l : lights)
+    if (const Desc* d = std::get_if<Desc>(&l)) out->emplace_back(typename LightKind<Desc>::Kernel(*d));
+}
+template <std::size_t... I>
+void append_kinds(const std::vector<LightDesc>& lights, std::vector<Light>* out, std::index_sequence<I...>) {
+  (append_kind<I>(lights, out), ...);
+}
+}  // namespace detail
+
+/// Every light of the scene in the set's order (kind by kind in LightDesc's order, each kind
+/// in list order, then the background when it emits). `env` must outlive the result.
 inline std::vector<Light> make_lights(const SceneDesc& s, const Environment* env) {
   std::vector<Light> out;
-  for (const RectLightDesc& l : s.rect_lights) out.emplace_back(RectLight(l));
-  for (const SphereLightDesc& l : s.sphere_lights) out.emplace_back(SphereLight(l));
+  detail::append_kinds(s.lights, &out, std::make_index_sequence<std::variant_size_v<LightDesc>>{});
   if (env->emits()) out.emplace_back(EnvironmentLight(env));
   return out;
 }

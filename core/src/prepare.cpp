@@ -11,7 +11,10 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
+#include <variant>
+#include <vector>
 
 namespace tessera {
 namespace {
@@ -40,6 +43,35 @@ std::string vec(const Vec3& v) {
 }
 
 double max_abs(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+/// One light's checks as its kind's LightKind::validate calls them, naming the light.
+template <class Point, class Length, class Radiance>
+struct LightCheck {
+  const std::string& name;
+  const Point& point_fn;
+  const Length& length_fn;
+  const Radiance& radiance_fn;
+  void point(const char* key, const Vec3& p) const { point_fn(name, key, p); }
+  void length(const char* key, double v) const { length_fn(name, key, v); }
+  void radiance(const Color& L) const { radiance_fn(name, L); }
+};
+
+/// Every light's checks, kind by kind in LightDesc's order (the light set's order), each
+/// named "<kind> <i>" with i counted per kind in list order.
+template <std::size_t... I, class... Fn>
+void validate_lights(const std::vector<LightDesc>& lights, std::index_sequence<I...>, const Fn&... fn) {
+  const auto one_kind = [&](auto index) {
+    using Desc = std::variant_alternative_t<decltype(index)::value, LightDesc>;
+    using Kind = LightKind<Desc>;
+    std::size_t i = 0;
+    for (const LightDesc& l : lights)
+      if (const Desc* d = std::get_if<Desc>(&l)) {
+        const std::string name = std::string(Kind::kName) + " " + std::to_string(i++);
+        Kind::validate(*d, LightCheck<Fn...>{name, fn...});
+      }
+  };
+  (one_kind(std::integral_constant<std::size_t, I>{}), ...);
+}
 
 /// Positions, lengths and steps against the data (loop_bounds.h): what would make a sampling
 /// loop stall or run unboundedly, or lose every digit of precision, is refused here, naming
@@ -90,22 +122,8 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
     require(std::isfinite(bg.intensity) && !(peak * bg.intensity > kMaxRadiance),
             "background.intensity " + num(bg.intensity) + " times its color makes a radiance above 1e30");
   }
-  for (std::size_t i = 0; i < s.rect_lights.size(); ++i) {
-    const RectLightDesc& l = s.rect_lights[i];
-    const std::string name = "rect light " + std::to_string(i);
-    light_point(name, "position", l.position);
-    light_point(name, "target", l.target);
-    light_length(name, "width", l.width);
-    light_length(name, "height", l.height);
-    radiance(name, l.radiance);
-  }
-  for (std::size_t i = 0; i < s.sphere_lights.size(); ++i) {
-    const SphereLightDesc& l = s.sphere_lights[i];
-    const std::string name = "sphere light " + std::to_string(i);
-    light_point(name, "position", l.center);
-    light_length(name, "radius", l.radius);
-    radiance(name, l.radiance);
-  }
+  validate_lights(s.lights, std::make_index_sequence<std::variant_size_v<LightDesc>>{}, light_point, light_length,
+                  radiance);
   // Raymarch: at most kMaxMarchSteps steps across the box diagonal
   if (s.integrator.free_path == FreePath::Raymarch) {
     const double diag = glm::length(b.hi - b.lo) / h;  // in smallest spacings
@@ -142,7 +160,7 @@ void validate(const FieldView& field, const SceneDesc& s) {
   require(in.gradient_factor >= 0.0 && std::isfinite(in.gradient_factor), "gradient_factor must be >= 0");
   require(in.step > 0.0 && std::isfinite(in.step), "integrator.step " + num(in.step) + " must be finite and > 0");
   require(in.macrocell >= 1, "macrocell edge must be >= 1");
-  require(s.rect_lights.size() + s.sphere_lights.size() <= static_cast<std::size_t>(kMaxLights),
+  require(s.lights.size() <= static_cast<std::size_t>(kMaxLights),
           "at most " + std::to_string(kMaxLights) + " area lights");
   require(s.options.tile >= 0, "tile edge must be >= 0");
   require(s.options.threads >= 0, "threads must be >= 0");

@@ -38,7 +38,7 @@ inline tessera::SceneDesc convergence_scene(int n) {
   s.camera.position = Vec3(1.5, 1.2, -1.6);
   s.camera.look_at = Vec3(0.5, 0.5, 0.5);
   s.camera.fov_deg = 36.0;
-  s.rect_lights.push_back({Vec3(0.5, 1.9, 0.3), Vec3(0.5, 0.0, 0.5), 0.8, 0.8, Color(5.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 1.9, 0.3), Vec3(0.5, 0.0, 0.5), 0.8, 0.8, Color(5.0)});
   s.background.type = tessera::BackgroundType::Gradient;
   s.background.up = Vec3(0.0, 1.0, 0.0);
   return s;

@@ -36,7 +36,7 @@ TEST_CASE("1e5 accumulated 1-spp frames: film mean within 1e-6 of the exact samp
   const Vec3 right = glm::normalize(glm::cross(fwd, s.camera.up)), up = glm::cross(right, fwd);
   const double th = std::tan(0.5 * s.camera.fov_deg * kPi / 180.0);
   const Vec3 in_pixel = glm::normalize(fwd + 0.5 * th * (up - right));
-  s.sphere_lights.push_back({s.camera.position + 1.0 * in_pixel, 0.003, Color(1e4)});
+  s.lights.push_back(tessera::SphereLightDesc{s.camera.position + 1.0 * in_pixel, 0.003, Color(1e4)});
   s.background.color = Color(0.05);
   s.image = {2, 2, 1, 0.0};
   s.options.seed = 1200;

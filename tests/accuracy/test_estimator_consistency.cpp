@@ -31,8 +31,8 @@ tessera::SceneDesc busy_scene() {
   s.camera.position = Vec3(1.6, 1.1, -1.8);
   s.camera.look_at = Vec3(0.5, 0.5, 0.5);
   s.camera.fov_deg = 34.0;
-  s.rect_lights.push_back({Vec3(0.5, 1.8, 0.4), Vec3(0.5, 0.0, 0.5), 1.0, 0.7, Color(4.0, 3.5, 3.0)});
-  s.sphere_lights.push_back({Vec3(-0.9, 0.4, 0.2), 0.3, Color(3.0, 3.0, 5.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 1.8, 0.4), Vec3(0.5, 0.0, 0.5), 1.0, 0.7, Color(4.0, 3.5, 3.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(-0.9, 0.4, 0.2), 0.3, Color(3.0, 3.0, 5.0)});
   s.background.type = tessera::BackgroundType::Gradient;
   s.background.top = Color(0.5, 0.6, 0.9);
   s.background.middle = Color(0.3);
@@ -95,7 +95,7 @@ TEST_CASE("delta and ratio tracking behind a thick absorber with a loose majoran
   s.camera.position = Vec3(0.5, 0.75, -2.5);
   s.camera.look_at = Vec3(0.5, 0.75, 0.5);
   s.camera.fov_deg = 9.0;
-  s.rect_lights.push_back({Vec3(0.5, -0.01, 0.5), Vec3(0.5, 1.0, 0.5), 0.6, 0.6, Color(100.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, -0.01, 0.5), Vec3(0.5, 1.0, 0.5), 0.6, 0.6, Color(100.0)});
   s.image = {16, 16, 4096, 0.0};
   s.options.seed = 720;
   s.integrator.shadow = tessera::ShadowMode::Ratio;
@@ -163,8 +163,7 @@ TEST_CASE("bit-identical images where the random streams are the same", "[accura
   }
   SECTION("delta vs ratio shadow rays when no light is ever sampled") {
     tessera::SceneDesc a = s;
-    a.rect_lights.clear();
-    a.sphere_lights.clear();
+    a.lights.clear();
     a.background.type = tessera::BackgroundType::Constant;
     a.background.color = Color(0.0);  // black: not a light; only emission remains
     tessera::SceneDesc b = a;

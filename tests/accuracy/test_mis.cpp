@@ -54,7 +54,7 @@ void add_room(tessera::SceneDesc& s, const Vec3& lo, const Vec3& hi) {
           p[ha] += sh * size[ha];
           Vec3 target = p;
           target[axis] -= side;  // face inward
-          s.rect_lights.push_back({p, target, 0.5 * size[wa], 0.5 * size[ha], Color(kL)});
+          s.lights.push_back(tessera::RectLightDesc{p, target, 0.5 * size[wa], 0.5 * size[ha], Color(kL)});
         }
     }
   }
@@ -79,7 +79,7 @@ TEST_CASE("MIS: a room of 24 rect lights keeps a white furnace at L", "[accuracy
   const std::vector<float> field = cloud_field(kN, kN, kN);
   tessera::SceneDesc s = cloud_scene();
   add_room(s, Vec3(-1.0, -0.8, -1.3), Vec3(2.2, 1.9, 2.5));
-  REQUIRE(s.rect_lights.size() == 24);
+  REQUIRE(tessera::count_lights<tessera::RectLightDesc>(s.lights) == 24);
   s.camera.position = Vec3(0.6, 0.4, -0.9);
   s.camera.look_at = Vec3(0.5, 0.5, 0.5);
   s.camera.fov_deg = 50.0;
@@ -96,10 +96,10 @@ TEST_CASE("MIS: black lights change only the selection probability of the backgr
   const std::vector<float> field = cloud_field(kN, kN, kN);
   tessera::SceneDesc s = cloud_scene();
   s.background.color = Color(kL);
-  s.rect_lights.push_back({Vec3(0.5, 1.6, 0.5), Vec3(0.5, 0.0, 0.5), 0.8, 0.8, Color(0.0)});
-  s.rect_lights.push_back({Vec3(0.5, 0.5, 0.5), Vec3(1.5, 0.5, 0.5), 0.4, 0.4, Color(0.0)});  // inside
-  s.rect_lights.push_back({Vec3(-0.6, 0.2, 0.4), Vec3(0.5, 0.5, 0.5), 0.5, 0.3, Color(0.0)});
-  s.sphere_lights.push_back({Vec3(1.4, 0.3, 0.6), 0.25, Color(0.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 1.6, 0.5), Vec3(0.5, 0.0, 0.5), 0.8, 0.8, Color(0.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 0.5), Vec3(1.5, 0.5, 0.5), 0.4, 0.4, Color(0.0)});  // inside
+  s.lights.push_back(tessera::RectLightDesc{Vec3(-0.6, 0.2, 0.4), Vec3(0.5, 0.5, 0.5), 0.5, 0.3, Color(0.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(1.4, 0.3, 0.6), 0.25, Color(0.0)});
   s.camera.position = Vec3(1.8, 1.3, -1.6);
   s.camera.look_at = Vec3(0.5, 0.5, 0.5);
   s.camera.fov_deg = 32.0;

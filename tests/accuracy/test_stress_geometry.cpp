@@ -111,8 +111,8 @@ TEST_CASE("spacing 1e-6 and 1e6, origin 1e7: the unit image within noise", "[acc
     s.integrator.scattering = tessera::Scattering::Multiple;
     s.integrator.max_bounces = 6;
     s.camera = camera(place(Vec3(1.5, 1.1, -1.6)), place(Vec3(0.5, 0.5, 0.5)), Vec3(0, 1, 0), 35.0);
-    s.rect_lights.push_back({place(Vec3(0.5, 1.8, 0.5)), place(Vec3(0.5, 0.0, 0.5)), 0.8 * scale, 0.8 * scale, Color(4.0)});
-    s.sphere_lights.push_back({place(Vec3(-0.8, 0.4, 0.3)), 0.25 * scale, Color(3.0)});
+    s.lights.push_back(tessera::RectLightDesc{place(Vec3(0.5, 1.8, 0.5)), place(Vec3(0.5, 0.0, 0.5)), 0.8 * scale, 0.8 * scale, Color(4.0)});
+    s.lights.push_back(tessera::SphereLightDesc{place(Vec3(-0.8, 0.4, 0.3)), 0.25 * scale, Color(3.0)});
     s.background.color = Color(0.2);
     s.image = {16, 16, 64, 0.0};
     s.options.seed = seed;
@@ -198,8 +198,8 @@ TEST_CASE("lights inside an absorbing volume: Le T(0, t_light) + L_bg T(0, exit)
   s.background.color = Color(0.5);
   const tessera::SphereLightDesc sph{Vec3(0.35, 0.55, 0.5), 0.2, Color(3.0)};
   const tessera::RectLightDesc rect{Vec3(0.7, 0.4, 0.6), Vec3(1.7, 0.9, -0.6), 0.35, 0.25, Color(2.0)};
-  s.sphere_lights.push_back(sph);
-  s.rect_lights.push_back(rect);
+  s.lights.push_back(sph);
+  s.lights.push_back(rect);
   // Reference intersections written from docs/physics.md section 7.
   const Vec3 rn = glm::normalize(rect.target - rect.position);
   const Vec3 ref = std::fabs(rn.z) > 0.999 ? Vec3(0, 1, 0) : Vec3(0, 0, 1);

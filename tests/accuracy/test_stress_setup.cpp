@@ -11,6 +11,8 @@
 //    field at all: bit-identical to a zero field and to density_scale 0.
 #include <catch2/catch.hpp>
 
+#include <variant>
+
 #include "accuracy_support.h"
 
 #include <stdexcept>
@@ -56,14 +58,14 @@ TEST_CASE("prepare() names degenerate cameras and lights", "[accuracy][stress]")
     CHECK_THAT(prepare_error(s), Catch::Contains("up"));
   }
   SECTION("zero-size rect light") {
-    s.rect_lights.push_back({Vec3(0.5, 2.0, 0.5), Vec3(0.5, 0.0, 0.5), 0.0, 1.0, Color(1.0)});
+    s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 2.0, 0.5), Vec3(0.5, 0.0, 0.5), 0.0, 1.0, Color(1.0)});
     CHECK_THAT(prepare_error(s), Catch::Contains("rect light") && Catch::Contains("size"));
-    s.rect_lights.back().width = 1.0;
-    s.rect_lights.back().height = 0.0;
+    std::get<tessera::RectLightDesc>(s.lights.back()).width = 1.0;
+    std::get<tessera::RectLightDesc>(s.lights.back()).height = 0.0;
     CHECK_THAT(prepare_error(s), Catch::Contains("rect light") && Catch::Contains("size"));
   }
   SECTION("zero-radius sphere light") {
-    s.sphere_lights.push_back({Vec3(0.5, 2.0, 0.5), 0.0, Color(1.0)});
+    s.lights.push_back(tessera::SphereLightDesc{Vec3(0.5, 2.0, 0.5), 0.0, Color(1.0)});
     CHECK_THAT(prepare_error(s), Catch::Contains("sphere light") && Catch::Contains("radius"));
   }
   SECTION("a transfer-function range whose width overflows") {
@@ -108,8 +110,8 @@ TEST_CASE("opacity zero everywhere: the background and lights, no medium work", 
     }
   }
   SECTION("lights, gradient background, thin lens, multiple scattering; density_scale 0 too") {
-    s.rect_lights.push_back({Vec3(0.5, 0.5, 1.5), Vec3(0.5, 0.5, 0.0), 0.6, 0.6, Color(3.0)});
-    s.sphere_lights.push_back({Vec3(0.2, 0.8, 0.4), 0.2, Color(2.0)});
+    s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 1.5), Vec3(0.5, 0.5, 0.0), 0.6, 0.6, Color(3.0)});
+    s.lights.push_back(tessera::SphereLightDesc{Vec3(0.2, 0.8, 0.4), 0.2, Color(2.0)});
     s.background.type = tessera::BackgroundType::Gradient;
     s.camera.aperture = 0.1;
     s.integrator.scattering = tessera::Scattering::Multiple;

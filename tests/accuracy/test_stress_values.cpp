@@ -33,7 +33,7 @@ tessera::SceneDesc lit_cloud() {
   s.camera.position = Vec3(1.5, 1.1, -1.6);
   s.camera.look_at = Vec3(0.5, 0.5, 0.5);
   s.camera.fov_deg = 35.0;
-  s.rect_lights.push_back({Vec3(0.5, 1.8, 0.5), Vec3(0.5, 0.0, 0.5), 0.8, 0.8, Color(4.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 1.8, 0.5), Vec3(0.5, 0.0, 0.5), 0.8, 0.8, Color(4.0)});
   s.background.color = Color(0.2);
   s.image = {16, 16, 16, 0.0};
   s.options.seed = 900;

@@ -128,17 +128,17 @@ TEST_CASE("build_scene fills every part of the SceneDesc", "[config][scene]") {
   CHECK(s.tf.roughness.eval(0.3) == 0.5);  // core default
 
   // Lights: radiance = color * intensity, relative sizes in radii
-  REQUIRE(s.rect_lights.size() == 1);
-  const RectLightDesc& rect = s.rect_lights[0];
+  REQUIRE(tessera::count_lights<tessera::RectLightDesc>(s.lights) == 1);
+  const RectLightDesc& rect = tessera::nth_light<tessera::RectLightDesc>(s.lights, 0);
   CHECK(near(rect.position, Vec3(1, 2, 11)));
   CHECK(rect.target == Vec3(1, 2, 2));
   CHECK(rect.width == 1.5);
   CHECK(rect.height == 2.0);
   CHECK(rect.radiance == Color(4.0, 2.0, 1.0));
-  REQUIRE(s.sphere_lights.size() == 1);
-  CHECK(s.sphere_lights[0].center == Vec3(9, 9, 9));
-  CHECK(s.sphere_lights[0].radius == 0.75);
-  CHECK(s.sphere_lights[0].radiance == Color(2.0));
+  REQUIRE(tessera::count_lights<tessera::SphereLightDesc>(s.lights) == 1);
+  CHECK(tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).center == Vec3(9, 9, 9));
+  CHECK(tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).radius == 0.75);
+  CHECK(tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).radiance == Color(2.0));
 
   // Background, integrator, options
   CHECK(s.background.type == BackgroundType::Gradient);

@@ -42,7 +42,7 @@ tessera::SceneDesc aux_scene() {
   s.camera.position = Vec3(1.5, 1.0, -3.0);
   s.camera.look_at = Vec3(0.0, 0.0, 0.0);
   s.camera.fov_deg = 40.0;
-  s.rect_lights.push_back({Vec3(0.0, 2.0, 0.0), Vec3(0.0, 0.0, 0.0), 1.5, 1.0, Color(5.0, 4.0, 3.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.0, 2.0, 0.0), Vec3(0.0, 0.0, 0.0), 1.5, 1.0, Color(5.0, 4.0, 3.0)});
   s.background.type = tessera::BackgroundType::Constant;
   s.background.color = Color(0.3);
   s.integrator.scattering = tessera::Scattering::Multiple;

@@ -39,8 +39,8 @@ tessera::SceneDesc busy_scene(tessera::Scattering scattering) {
   s.camera.position = Vec3(1.5, 1.0, -3.0);
   s.camera.look_at = Vec3(0.0, 0.0, 0.0);
   s.camera.fov_deg = 40.0;
-  s.rect_lights.push_back({Vec3(0.0, 2.0, 0.0), Vec3(0.0, 0.0, 0.0), 1.5, 1.0, Color(5.0, 4.0, 3.0)});
-  s.sphere_lights.push_back({Vec3(-2.0, 0.5, -1.0), 0.4, Color(3.0, 3.0, 6.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.0, 2.0, 0.0), Vec3(0.0, 0.0, 0.0), 1.5, 1.0, Color(5.0, 4.0, 3.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(-2.0, 0.5, -1.0), 0.4, Color(3.0, 3.0, 6.0)});
   s.background.type = tessera::BackgroundType::Gradient;
   s.background.top = Color(0.4, 0.5, 0.8);
   s.background.middle = Color(0.3);

@@ -152,7 +152,7 @@ tessera::SceneDesc small_scene(int n) {
   s.camera.position = tessera::Vec3(0.5, 0.5, -2.0);
   s.camera.look_at = tessera::Vec3(0.5, 0.5, 0.5);
   s.camera.fov_deg = 35.0;
-  s.sphere_lights.push_back({tessera::Vec3(2.0, 0.5, 0.0), 0.3, tessera::Color(5.0)});
+  s.lights.push_back(tessera::SphereLightDesc{tessera::Vec3(2.0, 0.5, 0.0), 0.3, tessera::Color(5.0)});
   s.image = {16, 16, 4, 0.0};
   s.integrator.macrocell = 4;
   s.options.seed = 9;

@@ -237,7 +237,7 @@ TEST_CASE("a strided and an array-of-structs view render bit-identically to a de
   scene.camera.position = Vec3(0.55, 0.45, -2.0);
   scene.camera.look_at = Vec3(0.55, 0.45, 0.4);
   scene.camera.fov_deg = 35.0;
-  scene.sphere_lights.push_back({Vec3(2.0, 2.0, -1.0), 0.3, tessera::Color(5.0)});
+  scene.lights.push_back(tessera::SphereLightDesc{Vec3(2.0, 2.0, -1.0), 0.3, tessera::Color(5.0)});
   scene.background.color = tessera::Color(0.2);
   scene.integrator.macrocell = 4;
   scene.image = {12, 10, 2, 0.0};

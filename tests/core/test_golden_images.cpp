@@ -104,8 +104,8 @@ std::vector<GoldenScene> golden_scenes() {
          // Every emitter at once: rect, sphere, emitting gradient background, emission TF
          s.tf.specular = tessera::ColorTF::constant(Color(0.04));
          s.tf.emission = tessera::ColorTF({0.0, 0.6, 1.0}, {Color(0.0), Color(0.0), Color(2.0, 0.5, 0.1)});
-         s.rect_lights.push_back({Vec3(0.0, 2.0, 0.0), Vec3(0.0), 1.5, 1.0, Color(5.0, 4.0, 3.0)});
-         s.sphere_lights.push_back({Vec3(-2.0, 0.5, -1.0), 0.4, Color(3.0, 3.0, 6.0)});
+         s.lights.push_back(tessera::RectLightDesc{Vec3(0.0, 2.0, 0.0), Vec3(0.0), 1.5, 1.0, Color(5.0, 4.0, 3.0)});
+         s.lights.push_back(tessera::SphereLightDesc{Vec3(-2.0, 0.5, -1.0), 0.4, Color(3.0, 3.0, 6.0)});
          gradient_background(s);
          s.integrator.scattering = tessera::Scattering::Multiple;
          s.integrator.max_bounces = 12;
@@ -118,7 +118,7 @@ std::vector<GoldenScene> golden_scenes() {
        [](tessera::SceneDesc& s) {
          s.tf.lo = 0.0;
          s.tf.hi = 255.0;
-         s.sphere_lights.push_back({Vec3(1.5, 1.5, -1.5), 0.3, Color(20.0, 18.0, 15.0)});
+         s.lights.push_back(tessera::SphereLightDesc{Vec3(1.5, 1.5, -1.5), 0.3, Color(20.0, 18.0, 15.0)});
          s.background.color = Color(0.1, 0.12, 0.2);
          s.integrator.shading = Shading::Phase;
          s.integrator.shadow = tessera::ShadowMode::Delta;
@@ -129,7 +129,7 @@ std::vector<GoldenScene> golden_scenes() {
          s.tf.lo = 0.0;
          s.tf.hi = 60000.0;
          s.tf.specular = tessera::ColorTF({0.0, 1.0}, {Color(0.02), Color(0.3)});
-         s.rect_lights.push_back({Vec3(-1.0, 2.0, -1.0), Vec3(0.0), 1.0, 2.0, Color(6.0)});
+         s.lights.push_back(tessera::RectLightDesc{Vec3(-1.0, 2.0, -1.0), Vec3(0.0), 1.0, 2.0, Color(6.0)});
          s.background.color = Color(0.05);
          s.integrator.free_path = tessera::FreePath::Raymarch;
          s.integrator.step = 0.7;
@@ -165,7 +165,7 @@ std::vector<GoldenScene> golden_scenes() {
          s.image.spp = 24;
          s.image.target_error = 0.08;
          s.tf.emission = tessera::ColorTF({0.0, 0.5, 1.0}, {Color(0.0), Color(0.5), Color(1.0, 0.8, 0.2)});
-         s.rect_lights.push_back({Vec3(0.0, -2.0, 0.5), Vec3(0.0), 1.0, 1.0, Color(8.0)});
+         s.lights.push_back(tessera::RectLightDesc{Vec3(0.0, -2.0, 0.5), Vec3(0.0), 1.0, 1.0, Color(8.0)});
          gradient_background(s);
          s.integrator.shading = Shading::Hybrid;
          s.integrator.scattering = tessera::Scattering::Multiple;
@@ -177,8 +177,8 @@ std::vector<GoldenScene> golden_scenes() {
          s.tf.hi = 10000.0;
          s.camera.aperture = 0.08;
          s.camera.focus_distance = 2.5;
-         s.rect_lights.push_back({Vec3(2.0, 1.0, -1.0), Vec3(0.0), 0.8, 0.8, Color(10.0, 8.0, 6.0)});
-         s.sphere_lights.push_back({Vec3(-1.5, -1.5, 1.0), 0.25, Color(10.0)});
+         s.lights.push_back(tessera::RectLightDesc{Vec3(2.0, 1.0, -1.0), Vec3(0.0), 0.8, 0.8, Color(10.0, 8.0, 6.0)});
+         s.lights.push_back(tessera::SphereLightDesc{Vec3(-1.5, -1.5, 1.0), 0.25, Color(10.0)});
          s.background.color = Color(0.02);
          s.integrator.shading = Shading::Brdf;
          s.integrator.shadow_roulette = false;
@@ -202,7 +202,7 @@ std::vector<GoldenScene> golden_scenes() {
          s.options.order = tessera::TileOrder::Morton;
          s.background.color = Color(0.6, 0.5, 0.4);
          s.background.visible = false;
-         s.sphere_lights.push_back({Vec3(0.0, 3.0, 0.0), 0.5, Color(4.0)});
+         s.lights.push_back(tessera::SphereLightDesc{Vec3(0.0, 3.0, 0.0), 0.5, Color(4.0)});
          s.integrator.shading = Shading::Hybrid;
        }},
   };

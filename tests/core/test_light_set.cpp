@@ -12,7 +12,10 @@
 #include "test_support.h"
 
 #include <cmath>
+#include <stdexcept>
 #include <type_traits>
+#include <utility>
+#include <variant>
 #include <vector>
 
 using tessera::Color;
@@ -26,8 +29,8 @@ tessera::SceneDesc lit_scene() {
   s.camera.position = Vec3(0.5, 0.5, 4.0);
   s.camera.look_at = Vec3(0.5);
   s.image = {16, 12, 1, 0.0};
-  s.sphere_lights.push_back({Vec3(3.0, 0.5, 0.5), 0.3, Color(2.0)});  // listed before the rect
-  s.rect_lights.push_back({Vec3(0.5, 3.0, 0.5), Vec3(0.5), 1.0, 0.5, Color(4.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(3.0, 0.5, 0.5), 0.3, Color(2.0)});  // listed before the rect
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 3.0, 0.5), Vec3(0.5), 1.0, 0.5, Color(4.0)});
   s.background.color = Color(0.2, 0.3, 0.4);
   return s;
 }
@@ -38,6 +41,48 @@ TEST_CASE("kernel scene and light set are trivially copyable views", "[light_set
   STATIC_REQUIRE(std::is_trivially_copyable_v<tessera::KernelScene>);
   STATIC_REQUIRE(std::is_trivially_copyable_v<tessera::LightSet>);
   STATIC_REQUIRE(std::is_trivially_copyable_v<tessera::Light>);
+}
+
+// The central list of kinds (LightDesc) and the light set agree: one prepared kind per
+// description kind, in the same order, then the background; each kind's prepared class is
+// the one its LightKind names.
+template <std::size_t... I>
+constexpr bool kinds_agree(std::index_sequence<I...>) {
+  return (std::is_same_v<std::variant_alternative_t<I, tessera::KernelLight>,
+                         typename tessera::LightKind<std::variant_alternative_t<I, tessera::LightDesc>>::Kernel> &&
+          ...);
+}
+static_assert(std::variant_size_v<tessera::KernelLight> == std::variant_size_v<tessera::LightDesc> + 1);
+static_assert(kinds_agree(std::make_index_sequence<std::variant_size_v<tessera::LightDesc>>{}));
+static_assert(std::is_same_v<std::variant_alternative_t<std::variant_size_v<tessera::LightDesc>, tessera::KernelLight>,
+                             tessera::EnvironmentLight>);
+
+TEST_CASE("the light set orders lights kind by kind, whatever the list's order", "[light_set]") {
+  const std::vector<float> field = tessera_test::constant_field(4, 4, 4, 0.5f);
+  const tessera::FieldView view = tessera::FieldView::contiguous(field.data(), tessera::DType::Float32, 4, 4, 4);
+  tessera::SceneDesc s = lit_scene();
+  s.lights.clear();
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(3.0, 0.5, 0.5), 0.3, Color(2.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 3.0, 0.5), Vec3(0.5), 1.0, 0.5, Color(4.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(0.5, -3.0, 0.5), 0.3, Color(6.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, -3.0), Vec3(0.5), 1.0, 1.0, Color(8.0)});
+  CHECK(tessera::count_lights<tessera::RectLightDesc>(s.lights) == 2);
+  CHECK(tessera::nth_light<tessera::SphereLightDesc>(s.lights, 1).radiance == Color(6.0));
+  CHECK_THROWS_AS(tessera::nth_light<tessera::SphereLightDesc>(s.lights, 2), std::out_of_range);
+  const tessera::PreparedScene ps = tessera::prepare(view, s);
+  const tessera::LightSet& L = ps.impl().kernel.lights;
+  REQUIRE(L.count() == 5);
+  REQUIRE(L.area_count() == 4);
+  // rects in list order (radiance 4 then 8), spheres in list order (2 then 6), background
+  const Vec3 d(0.0, 1.0, 0.0);
+  CHECK(L[0].radiance(d) == Color(4.0));
+  CHECK(L[1].radiance(d) == Color(8.0));
+  CHECK(L[2].radiance(d) == Color(2.0));
+  CHECK(L[3].radiance(d) == Color(6.0));
+  CHECK(L[4].infinite());
+  // prepare() names a bad light by kind and its index within the kind
+  std::get<tessera::SphereLightDesc>(s.lights[2]).center = Vec3(INFINITY);
+  CHECK_THROWS_WITH(tessera::prepare(view, s), Catch::Contains("sphere light 1: position"));
 }
 
 TEST_CASE("prepare fills the kernel scene: rects, spheres, then the emitting background",

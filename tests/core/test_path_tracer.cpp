@@ -51,7 +51,7 @@ void enclose_in_rect_lights(tessera::SceneDesc& s) {
     for (const double side : {-1.0, 2.0}) {
       Vec3 p = c;
       p[axis] = side;
-      s.rect_lights.push_back({p, c, 3.0, 3.0, Color(kL)});
+      s.lights.push_back(tessera::RectLightDesc{p, c, 3.0, 3.0, Color(kL)});
     }
   s.background.color = Color(0.0);
 }
@@ -68,8 +68,8 @@ TEST_CASE("single scattering equals multiple scattering with max_bounces 1, bit 
   s.tf.specular = tessera::ColorTF::constant(Color(0.2));
   s.tf.emission = tessera::ColorTF({0.5, 1.0}, {Color(0.0), Color(1.0)});
   s.integrator.shading = tessera::Shading::Hybrid;
-  s.rect_lights.push_back({Vec3(0.5, 1.8, 0.5), Vec3(0.5, 0.0, 0.5), 1.0, 1.0, Color(3.0)});
-  s.sphere_lights.push_back({Vec3(-1.0, 0.5, 0.0), 0.3, Color(4.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 1.8, 0.5), Vec3(0.5, 0.0, 0.5), 1.0, 1.0, Color(3.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(-1.0, 0.5, 0.0), 0.3, Color(4.0)});
   s.background.type = tessera::BackgroundType::Gradient;
   s.image.spp = 4;
 

@@ -31,8 +31,8 @@ tessera::SceneDesc lit_scene() {
   s.camera.position = Vec3(0.5, 0.5, -2.0);
   s.camera.look_at = Vec3(0.5, 0.5, 0.5);
   s.camera.fov_deg = 35.0;
-  s.rect_lights.push_back({Vec3(0.5, 2.0, 0.5), Vec3(0.5, 0.0, 0.5), 1.0, 1.0, Color(4.0)});
-  s.sphere_lights.push_back({Vec3(2.0, 0.5, 0.0), 0.3, Color(5.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 2.0, 0.5), Vec3(0.5, 0.0, 0.5), 1.0, 1.0, Color(4.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(2.0, 0.5, 0.0), 0.3, Color(5.0)});
   s.background.type = tessera::BackgroundType::Gradient;
   s.integrator.shading = tessera::Shading::Hybrid;
   s.image = {16, 16, 8, 0.0};
@@ -86,8 +86,7 @@ TEST_CASE("all-zero opacity: no free-flight lookups, the background exactly, alp
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, N, N, N);
   tessera::SceneDesc s = lit_scene();
   s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 0.0});
-  s.rect_lights.clear();
-  s.sphere_lights.clear();
+  s.lights.clear();
   s.background.type = tessera::BackgroundType::Constant;
   s.background.color = Color(0.25, 0.5, 0.75);
   for (const auto mode : {tessera::MajorantMode::Grid, tessera::MajorantMode::Global}) {
@@ -123,7 +122,7 @@ TEST_CASE("lights are transparent, one-sided emitters seen directly by the camer
   s.background.color = Color(0.1);
   s.image = {4, 4, 4, 0.0};
   // Facing the camera: radiance 2 + background 0.1 on every pixel (the rect fills the view)
-  s.rect_lights.push_back({Vec3(0.0), Vec3(0.0, 0.0, 1.0), 10.0, 10.0, Color(2.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.0), Vec3(0.0, 0.0, 1.0), 10.0, 10.0, Color(2.0)});
   {
     const tessera::PreparedScene ps = tessera::prepare(view, s);
     const tessera::Image img = tessera_test::render_film(ps).resolve();
@@ -131,7 +130,7 @@ TEST_CASE("lights are transparent, one-sided emitters seen directly by the camer
     CHECK(img.rgba[4 * 15 + 2] == Approx(2.1).epsilon(1e-6));
   }
   // Facing away: only the background
-  s.rect_lights[0].target = Vec3(0.0, 0.0, -1.0);
+  tessera::nth_light<tessera::RectLightDesc>(s.lights, 0).target = Vec3(0.0, 0.0, -1.0);
   {
     const tessera::PreparedScene ps = tessera::prepare(view, s);
     const tessera::Image img = tessera_test::render_film(ps).resolve();
@@ -188,7 +187,7 @@ TEST_CASE("prepare rejects invalid scenes naming the fault", "[render]") {
     CHECK_THROWS_WITH(tessera::prepare(view, s), Catch::Contains("parallel"));
   }
   SECTION("rect light size") {
-    s.rect_lights.push_back({Vec3(0.0), Vec3(0.0, 0.0, 1.0), 0.0, 1.0, Color(1.0)});
+    s.lights.push_back(tessera::RectLightDesc{Vec3(0.0), Vec3(0.0, 0.0, 1.0), 0.0, 1.0, Color(1.0)});
     CHECK_THROWS_WITH(tessera::prepare(view, s), Catch::Contains("rect light"));
   }
 }

@@ -245,8 +245,8 @@ TEST_CASE("ratio and delta tracking of shadow rays estimate the same transmittan
   s.camera.position = Vec3(0.5, 0.5, -2.5);
   s.camera.look_at = Vec3(0.5, 0.5, 0.5);
   s.camera.fov_deg = 25.0;
-  s.rect_lights.push_back({Vec3(0.5, 2.0, 0.5), Vec3(0.5, 0.0, 0.5), 1.0, 1.0, Color(4.0)});
-  s.sphere_lights.push_back({Vec3(-1.5, 0.5, 0.2), 0.3, Color(6.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 2.0, 0.5), Vec3(0.5, 0.0, 0.5), 1.0, 1.0, Color(4.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(-1.5, 0.5, 0.2), 0.3, Color(6.0)});
   s.background.color = Color(0.3);
   s.background.visible = false;  // camera sees only scattered light: more signal in the mean
   s.integrator.shading = tessera::Shading::Phase;
@@ -301,7 +301,7 @@ TEST_CASE("ratio tracking with roulette stays unbiased behind a thick absorber",
   s.camera.look_at = Vec3(0.5, 0.75, 0.5);
   s.camera.fov_deg = 9.0;
   // Small and just under the box: every shadow ray crosses the whole absorber.
-  s.rect_lights.push_back({Vec3(0.5, -0.01, 0.5), Vec3(0.5, 1.0, 0.5), 0.6, 0.6, Color(200.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, -0.01, 0.5), Vec3(0.5, 1.0, 0.5), 0.6, 0.6, Color(200.0)});
   s.background.color = Color(0.0);
   s.integrator.scattering = tessera::Scattering::Single;
   s.integrator.shading = tessera::Shading::Phase;

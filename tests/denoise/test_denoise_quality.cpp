@@ -47,7 +47,7 @@ tessera::SceneDesc scene(int spp, std::uint64_t seed) {
   s.camera.position = Vec3(1.9, -1.2, 1.4);
   s.camera.look_at = Vec3(0.5);
   s.camera.fov_deg = 35.0;
-  s.rect_lights.push_back({Vec3(0.5, -1.0, 2.0), Vec3(0.5), 0.8, 0.8, Color(12.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, -1.0, 2.0), Vec3(0.5), 0.8, 0.8, Color(12.0)});
   s.background.type = tessera::BackgroundType::Constant;
   s.background.color = Color(0.15, 0.15, 0.2);
   s.integrator.scattering = tessera::Scattering::Single;

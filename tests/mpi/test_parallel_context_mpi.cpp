@@ -64,8 +64,8 @@ tessera::SceneDesc scene_for(tessera::Scattering scattering, int threads) {
   s.camera.look_at = Vec3(1.1, 0.0, 0.4);
   s.camera.up = Vec3(0.0, 0.0, 1.0);
   s.camera.fov_deg = 45.0;
-  s.rect_lights.push_back({Vec3(0.5, 0.5, 2.5), Vec3(0.5, 0.5, 0.4), 1.0, 1.0, Color(5.0, 4.0, 3.0)});
-  s.sphere_lights.push_back({Vec3(-1.5, 0.5, 1.0), 0.3, Color(3.0, 3.0, 6.0)});
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 2.5), Vec3(0.5, 0.5, 0.4), 1.0, 1.0, Color(5.0, 4.0, 3.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(-1.5, 0.5, 1.0), 0.3, Color(3.0, 3.0, 6.0)});
   s.background.type = tessera::BackgroundType::Gradient;
   s.background.top = Color(0.4, 0.5, 0.8);
   s.background.middle = Color(0.3);

@@ -55,7 +55,7 @@ inline tessera::SceneDesc ball_scene() {
   s.camera.look_at = Vec3(0.75);
   s.camera.up = Vec3(0.0, 0.0, 1.0);
   s.camera.fov_deg = 35.0;
-  s.sphere_lights.push_back({Vec3(0.2, 2.5, 3.0), 0.3, tessera::Color(12.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(0.2, 2.5, 3.0), 0.3, tessera::Color(12.0)});
   s.background.color = tessera::Color(0.15);
   s.integrator.scattering = tessera::Scattering::Multiple;
   s.integrator.max_bounces = 16;

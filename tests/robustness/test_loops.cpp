@@ -103,21 +103,21 @@ TEST_CASE("lights far from the data are refused naming the light and key", "[rob
   const auto view = ball_view(v);
   SECTION("sphere light at [1e200, 3, 3]") {
     tessera::SceneDesc s = ball_scene();
-    s.sphere_lights[0].center = Vec3(1e200, 3.0, 3.0);
+    tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).center = Vec3(1e200, 3.0, 3.0);
     CHECK_THROWS_WITH(tessera::prepare(view, s), Contains("sphere light 0: position") && Contains("1e+200"));
   }
   SECTION("rect light target and size") {
     tessera::SceneDesc s = ball_scene();
-    s.rect_lights.push_back({Vec3(0.75, 0.75, 4.0), Vec3(0.75, 0.75, -1e200), 1.0, 1.0, Color(3.0)});
+    s.lights.push_back(tessera::RectLightDesc{Vec3(0.75, 0.75, 4.0), Vec3(0.75, 0.75, -1e200), 1.0, 1.0, Color(3.0)});
     CHECK_THROWS_WITH(tessera::prepare(view, s), Contains("rect light 0: target"));
-    s.rect_lights[0].target = Vec3(0.75);
-    s.rect_lights[0].width = 1e300;
+    tessera::nth_light<tessera::RectLightDesc>(s.lights, 0).target = Vec3(0.75);
+    tessera::nth_light<tessera::RectLightDesc>(s.lights, 0).width = 1e300;
     CHECK_THROWS_WITH(tessera::prepare(view, s), Contains("rect light 0: width") && Contains("1e+300"));
   }
   SECTION("just inside the bound: renders in bounded time") {
     tessera::SceneDesc s = ball_scene();
-    s.sphere_lights[0].center = Vec3(1e10, 3.0, 3.0);
-    s.sphere_lights[0].radius = 1e9;
+    tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).center = Vec3(1e10, 3.0, 3.0);
+    tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).radius = 1e9;
     const TimedRender r = timed_render(view, s);
     CHECK(r.seconds < kBoundSeconds);
     CHECK(film_finite(r.film));

@@ -31,7 +31,7 @@ TEST_CASE("messages name the real key: spacing, camera position", "[robustness][
   SECTION("spacing 1e308 is a spacing fault, not a sphere light's") {
     tessera::SceneDesc s = ball_scene();
     s.geometry.spacing = Vec3(1e308);
-    s.sphere_lights[0].center = Vec3(INFINITY);  // what an orbit against the bounds resolves to
+    tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).center = Vec3(INFINITY);  // what an orbit against the bounds resolves to
     try {
       (void)tessera::prepare(view, s);
       FAIL("prepare accepted spacing 1e308");
@@ -112,8 +112,8 @@ TEST_CASE("tiny lights: no sample is discarded", "[robustness][scene]") {
   const auto view = ball_view(v);
   for (const double size : {1e-9, 1e-100, 1e-200, 1e-300}) {
     tessera::SceneDesc s = ball_scene();
-    s.sphere_lights[0].radius = size;
-    s.rect_lights.push_back({Vec3(0.75, 0.75, 3.0), Vec3(0.75), size, size, Color(5.0)});
+    tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).radius = size;
+    s.lights.push_back(tessera::RectLightDesc{Vec3(0.75, 0.75, 3.0), Vec3(0.75), size, size, Color(5.0)});
     const TimedRender r = timed_render(view, s);
     INFO("light size " << size);
     CHECK(film_finite(r.film));

@@ -4,7 +4,11 @@
 #include <tessera/image.h>
 #include <tessera/math.h>
 
+#include <cstddef>
 #include <memory>
+#include <stdexcept>
+#include <string>
+#include <variant>
 #include <vector>
 
 namespace tessera {
@@ -25,6 +29,34 @@ struct SphereLightDesc {
   double radius = 1.0;
   Color radiance{1.0};
 };
+
+/// The light kinds, one alternative each: the one central list. The kernels' light set keeps
+/// this order (every rect light, then every sphere light, whatever the order of
+/// SceneDesc::lights), so images do not depend on how a config interleaves kinds. A new kind:
+/// its description here and its alternative below; its kernel file (core/src/, see
+/// area_lights.h); on the config side its parser case (docs/lights.md).
+using LightDesc = std::variant<RectLightDesc, SphereLightDesc>;
+
+/// How many lights of kind D `lights` holds.
+template <class D>
+std::size_t count_lights(const std::vector<LightDesc>& lights) {
+  std::size_t n = 0;
+  for (const LightDesc& l : lights) n += std::holds_alternative<D>(l) ? 1 : 0;
+  return n;
+}
+
+/// The n-th light of kind D in `lights` (counted in list order); throws std::out_of_range.
+template <class D>
+const D& nth_light(const std::vector<LightDesc>& lights, std::size_t n) {
+  std::size_t seen = 0;
+  for (const LightDesc& l : lights)
+    if (const D* d = std::get_if<D>(&l); d && seen++ == n) return *d;
+  throw std::out_of_range("light " + std::to_string(n) + " of its kind: the list holds " + std::to_string(seen));
+}
+template <class D>
+D& nth_light(std::vector<LightDesc>& lights, std::size_t n) {
+  return const_cast<D&>(nth_light<D>(static_cast<const std::vector<LightDesc>&>(lights), n));
+}
 
 enum class BackgroundType { Constant, Gradient, EnvMap };
 

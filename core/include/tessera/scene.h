@@ -53,8 +53,7 @@ struct SceneDesc {
   VolumeGeometry geometry;
   TransferFunction tf;
   CameraDesc camera;
-  std::vector<RectLightDesc> rect_lights;
-  std::vector<SphereLightDesc> sphere_lights;
+  std::vector<LightDesc> lights;  ///< area lights of every kind, at most 64 (prepare checks)
   BackgroundDesc background;
   IntegratorDesc integrator;
   ImageDesc image;
