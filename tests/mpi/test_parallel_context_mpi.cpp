@@ -100,7 +100,8 @@ bool holds(const tessera::FieldView& v, const std::vector<unsigned char>& expect
 bool same_pixels(const tessera::Film& a, const tessera::Film& b) {
   return a.width() == b.width() && a.height() == b.height() && a.has_aux() == b.has_aux() &&
          std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0 &&
-         std::memcmp(a.aux().data(), b.aux().data(), a.aux().size() * sizeof(tessera::AuxSums)) == 0;
+         (a.aux().empty() ||  // no auxiliary sums: data() may be null, which memcmp must not get
+          std::memcmp(a.aux().data(), b.aux().data(), a.aux().size() * sizeof(tessera::AuxSums)) == 0);
 }
 
 /// Every counter of kRenderCounters (summed over ranks, or the field's NaN count) equal.
