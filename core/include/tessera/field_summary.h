@@ -19,6 +19,7 @@
 #include <tessera/field_view.h>
 #include <tessera/integrator.h>
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -54,6 +55,27 @@ class FieldSummary {
   /// cell, values are combined in the field's (k, j, i) order, and counts are integer sums.
   /// The field must be valid (FieldView::validate) and must not change during the build.
   FieldSummary(const FieldView& field, int edge);
+
+  /// The parts of a summary that ranks combine in distributed mode: per global cell the
+  /// finite min (lo), max (hi) and flags (bit 0 NaN, 1 +Inf, 2 -Inf), the NaN vertex count and
+  /// the finite min / max. Combining the parts of blocks that tile the field (element-wise
+  /// min of lo, max of hi, or of flags, sum of nan, min of vmin, max of vmax: MPI_MIN,
+  /// MPI_MAX, MPI_BOR, MPI_SUM) gives exactly the parts of the whole field, in any order.
+  struct Parts {
+    std::int64_t cells[3] = {1, 1, 1};
+    std::vector<double> lo, hi;        ///< +Inf / -Inf for a cell with no finite vertex
+    std::vector<std::uint8_t> flags;
+    std::uint64_t nan = 0;
+    double vmin = INFINITY, vmax = -INFINITY;
+  };
+  /// The parts of one block: `block` holds the global vertices [offset, offset + block.dims)
+  /// of a field of `global_dims`; cells are the global field's (as majorant_edge of the global
+  /// field gives `edge`); cells the block does not touch are left empty.
+  static Parts partial(const FieldView& block, const std::int64_t offset[3],
+                       const std::int64_t global_dims[3], int edge);
+  /// The summary of combined parts (of the whole field); `layout` is recorded for matches().
+  static std::shared_ptr<const FieldSummary> from_parts(Parts&& parts, const FieldLayout& layout,
+                                                        int edge);
 
   /// make_shared of the constructor, as prepare() and its callers keep it.
   static std::shared_ptr<const FieldSummary> build(const FieldView& field, int edge);

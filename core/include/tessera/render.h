@@ -9,6 +9,7 @@
 /// The one pass over the field's values that prepare() needs (the FieldSummary: macrocell
 /// value ranges, NaN count, finite min/max) can be carried from one prepare to the next of
 /// the same, unchanged field: prepare(field, scene, reuse) and PreparedScene::summary().
+#include <tessera/brick_cache.h>
 #include <tessera/field_summary.h>
 #include <tessera/field_view.h>
 #include <tessera/film.h>
@@ -43,6 +44,7 @@ class PreparedScene {
 
  private:
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
+  friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   std::unique_ptr<PreparedSceneImpl> m_impl;
 };
 
@@ -79,6 +81,16 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene);
 /// The image is bit-identical to that of prepare(field, scene) when the guarantee holds.
 PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
                       std::shared_ptr<const FieldSummary> reuse);
+
+/// Distributed mode (brick_cache.h): prepares the scene over a field that this rank holds only
+/// a block of. `summary` (non-null) must be the whole field's summary with the edge
+/// majorant_edge() gives for the global dims (FieldSummary::from_parts of every rank's
+/// partial). Validation, bounds, majorants, tiles and culling are exactly those of
+/// prepare() over the whole field; the kernels read vertices through field.cache, so
+/// render_tiles() must run while a service thread serves that cache. Images are bit-identical
+/// to those of prepare() over the whole field.
+PreparedScene prepare(const PagedField& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> summary);
 
 /// Render the tiles with the given indices into `film` (which must be width x height), with
 /// TBB over tiles. Adds spp samples to each pixel, continuing each pixel's sample indices.

@@ -1,0 +1,164 @@
+#pragma once
+/// Data-distributed rendering, the core side: a field that no rank holds whole, read through
+/// bricks fetched on first touch into a bounded cache (a demand-paged field).
+///
+/// The global field of dims[0] x dims[1] x dims[2] vertices is cut into bricks of B^3
+/// vertices (B = 2^shift): brick (bx, by, bz) covers vertices [bx B, min((bx+1) B, dims)) along
+/// each axis. The cut depends only on the global dims and B, never on how ranks split the
+/// field. A resident brick lives in a slot of B^3 elements of the field's dtype, i fastest:
+/// vertex (i, j, k) of the brick's box is at element ((k - z0) B + (j - y0)) B + (i - x0),
+/// whatever the brick's clipped size (the rest of a slot at the far faces is unused).
+///
+/// Who does what:
+/// - The kernels (any number of worker threads) read vertices with PagedFieldView::load: the
+///   rank's own block straight from the caller's array, other vertices from their brick's slot.
+///   A brick that is not resident is asked for with BrickCache::acquire, which blocks the
+///   worker until the brick is there. No virtual call, lock or allocation on a hit.
+/// - One service thread (in situ: the thread that talks MPI) takes the wanted bricks, fills
+///   their slots (from other ranks, or in tests from a full array) and publishes them.
+/// - When all slots are taken, the cache is emptied as a whole, but only at a quiescent moment:
+///   every worker is either between tiles (enter_tile blocks while a flush is pending) or
+///   blocked in acquire. Kernels copy vertex values out at once and keep no slot pointer past
+///   a load, so no worker can read a slot that is being reused.
+///
+/// Images do not depend on any of this: a vertex read from a slot has the same bits as the
+/// same vertex read in place, so residency, eviction and fetch order change nothing.
+#include <tessera/field_view.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace tessera {
+
+/// The global brick cut of a field (see the file comment). Plain values.
+struct BrickGrid {
+  std::int64_t dims[3] = {0, 0, 0};  ///< global vertices
+  DType dtype = DType::Float32;
+  int shift = 5;                     ///< B = 2^shift vertices per brick edge
+  std::int64_t bricks[3] = {0, 0, 0};  ///< ceil(dims / B)
+
+  /// Throws std::invalid_argument when dims < 1 or shift outside [1, 10].
+  static BrickGrid make(const std::int64_t dims[3], DType dtype, int shift);
+  std::int64_t edge() const { return std::int64_t{1} << shift; }
+  std::int64_t brick_count() const { return bricks[0] * bricks[1] * bricks[2]; }
+  std::int64_t index(std::int64_t bx, std::int64_t by, std::int64_t bz) const {
+    return (bz * bricks[1] + by) * bricks[0] + bx;
+  }
+  /// Brick index of vertex (i, j, k) (inside the global dims).
+  std::int64_t brick_of(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return index(i >> shift, j >> shift, k >> shift);
+  }
+  /// The vertex box [lo, hi) of brick b.
+  void box(std::int64_t b, std::int64_t lo[3], std::int64_t hi[3]) const;
+  /// Bytes of one slot: B^3 elements.
+  std::size_t slot_bytes() const { return (std::size_t{1} << (3 * shift)) * dtype_size(dtype); }
+};
+
+/// Counters of one render's paging (for stats and benchmarks).
+struct BrickCacheStats {
+  std::uint64_t fetched = 0;     ///< bricks filled and published
+  std::uint64_t misses = 0;      ///< acquire() calls that had to wait
+  std::uint64_t flushes = 0;     ///< times the cache was emptied to make room
+  std::uint64_t peak_resident = 0;  ///< most bricks resident at once
+};
+
+class BrickCache {
+ public:
+  /// A cache of `capacity` slots (>= 1) over `grid`. Allocates the directory (one pointer and
+  /// one state byte per brick of the grid) and the capacity x slot_bytes() pool at once;
+  /// allocated_bytes() says how much. Throws std::invalid_argument for capacity < 1.
+  BrickCache(const BrickGrid& grid, std::size_t capacity);
+  ~BrickCache();
+  BrickCache(const BrickCache&) = delete;
+  BrickCache& operator=(const BrickCache&) = delete;
+
+  const BrickGrid& grid() const { return m_grid; }
+  std::size_t capacity() const { return m_capacity; }
+  /// Directory + state + slot pool, in bytes.
+  std::uint64_t allocated_bytes() const;
+  /// Bytes the cache would allocate for `grid` and `capacity` (for memory estimates).
+  static std::uint64_t bytes_for(const BrickGrid& grid, std::size_t capacity);
+
+  // ---- worker side: any thread, inside a render ----
+
+  /// The slot of brick b if resident, else null. Lock-free.
+  const unsigned char* find(std::int64_t b) const noexcept {
+    return m_dir[static_cast<std::size_t>(b)].load(std::memory_order_acquire);
+  }
+  /// The slot of brick b, waiting (blocked, counted as quiescent) until the service thread
+  /// has published it. After fail() it returns a slot of zeros at once (the render is then
+  /// discarded by its caller). Never throws, never allocates.
+  const unsigned char* acquire(std::int64_t b) noexcept;
+  /// Bracket every tile (or band) a worker renders. enter_tile blocks while a flush is
+  /// pending (returns at once after fail()).
+  void enter_tile() noexcept;
+  void leave_tile() noexcept;
+
+  // ---- service side: one thread ----
+
+  /// Waits up to `wait` for a worker to want a brick (or for a flush to become possible),
+  /// then appends every brick wanted and not yet taken to `out`, each once, oldest first.
+  void take_wanted(std::vector<std::int64_t>& out, std::chrono::microseconds wait);
+  /// A free slot for wanted brick b (not yet visible to workers), or null when every slot is
+  /// taken: then call try_flush() until it returns true, and reserve again.
+  unsigned char* reserve(std::int64_t b);
+  /// b's reserved slot is filled: makes it visible and wakes the workers waiting for it.
+  void publish(std::int64_t b);
+  /// Empties the cache (every resident brick) if no slot is reserved-but-unpublished and
+  /// every worker is quiescent; otherwise marks a flush pending (so enter_tile blocks) and
+  /// returns false. Wanted bricks stay wanted.
+  bool try_flush();
+  /// Ends the render in failure: wakes every waiting worker (acquire returns zeros from now
+  /// on) and records `why` (the first reason is kept).
+  void fail(const std::string& why);
+  bool failed() const { return m_failed.load(std::memory_order_acquire); }
+  std::string failure() const;
+  /// Empties the cache, clears fail() and the counters, for the next render.
+  void reset();
+
+  BrickCacheStats stats() const;
+
+ private:
+  struct State;
+  BrickGrid m_grid;
+  std::size_t m_capacity = 0;
+  std::unique_ptr<std::atomic<const unsigned char*>[]> m_dir;
+  std::atomic<bool> m_failed{false};
+  std::unique_ptr<State> m_state;  ///< mutex, condition variables, slot pool, queues, counters
+};
+
+/// What the kernels read in distributed mode: the rank's own block in place, other vertices
+/// through the cache. Trivially copyable; a part of the KernelScene.
+struct PagedFieldView {
+  DType dtype = DType::Float32;
+  std::int64_t dims[3] = {0, 0, 0};  ///< global vertices
+  FieldView local;                   ///< the rank's own block (data null when it has none)
+  std::int64_t lo[3] = {0, 0, 0};    ///< global vertex of local's (0, 0, 0)
+  std::int64_t hi[3] = {0, 0, 0};    ///< lo + local.dims
+  int shift = 5;
+  std::int64_t bricks[3] = {0, 0, 0};
+  BrickCache* cache = nullptr;
+
+  /// Vertex (i, j, k) of the global field (inside dims) as double, exactly as
+  /// TypedFieldView::load of the same vertex in a whole-field view gives it.
+  double load(std::int64_t i, std::int64_t j, std::int64_t k) const;
+};
+
+/// A field rendered in distributed mode, as handed to prepare(): the global geometry, the
+/// rank's own block and the cache that serves the rest.
+struct PagedField {
+  DType dtype = DType::Float32;
+  std::int64_t dims[3] = {0, 0, 0};  ///< global vertices
+  FieldView local;                   ///< own block, validated; may be empty (data null)
+  std::int64_t offset[3] = {0, 0, 0};  ///< global vertex of local's (0, 0, 0)
+  BrickCache* cache = nullptr;       ///< non-null, grid dims and dtype as above
+};
+
+}  // namespace tessera
