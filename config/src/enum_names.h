@@ -24,6 +24,10 @@ inline const EnumName<DType> kDTypeNames[] = {
     {dtype_name(DType::UInt8), DType::UInt8},     {dtype_name(DType::Int16), DType::Int16},
     {dtype_name(DType::UInt16), DType::UInt16},   {dtype_name(DType::Float32), DType::Float32},
     {dtype_name(DType::Float64), DType::Float64}};
+inline constexpr EnumName<Distribution> kDistributionNames[] = {
+    {"replicated", Distribution::Replicated},
+    {"distributed", Distribution::Distributed},
+    {"auto", Distribution::Auto}};
 inline constexpr EnumName<ByteOrder> kByteOrderNames[] = {{"little", ByteOrder::Little},
                                                           {"big", ByteOrder::Big}};
 inline constexpr EnumName<LightSpec::Type> kLightTypeNames[] = {{"rect", LightSpec::Type::Rect},

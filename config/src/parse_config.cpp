@@ -80,9 +80,9 @@ namespace detail {
 
 GlobalOptions parse_global(const Value& v) {
   const Map m = v.map("a mapping with keys output_dir, on_error, threads, render_final_step, "
-                      "max_failures, time_limit, memory_limit_mb");
+                      "max_failures, time_limit, memory_limit_mb, distribution");
   m.allow({"output_dir", "on_error", "threads", "render_final_step", "max_failures",
-           "time_limit", "memory_limit_mb"});
+           "time_limit", "memory_limit_mb", "distribution"});
   GlobalOptions g;
   if (const auto d = m.get("output_dir")) {
     g.output_dir = d->string();
@@ -101,6 +101,7 @@ GlobalOptions parse_global(const Value& v) {
                              Range::closed(0.0, GlobalOptions::kMaxTimeLimit));
   g.memory_limit_mb = m.integer_or("memory_limit_mb", g.memory_limit_mb, 0,
                                    GlobalOptions::kMaxMemoryLimitMb);
+  g.distribution = m.choice_or("distribution", g.distribution, kDistributionNames);
   return g;
 }
 

@@ -120,6 +120,7 @@ void write(YAML::Emitter& out, const GlobalOptions& g) {
   field(out, "max_failures", g.max_failures);
   field(out, "time_limit", g.time_limit);
   field(out, "memory_limit_mb", g.memory_limit_mb);
+  field(out, "distribution", name_of(detail::kDistributionNames, g.distribution));
   out << YAML::EndMap;
 }
 

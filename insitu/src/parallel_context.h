@@ -6,6 +6,8 @@
 /// rank) and parallel_context_mpi*.cpp (TESSERA_WITH_MPI). Every member is collective: all ranks
 /// of the communicator call it in the same order. Errors throw std::runtime_error; callers must
 /// first agree() on local failures so that no rank is left waiting in a collective.
+#include <tessera/brick_cache.h>
+#include <tessera/field_summary.h>
 #include <tessera/field_view.h>
 #include <tessera/film.h>
 #include <tessera/render.h>
@@ -13,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -65,6 +68,26 @@ class ParallelContext {
   /// shared-memory window) and returns a view of it, valid until the next assemble() or the
   /// destruction of the context. All ranks must pass the same dtype and global dims.
   virtual FieldView assemble(const FieldView& local, const GlobalPlacement& where) = 0;
+
+  /// Distributed mode (docs/mpi.md): the summary of the global field for macrocell edge `edge`
+  /// from every rank's partial summary of its own block, combined by reductions (bit-identical
+  /// to a summary of the whole field). Checks the boxes as assemble() does first.
+  virtual std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where,
+                                                        int edge) = 0;
+
+  /// Distributed mode: the field as this rank renders it without a replica: its own block read
+  /// in place, every other vertex fetched from its owners brick by brick (bricks of 2^shift
+  /// vertices) into a cache of `capacity` slots that the context owns (kept while the grid,
+  /// dtype, shift and capacity are unchanged). Checks the boxes as assemble() does. Kernels may
+  /// read the paged field only inside serve_while().
+  virtual PagedField distribute(const FieldView& local, const GlobalPlacement& where, int shift,
+                                std::size_t capacity) = 0;
+
+  /// Runs fn (e.g. a prepare() that reads the field) on another thread while this one serves
+  /// the other ranks' brick requests and fetches the bricks fn's kernels want, until fn has
+  /// returned on every rank. Collective. Rethrows fn's exception after that. With no
+  /// distribute() in effect (replicated mode) it just calls fn.
+  virtual void serve_while(const std::function<void()>& fn) = 0;
 
   /// Render every tile of `scene` across the ranks (tiles handed out dynamically) into `film`;
   /// afterwards rank 0's film holds the complete image, others hold only their tiles. `stats`

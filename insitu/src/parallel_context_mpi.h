@@ -24,11 +24,13 @@
 /// (MPI_THREAD_FUNNELED suffices). Passive-target RMA on rank 0's counter relies on the MPI
 /// library progressing it while rank 0 renders; within a node Open MPI's osc/sm does this in
 /// hardware (shared-memory atomics).
+#include "brick_service.h"
 #include "parallel_context.h"
 
 #include <mpi.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,10 @@ struct MpiRenderReport {
   /// rank 0, the film broadcast when continuing a progressive render. Summed over ranks: the
   /// bytes one render moves.
   std::uint64_t render_bytes = 0;
+  /// Distributed mode, since the last distribute(): this rank's brick traffic and cache
+  BrickTraffic bricks;
+  BrickCacheStats cache;
+  std::uint64_t cache_bytes = 0;  ///< the cache's allocation (directory, states, slot pool)
 };
 
 class MpiParallelContext final : public ParallelContext {
@@ -78,6 +84,11 @@ class MpiParallelContext final : public ParallelContext {
   void allgather(const void* mine, std::size_t bytes, void* all) override;
   void broadcast(std::string& text, int root) override;
   FieldView assemble(const FieldView& local, const GlobalPlacement& where) override;
+  std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where,
+                                                int edge) override;
+  PagedField distribute(const FieldView& local, const GlobalPlacement& where, int shift,
+                        std::size_t capacity) override;
+  void serve_while(const std::function<void()>& fn) override;
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override;
   /// This rank's bytes moved by the last assemble() + render() (see MpiRenderReport; sum
   /// over ranks for the total). Not collective.
@@ -95,7 +106,18 @@ class MpiParallelContext final : public ParallelContext {
   void connect_nodes(int ranks_per_node);
 
   // Field replica (parallel_context_mpi_replica.cpp)
-  struct RankBox;
+  /// What each rank tells the others before an assemble: its box, dtype and whether its view
+  /// is usable (all int64 so that one MPI_Allgather moves it).
+  struct RankBox {
+    std::int64_t offset[3];
+    std::int64_t dims[3];
+    std::int64_t global[3];
+    std::int64_t dtype;
+    std::int64_t view_ok;
+  };
+  /// Allgathers every rank's box and checks the decomposition (one dtype, one global grid,
+  /// disjoint boxes covering it): throws alike on every rank. In rank order.
+  std::vector<RankBox> check_boxes(const FieldView& local, const GlobalPlacement& where);
   void ensure_replica(std::uint64_t bytes);
   void free_replica();
   void exchange_boxes(const FieldView& local, const std::vector<RankBox>& boxes);
@@ -107,6 +129,12 @@ class MpiParallelContext final : public ParallelContext {
   /// `local`; returns the tiles this rank rendered. Ends in an agreement: throws on every
   /// rank alike if any rank failed or passed the deadline.
   std::vector<int> render_grabbed_tiles(const PreparedScene& scene, Film& film, RenderStats& local);
+
+  // Distributed mode (parallel_context_mpi_paged.cpp)
+  /// Runs fn on another thread while this thread serves and fetches bricks (no drain).
+  void serve_during(const std::function<void()>& fn);
+  /// Ends distributed mode (assemble() was called): frees the service and the cache.
+  void end_distribution();
 
   // Film (parallel_context_mpi_film.cpp)
   /// Checks that the ranks prepared the same image and gives every rank rank 0's starting
@@ -135,6 +163,13 @@ class MpiParallelContext final : public ParallelContext {
 
   MPI_Win m_counter_win = MPI_WIN_NULL;
   std::int64_t* m_counter = nullptr; ///< rank 0: the next tile to hand out
+
+  // Distributed mode: this rank's view and every rank's block, the cache and its server;
+  // m_service is non-null between distribute() and the next assemble()
+  FieldView m_paged_local;
+  std::vector<BlockBox> m_blocks;
+  std::unique_ptr<BrickCache> m_cache;
+  std::unique_ptr<BrickService> m_service;
 
   MpiRenderReport m_report;
 };

@@ -51,15 +51,6 @@ void copy_box(const FieldView& v, void* replica, const std::int64_t global[3], c
 
 }  // namespace
 
-/// What each rank tells the others before an assemble: its box, dtype and whether its view
-/// is usable (all int64 so that one MPI_Allgather moves it).
-struct MpiParallelContext::RankBox {
-  std::int64_t offset[3];
-  std::int64_t dims[3];
-  std::int64_t global[3];
-  std::int64_t dtype;
-  std::int64_t view_ok;
-};
 
 void MpiParallelContext::free_replica() {
   if (m_replica_win == MPI_WIN_NULL) return;
@@ -121,20 +112,8 @@ void MpiParallelContext::exchange_boxes(const FieldView& local, const std::vecto
   if (request != MPI_REQUEST_NULL) check(MPI_Wait(&request, MPI_STATUS_IGNORE), "MPI_Wait");
 }
 
-FieldView MpiParallelContext::assemble(const FieldView& local, const GlobalPlacement& where) {
-  m_report.assemble_bytes = 0;
-  if (m_size == 1) {
-    local.validate("field");
-    for (int a = 0; a < 3; ++a)
-      if (where.offset[a] != 0 || local.dims[a] != where.global_dims[a])
-        throw std::runtime_error("one rank must hold the whole grid: its real vertices " +
-                                 box_text(where.offset, local.dims) + " do not cover global dims " +
-                                 std::to_string(where.global_dims[0]) + "x" +
-                                 std::to_string(where.global_dims[1]) + "x" +
-                                 std::to_string(where.global_dims[2]));
-    return local;  // zero copy
-  }
-
+std::vector<MpiParallelContext::RankBox> MpiParallelContext::check_boxes(const FieldView& local,
+                                                                          const GlobalPlacement& where) {
   // Everyone learns everyone's box; the checks below then fail alike on every rank.
   RankBox mine{};
   std::string view_error;
@@ -193,6 +172,28 @@ FieldView MpiParallelContext::assemble(const FieldView& local, const GlobalPlace
   if (covered != total)
     throw std::runtime_error("the ranks' real vertices cover " + std::to_string(covered) + " of the " +
                              std::to_string(total) + " global vertices");
+  return boxes;
+
+}
+
+FieldView MpiParallelContext::assemble(const FieldView& local, const GlobalPlacement& where) {
+  m_report.assemble_bytes = 0;
+  if (m_size == 1) {
+    local.validate("field");
+    for (int a = 0; a < 3; ++a)
+      if (where.offset[a] != 0 || local.dims[a] != where.global_dims[a])
+        throw std::runtime_error("one rank must hold the whole grid: its real vertices " +
+                                 box_text(where.offset, local.dims) + " do not cover global dims " +
+                                 std::to_string(where.global_dims[0]) + "x" +
+                                 std::to_string(where.global_dims[1]) + "x" +
+                                 std::to_string(where.global_dims[2]));
+    return local;  // zero copy
+  }
+
+  end_distribution();
+  const std::vector<RankBox> boxes = check_boxes(local, where);
+  const RankBox& first = boxes[0];
+  const std::int64_t total = first.global[0] * first.global[1] * first.global[2];
 
   // Nobody on this node may still be reading the previous replica while it is overwritten.
   ensure_replica(static_cast<std::uint64_t>(total) * dtype_size(local.dtype));

@@ -107,7 +107,10 @@ std::vector<int> MpiParallelContext::render_grabbed_tiles(const PreparedScene& s
       ++grabs;
       try {
         const std::span<const int> grabbed = std::span<const int>(mine).subspan(first);
-        arena.execute([&] { render_tiles(scene, grabbed, film, local); });
+        const auto run = [&] { arena.execute([&] { render_tiles(scene, grabbed, film, local); }); };
+        // Distributed mode: the kernels run on another thread while this one serves bricks
+        if (m_service) serve_during(run);
+        else run();
         tiles_done += static_cast<std::int64_t>(grabbed.size());
       } catch (const DeadlineExceeded& e) {
         timed_out = true;
@@ -120,6 +123,15 @@ std::vector<int> MpiParallelContext::render_grabbed_tiles(const PreparedScene& s
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = process_cpu_seconds();
   grab_and_render();  // MPI calls only from this thread (MPI_THREAD_FUNNELED)
+  // Distributed mode: serve the other ranks until every rank has rendered its last tile
+  if (m_service) {
+    try {
+      m_service->drain();
+    } catch (const std::exception& e) {
+      if (error.empty()) error = "rank " + std::to_string(m_rank) + ": " + e.what();
+    }
+    if (m_cache->failed() && error.empty()) error = "rank " + std::to_string(m_rank) + ": " + m_cache->failure();
+  }
   m_report.render_cpu_seconds = process_cpu_seconds() - cpu0;
   m_report.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   m_report.tiles = static_cast<int>(mine.size());

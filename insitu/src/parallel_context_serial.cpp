@@ -35,6 +35,17 @@ class SerialContext final : public ParallelContext {
     return local;
   }
 
+  std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where,
+                                                int edge) override {
+    assemble(local, where);
+    return FieldSummary::build(local, edge);
+  }
+  PagedField distribute(const FieldView&, const GlobalPlacement&, int, std::size_t) override {
+    // The adapter renders one rank in replicated mode: its block is the whole field
+    throw std::logic_error("distributed mode needs more than one rank");
+  }
+  void serve_while(const std::function<void()>& fn) override { fn(); }
+
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override {
     tessera::render(scene, film, stats);
   }

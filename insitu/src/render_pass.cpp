@@ -2,6 +2,7 @@
 
 #include "error_policy.h"
 #include "field_binding.h"
+#include "field_plan.h"
 #include "outputs.h"
 
 #include <tessera/config/build_scene.h>
@@ -103,14 +104,29 @@ class Pass {
       if (!(range.first <= range.second)) range = {0.0, 0.0};  // no finite value anywhere
     }
 
-    // Memory: the render's own allocations (replica, film, images, envmap), estimated before
-    // any of them is made; after the `when` decision, so a render that does not fire is not
-    // refused
-    if (!phase(TESSERA_ERROR_RENDER, [&] { check_memory(); })) return std::move(m_out);
-
-    // Assemble the global field (zero copy on one rank), once per consecutive use
+    // Memory and distribution: the render's own allocations (replica or brick cache, film,
+    // images, envmap), estimated before any of them is made; after the `when` decision, so a
+    // render that does not fire is not refused. `auto` is decided on every rank, then agreed.
     if (!phase(TESSERA_ERROR_RENDER, [&] {
-          if (m_call.assembled_key != m_spec.field) {
+          m_plan = plan_field(m_cfg, m_spec, m_binding, m_ctx.size(), m_ctx.ranks_on_node(), root);
+        }))
+      return std::move(m_out);
+    if (m_cfg.global.distribution == config::Distribution::Auto && m_ctx.size() > 1)
+      m_plan.distributed = m_ctx.range(0.0, m_plan.distributed ? 1.0 : 0.0).second > 0.0;
+    if (m_plan.distributed && !phase(TESSERA_ERROR_RENDER, [&] { plan_distributed(m_plan, m_binding); }))
+      return std::move(m_out);
+    if (root && m_ctx.size() > 1 && m_render.logged_mode != (m_plan.distributed ? 1 : 0)) {
+      m_render.logged_mode = m_plan.distributed ? 1 : 0;
+      if (!quiet) log_line("render '" + m_spec.name + "': " + describe_plan(m_plan, m_cfg.global.distribution));
+    }
+
+    // The global field: assembled once per consecutive use (zero copy on one rank), or in
+    // distributed mode this rank's block and a cache for the other ranks' bricks
+    if (!phase(TESSERA_ERROR_RENDER, [&] {
+          if (m_plan.distributed) {
+            m_call.assembled_key.reset();  // distribute() frees the replica
+            m_paged = m_ctx.distribute(m_binding.local, m_binding.placement, m_plan.shift, m_plan.capacity);
+          } else if (m_call.assembled_key != m_spec.field) {
             m_call.assembled_key.reset();
             m_call.assembled = m_ctx.assemble(m_binding.local, m_binding.placement);
             m_call.assembled_key = m_spec.field;
@@ -127,11 +143,11 @@ class Pass {
           scene.options = config::build_render_options(m_spec, m_cfg.global);
           scene.options.frame = static_cast<std::uint64_t>(m_call.step);
           scene.options.deadline = m_deadline;
-          prepared = prepare_scene(scene);
           if (m_spec.output.cinema)
             views = cinema_views(*m_spec.output.cinema, scene.camera, m_binding.global_bounds);
         }))
       return std::move(m_out);
+    if (!phase(TESSERA_ERROR_RENDER, [&] { prepared = prepare_scene(scene); })) return std::move(m_out);
 
     // The render's own camera
     Film film;
@@ -205,55 +221,6 @@ class Pass {
     throw std::runtime_error(buf);
   }
 
-  /// tessera.memory_limit_mb against the estimate of this render's allocations on this rank
-  /// (memory_estimate.h, plus this rank's share of the node's field replica under MPI).
-  /// Throws naming the estimate, its parts and the limit.
-  void check_memory() const {
-    const bool root = m_ctx.rank() == 0;
-    const int node_ranks = std::max(1, m_ctx.ranks_on_node());
-    const RenderOptions options = config::build_render_options(m_spec, m_cfg.global);
-    RenderFootprint f;
-    f.width = m_spec.image.width;
-    f.height = m_spec.image.height;
-    f.tile = options.tile;
-    f.threads = options.threads > 0 ? options.threads
-                                    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / node_ranks);
-    f.variance = m_spec.output.variance;
-    f.samples = m_spec.output.samples;
-    f.denoise = m_spec.image.denoise;
-    f.exr = m_spec.output.has_format(config::ImageFormat::Exr);
-    f.png = m_spec.output.has_format(config::ImageFormat::Png);
-    f.writes = root;
-    f.keeps_last_image = root;
-    if (m_spec.output.cinema)
-      f.views = static_cast<int>(m_spec.output.cinema->azimuths.size() * m_spec.output.cinema->elevations.size());
-    FieldView global;  // dims only: what majorant_edge reads
-    std::uint64_t vertices = 1;
-    for (int a = 0; a < 3; ++a) {
-      f.field_dims[a] = global.dims[a] = m_binding.placement.global_dims[a];
-      vertices *= static_cast<std::uint64_t>(std::max<std::int64_t>(1, global.dims[a]));
-    }
-    f.macrocell_edge = majorant_edge(global, m_spec.integrator.desc);
-    if (m_spec.background.type == BackgroundType::EnvMap) {
-      const auto [w, h] = read_exr_size(m_spec.background.file);  // the header only
-      f.envmap_width = w;
-      f.envmap_height = h;
-    }
-    MemoryEstimate estimate = estimate_render_memory(f);
-    if (m_ctx.size() > 1)
-      estimate.add("field replica (this rank's share of its node's)",
-                   vertices * dtype_size(m_binding.local.dtype) / static_cast<std::uint64_t>(node_ranks));
-
-    const std::int64_t mb = m_cfg.global.memory_limit_mb;
-    const std::uint64_t limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(node_ranks);
-    if (estimate.total() <= limit) return;
-    const std::string limit_text =
-        mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
-               : "the default tessera.memory_limit_mb (half of the machine's " + format_bytes(physical_memory_bytes()) +
-                     " over " + std::to_string(node_ranks) + " rank(s) on this node: " + format_bytes(limit) + ")";
-    throw std::runtime_error("needs an estimated " + estimate.describe() + " on this rank, more than " + limit_text);
-  }
-
   std::pair<double, double> cached_range() {
     for (const auto& [key, range] : m_call.ranges)
       if (key == m_spec.field) return range;
@@ -282,7 +249,18 @@ class Pass {
     const auto t0 = Clock::now();
     PreparedScene prepared;
     try {
-      prepared = prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));
+      if (m_plan.distributed) {
+        // The global summary from every rank's block (collective), unless one was kept; the
+        // adaptive preview in prepare reads the field, so it runs while the ranks serve bricks
+        FieldView global = m_binding.local;
+        for (int a = 0; a < 3; ++a) global.dims[a] = m_binding.placement.global_dims[a];
+        const int edge = majorant_edge(global, scene.integrator);
+        std::shared_ptr<const FieldSummary> summary = entry.find(edge);
+        if (!summary) summary = m_ctx.summarize(m_binding.local, m_binding.placement, edge);
+        m_ctx.serve_while([&] { prepared = prepare(m_paged, scene, summary); });
+      } else {
+        prepared = prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));
+      }
     } catch (const DeadlineExceeded& e) {  // the adaptive preview ran past the time limit
       time_limit_passed(e);
     }
@@ -394,6 +372,8 @@ class Pass {
   CallData& m_call;
   SummaryCache& m_summaries;
   FieldBinding m_binding;
+  FieldPlan m_plan;        ///< replicated or distributed, and the cache's size
+  PagedField m_paged;      ///< distributed mode: this rank's block and the brick cache
   std::string m_field_name;  ///< the simulation's name of the bound field
   PassOutcome m_out;
   Clock::time_point m_start;  ///< when this render began (its time limit counts from here)

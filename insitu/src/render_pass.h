@@ -1,6 +1,7 @@
 #pragma once
 /// One render of one execute call, through its phases:
-///   bind (descriptors -> FieldView) -> range (auto range / `when` maximum) -> assemble
+///   bind (descriptors -> FieldView) -> range (auto range / `when` maximum) -> memory and
+///   distribution (replicated or distributed, docs/mpi.md) -> assemble or distribute
 ///   (ParallelContext) -> scene + prepare -> render (ParallelContext) -> write (rank 0)
 ///   [-> Cinema: prepare, render, write per camera -> data.csv].
 /// The one pass over a field's values (its FieldSummary: majorant ranges, finite min/max) is
@@ -35,6 +36,7 @@ struct RenderState {
   Trigger trigger;
   std::optional<Image> last_image;          ///< rank 0: the last image rendered
   std::unique_ptr<CinemaDatabase> cinema;   ///< rank 0, created at first use
+  int logged_mode = -1;                     ///< the field mode last logged (0 replicated, 1 distributed)
 };
 
 /// What one execute call derives from its descriptors, shared by its renders. Everything is

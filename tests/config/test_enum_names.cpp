@@ -56,6 +56,8 @@ void check_round_trip(const std::string& block, const std::string& key, const Ta
 
 TEST_CASE("every enum name round-trips through the parser and to_yaml", "[config][enum_names]") {
   check_round_trip("tessera", "on_error", cfg::kOnErrorNames, [](const Config& c) { return c.global.on_error; });
+  check_round_trip("tessera", "distribution", cfg::kDistributionNames,
+                   [](const Config& c) { return c.global.distribution; });
   const auto integrator = [](const Config& c) -> const IntegratorSpec& { return c.renders[0].integrator; };
   check_round_trip("integrator", "scattering", cfg::kScatteringNames,
                    [&](const Config& c) { return integrator(c).desc.scattering; });

@@ -19,6 +19,9 @@ namespace tessera::config {
 
 enum class OnError { Warn, Disable, Abort };
 enum class ByteOrder { Little, Big };
+/// How MPI ranks share the field (docs/mpi.md): a replica per node, each rank's own block
+/// with other blocks' bricks fetched on demand, or chosen by the documented rule.
+enum class Distribution { Replicated, Distributed, Auto };
 
 /// `tessera:` global options.
 struct GlobalOptions {
@@ -36,6 +39,8 @@ struct GlobalOptions {
   /// envmap), in [0, kMaxMemoryLimitMb]; 0 = the documented default derived from the
   /// machine's memory (docs/insitu.md, "Limits and failure").
   std::int64_t memory_limit_mb = 0;
+  /// Adapter under MPI: replicated | distributed | auto (docs/mpi.md, "Distributed mode").
+  Distribution distribution = Distribution::Auto;
 
   static constexpr double kMaxTimeLimit = 31536000.0;            ///< one year, in seconds
   static constexpr std::int64_t kMaxMemoryLimitMb = std::int64_t(1) << 40;

@@ -1,0 +1,194 @@
+// Replicated against distributed mode (docs/mpi.md): per rank count, render time, bytes moved
+// per render, the field memory each rank holds (replica share or cache + directory) and the
+// process's peak resident memory. Run one mode per process, so that peak memory is the mode's
+// own. Not a test: rank 0 prints the figures and appends one CSV row.
+//
+//   mpirun -n P distributed_bench --mode replicated|distributed [--csv FILE] [--grid N]
+//          [--image W H] [--spp S] [--reps R] [--threads T] [--ranks-per-node K] [--multiple]
+//
+// Defaults: distributed_bench.csv, 96^3 float32, 128x128, 8 spp, 2 reps, 1 thread per rank,
+// single scattering. The cache is sized as the adapter sizes it without a memory limit: 40% of
+// the global field (field_plan.h). scripts/run_distributed_bench.sh runs the sweep.
+#include "field_plan.h"
+#include "parallel_context_mpi.h"
+
+#include <tessera/render.h>
+
+#include <mpi.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+using tessera::Color;
+using tessera::Vec3;
+using tessera::insitu::MpiParallelContext;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Args {
+  std::string csv = "distributed_bench.csv", mode = "distributed";
+  int grid = 96, width = 128, height = 128, spp = 8, reps = 2, threads = 1, ranks_per_node = 0;
+  bool multiple = false;
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    const auto next = [&] { return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s needs a value\n", s.c_str()), std::exit(2), ""); };
+    if (s == "--csv") a.csv = next();
+    else if (s == "--mode") a.mode = next();
+    else if (s == "--grid") a.grid = std::atoi(next());
+    else if (s == "--image") { a.width = std::atoi(next()); a.height = std::atoi(next()); }
+    else if (s == "--spp") a.spp = std::atoi(next());
+    else if (s == "--reps") a.reps = std::atoi(next());
+    else if (s == "--threads") a.threads = std::atoi(next());
+    else if (s == "--ranks-per-node") a.ranks_per_node = std::atoi(next());
+    else if (s == "--multiple") a.multiple = true;
+    else { std::fprintf(stderr, "unknown argument %s\n", s.c_str()); std::exit(2); }
+  }
+  if (a.mode != "replicated" && a.mode != "distributed") { std::fprintf(stderr, "--mode replicated|distributed\n"); std::exit(2); }
+  return a;
+}
+
+/// The heat miniapp's look: warm blobs on 300 K with a faint haze everywhere (so every brick
+/// is needed), world size 1.
+double temperature(int n, std::int64_t i, std::int64_t j, std::int64_t k) {
+  const double x = i / (n - 1.0), y = j / (n - 1.0), z = k / (n - 1.0);
+  const auto blob = [&](double cx, double cy, double cz, double r) {
+    return std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy) + (z - cz) * (z - cz)) / (r * r));
+  };
+  return 300.0 + 100.0 * std::min(1.0, blob(0.4, 0.45, 0.55, 0.22) + 0.8 * blob(0.65, 0.6, 0.35, 0.15));
+}
+
+tessera::SceneDesc make_scene(const Args& a) {
+  tessera::SceneDesc s;
+  s.geometry.spacing = Vec3(1.0 / (a.grid - 1));
+  s.tf.lo = 300.0;
+  s.tf.hi = 400.0;
+  s.tf.density_scale = 70.0;
+  s.tf.opacity = tessera::ScalarTF({0.0, 0.08, 0.45, 1.0}, {0.004, 0.004, 0.25, 1.0});
+  s.tf.diffuse = tessera::ColorTF({0.0, 1.0}, {Color(0.25, 0.45, 0.95), Color(1.0, 0.85, 0.55)});
+  s.camera.position = Vec3(2.2, -1.3, 1.3);
+  s.camera.look_at = Vec3(0.5, 0.5, 0.5);
+  s.camera.up = Vec3(0.0, 0.0, 1.0);
+  s.camera.fov_deg = 40.0;
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 3.0), Vec3(0.5, 0.5, 0.5), 1.2, 1.2, Color(8.0)});
+  s.background.color = Color(0.2, 0.2, 0.25);
+  s.integrator.scattering = a.multiple ? tessera::Scattering::Multiple : tessera::Scattering::Single;
+  s.image = {a.width, a.height, a.spp, 0.0};
+  s.options.tile = 16;
+  s.options.threads = a.threads;
+  return s;
+}
+
+double peak_rss_bytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) * 1024.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const Args a = parse(argc, argv);
+  const bool distributed = a.mode == "distributed" && size > 1;
+  {
+    MpiParallelContext ctx(MPI_COMM_WORLD, a.ranks_per_node);
+    // This rank's slab along k, C order with one ghost layer per side (as a simulation holds it)
+    const std::int64_t n = a.grid, base = n / size, extra = n % size;
+    const std::int64_t nz = base + (rank < extra ? 1 : 0), z0 = rank * base + std::min<std::int64_t>(rank, extra);
+    const std::int64_t full[3] = {n + 2, n + 2, nz + 2};
+    std::vector<float> local(static_cast<std::size_t>(full[0] * full[1] * full[2]), 0.0f);
+    for (std::int64_t k = 0; k < nz; ++k)
+      for (std::int64_t j = 0; j < n; ++j)
+        for (std::int64_t i = 0; i < n; ++i)
+          local[static_cast<std::size_t>(((k + 1) * full[1] + j + 1) * full[0] + i + 1)] =
+              static_cast<float>(temperature(a.grid, i, j, z0 + k));
+    const std::int64_t strides[3] = {4, 4 * full[0], 4 * full[0] * full[1]}, one[3] = {1, 1, 1};
+    const tessera::FieldView view =
+        tessera::FieldView::with_ghosts(local.data(), tessera::DType::Float32, full, strides, one, one);
+    const tessera::insitu::GlobalPlacement where{{n, n, n}, {0, 0, z0}};
+    const tessera::SceneDesc scene = make_scene(a);
+    const double field_bytes = 4.0 * static_cast<double>(n * n * n);
+    const int shift = tessera::insitu::brick_shift(where.global_dims);
+    const tessera::BrickGrid grid = tessera::BrickGrid::make(where.global_dims, tessera::DType::Float32, shift);
+    const std::size_t capacity = std::max<std::size_t>(
+        1, static_cast<std::size_t>(tessera::insitu::kCacheFieldFraction * field_bytes / static_cast<double>(grid.slot_bytes())));
+
+    double best_render = 1e300, best_total = 1e300, moved = 0.0, held = 0.0;
+    double fetched = 0.0, flushes = 0.0;
+    for (int rep = 0; rep < a.reps; ++rep) {
+      MPI_Barrier(MPI_COMM_WORLD);
+      const auto t0 = Clock::now();
+      tessera::PreparedScene prepared;
+      double mine_held = 0.0;
+      if (distributed) {
+        const tessera::PagedField paged = ctx.distribute(view, where, shift, capacity);
+        tessera::FieldView dims_only;
+        for (int q = 0; q < 3; ++q) dims_only.dims[q] = n;
+        const auto summary = ctx.summarize(view, where, tessera::majorant_edge(dims_only, scene.integrator));
+        ctx.serve_while([&] { prepared = tessera::prepare(paged, scene, summary); });
+        mine_held = static_cast<double>(ctx.report().cache_bytes);
+      } else {
+        prepared = tessera::prepare(ctx.assemble(view, where), scene);
+        mine_held = static_cast<double>(ctx.replica_bytes()) / ctx.node_size();
+      }
+      tessera::Film film(a.width, a.height);
+      tessera::RenderStats stats;
+      const auto t1 = Clock::now();
+      ctx.render(prepared, film, stats);
+      const auto t2 = Clock::now();
+      const auto& r = ctx.report();
+      const double mine[6] = {std::chrono::duration<double>(t2 - t1).count(),
+                              std::chrono::duration<double>(t2 - t0).count(),
+                              static_cast<double>(r.assemble_bytes + r.render_bytes + r.bricks.bytes_received + 16 * r.bricks.requests_sent),
+                              static_cast<double>(r.cache.fetched), static_cast<double>(r.cache.flushes), mine_held};
+      double mx[6], sum[6];
+      MPI_Reduce(mine, mx, 6, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+      MPI_Reduce(mine, sum, 6, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+      best_render = std::min(best_render, mx[0]);
+      best_total = std::min(best_total, mx[1]);
+      moved = sum[2];
+      fetched = sum[3];
+      flushes = sum[4];
+      held = mx[5];
+    }
+    double rss = peak_rss_bytes(), rss_max = 0.0;
+    MPI_Reduce(&rss, &rss_max, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    if (rank == 0) {
+      std::printf("distributed_bench: %s, %d rank(s), %d node(s), grid %d^3 (%.1f MB), %dx%d %d spp, %s scattering: "
+                  "render %.3f s (prepare+render %.3f s), moved %.2f MB/render, field memory/rank %.2f MB "
+                  "(%.0f%% of the field), peak RSS/rank %.1f MB, bricks fetched %.0f, flushes %.0f\n",
+                  a.mode.c_str(), size, ctx.node_count(), a.grid, field_bytes / 1e6, a.width, a.height, a.spp,
+                  a.multiple ? "multiple" : "single", best_render, best_total, moved / 1e6, held / 1e6,
+                  100.0 * held / field_bytes, rss_max / 1e6, fetched, flushes);
+      const bool fresh = !std::filesystem::exists(a.csv);
+      std::ofstream out(a.csv, std::ios::app);
+      if (fresh)
+        out << "mode,ranks,nodes,grid,field_bytes,image,spp,scattering,threads,render_s,prepare_render_s,bytes_moved,"
+               "field_bytes_per_rank,peak_rss_per_rank,bricks_fetched,flushes\n";
+      out << a.mode << "," << size << "," << ctx.node_count() << "," << a.grid << "," << field_bytes << "," << a.width
+          << "x" << a.height << "," << a.spp << "," << (a.multiple ? "multiple" : "single") << "," << a.threads << ","
+          << best_render << "," << best_total << "," << moved << "," << held << "," << rss_max << "," << fetched << ","
+          << flushes << "\n";
+    }
+  }
+  MPI_Finalize();
+  return 0;
+}

@@ -1,0 +1,100 @@
+#pragma once
+/// BrickService: the MPI side of the demand-paged field (distributed mode, docs/mpi.md). One
+/// per rank, driven by the one thread that makes MPI calls while worker threads render:
+///
+/// - it serves: another rank's request for brick b is answered with this rank's part of b,
+///   sent straight from the simulation's array (a derived datatype over its byte strides, no
+///   staging copy);
+/// - it fetches: bricks this rank's workers wanted (BrickCache::take_wanted) get a slot; the
+///   parts that other ranks own are received straight into the slot (a subarray datatype),
+///   the part this rank owns is copied from its own view, then the brick is published;
+/// - when the cache is full it empties it at the next quiescent moment (BrickCache::try_flush).
+///
+/// Messages: a request is two int64 {brick, fetch id} on kTagRequest; the reply from each
+/// owner comes on kTagReply + fetch id, which the requester posted a receive for before it
+/// sent the request. At most kMaxInFlight fetches are in flight per rank.
+///
+/// Ending (the NBX pattern): when a rank's own work is done and none of its fetches is in
+/// flight it enters MPI_Ibarrier and keeps serving until the barrier completes, i.e. until no
+/// rank can ask anything any more; then its sends complete. No rank waits for a rank that has
+/// stopped serving.
+#include <tessera/brick_cache.h>
+#include <tessera/field_view.h>
+
+#include <mpi.h>
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+namespace tessera::insitu {
+
+/// A rank's block in the global grid: vertices [offset, offset + dims).
+struct BlockBox {
+  std::int64_t offset[3];
+  std::int64_t dims[3];
+};
+
+/// Traffic of one BrickService (this rank), for reports and benchmarks.
+struct BrickTraffic {
+  std::uint64_t requests_sent = 0;     ///< request messages to owners
+  std::uint64_t requests_served = 0;   ///< requests answered
+  std::uint64_t bytes_received = 0;    ///< field bytes received into slots
+  std::uint64_t bytes_sent = 0;        ///< field bytes sent to other ranks
+  std::uint64_t bytes_copied = 0;      ///< own-block bytes copied into slots
+};
+
+class BrickService {
+ public:
+  static constexpr int kTagRequest = 7001;
+  static constexpr int kTagReply = 8000;
+  static constexpr int kMaxInFlight = 64;
+
+  /// `boxes`: every rank's block, in rank order (already checked: disjoint, covering the grid);
+  /// `local`: this rank's view of its block. Holds references to all four.
+  BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes, const FieldView& local,
+               BrickCache& cache);
+  ~BrickService();
+  BrickService(const BrickService&) = delete;
+  BrickService& operator=(const BrickService&) = delete;
+
+  /// One round: serve every pending request, start fetches for wanted bricks (waiting up to
+  /// `wait` for a worker to want one when nothing else is to do), complete finished fetches
+  /// and sends. Throws std::runtime_error on an MPI error or a malformed request.
+  void progress(std::chrono::microseconds wait);
+  /// No fetch in flight and none waiting for a slot or a fetch id.
+  bool idle() const { return m_pending.empty() && m_in_flight == 0; }
+  /// This rank's work is done: serves the others until every rank is done (see above).
+  /// Collective. Fetches still pending are abandoned (the cache has failed) only on error.
+  void drain();
+
+  const BrickTraffic& traffic() const { return m_traffic; }
+
+ private:
+  struct Fetch {
+    std::int64_t brick = -1;
+    unsigned char* slot = nullptr;
+    std::int64_t message[2] = {0, 0};      ///< {brick, id}, the request sent to each owner
+    std::vector<MPI_Request> requests;     ///< receives from owners, then request sends
+  };
+  void serve_requests();
+  void serve(int source, const std::int64_t message[2]);
+  bool start_fetch(std::int64_t brick);
+  void complete_fetches();
+  void complete_sends();
+
+  MPI_Comm m_comm;
+  int m_rank;
+  const std::vector<BlockBox>& m_boxes;
+  const FieldView& m_local;
+  BrickCache& m_cache;
+  std::vector<Fetch> m_fetches;           ///< kMaxInFlight, by id; brick -1 = free
+  int m_in_flight = 0;
+  std::deque<std::int64_t> m_pending;     ///< taken from the cache, not yet started
+  std::vector<std::int64_t> m_taken;      ///< scratch for take_wanted
+  std::vector<MPI_Request> m_sends;       ///< replies in flight
+  BrickTraffic m_traffic;
+};
+
+}  // namespace tessera::insitu

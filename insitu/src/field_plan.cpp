@@ -1,0 +1,123 @@
+// FieldPlan: replicated or distributed, the cache's size, and the memory check (field_plan.h).
+#include "field_plan.h"
+
+#include <tessera/brick_cache.h>
+#include <tessera/config/build_scene.h>
+#include <tessera/field_summary.h>
+#include <tessera/image_io.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <thread>
+
+namespace tessera::insitu {
+namespace {
+
+std::uint64_t field_bytes(const FieldBinding& b) {
+  std::uint64_t vertices = 1;
+  for (int a = 0; a < 3; ++a)
+    vertices *= static_cast<std::uint64_t>(std::max<std::int64_t>(1, b.placement.global_dims[a]));
+  return vertices * dtype_size(b.local.dtype);
+}
+
+[[noreturn]] void over_limit(const MemoryEstimate& e, const FieldPlan& plan) {
+  throw std::runtime_error("needs an estimated " + e.describe() + " on this rank, more than " + plan.limit_text);
+}
+
+}  // namespace
+
+int brick_shift(const std::int64_t global_dims[3]) {
+  const std::int64_t longest = std::max({global_dims[0], global_dims[1], global_dims[2]});
+  int shift = 3;
+  while (shift < 5 && (std::int64_t{1} << (shift + 1)) <= longest / 8) ++shift;
+  return shift;
+}
+
+FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding,
+                     int ranks, int ranks_on_node, bool root) {
+  const int node_ranks = std::max(1, ranks_on_node);
+  const RenderOptions options = config::build_render_options(spec, cfg.global);
+  RenderFootprint f;
+  f.width = spec.image.width;
+  f.height = spec.image.height;
+  f.tile = options.tile;
+  f.threads = options.threads > 0 ? options.threads
+                                  : std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / node_ranks);
+  f.variance = spec.output.variance;
+  f.samples = spec.output.samples;
+  f.denoise = spec.image.denoise;
+  f.exr = spec.output.has_format(config::ImageFormat::Exr);
+  f.png = spec.output.has_format(config::ImageFormat::Png);
+  f.writes = root;
+  f.keeps_last_image = root;
+  if (spec.output.cinema)
+    f.views = static_cast<int>(spec.output.cinema->azimuths.size() * spec.output.cinema->elevations.size());
+  FieldView global;  // dims only: what majorant_edge reads
+  for (int a = 0; a < 3; ++a) f.field_dims[a] = global.dims[a] = binding.placement.global_dims[a];
+  f.macrocell_edge = majorant_edge(global, spec.integrator.desc);
+  if (spec.background.type == BackgroundType::EnvMap) {
+    const auto [w, h] = read_exr_size(spec.background.file);  // the header only
+    f.envmap_width = w;
+    f.envmap_height = h;
+  }
+
+  FieldPlan plan;
+  plan.base = estimate_render_memory(f);
+  const std::int64_t mb = cfg.global.memory_limit_mb;
+  plan.limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(node_ranks);
+  plan.limit_text = mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
+                           : "the default tessera.memory_limit_mb (half of the machine's " +
+                                 format_bytes(physical_memory_bytes()) + " over " + std::to_string(node_ranks) +
+                                 " rank(s) on this node: " + format_bytes(plan.limit) + ")";
+  if (ranks > 1) plan.replica_share = field_bytes(binding) / static_cast<std::uint64_t>(node_ranks);
+  switch (cfg.global.distribution) {
+    case config::Distribution::Replicated: plan.distributed = false; break;
+    case config::Distribution::Distributed: plan.distributed = ranks > 1; break;
+    case config::Distribution::Auto: plan.distributed = ranks > 1 && plan.replica_share > plan.limit / 2; break;
+  }
+  if (!plan.distributed) {
+    MemoryEstimate e = plan.base;
+    if (ranks > 1) e.add("field replica (this rank's share of its node's)", plan.replica_share);
+    if (e.total() > plan.limit) over_limit(e, plan);
+  }
+  return plan;
+}
+
+void plan_distributed(FieldPlan& plan, const FieldBinding& binding) {
+  plan.distributed = true;
+  plan.shift = brick_shift(binding.placement.global_dims);
+  const BrickGrid grid = BrickGrid::make(binding.placement.global_dims, binding.local.dtype, plan.shift);
+  const std::uint64_t slot = grid.slot_bytes();
+  // The summary's partial parts, reduced across ranks: lo, hi and flags per global macrocell
+  MemoryEstimate e = plan.base;
+  const std::uint64_t directory = BrickCache::bytes_for(grid, 0);
+  e.add("brick directory", directory);
+  const std::uint64_t used = e.total();
+  const std::uint64_t cap_field = static_cast<std::uint64_t>(kCacheFieldFraction * static_cast<double>(field_bytes(binding)));
+  const std::uint64_t budget = used < plan.limit ? std::min(plan.limit - used, cap_field) : 0;
+  plan.capacity = static_cast<std::size_t>(
+      std::min<std::uint64_t>(budget / slot, static_cast<std::uint64_t>(grid.brick_count())));
+  if (plan.capacity < 1) {
+    e.add("brick cache (one brick)", slot);
+    over_limit(e, plan);
+  }
+  e.add("brick cache", plan.capacity * slot);
+}
+
+std::string describe_plan(const FieldPlan& plan, config::Distribution asked) {
+  const char* how = asked == config::Distribution::Auto ? "auto" : asked == config::Distribution::Distributed
+                                                                     ? "distributed"
+                                                                     : "replicated";
+  std::string line = std::string("distribution ") + how + " -> " + (plan.distributed ? "distributed" : "replicated");
+  if (asked == config::Distribution::Auto)
+    line += " (replica share " + format_bytes(plan.replica_share) + " per rank against half of " + plan.limit_text + ")";
+  if (plan.distributed) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "; bricks of %d^3 vertices, cache of %zu bricks", 1 << plan.shift, plan.capacity);
+    line += buf;
+  }
+  return line;
+}
+
+}  // namespace tessera::insitu

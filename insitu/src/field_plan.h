@@ -1,0 +1,53 @@
+#pragma once
+/// How this rank holds the field for one render, decided before anything is allocated:
+/// replicated (a replica of the global field per node) or distributed (its own block plus a
+/// bounded cache of other ranks' bricks), the cache's brick size and slots, and the check of
+/// the render's estimated allocations against tessera.memory_limit_mb (docs/mpi.md,
+/// "Distributed mode", and docs/insitu.md, "Limits and failure").
+///
+/// The rule for `distribution: auto`: replicated while this rank's share of its node's
+/// replica (global field bytes / ranks on the node) is at most half of the memory limit;
+/// otherwise distributed. Ranks may compute different answers (their nodes may differ), so
+/// the caller combines them: distributed if any rank says so. One rank is always replicated.
+#include "field_binding.h"
+
+#include <tessera/config/config.h>
+#include <tessera/memory_estimate.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace tessera::insitu {
+
+struct FieldPlan {
+  bool distributed = false;   ///< this rank's answer (combine across ranks for `auto`)
+  int shift = 0;              ///< distributed: bricks of 2^shift vertices per edge
+  std::size_t capacity = 0;   ///< distributed: cache slots
+  std::uint64_t replica_share = 0;  ///< bytes of this rank's share of a node replica
+  std::uint64_t limit = 0;          ///< the memory limit in bytes
+  std::string limit_text;           ///< how the limit was set, for messages
+  MemoryEstimate base;        ///< the render's own allocations without the field's
+};
+
+/// Bricks of 2^shift vertices per edge for a global grid: the power of two nearest below an
+/// eighth of the longest axis, clamped to [8, 32] vertices.
+int brick_shift(const std::int64_t global_dims[3]);
+
+/// The most the cache of a distributed render may hold: 40% of the global field's bytes, so
+/// that a rank always holds less than half of what a replica costs.
+inline constexpr double kCacheFieldFraction = 0.4;
+
+/// The plan for `spec` on this rank (ranks: the communicator's size). Throws
+/// std::runtime_error naming the estimate and the limit when even the chosen mode does not fit.
+FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding,
+                     int ranks, int ranks_on_node, bool root);
+
+/// Sets plan.shift / capacity for distributed mode and checks the limit (throws like
+/// plan_field); after the ranks have agreed on distributed for `auto`.
+void plan_distributed(FieldPlan& plan, const FieldBinding& binding);
+
+/// One line for the log: the mode, and why (the rule's figures).
+std::string describe_plan(const FieldPlan& plan, config::Distribution asked);
+
+}  // namespace tessera::insitu

@@ -1,0 +1,83 @@
+// FieldPlan (insitu/src/field_plan.h): the `distribution` rule, the brick size and the cache's
+// bound, decided before anything is allocated.
+#include "field_plan.h"
+
+#include <tessera/brick_cache.h>
+#include <tessera/config/config.h>
+
+#include <catch2/catch.hpp>
+
+#include <string>
+
+using namespace tessera;
+using namespace tessera::insitu;
+
+namespace {
+
+config::Config config_for(const std::string& distribution, int memory_limit_mb) {
+  return config::parse_config("tessera: {distribution: " + distribution +
+                                  ", memory_limit_mb: " + std::to_string(memory_limit_mb) +
+                                  "}\nrenders:\n  - name: r\n    camera: {position: [3, 0, 0]}\n"
+                                  "    image: {width: 64, height: 64, spp: 1}\n"
+                                  "    transfer_function: {opacity: [[0, 1]]}\n",
+                              "plan.yaml");
+}
+
+/// A float32 binding of a global grid of n^3 vertices (this rank's block: one plane).
+FieldBinding binding_for(std::int64_t n) {
+  FieldBinding b;
+  b.local.dtype = DType::Float32;
+  for (int a = 0; a < 3; ++a) {
+    b.placement.global_dims[a] = n;
+    b.placement.offset[a] = 0;
+    b.local.dims[a] = a == 2 ? 1 : n;
+  }
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("distribution: auto is replicated while a rank's replica share fits half the limit", "[insitu][distribution]") {
+  const config::Config cfg = config_for("auto", 1024);
+  const auto& spec = cfg.renders[0];
+  // 256^3 float32 = 64 MiB; one rank per node: 64 MiB <= 512 MiB -> replicated
+  CHECK_FALSE(plan_field(cfg, spec, binding_for(256), 4, 1, true).distributed);
+  // 640^3 float32 = 1000 MiB > 512 MiB -> distributed; shared by 4 ranks on the node: 250 MiB -> replicated
+  CHECK(plan_field(cfg, spec, binding_for(640), 4, 1, true).distributed);
+  CHECK_FALSE(plan_field(cfg, spec, binding_for(640), 4, 4, true).distributed);
+  // One rank is always replicated (its block is the whole field)
+  CHECK_FALSE(plan_field(cfg, spec, binding_for(640), 1, 1, true).distributed);
+}
+
+TEST_CASE("distribution: replicated over the limit fails naming the replica; distributed fits", "[insitu][distribution]") {
+  const config::Config rep = config_for("replicated", 512), dist = config_for("distributed", 512);
+  const FieldBinding b = binding_for(640);  // 1000 MiB
+  try {
+    plan_field(rep, rep.renders[0], b, 4, 1, true);
+    FAIL("no error");
+  } catch (const std::runtime_error& e) {
+    CHECK_THAT(e.what(), Catch::Contains("field replica") && Catch::Contains("memory_limit_mb = 512 MiB"));
+  }
+  FieldPlan plan = plan_field(dist, dist.renders[0], b, 4, 1, true);
+  REQUIRE(plan.distributed);
+  plan_distributed(plan, b);
+  CHECK(plan.shift == 5);  // 640 / 8 = 80 -> bricks of 32
+  const BrickGrid g = BrickGrid::make(b.placement.global_dims, DType::Float32, plan.shift);
+  // The cache fits the limit with the rest of the render, and stays under 40% of the field
+  CHECK(plan.capacity >= 1);
+  CHECK(BrickCache::bytes_for(g, plan.capacity) + plan.base.total() <= (std::uint64_t{512} << 20));
+  CHECK(static_cast<double>(plan.capacity * g.slot_bytes()) <= kCacheFieldFraction * 1000.0 * (1 << 20));
+}
+
+TEST_CASE("a distributed render whose limit leaves no room for one brick fails before allocating", "[insitu][distribution]") {
+  const config::Config dist = config_for("distributed", 1);
+  FieldPlan plan = plan_field(dist, dist.renders[0], binding_for(4096), 4, 1, true);
+  CHECK_THROWS_WITH(plan_distributed(plan, binding_for(4096)), Catch::Contains("brick"));
+}
+
+TEST_CASE("bricks are 8 to 32 vertices, about an eighth of the longest axis", "[insitu][distribution]") {
+  const std::int64_t small[3] = {23, 19, 17}, mid[3] = {128, 64, 64}, big[3] = {4096, 4096, 4096};
+  CHECK(brick_shift(small) == 3);
+  CHECK(brick_shift(mid) == 4);
+  CHECK(brick_shift(big) == 5);
+}

@@ -1,0 +1,253 @@
+// Distributed mode (insitu/src/parallel_context_mpi_paged.cpp, brick_service.cpp): no replica;
+// each rank keeps its own block and fetches other ranks' bricks on first touch into a bounded
+// cache. Asserted: over 2, 3 and 4 ranks (real and pretend nodes, 1 and 2 threads, even,
+// uneven and 1-vertex-thick blocks, caches from 2 bricks to all of them) a render is
+// bit-identical (every PixelSums byte, every counter) to a one-rank core render of the whole
+// field, single and multiple scattering, with shadows crossing blocks and a light inside
+// another rank's block; the global summary from per-rank parts equals the whole field's; no
+// rank allocates a replica and the cache stays at its slots; a rank that stops mid-render
+// (its deadline) makes every rank fail, none hangs.
+#include "parallel_context_mpi.h"
+
+#include "mpi_test_support.h"
+
+#include <tessera/render.h>
+
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cstring>
+#include <string>
+
+using namespace tessera_mpi_test;
+using tessera::Color;
+using tessera::DType;
+using tessera::Vec3;
+using tessera::insitu::GlobalPlacement;
+using tessera::insitu::MpiParallelContext;
+
+namespace {
+
+constexpr std::array<std::int64_t, 3> kGlobal{23, 19, 17};
+
+GlobalPlacement placement(const Box& b) {
+  GlobalPlacement p{};
+  for (int a = 0; a < 3; ++a) {
+    p.global_dims[a] = kGlobal[a];
+    p.offset[a] = b.offset[a];
+  }
+  return p;
+}
+
+/// Even blocks of n ranks (split along i, j or i and k).
+Box block(int n, int rank) {
+  const std::array<int, 3> procs = n == 2   ? std::array<int, 3>{2, 1, 1}
+                                   : n == 3 ? std::array<int, 3>{1, 3, 1}
+                                            : std::array<int, 3>{2, 1, 2};
+  return block_of(kGlobal, procs, rank);
+}
+
+/// Uneven slabs along i: rank 0 holds planes [0, 6), ranks 1..n-2 one plane each (1 vertex
+/// thick), the last rank the rest.
+Box uneven_block(int n, int rank) {
+  Box b;
+  b.dims = kGlobal;
+  if (rank == 0) {
+    b.offset[0] = 0;
+    b.dims[0] = 6;
+  } else if (rank < n - 1) {
+    b.offset[0] = 5 + rank;
+    b.dims[0] = 1;
+  } else {
+    b.offset[0] = 5 + rank;
+    b.dims[0] = kGlobal[0] - b.offset[0];
+  }
+  return b;
+}
+
+/// Shadows from a rect light above and a sphere light inside the far corner of the field
+/// (another rank's block), emission, hybrid shading.
+tessera::SceneDesc scene_for(tessera::Scattering scattering, int threads) {
+  tessera::SceneDesc s;
+  s.geometry.origin = Vec3(0.0);
+  s.geometry.spacing = Vec3(0.05);
+  s.tf.lo = 0.0;
+  s.tf.hi = 250.0;
+  s.tf.density_scale = 20.0;
+  s.tf.opacity = tessera::ScalarTF({0.0, 0.15, 0.5, 1.0}, {0.0, 0.3, 0.8, 1.0});
+  s.tf.diffuse = tessera::ColorTF({0.0, 1.0}, {Color(0.9, 0.6, 0.3), Color(0.3, 0.7, 0.95)});
+  s.tf.specular = tessera::ColorTF::constant(Color(0.04));
+  s.tf.emission = tessera::ColorTF({0.0, 0.6, 1.0}, {Color(0.0), Color(0.0), Color(2.0, 0.5, 0.1)});
+  s.camera.position = Vec3(2.8, -1.6, 1.4);
+  s.camera.look_at = Vec3(0.55, 0.45, 0.4);
+  s.camera.up = Vec3(0.0, 0.0, 1.0);
+  s.camera.fov_deg = 45.0;
+  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 2.5), Vec3(0.5, 0.5, 0.4), 1.0, 1.0, Color(5.0, 4.0, 3.0)});
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(0.95, 0.75, 0.65), 0.06, Color(8.0, 8.0, 12.0)});
+  s.background.type = tessera::BackgroundType::Gradient;
+  s.background.top = Color(0.4, 0.5, 0.8);
+  s.background.middle = Color(0.3);
+  s.background.bottom = Color(0.05);
+  s.integrator.scattering = scattering;
+  s.integrator.max_bounces = 8;
+  s.integrator.macrocell = 4;
+  s.image = {41, 29, 2, 0.0};
+  s.options.seed = 5;
+  s.options.frame = 3;
+  s.options.tile = 8;
+  s.options.threads = threads;
+  return s;
+}
+
+bool same_pixels(const tessera::Film& a, const tessera::Film& b) {
+  return a.width() == b.width() && a.height() == b.height() &&
+         std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0;
+}
+
+bool same_counters(const tessera::RenderStats& a, const tessera::RenderStats& b) {
+  for (const tessera::RenderCounter& c : tessera::kRenderCounters)
+    if (a.*c.field != b.*c.field) return false;
+  return true;
+}
+
+tessera::FieldView whole_view(const std::vector<unsigned char>& bytes) {
+  return tessera::FieldView::contiguous(bytes.data(), DType::Float32, kGlobal[0], kGlobal[1], kGlobal[2]);
+}
+
+/// Prepares `scene` in distributed mode on every rank of ctx: distribute, summarize, prepare
+/// while serving.
+tessera::PreparedScene prepare_distributed(MpiParallelContext& ctx, const tessera::FieldView& local, const Box& box,
+                                           const tessera::SceneDesc& scene, int shift, std::size_t capacity) {
+  const tessera::PagedField paged = ctx.distribute(local, placement(box), shift, capacity);
+  tessera::FieldView dims_only;
+  for (int a = 0; a < 3; ++a) dims_only.dims[a] = kGlobal[a];
+  const auto summary = ctx.summarize(local, placement(box), tessera::majorant_edge(dims_only, scene.integrator));
+  tessera::PreparedScene prepared;
+  ctx.serve_while([&] { prepared = tessera::prepare(paged, scene, summary); });
+  return prepared;
+}
+
+}  // namespace
+
+TEST_CASE("the global summary from every rank's part equals the whole field's", "[mpi][distributed]") {
+  const auto value = blobs(kGlobal);
+  const std::vector<unsigned char> global = global_bytes(kGlobal, DType::Float32, value);
+  for (int n : sizes_up_to_world()) {
+    if (n < 2) continue;
+    for (bool uneven : {false, true})
+      for (int edge : {1, 4, 7, 64}) {
+        FirstRanks sub(n);
+        bool ok = true;
+        if (sub.member()) {
+          MpiParallelContext ctx(sub.comm(), 0);
+          const Box box = uneven ? uneven_block(n, ctx.rank()) : block(n, ctx.rank());
+          const LocalArray local(box, DType::Float32, Layout::MirroredJ, value);
+          const auto s = ctx.summarize(local.view(), placement(box), edge);
+          const tessera::FieldSummary ref(whole_view(global), edge);
+          ok = s->cell_count() == ref.cell_count() && s->value_min() == ref.value_min() &&
+               s->value_max() == ref.value_max() && s->nan_vertices() == ref.nan_vertices();
+          for (std::int64_t c = 0; ok && c < ref.cell_count(); ++c) {
+            const auto& x = s->ranges()[static_cast<std::size_t>(c)];
+            const auto& y = ref.ranges()[static_cast<std::size_t>(c)];
+            ok = std::memcmp(&x.lo, &y.lo, sizeof(double)) == 0 && std::memcmp(&x.hi, &y.hi, sizeof(double)) == 0 &&
+                 x.nan == y.nan && x.pos_inf == y.pos_inf && x.neg_inf == y.neg_inf;
+          }
+        }
+        INFO("ranks " << n << (uneven ? " uneven" : " even") << ", edge " << edge);
+        REQUIRE(all_ranks(ok));
+      }
+  }
+}
+
+TEST_CASE("distributed renders are bit-identical to a one-rank render of the whole field",
+          "[mpi][distributed][determinism]") {
+  const auto value = blobs(kGlobal);
+  const std::vector<unsigned char> global = global_bytes(kGlobal, DType::Float32, value);
+  for (const auto scattering : {tessera::Scattering::Single, tessera::Scattering::Multiple}) {
+    const tessera::SceneDesc ref_scene = scene_for(scattering, 2);
+    const tessera::PreparedScene ref_prepared = tessera::prepare(whole_view(global), ref_scene);
+    tessera::Film ref(ref_scene.image.width, ref_scene.image.height);
+    tessera::RenderStats ref_stats;
+    tessera::render(ref_prepared, ref, ref_stats);
+
+    struct Variant {
+      bool uneven;
+      int ranks_per_node, threads, shift;
+      std::size_t capacity;
+    };
+    const Variant variants[] = {
+        {false, 0, 1, 3, 1000},  // every brick fits
+        {false, 1, 2, 2, 3},     // pretend nodes, tiny cache: flushes
+        {true, 0, 2, 3, 2},      // 1-vertex-thick blocks, two slots
+        {true, 1, 1, 1, 64},     // bricks of 2 vertices
+    };
+    for (int n : sizes_up_to_world()) {
+      if (n < 2) continue;
+      for (const Variant& v : variants) {
+        FirstRanks sub(n);
+        bool ok = true;
+        std::string what;
+        if (sub.member()) {
+          MpiParallelContext ctx(sub.comm(), v.ranks_per_node);
+          const Box box = v.uneven ? uneven_block(n, ctx.rank()) : block(n, ctx.rank());
+          const LocalArray local(box, DType::Float32, Layout::StructMember, value);
+          const tessera::SceneDesc scene = scene_for(scattering, v.threads);
+          const tessera::PreparedScene prepared = prepare_distributed(ctx, local.view(), box, scene, v.shift, v.capacity);
+          tessera::Film film(scene.image.width, scene.image.height);
+          tessera::RenderStats stats;
+          ctx.render(prepared, film, stats);
+          if (ctx.rank() == 0) {
+            if (!same_pixels(film, ref)) ok = false, what += " pixels";
+            if (!same_counters(stats, ref_stats)) ok = false, what += " counters";
+          }
+          // No replica, and the cache holds at most its slots
+          const tessera::BrickGrid g = tessera::BrickGrid::make(kGlobal.data(), DType::Float32, v.shift);
+          if (ctx.replica_bytes() != 0) ok = false, what += " replica";
+          if (ctx.report().cache_bytes > tessera::BrickCache::bytes_for(g, v.capacity))
+            ok = false, what += " cache bytes";
+          if (ctx.report().cache.peak_resident > v.capacity) ok = false, what += " resident";
+          // Some bricks did travel (each rank's rays cross other blocks)
+          std::uint64_t got = ctx.report().bricks.bytes_received, all_got = 0;
+          MPI_Allreduce(&got, &all_got, 1, MPI_UINT64_T, MPI_SUM, sub.comm());
+          if (all_got == 0) ok = false, what += " no traffic";
+        }
+        INFO("scattering " << static_cast<int>(scattering) << ", ranks " << n << (v.uneven ? " uneven" : " even")
+                           << ", ranks_per_node " << v.ranks_per_node << ", threads " << v.threads << ", shift "
+                           << v.shift << ", capacity " << v.capacity << ":" << what);
+        REQUIRE(all_ranks(ok));
+      }
+    }
+  }
+}
+
+TEST_CASE("a rank that stops mid-render in distributed mode fails every rank and hangs none",
+          "[mpi][distributed][errors]") {
+  const auto value = blobs(kGlobal);
+  MpiParallelContext ctx(MPI_COMM_WORLD, 0);
+  const int n = ctx.size();
+  if (n < 2) return;
+  const Box box = block(n, ctx.rank());
+  const LocalArray local(box, DType::Float32, Layout::COrder, value);
+  tessera::SceneDesc scene = scene_for(tessera::Scattering::Multiple, 1);
+  if (ctx.rank() == n - 1) scene.options.deadline = std::chrono::steady_clock::now();  // already passed
+  const tessera::PreparedScene prepared = prepare_distributed(ctx, local.view(), box, scene, 3, 4);
+  tessera::Film film(scene.image.width, scene.image.height);
+  tessera::RenderStats stats;
+  bool threw = false;
+  try {
+    ctx.render(prepared, film, stats);
+  } catch (const std::exception&) {
+    threw = true;
+  }
+  REQUIRE(all_ranks(threw));
+  // The context still works afterwards: the next distributed render is right
+  const std::vector<unsigned char> global = global_bytes(kGlobal, DType::Float32, value);
+  const tessera::SceneDesc good = scene_for(tessera::Scattering::Single, 1);
+  tessera::Film ref(good.image.width, good.image.height);
+  tessera::RenderStats ref_stats;
+  tessera::render(tessera::prepare(whole_view(global), good), ref, ref_stats);
+  const tessera::PreparedScene again = prepare_distributed(ctx, local.view(), box, good, 3, 4);
+  tessera::Film film2(good.image.width, good.image.height);
+  ctx.render(again, film2, stats);
+  REQUIRE(all_ranks(ctx.rank() != 0 || same_pixels(film2, ref)));
+}
