@@ -2,6 +2,7 @@
 /// GridMedium<T>: the heterogeneous medium seen by the kernels. Works in volume-local voxel
 /// coordinates p = (x - origin) / spacing, so vertex (i,j,k) sits at p = (i,j,k) whatever the
 /// world placement; world distances t stay the ray parameter.
+#include <tessera/brick_cache.h>
 #include <tessera/field_view.h>
 #include <tessera/transfer_function.h>
 
@@ -14,9 +15,28 @@
 
 namespace tessera {
 
+/// The kernels' Value for a demand-paged field (brick_cache.h): the dtype is read per load.
+struct PagedValue {};
+
+/// How a GridMedium<T> reads vertices: in place for a real dtype, through the brick cache
+/// for PagedValue.
+template <class T>
+struct FieldAccessor {
+  using type = TypedFieldView<T>;
+};
+template <>
+struct FieldAccessor<PagedValue> {
+  using type = PagedFieldView;
+};
+
+/// True when T's vertex values may be NaN or infinite (a float dtype, or a paged field of
+/// any dtype: the test is exact, never true, for integer values).
+template <class T>
+inline constexpr bool kMayBeNonFinite = std::is_floating_point_v<T> || std::is_same_v<T, PagedValue>;
+
 template <class T>
 struct GridMedium {
-  TypedFieldView<T> field;
+  typename FieldAccessor<T>::type field;
   std::int64_t n[3];
   double hi_index[3];              ///< n - 1 as double: the box in voxel space is [0, hi_index]
   const TransferFunction* tf;
@@ -30,7 +50,7 @@ struct GridMedium {
   /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
   double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
     const double v = field.load(i, j, k);
-    if constexpr (std::is_floating_point_v<T>) {
+    if constexpr (kMayBeNonFinite<T>) {
       if (!std::isfinite(v)) return v > 0.0 ? tf->hi : tf->lo;
     }
     return v;

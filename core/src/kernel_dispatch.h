@@ -1,6 +1,6 @@
 #pragma once
 /// with_kernel: the one place where a frame's run-time modes become template parameters.
-/// Reads the KernelScene's field dtype, shading mode, emission flag, free-path strategy and
+/// Reads the KernelScene's field dtype (or PagedValue for a paged field), shading mode, emission flag, free-path strategy and
 /// shadow estimator once and calls fn(KernelTraits<...>{}) with the concrete combination, so
 /// kernels instantiated on K hold no branch on any of them per sample or per step.
 #include <tessera/field_view.h>
@@ -8,6 +8,8 @@
 
 #include "grid_medium.h"
 #include "kernel_scene.h"
+
+#include <type_traits>
 
 namespace tessera {
 
@@ -52,13 +54,34 @@ decltype(auto) with_shading(const KernelScene& ks, Fn& fn) {
 
 }  // namespace detail
 
+/// A type as a value, for with_value.
+template <class T>
+struct TypeTag {
+  using type = T;
+};
+
+/// Calls fn(TypeTag<V>{}) with V the kernels' Value for the scene: PagedValue when the field
+/// is paged (ks.paged.cache set), else the C++ type of the field's dtype.
+template <class Fn>
+decltype(auto) with_value(const KernelScene& ks, Fn&& fn) {
+  if (ks.paged.cache != nullptr) return fn(TypeTag<PagedValue>{});
+  return dispatch_dtype(ks.field, [&](auto view) -> decltype(auto) {
+    return fn(TypeTag<typename decltype(view)::value_type>{});
+  });
+}
+
+/// Calls fn(KernelTraits<V, ...>{}) for the scene's modes, with the Value V given.
+template <class V, class Fn>
+decltype(auto) with_modes(const KernelScene& ks, Fn&& fn) {
+  return detail::with_shading<V>(ks, fn);
+}
+
 /// Calls fn(KernelTraits<...>{}) for the scene's variant and returns its result (every
 /// instantiation of fn must return the same type).
 template <class Fn>
 decltype(auto) with_kernel(const KernelScene& ks, Fn&& fn) {
-  return dispatch_dtype(ks.field, [&](auto view) -> decltype(auto) {
-    using T = typename decltype(view)::value_type;
-    return detail::with_shading<T>(ks, fn);
+  return with_value(ks, [&](auto tag) -> decltype(auto) {
+    return detail::with_shading<typename decltype(tag)::type>(ks, fn);
   });
 }
 
@@ -66,7 +89,8 @@ decltype(auto) with_kernel(const KernelScene& ks, Fn&& fn) {
 template <class T>
 GridMedium<T> make_medium(const KernelScene& ks) {
   GridMedium<T> m;
-  m.field = typed<T>(ks.field);
+  if constexpr (std::is_same_v<T, PagedValue>) m.field = ks.paged;
+  else m.field = typed<T>(ks.field);
   for (int a = 0; a < 3; ++a) {
     m.n[a] = ks.field.dims[a];
     m.hi_index[a] = static_cast<double>(ks.field.dims[a] - 1);

@@ -6,6 +6,7 @@
 /// prepared scene lives and the field's memory is unchanged. This is what a second backend (a
 /// data-distributed or GPU renderer) is handed; read-only while rendering, so any number of
 /// threads may share one.
+#include <tessera/brick_cache.h>
 #include <tessera/camera.h>
 #include <tessera/field_view.h>
 #include <tessera/integrator.h>
@@ -30,7 +31,8 @@ struct KernelScene {
   Camera camera;
 
   // Medium: the field, its placement, its majorants and the transfer functions
-  FieldView field;
+  FieldView field;               ///< paged: the global dims and dtype, data null (never read)
+  PagedFieldView paged;          ///< paged mode (brick_cache.h) when paged.cache is set
   const TransferFunction* tf = nullptr;
   Vec3 origin{0.0};              ///< world position of vertex (0, 0, 0)
   Vec3 inv_spacing{1.0};         ///< 1 / spacing, per axis

@@ -134,8 +134,8 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
   }
 }
 
-void validate(const FieldView& field, const SceneDesc& s) {
-  field.validate("field");
+/// The scene's checks against the field's geometry (dims, dtype); reads no value.
+void validate_scene(const FieldView& field, const SceneDesc& s) {
   const VolumeGeometry& g = s.geometry;
   require(finite3(g.origin), "volume origin " + vec(g.origin) + " must be finite");
   require(finite3(g.spacing) && g.spacing.x > 0 && g.spacing.y > 0 && g.spacing.z > 0,
@@ -165,6 +165,46 @@ void validate(const FieldView& field, const SceneDesc& s) {
   require(s.options.tile >= 0, "tile edge must be >= 0");
   require(s.options.threads >= 0, "threads must be >= 0");
   validate_scale(field, s);
+}
+
+void validate(const FieldView& field, const SceneDesc& s) {
+  field.validate("field");
+  validate_scene(field, s);
+}
+
+/// The field descriptor of a paged field: global dims and dtype, dense strides, no data.
+FieldView global_descriptor(const PagedField& f) {
+  FieldView v;
+  v.dtype = f.dtype;
+  const auto size = static_cast<std::int64_t>(dtype_size(f.dtype));
+  for (int a = 0; a < 3; ++a) v.dims[a] = f.dims[a];
+  v.byte_strides[0] = size;
+  v.byte_strides[1] = size * f.dims[0];
+  v.byte_strides[2] = size * f.dims[0] * f.dims[1];
+  return v;
+}
+
+std::string dims_text(const std::int64_t d[3]) {
+  return std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" + std::to_string(d[2]);
+}
+
+/// A paged field's own checks: the cache's grid, the own block inside the global dims.
+void validate_paged(const PagedField& f) {
+  for (int a = 0; a < 3; ++a)
+    require(f.dims[a] >= 1, "paged field: global dims " + dims_text(f.dims) + " must be >= 1 on every axis");
+  require(f.cache != nullptr, "paged field: no brick cache");
+  const BrickGrid& g = f.cache->grid();
+  require(g.dtype == f.dtype && g.dims[0] == f.dims[0] && g.dims[1] == f.dims[1] && g.dims[2] == f.dims[2],
+          "paged field: the brick cache is for a " + std::string(dtype_name(g.dtype)) + " field of " +
+              dims_text(g.dims) + ", the field is " + dtype_name(f.dtype) + " " + dims_text(f.dims));
+  if (f.local.data == nullptr) return;  // no own block: every vertex through the cache
+  f.local.validate("paged field: own block");
+  require(f.local.dtype == f.dtype, "paged field: own block is " + std::string(dtype_name(f.local.dtype)) +
+                                        ", the field " + dtype_name(f.dtype));
+  for (int a = 0; a < 3; ++a)
+    require(f.offset[a] >= 0 && f.offset[a] + f.local.dims[a] <= f.dims[a],
+            "paged field: own block of " + dims_text(f.local.dims) + " at offset " + dims_text(f.offset) +
+                " is not inside the global dims " + dims_text(f.dims));
 }
 
 }  // namespace
@@ -208,11 +248,12 @@ bool PreparedScene::summary_reused() const { return m_impl->summary_reused; }
 
 PreparedScene prepare(const FieldView& field, const SceneDesc& scene) { return prepare(field, scene, nullptr); }
 
-PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
-                      std::shared_ptr<const FieldSummary> reuse) {
-  validate(field, scene);
-  PreparedScene ps;
-  PreparedSceneImpl& p = *ps.m_impl;
+namespace {
+
+/// Everything prepare() derives once the field descriptor, its summary and (paged mode) the
+/// paged view are settled; the scene is validated.
+void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc& scene,
+                  std::shared_ptr<const FieldSummary> summary, const PagedFieldView* paged) {
   p.desc = scene;
   p.field = field;
   p.bounds = field_bounds(field, scene.geometry);
@@ -220,11 +261,7 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
   p.inv_spacing = 1.0 / scene.geometry.spacing;
   p.march_step = scene.integrator.step *
                  std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
-  // Majorants: one global cell, or macrocells of `macrocell` voxels; the field pass only
-  // when no matching summary is given
-  const int edge = majorant_edge(field, scene.integrator);
-  p.summary_reused = reuse && reuse->matches(field, edge);
-  p.grid.set_summary(p.summary_reused ? std::move(reuse) : FieldSummary::build(field, edge));
+  p.grid.set_summary(std::move(summary));
   // Extinction clamp: beyond kMaxOpticalThicknessPerVoxel per smallest spacing the medium is
   // opaque at sub-voxel scale in double precision (loop_bounds.h)
   p.sigma_max = kMaxOpticalThicknessPerVoxel /
@@ -237,7 +274,55 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
   p.tiles = make_tiles(scene.image.width, scene.image.height, scene.options.tile, scene.options.order);
   p.tile_culled = cull_tiles(p);
   p.kernel = make_kernel_scene(p);
+  if (paged) p.kernel.paged = *paged;
   p.kernel.adaptive_scale = adaptive_preview_scale(p.kernel, scene.options);  // renders with the above
+}
+
+}  // namespace
+
+PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> reuse) {
+  validate(field, scene);
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  // Majorants: one global cell, or macrocells of `macrocell` voxels; the field pass only
+  // when no matching summary is given
+  const int edge = majorant_edge(field, scene.integrator);
+  p.summary_reused = reuse && reuse->matches(field, edge);
+  prepare_from(p, field, scene, p.summary_reused ? std::move(reuse) : FieldSummary::build(field, edge), nullptr);
+  return ps;
+}
+
+PreparedScene prepare(const PagedField& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> summary) {
+  validate_paged(field);
+  const FieldView global = global_descriptor(field);
+  validate_scene(global, scene);
+  const int edge = majorant_edge(global, scene.integrator);
+  require(summary != nullptr, "paged field: no field summary (the combined partial summaries of every block)");
+  require(summary->edge() == edge, "paged field: the field summary has macrocell edge " +
+                                       std::to_string(summary->edge()) + ", this scene needs " +
+                                       std::to_string(edge) + " for dims " + dims_text(field.dims));
+  for (int a = 0; a < 3; ++a)
+    require(summary->cells()[a] == std::max<std::int64_t>(1, (field.dims[a] - 1 + edge - 1) / edge),
+            "paged field: the field summary's " + dims_text(summary->cells()) + " cells do not fit dims " +
+                dims_text(field.dims) + " with edge " + std::to_string(edge));
+  PagedFieldView view;
+  view.dtype = field.dtype;
+  view.local = field.local;
+  const BrickGrid& g = field.cache->grid();
+  view.shift = g.shift;
+  for (int a = 0; a < 3; ++a) {
+    view.dims[a] = field.dims[a];
+    view.bricks[a] = g.bricks[a];
+    view.lo[a] = field.local.data ? field.offset[a] : 0;
+    view.hi[a] = field.local.data ? field.offset[a] + field.local.dims[a] : 0;
+  }
+  view.cache = field.cache;
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  p.summary_reused = true;  // never a pass over the values here
+  prepare_from(p, global, scene, std::move(summary), &view);
   return ps;
 }
 

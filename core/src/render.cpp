@@ -78,6 +78,24 @@ std::vector<WorkItem> plan_work(const PreparedSceneImpl& s, std::span<const int>
   return work;
 }
 
+/// A work item's bracket for a paged field's cache (enter_tile / leave_tile, brick_cache.h):
+/// lets the cache be emptied only while no worker is inside a tile. Nothing for a replicated
+/// field (null cache).
+class TileBracket {
+ public:
+  explicit TileBracket(BrickCache* cache) : m_cache(cache) {
+    if (m_cache) m_cache->enter_tile();
+  }
+  ~TileBracket() {
+    if (m_cache) m_cache->leave_tile();
+  }
+  TileBracket(const TileBracket&) = delete;
+  TileBracket& operator=(const TileBracket&) = delete;
+
+ private:
+  BrickCache* m_cache;
+};
+
 }  // namespace
 
 double adaptive_preview_scale(const KernelScene& s, const RenderOptions& options) {
@@ -92,7 +110,9 @@ double adaptive_preview_scale(const KernelScene& s, const RenderOptions& options
   tbb::task_arena arena(threads);
   arena.execute([&] {
     tbb::parallel_for(0, rows, [&](int by) {
-      if (!stop.stop()) preview_row(s, by, &sigma[by], &lum[by], &count[by], stop);
+      if (stop.stop()) return;
+      TileBracket bracket(s.paged.cache);
+      preview_row(s, by, &sigma[by], &lum[by], &count[by], stop);
     });
   });
   if (stop.stopped()) throw DeadlineExceeded(0, s.tile_count);
@@ -140,7 +160,10 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
                             if (stop.stop()) return;  // the deadline: skip the rest
                             const WorkItem& w = work[i];
                             const std::size_t tile = static_cast<std::size_t>(tile_indices[w.tile]);
-                            render_tile(ks, w.rect, s.tile_culled[tile] != 0, film, per_item[i], stop);
+                            {
+                              TileBracket bracket(ks.paged.cache);
+                              render_tile(ks, w.rect, s.tile_culled[tile] != 0, film, per_item[i], stop);
+                            }
                             if (stop.stopped()) return;  // possibly cut short: not done
                             if (bands_left[w.tile].fetch_sub(1) != 1) continue;
                             const int d = ++done;

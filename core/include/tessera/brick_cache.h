@@ -33,6 +33,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace tessera {
@@ -71,9 +72,9 @@ struct BrickCacheStats {
 
 class BrickCache {
  public:
-  /// A cache of `capacity` slots (>= 1) over `grid`. Allocates the directory (one pointer and
-  /// one state byte per brick of the grid) and the capacity x slot_bytes() pool at once;
-  /// allocated_bytes() says how much. Throws std::invalid_argument for capacity < 1.
+  /// A cache of `capacity` slots (>= 1) over `grid`. Allocates the directory (one pointer, one
+  /// state byte and one waiter count per brick of the grid), the capacity x slot_bytes() pool
+  /// and one slot of zeros (for fail()) at once; allocated_bytes() says how much. Throws std::invalid_argument for capacity < 1.
   BrickCache(const BrickGrid& grid, std::size_t capacity);
   ~BrickCache();
   BrickCache(const BrickCache&) = delete;
@@ -147,9 +148,51 @@ struct PagedFieldView {
   BrickCache* cache = nullptr;
 
   /// Vertex (i, j, k) of the global field (inside dims) as double, exactly as
-  /// TypedFieldView::load of the same vertex in a whole-field view gives it.
+  /// TypedFieldView::load of the same vertex in a whole-field view gives it. Inline (the
+  /// kernels' hot path): a vertex of the own block is one strided load, another one a
+  /// directory load (BrickCache::find) and a load from its slot; only a miss calls out.
   double load(std::int64_t i, std::int64_t j, std::int64_t k) const;
 };
+
+static_assert(std::is_trivially_copyable_v<PagedFieldView>);
+
+namespace detail {
+/// Element at p of dtype t, as double (exact for every dtype).
+inline double load_as_double(DType t, const unsigned char* p) {
+  switch (t) {
+    case DType::UInt8: return static_cast<double>(*p);
+    case DType::Int16: { std::int16_t v; __builtin_memcpy(&v, p, sizeof v); return static_cast<double>(v); }
+    case DType::UInt16: { std::uint16_t v; __builtin_memcpy(&v, p, sizeof v); return static_cast<double>(v); }
+    case DType::Float32: { float v; __builtin_memcpy(&v, p, sizeof v); return static_cast<double>(v); }
+    case DType::Float64: default: { double v; __builtin_memcpy(&v, p, sizeof v); return v; }
+  }
+}
+/// Element e of a dense array of dtype t at base, as double.
+inline double load_element(DType t, const unsigned char* base, std::int64_t e) {
+  switch (t) {
+    case DType::UInt8: return load_as_double(t, base + e);
+    case DType::Int16: case DType::UInt16: return load_as_double(t, base + 2 * e);
+    case DType::Float32: return load_as_double(t, base + 4 * e);
+    case DType::Float64: default: return load_as_double(t, base + 8 * e);
+  }
+}
+}  // namespace detail
+
+inline double PagedFieldView::load(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  // The own block, in place
+  if (i >= lo[0] && i < hi[0] && j >= lo[1] && j < hi[1] && k >= lo[2] && k < hi[2]) {
+    const auto* p = static_cast<const unsigned char*>(local.data) + (i - lo[0]) * local.byte_strides[0] +
+                    (j - lo[1]) * local.byte_strides[1] + (k - lo[2]) * local.byte_strides[2];
+    return detail::load_as_double(dtype, p);
+  }
+  // Another rank's: its brick's slot, fetched on a miss
+  const std::int64_t b = ((k >> shift) * bricks[1] + (j >> shift)) * bricks[0] + (i >> shift);
+  const unsigned char* slot = cache->find(b);
+  if (!slot) [[unlikely]] slot = cache->acquire(b);
+  const std::int64_t m = (std::int64_t{1} << shift) - 1;
+  const std::int64_t e = ((((k & m) << shift) + (j & m)) << shift) + (i & m);
+  return detail::load_element(dtype, slot, e);
+}
 
 /// A field rendered in distributed mode, as handed to prepare(): the global geometry, the
 /// rank's own block and the cache that serves the rest.
