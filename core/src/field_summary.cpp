@@ -32,7 +32,12 @@ void merge(CellRange& a, const CellRange& b) {
   a.neg_inf = a.neg_inf || b.neg_inf;
 }
 
+/// Zeros as +0.0: min / max of -0.0 and +0.0 depend on the order, so that a summary combined
+/// from parts in any order equals the one pass's, every zero is +0.0 in the ranges.
+inline double canonical(double v) { return v == 0.0 ? 0.0 : v; }
+
 void merge_value(CellRange& a, double v) {
+  v = canonical(v);
   if (std::isnan(v)) a.nan = true;
   else if (v == kInf) a.pos_inf = true;
   else if (v == -kInf) a.neg_inf = true;
@@ -64,7 +69,7 @@ CellRange scan_run(const unsigned char* p, std::int64_t sx, std::int64_t n, std:
     std::uint64_t nan = 0;
     bool pinf = false, ninf = false;
     for (std::int64_t i = 0; i < n; ++i) {
-      const double v = load<T>(p + i * sx);
+      const double v = canonical(load<T>(p + i * sx));
       const bool finite = v - v == 0.0;  // false for NaN and +-Inf
       lo = finite && v < lo ? v : lo;
       hi = finite && hi < v ? v : hi;
@@ -206,6 +211,87 @@ FieldSummary::FieldSummary(const FieldView& field, int edge)
 
 std::shared_ptr<const FieldSummary> FieldSummary::build(const FieldView& field, int edge) {
   return std::make_shared<const FieldSummary>(field, edge);
+}
+
+FieldSummary::Parts FieldSummary::partial(const FieldView& block, const std::int64_t offset[3],
+                                          const std::int64_t global_dims[3], int edge) {
+  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
+  Parts parts;
+  for (int a = 0; a < 3; ++a) parts.cells[a] = cells_along(global_dims[a], edge);
+  const auto n = static_cast<std::size_t>(parts.cells[0] * parts.cells[1] * parts.cells[2]);
+  parts.lo.assign(n, kInf);
+  parts.hi.assign(n, -kInf);
+  parts.flags.assign(n, 0);
+  if (block.data == nullptr) return parts;
+  block.validate("block");
+  for (int a = 0; a < 3; ++a)
+    if (offset[a] < 0 || offset[a] + block.dims[a] > global_dims[a])
+      throw std::invalid_argument("block of " + std::to_string(block.dims[0]) + "x" + std::to_string(block.dims[1]) +
+                                  "x" + std::to_string(block.dims[2]) + " at offset " + std::to_string(offset[0]) +
+                                  "," + std::to_string(offset[1]) + "," + std::to_string(offset[2]) +
+                                  " is not inside the field");
+  // Per axis and block vertex: the cell that owns it and the one whose +1 overlap holds it
+  // (the same cell except on an inner cell boundary)
+  std::vector<std::int64_t> own[3], prev[3];
+  for (int a = 0; a < 3; ++a) {
+    own[a].resize(static_cast<std::size_t>(block.dims[a]));
+    prev[a].resize(static_cast<std::size_t>(block.dims[a]));
+    for (std::int64_t v = 0; v < block.dims[a]; ++v) {
+      const std::int64_t g = offset[a] + v;
+      const std::int64_t c = std::min(g / edge, parts.cells[a] - 1);
+      own[a][v] = c;
+      prev[a][v] = g % edge == 0 && g > 0 && g / edge <= parts.cells[a] - 1 ? g / edge - 1 : c;
+    }
+  }
+  CellRange total = kEmpty;
+  dispatch_dtype(block, [&](auto view) {
+    for (std::int64_t k = 0; k < block.dims[2]; ++k)
+      for (std::int64_t j = 0; j < block.dims[1]; ++j)
+        for (std::int64_t i = 0; i < block.dims[0]; ++i) {
+          const double v = canonical(view.load(i, j, k));
+          parts.nan += v != v;
+          merge_value(total, v);
+          const std::int64_t cx[2] = {own[0][i], prev[0][i]}, cy[2] = {own[1][j], prev[1][j]},
+                             cz[2] = {own[2][k], prev[2][k]};
+          for (int z = 0; z < (cz[1] != cz[0] ? 2 : 1); ++z)
+            for (int y = 0; y < (cy[1] != cy[0] ? 2 : 1); ++y)
+              for (int x = 0; x < (cx[1] != cx[0] ? 2 : 1); ++x) {
+                const auto c = static_cast<std::size_t>((cz[z] * parts.cells[1] + cy[y]) * parts.cells[0] + cx[x]);
+                if (v != v) parts.flags[c] |= 1;
+                else if (v == kInf) parts.flags[c] |= 2;
+                else if (v == -kInf) parts.flags[c] |= 4;
+                else {
+                  parts.lo[c] = std::min(parts.lo[c], v);
+                  parts.hi[c] = std::max(parts.hi[c], v);
+                }
+              }
+        }
+  });
+  parts.vmin = total.lo;
+  parts.vmax = total.hi;
+  return parts;
+}
+
+std::shared_ptr<const FieldSummary> FieldSummary::from_parts(Parts&& parts, const FieldLayout& layout, int edge) {
+  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
+  const std::int64_t n = parts.cells[0] * parts.cells[1] * parts.cells[2];
+  if (parts.cells[0] < 1 || parts.cells[1] < 1 || parts.cells[2] < 1 || parts.lo.size() != static_cast<std::size_t>(n) ||
+      parts.hi.size() != parts.lo.size() || parts.flags.size() != parts.lo.size())
+    throw std::invalid_argument("field summary parts: " + std::to_string(parts.lo.size()) + " lo, " +
+                                std::to_string(parts.hi.size()) + " hi, " + std::to_string(parts.flags.size()) +
+                                " flags for " + std::to_string(n) + " cells");
+  std::shared_ptr<FieldSummary> s(new FieldSummary());
+  s->m_layout = layout;
+  s->m_edge = edge;
+  for (int a = 0; a < 3; ++a) s->m_nc[a] = parts.cells[a];
+  s->m_range.resize(static_cast<std::size_t>(n));
+  for (std::size_t c = 0; c < s->m_range.size(); ++c)
+    s->m_range[c] = CellRange{parts.lo[c], parts.hi[c], (parts.flags[c] & 1) != 0, (parts.flags[c] & 2) != 0,
+                              (parts.flags[c] & 4) != 0};
+  s->m_nan = parts.nan;
+  s->m_vmin = parts.vmin;
+  s->m_vmax = parts.vmax;
+  return s;
 }
 
 bool FieldSummary::matches(const FieldView& field, int edge) const {

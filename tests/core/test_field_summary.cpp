@@ -1,6 +1,6 @@
 // Tests for FieldSummary and prepare()'s reuse of it: every cell range equals a brute-force
-// scan of the cell's vertex block (bitwise, signed zeros included, for any thread count),
-// and a reused summary gives the bit-identical image while a mismatching one is rebuilt.
+// scan of the cell's vertex block (bitwise, zeros recorded as +0.0, for any thread count),
+// partial summaries of blocks combine to the whole field's bit for bit, and a reused summary gives the bit-identical image while a mismatching one is rebuilt.
 #include <tessera/field_summary.h>
 #include <tessera/render.h>
 
@@ -50,7 +50,8 @@ std::vector<T> random_values(tessera::Rng& rng, std::int64_t count) {
 }
 
 /// The summary's definition, one vertex at a time: cell c along an axis covers vertices
-/// c*E ..= min((c+1)*E, n-1); values folded in (k, j, i) order with std::min / std::max.
+/// c*E ..= min((c+1)*E, n-1); values folded in (k, j, i) order with std::min / std::max,
+/// every zero taken as +0.0.
 struct BruteForce {
   std::int64_t nc[3];
   std::vector<CellRange> cells;
@@ -68,7 +69,7 @@ BruteForce brute_force(const FieldView& f, int edge) {
     for (std::int64_t k = 0; k < f.dims[2]; ++k)
       for (std::int64_t j = 0; j < f.dims[1]; ++j)
         for (std::int64_t i = 0; i < f.dims[0]; ++i) {
-          const double v = view.load(i, j, k);
+          const double v = view.load(i, j, k) == 0.0 ? 0.0 : view.load(i, j, k);
           if (std::isnan(v)) ++b.nans;
           if (std::isfinite(v)) b.lo = std::min(b.lo, v), b.hi = std::max(b.hi, v);
         }
@@ -79,7 +80,7 @@ BruteForce brute_force(const FieldView& f, int edge) {
           for (std::int64_t k = cz * edge; k <= std::min((cz + 1) * edge, f.dims[2] - 1); ++k)
             for (std::int64_t j = cy * edge; j <= std::min((cy + 1) * edge, f.dims[1] - 1); ++j)
               for (std::int64_t i = cx * edge; i <= std::min((cx + 1) * edge, f.dims[0] - 1); ++i) {
-                const double v = view.load(i, j, k);
+                const double v = view.load(i, j, k) == 0.0 ? 0.0 : view.load(i, j, k);
                 if (std::isnan(v)) r.nan = true;
                 else if (v == inf) r.pos_inf = true;
                 else if (v == -inf) r.neg_inf = true;
@@ -164,7 +165,100 @@ bool same_film(const tessera::Film& a, const tessera::Film& b) {
          std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(a.pixels()[0])) == 0;
 }
 
+/// The parts of the blocks of `f` cut at the given planes along each axis (each list starts
+/// with 0 and ends with dims), combined as the MPI reductions would, in reverse block order.
+std::shared_ptr<const FieldSummary> from_blocks(const FieldView& f, int edge, const std::vector<std::int64_t> cuts[3]) {
+  std::vector<FieldSummary::Parts> parts;
+  for (std::size_t z = 0; z + 1 < cuts[2].size(); ++z)
+    for (std::size_t y = 0; y + 1 < cuts[1].size(); ++y)
+      for (std::size_t x = 0; x + 1 < cuts[0].size(); ++x) {
+        const std::int64_t off[3] = {cuts[0][x], cuts[1][y], cuts[2][z]};
+        FieldView b = f;
+        b.data = static_cast<const unsigned char*>(f.data) + off[0] * f.byte_strides[0] + off[1] * f.byte_strides[1] +
+                 off[2] * f.byte_strides[2];
+        b.dims[0] = cuts[0][x + 1] - off[0];
+        b.dims[1] = cuts[1][y + 1] - off[1];
+        b.dims[2] = cuts[2][z + 1] - off[2];
+        parts.push_back(FieldSummary::partial(b, off, f.dims, edge));
+      }
+  FieldSummary::Parts all = parts.back();
+  for (std::size_t p = parts.size() - 1; p-- > 0;) {
+    const FieldSummary::Parts& q = parts[p];
+    for (std::size_t c = 0; c < all.lo.size(); ++c) {
+      all.lo[c] = std::min(all.lo[c], q.lo[c]);
+      all.hi[c] = std::max(all.hi[c], q.hi[c]);
+      all.flags[c] |= q.flags[c];
+    }
+    all.nan += q.nan;
+    all.vmin = std::min(all.vmin, q.vmin);
+    all.vmax = std::max(all.vmax, q.vmax);
+  }
+  return FieldSummary::from_parts(std::move(all), tessera::FieldLayout::of(f), edge);
+}
+
+template <class T>
+void check_parts(std::uint64_t seed) {
+  tessera::Rng rng(seed, 0, 0, 0);
+  const std::int64_t n[3] = {13, 9, 11};
+  const std::vector<T> data = random_values<T>(rng, n[0] * n[1] * n[2]);
+  const DType dt = tessera_test::dtype_of<T>();
+  const FieldView f = FieldView::contiguous(data.data(), dt, n[0], n[1], n[2]);
+  // 1..4 blocks per axis, uneven, with 1-vertex-thick blocks and cuts on and off cell edges
+  const std::vector<std::vector<std::int64_t>> splits_x = {{0, 13}, {0, 6, 13}, {0, 1, 2, 13}, {0, 3, 4, 12, 13}};
+  const std::vector<std::vector<std::int64_t>> splits_y = {{0, 9}, {0, 4, 9}, {0, 8, 9}};
+  const std::vector<std::vector<std::int64_t>> splits_z = {{0, 11}, {0, 5, 6, 11}, {0, 2, 7, 10, 11}};
+  for (const int edge : {1, 3, 4, 8, 1 << 30})
+    for (const auto& sx : splits_x)
+      for (const auto& sy : splits_y)
+        for (const auto& sz : splits_z) {
+          const std::vector<std::int64_t> cuts[3] = {sx, sy, sz};
+          const auto combined = from_blocks(f, edge, cuts);
+          const FieldSummary whole(f, edge);
+          INFO("dtype " << tessera::dtype_name(dt) << " edge " << edge << " blocks " << sx.size() - 1 << "x"
+                        << sy.size() - 1 << "x" << sz.size() - 1);
+          REQUIRE(combined->cell_count() == whole.cell_count());
+          int bad = 0;
+          for (std::size_t c = 0; c < whole.ranges().size(); ++c) {
+            const CellRange &x = combined->ranges()[c], &y = whole.ranges()[c];
+            bad += !same_bits(x.lo, y.lo) || !same_bits(x.hi, y.hi) || x.nan != y.nan || x.pos_inf != y.pos_inf ||
+                   x.neg_inf != y.neg_inf;
+          }
+          REQUIRE(bad == 0);
+          REQUIRE(combined->nan_vertices() == whole.nan_vertices());
+          REQUIRE(same_bits(combined->value_min(), whole.value_min()));
+          REQUIRE(same_bits(combined->value_max(), whole.value_max()));
+          REQUIRE(combined->has_finite() == whole.has_finite());
+          REQUIRE(combined->matches(f, edge));
+        }
+}
+
 }  // namespace
+
+TEST_CASE("FieldSummary: partials of blocks that tile the field combine to the whole's, bit for bit",
+          "[field_summary]") {
+  check_parts<float>(201);
+  check_parts<double>(202);
+  check_parts<std::uint8_t>(203);
+  check_parts<std::int16_t>(204);
+  check_parts<std::uint16_t>(205);
+}
+
+TEST_CASE("FieldSummary: a block's partial leaves the cells it does not touch empty", "[field_summary]") {
+  const std::vector<float> data(4 * 4 * 4, 2.0f);
+  const FieldView b = FieldView::contiguous(data.data(), DType::Float32, 4, 4, 4);
+  const std::int64_t off[3] = {0, 0, 0}, dims[3] = {16, 4, 4};
+  const FieldSummary::Parts p = FieldSummary::partial(b, off, dims, 4);
+  REQUIRE(p.cells[0] == 4);
+  CHECK(p.lo[0] == 2.0);
+  CHECK(p.lo[1] == INFINITY);  // vertex 4 (cell 1's first) is outside the block
+  CHECK(p.hi[3] == -INFINITY);
+  CHECK(p.nan == 0);
+  const std::int64_t outside[3] = {13, 0, 0};
+  CHECK_THROWS_WITH(FieldSummary::partial(b, outside, dims, 4), Catch::Contains("not inside the field"));
+  FieldSummary::Parts bad = p;
+  bad.lo.pop_back();
+  CHECK_THROWS_WITH(FieldSummary::from_parts(std::move(bad), {}, 4), Catch::Contains("for 4 cells"));
+}
 
 TEST_CASE("FieldSummary: every cell range equals a brute-force scan of its vertex block",
           "[field_summary]") {

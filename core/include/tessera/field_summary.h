@@ -38,7 +38,8 @@ struct FieldLayout {
   bool operator==(const FieldLayout& o) const;
 };
 
-/// Value range of the vertices one macrocell touches.
+/// Value range of the vertices one macrocell touches. Zeros are recorded as +0.0 (a -0.0
+/// vertex gives lo or hi +0.0), so that ranges combined in any order are bit-identical.
 struct CellRange {
   double lo, hi;  ///< finite min / max (lo > hi when the cell has no finite vertex)
   bool nan, pos_inf, neg_inf;
@@ -102,12 +103,13 @@ class FieldSummary {
   double value_max() const { return has_finite() ? m_vmax : 0.0; }
 
  private:
+  FieldSummary() = default;  ///< for from_parts
   FieldLayout m_layout;
   int m_edge = 1;
   std::int64_t m_nc[3] = {1, 1, 1};
   std::vector<CellRange> m_range;
   std::uint64_t m_nan = 0;
-  double m_vmin, m_vmax;  ///< +Inf / -Inf when no vertex is finite
+  double m_vmin = INFINITY, m_vmax = -INFINITY;  ///< +Inf / -Inf when no vertex is finite
 };
 
 }  // namespace tessera
