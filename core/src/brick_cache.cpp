@@ -29,11 +29,15 @@ struct BrickCache::State {
   std::mutex mu;
   std::condition_variable workers;  ///< acquire and enter_tile wait here
   std::condition_variable service;  ///< take_wanted waits here
-  std::vector<unsigned char> pool;  ///< capacity slots
+  /// capacity slots; default-initialised (new[] without ()), so the pages are reserved and
+  /// only touched, i.e. made resident, as bricks arrive
+  std::unique_ptr<unsigned char[]> pool;
   std::vector<unsigned char> zero;  ///< one slot of zeros, what acquire returns after fail()
   std::vector<std::uint8_t> state;  ///< per brick
   std::vector<std::uint32_t> waiters;  ///< per brick: workers blocked in acquire on it
   std::vector<std::int64_t> owner;     ///< per slot: its brick, -1 when free
+  std::vector<std::uint64_t> slot_seq; ///< per slot: when its brick was published (eviction order)
+  std::uint64_t next_seq = 0;
   std::vector<std::size_t> free_slots;
   std::unordered_map<std::int64_t, std::size_t> reserved;  ///< brick -> slot, not yet published
   std::vector<std::int64_t> fifo;   ///< wanted bricks, oldest first, from `fifo_head`
@@ -84,7 +88,7 @@ BrickCache::BrickCache(const BrickGrid& grid, std::size_t capacity)
   const auto n = static_cast<std::size_t>(grid.brick_count());
   m_dir = std::make_unique<std::atomic<const unsigned char*>[]>(n);
   State& s = *m_state;
-  s.pool.assign(capacity * grid.slot_bytes(), 0);
+  s.pool.reset(new unsigned char[capacity * grid.slot_bytes()]);
   s.zero.assign(grid.slot_bytes(), 0);
   s.state.assign(n, kAbsent);
   s.waiters.assign(n, 0);
@@ -164,7 +168,7 @@ unsigned char* BrickCache::reserve(std::int64_t b) {
   s.owner[slot] = b;
   s.reserved.emplace(b, slot);
   s.state[static_cast<std::size_t>(b)] = kReserved;
-  return s.pool.data() + slot * m_grid.slot_bytes();
+  return s.pool.get() + slot * m_grid.slot_bytes();
 }
 
 void BrickCache::publish(std::int64_t b) {
@@ -174,7 +178,8 @@ void BrickCache::publish(std::int64_t b) {
     const auto it = s.reserved.find(b);
     if (it == s.reserved.end())
       throw std::logic_error("brick " + std::to_string(b) + " published without a reserved slot");
-    const unsigned char* slot = s.pool.data() + it->second * m_grid.slot_bytes();
+    const unsigned char* slot = s.pool.get() + it->second * m_grid.slot_bytes();
+    s.slot_seq[it->second] = ++s.next_seq;
     s.reserved.erase(it);
     m_dir[static_cast<std::size_t>(b)].store(slot, std::memory_order_release);
     s.state[static_cast<std::size_t>(b)] = kResident;
@@ -196,16 +201,23 @@ bool BrickCache::try_flush() {
       s.flush_pending = true;
       return false;
     }
-    for (std::size_t slot = 0; slot < m_capacity; ++slot) {
+    // Evict the older half of the resident bricks (by publication order; at least one):
+    // the newer half is what the tiles being rendered now are using
+    std::vector<std::pair<std::uint64_t, std::size_t>> resident;
+    resident.reserve(m_capacity);
+    for (std::size_t slot = 0; slot < m_capacity; ++slot)
+      if (s.owner[slot] >= 0) resident.emplace_back(s.slot_seq[slot], slot);
+    std::sort(resident.begin(), resident.end());
+    const std::size_t evict = std::max<std::size_t>(1, (resident.size() + 1) / 2);
+    for (std::size_t n = 0; n < evict && n < resident.size(); ++n) {
+      const std::size_t slot = resident[n].second;
       const std::int64_t b = s.owner[slot];
-      if (b < 0) continue;
       m_dir[static_cast<std::size_t>(b)].store(nullptr, std::memory_order_relaxed);
       s.state[static_cast<std::size_t>(b)] = kAbsent;
       s.owner[slot] = -1;
+      s.free_slots.push_back(slot);
+      --s.resident;
     }
-    s.free_slots.clear();
-    for (std::size_t slot = m_capacity; slot-- > 0;) s.free_slots.push_back(slot);
-    s.resident = 0;
     ++s.stats.flushes;
     s.flush_pending = false;
   }
@@ -237,6 +249,8 @@ void BrickCache::reset() {
   std::fill(s.state.begin(), s.state.end(), kAbsent);
   std::fill(s.waiters.begin(), s.waiters.end(), 0u);
   s.owner.assign(m_capacity, -1);
+  s.slot_seq.assign(m_capacity, 0);
+  s.next_seq = 0;
   s.free_slots.clear();
   for (std::size_t slot = m_capacity; slot-- > 0;) s.free_slots.push_back(slot);
   s.reserved.clear();

@@ -6,7 +6,6 @@
 #include "mpi_datatypes.h"
 
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -38,22 +37,6 @@ FieldView sub_view(const FieldView& v, const std::int64_t origin[3], const std::
   }
   s.data = p;
   return s;
-}
-
-/// Copies view `v` into the B^3 slot at brick-local offset `at` (i fastest).
-void copy_into_slot(const FieldView& v, unsigned char* slot, std::int64_t B, const std::int64_t at[3]) {
-  const std::size_t E = dtype_size(v.dtype);
-  const auto* base = static_cast<const unsigned char*>(v.data);
-  for (std::int64_t k = 0; k < v.dims[2]; ++k)
-    for (std::int64_t j = 0; j < v.dims[1]; ++j) {
-      const unsigned char* src = base + j * v.byte_strides[1] + k * v.byte_strides[2];
-      unsigned char* dst = slot + E * static_cast<std::size_t>(((at[2] + k) * B + at[1] + j) * B + at[0]);
-      if (v.byte_strides[0] == static_cast<std::int64_t>(E)) {
-        std::memcpy(dst, src, E * static_cast<std::size_t>(v.dims[0]));
-      } else {
-        for (std::int64_t i = 0; i < v.dims[0]; ++i) std::memcpy(dst + E * i, src + i * v.byte_strides[0], E);
-      }
-    }
 }
 
 std::uint64_t box_bytes(const std::int64_t lo[3], const std::int64_t hi[3], DType t) {
@@ -156,11 +139,9 @@ bool BrickService::start_fetch(std::int64_t brick) {
       at[a] = lo[a] - blo[a];
       dims[a] = hi[a] - lo[a];
     }
-    if (static_cast<int>(r) == m_rank) {
-      copy_into_slot(sub_view(m_local, m_boxes[r].offset, lo, hi), slot, B, at);
-      m_traffic.bytes_copied += box_bytes(lo, hi, g.dtype);
-      continue;
-    }
+    // This rank's own part of the slot is never read: PagedFieldView::load reads the own
+    // block in place
+    if (static_cast<int>(r) == m_rank) continue;
     // The receive is posted before the request leaves, so the reply always has a match
     MPI_Request rr = MPI_REQUEST_NULL, rs = MPI_REQUEST_NULL;
     check(MPI_Irecv(slot, 1, detail::replica_box_type(g.dtype, slot_dims, at, dims, keep), static_cast<int>(r),
@@ -172,7 +153,7 @@ bool BrickService::start_fetch(std::int64_t brick) {
     ++m_traffic.requests_sent;
     m_traffic.bytes_received += box_bytes(lo, hi, g.dtype);
   }
-  if (f.requests.empty()) {  // all of it was this rank's own
+  if (f.requests.empty()) {  // no other owner (not asked for in practice)
     m_cache.publish(brick);
     f.brick = -1;
     return true;

@@ -7,7 +7,7 @@
 ///   staging copy);
 /// - it fetches: bricks this rank's workers wanted (BrickCache::take_wanted) get a slot; the
 ///   parts that other ranks own are received straight into the slot (a subarray datatype),
-///   the part this rank owns is copied from its own view, then the brick is published;
+///   then the brick is published (the part this rank owns is read in place, never from a slot);
 /// - when the cache is full it empties it at the next quiescent moment (BrickCache::try_flush).
 ///
 /// Messages: a request is two int64 {brick, fetch id} on kTagRequest; the reply from each
@@ -42,7 +42,6 @@ struct BrickTraffic {
   std::uint64_t requests_served = 0;   ///< requests answered
   std::uint64_t bytes_received = 0;    ///< field bytes received into slots
   std::uint64_t bytes_sent = 0;        ///< field bytes sent to other ranks
-  std::uint64_t bytes_copied = 0;      ///< own-block bytes copied into slots
 };
 
 class BrickService {

@@ -161,3 +161,28 @@ TEST_CASE("BrickCache: fail() wakes a blocked worker with zeros", "[brick_cache]
   CHECK_FALSE(c.failed());
   CHECK(c.failure().empty());
 }
+
+TEST_CASE("BrickCache: a full cache evicts the older half of its bricks, the newer stay", "[brick_cache]") {
+  BrickCache c(grid_10x7x5(), 4);
+  for (std::int64_t b : {7, 2, 9, 4}) {  // published in this order
+    REQUIRE(c.reserve(b) != nullptr);
+    c.publish(b);
+  }
+  CHECK(c.reserve(1) == nullptr);  // full
+  REQUIRE(c.try_flush());          // no worker inside a tile: quiescent
+  CHECK(c.find(7) == nullptr);
+  CHECK(c.find(2) == nullptr);
+  CHECK(c.find(9) != nullptr);
+  CHECK(c.find(4) != nullptr);
+  // Two slots free again; the next full cache evicts 9 and 4 before the bricks after them
+  for (std::int64_t b : {1, 3}) {
+    REQUIRE(c.reserve(b) != nullptr);
+    c.publish(b);
+  }
+  REQUIRE(c.try_flush());
+  CHECK(c.find(9) == nullptr);
+  CHECK(c.find(4) == nullptr);
+  CHECK(c.find(1) != nullptr);
+  CHECK(c.find(3) != nullptr);
+  CHECK(c.stats().flushes == 2);
+}

@@ -20,7 +20,7 @@ config::Config config_for(const std::string& distribution, int memory_limit_mb) 
                                   "}\nrenders:\n  - name: r\n    camera: {position: [3, 0, 0]}\n"
                                   "    image: {width: 64, height: 64, spp: 1}\n"
                                   "    transfer_function: {opacity: [[0, 1]]}\n",
-                              "plan.yaml");
+                              "plan.yaml", "");
 }
 
 /// A float32 binding of a global grid of n^3 vertices (this rank's block: one plane).

@@ -16,7 +16,8 @@
 ///   worker until the brick is there. No virtual call, lock or allocation on a hit.
 /// - One service thread (in situ: the thread that talks MPI) takes the wanted bricks, fills
 ///   their slots (from other ranks, or in tests from a full array) and publishes them.
-/// - When all slots are taken, the cache is emptied as a whole, but only at a quiescent moment:
+/// - When all slots are taken, the older half of the resident bricks (in publication order) is
+///   evicted at once, but only at a quiescent moment:
 ///   every worker is either between tiles (enter_tile blocks while a flush is pending) or
 ///   blocked in acquire. Kernels copy vertex values out at once and keep no slot pointer past
 ///   a load, so no worker can read a slot that is being reused.
@@ -66,7 +67,7 @@ struct BrickGrid {
 struct BrickCacheStats {
   std::uint64_t fetched = 0;     ///< bricks filled and published
   std::uint64_t misses = 0;      ///< acquire() calls that had to wait
-  std::uint64_t flushes = 0;     ///< times the cache was emptied to make room
+  std::uint64_t flushes = 0;     ///< times the older half of the cache was evicted to make room
   std::uint64_t peak_resident = 0;  ///< most bricks resident at once
 };
 
@@ -112,7 +113,7 @@ class BrickCache {
   unsigned char* reserve(std::int64_t b);
   /// b's reserved slot is filled: makes it visible and wakes the workers waiting for it.
   void publish(std::int64_t b);
-  /// Empties the cache (every resident brick) if no slot is reserved-but-unpublished and
+  /// Evicts the older half of the resident bricks (at least one; by publication order) if no slot is reserved-but-unpublished and
   /// every worker is quiescent; otherwise marks a flush pending (so enter_tile blocks) and
   /// returns false. Wanted bricks stay wanted.
   bool try_flush();
