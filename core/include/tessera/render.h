@@ -89,6 +89,22 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
 /// prepare() over the whole field; the kernels read vertices through field.cache, so
 /// render_tiles() must run while a service thread serves that cache. Images are bit-identical
 /// to those of prepare() over the whole field.
+///
+/// Adaptive sampling (image.target_error > 0): prepare's preview renders pilot samples, i.e.
+/// reads the field through the cache too (bracketed like tiles), so the service thread must
+/// already be serving the cache when prepare is called. Without adaptive sampling prepare
+/// reads no vertex.
+///
+/// Throws std::invalid_argument (naming the fault) for: a null cache or summary, a cache whose
+/// grid has other dims or another dtype, an own block (local.data non-null) that is invalid,
+/// of another dtype or not inside the global dims at `offset`, a summary whose edge is not
+/// majorant_edge() of the global dims (both edges named) or whose cells do not fit the dims,
+/// and every scene fault prepare(FieldView) names. The prepared scene's field descriptor has
+/// the global dims and dtype and no data: field_range() must not be called on it.
+///
+/// A render whose cache fails (BrickCache::fail) does not hang: blocked workers read zeros
+/// and render_tiles returns normally; the caller must check field.cache->failed() and
+/// discard the film.
 PreparedScene prepare(const PagedField& field, const SceneDesc& scene,
                       std::shared_ptr<const FieldSummary> summary);
 

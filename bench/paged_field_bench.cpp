@@ -1,0 +1,164 @@
+// Demand-paged field (brick_cache.h), core side: render time of the blobs scene read in place
+// (plain FieldView) vs through a PagedFieldView (own block in place, every vertex in place,
+// or every vertex through the cache with all bricks resident, or with a cache of 1/8 of the
+// bricks), served by an in-process thread (tests/core/fake_brick_service.h) instead of MPI.
+// Not a test: prints the figures and writes CSV rows.
+//
+//   paged_field_bench [--csv FILE] [--grid N] [--image W H] [--spp S] [--reps R] [--threads T]
+//                     [--shift S]
+//
+// Defaults: paged_field_bench.csv, 96^3 float32, 192x192, 8 spp, 3 reps (the best is kept),
+// 1 thread, bricks of 2^5 = 32 vertices.
+#include <tessera/brick_cache.h>
+#include <tessera/render.h>
+
+#include "fake_brick_service.h"
+#include "test_support.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+using tessera::Color;
+using tessera::Vec3;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Args {
+  std::string csv = "paged_field_bench.csv";
+  int grid = 96, width = 192, height = 192, spp = 8, reps = 3, threads = 1, shift = 5;
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    const auto next = [&] { return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s needs a value\n", s.c_str()), std::exit(2), ""); };
+    if (s == "--csv") a.csv = next();
+    else if (s == "--grid") a.grid = std::atoi(next());
+    else if (s == "--image") { a.width = std::atoi(next()); a.height = std::atoi(next()); }
+    else if (s == "--spp") a.spp = std::atoi(next());
+    else if (s == "--reps") a.reps = std::atoi(next());
+    else if (s == "--threads") a.threads = std::atoi(next());
+    else if (s == "--shift") a.shift = std::atoi(next());
+    else { std::fprintf(stderr, "unknown argument %s\n", s.c_str()); std::exit(2); }
+  }
+  return a;
+}
+
+tessera::SceneDesc blobs_scene(const Args& a) {
+  tessera::SceneDesc s;
+  s.geometry.spacing = Vec3(1.0 / (a.grid - 1));
+  s.tf.density_scale = 40.0;
+  s.tf.opacity = tessera::ScalarTF({0.0, 0.2, 1.0}, {0.0, 0.5, 1.0});
+  s.tf.diffuse = tessera::ColorTF({0.0, 1.0}, {Color(0.9, 0.6, 0.3), Color(0.3, 0.7, 0.95)});
+  s.camera.position = Vec3(0.5, 0.6, -1.6);
+  s.camera.look_at = Vec3(0.5, 0.5, 0.5);
+  s.camera.fov_deg = 40.0;
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(1.5, 1.5, -0.5), 0.3, Color(8.0)});
+  s.background.type = tessera::BackgroundType::Constant;
+  s.background.color = Color(0.1);
+  s.integrator.scattering = tessera::Scattering::Multiple;
+  s.integrator.max_bounces = 8;
+  s.integrator.macrocell = 8;
+  s.image = {a.width, a.height, a.spp, 0.0};
+  s.options.threads = a.threads;
+  s.options.seed = 5;
+  return s;
+}
+
+struct Row {
+  std::string mode;
+  std::size_t capacity = 0;
+  double seconds = 0.0;
+  tessera::BrickCacheStats cache;
+  bool same = true;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Args a = parse(argc, argv);
+  const std::vector<float> data = tessera_test::blobby_field(a.grid, a.grid, a.grid);
+  const tessera::FieldView whole = tessera::FieldView::contiguous(data.data(), tessera::DType::Float32, a.grid, a.grid, a.grid);
+  const tessera::SceneDesc scene = blobs_scene(a);
+  const int edge = tessera::majorant_edge(whole, scene.integrator);
+  const auto summary = tessera::FieldSummary::build(whole, edge);
+
+  // Plain
+  std::vector<Row> rows;
+  std::vector<tessera::PixelSums> reference;
+  {
+    const tessera::PreparedScene ps = tessera::prepare(whole, scene, summary);
+    Row r{"plain"};
+    r.seconds = 1e300;
+    for (int rep = 0; rep < a.reps; ++rep) {
+      const auto t0 = Clock::now();
+      const tessera::Film film = tessera_test::render_film(ps);
+      r.seconds = std::min(r.seconds, std::chrono::duration<double>(Clock::now() - t0).count());
+      reference = film.pixels();
+    }
+    rows.push_back(r);
+  }
+
+  // Paged: (own block = whole field | no own block) x cache size; `warm`: bricks stay from the
+  // previous rep (all resident after the first), else the cache is emptied before each rep
+  const std::int64_t dims[3] = {a.grid, a.grid, a.grid};
+  const tessera::BrickGrid grid = tessera::BrickGrid::make(dims, tessera::DType::Float32, a.shift);
+  const auto all = static_cast<std::size_t>(grid.brick_count());
+  struct Mode {
+    const char* name;
+    bool own_all;
+    std::size_t capacity;
+    bool warm;
+  };
+  const Mode modes[] = {{"paged, own block = whole field", true, 1, true},
+                        {"paged, all bricks resident", false, all, true},
+                        {"paged, cache of 1/8 of the bricks", false, std::max<std::size_t>(1, all / 8), false}};
+  for (const Mode& m : modes) {
+    tessera::BrickCache cache(grid, m.capacity);
+    tessera::PagedField f;
+    f.dtype = tessera::DType::Float32;
+    for (int i = 0; i < 3; ++i) f.dims[i] = dims[i];
+    if (m.own_all) f.local = whole;
+    f.cache = &cache;
+    Row r{m.name, m.capacity};
+    r.seconds = 1e300;
+    tessera_test::FakeBrickService service(cache, whole);
+    const tessera::PreparedScene ps = tessera::prepare(f, scene, summary);
+    if (m.warm) tessera_test::render_film(ps);  // first touch of every brick, not timed
+    for (int rep = 0; rep < a.reps; ++rep) {
+      if (!m.warm) cache.reset();
+      const auto t0 = Clock::now();
+      const tessera::Film film = tessera_test::render_film(ps);
+      r.seconds = std::min(r.seconds, std::chrono::duration<double>(Clock::now() - t0).count());
+      r.same = r.same && film.pixels().size() == reference.size() &&
+               std::memcmp(film.pixels().data(), reference.data(), reference.size() * sizeof(reference[0])) == 0;
+      if (!m.warm) r.cache = cache.stats();
+    }
+    if (m.warm) r.cache = cache.stats();
+    rows.push_back(r);
+  }
+
+  std::printf("%d^3 float32, %dx%d, %d spp, %d thread(s), bricks of %lld^3 (%zu), best of %d\n", a.grid, a.width,
+              a.height, a.spp, a.threads, static_cast<long long>(grid.edge()), all, a.reps);
+  std::ofstream csv(a.csv);
+  csv << "mode,grid,width,height,spp,threads,brick_edge,bricks,capacity,seconds,ratio_to_plain,misses,flushes,fetched,identical\n";
+  for (const Row& r : rows) {
+    std::printf("  %-36s %8.3f s  x%.3f  misses %llu  flushes %llu  fetched %llu  %s\n", r.mode.c_str(), r.seconds,
+                r.seconds / rows[0].seconds, static_cast<unsigned long long>(r.cache.misses),
+                static_cast<unsigned long long>(r.cache.flushes), static_cast<unsigned long long>(r.cache.fetched),
+                r.same ? "identical" : "DIFFERENT");
+    csv << '"' << r.mode << "\"," << a.grid << ',' << a.width << ',' << a.height << ',' << a.spp << ',' << a.threads << ','
+        << grid.edge() << ',' << all << ',' << r.capacity << ',' << r.seconds << ',' << r.seconds / rows[0].seconds << ','
+        << r.cache.misses << ',' << r.cache.flushes << ',' << r.cache.fetched << ',' << (r.same ? 1 : 0) << '\n';
+  }
+  return 0;
+}
