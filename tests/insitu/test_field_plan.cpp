@@ -49,7 +49,7 @@ TEST_CASE("distribution: auto is replicated while a rank's replica share fits ha
   CHECK_FALSE(plan_field(cfg, spec, binding_for(640), 1, 1, true).distributed);
 }
 
-TEST_CASE("distribution: replicated over the limit fails naming the replica; distributed fits", "[insitu][distribution]") {
+TEST_CASE("distribution: replicated over the limit fails naming the replica, distributed fits", "[insitu][distribution]") {
   const config::Config rep = config_for("replicated", 512), dist = config_for("distributed", 512);
   const FieldBinding b = binding_for(640);  // 1000 MiB
   try {

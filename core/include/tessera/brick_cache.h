@@ -181,9 +181,13 @@ inline double load_element(DType t, const unsigned char* base, std::int64_t e) {
 
 inline double PagedFieldView::load(std::int64_t i, std::int64_t j, std::int64_t k) const {
   // The own block, in place
-  if (i >= lo[0] && i < hi[0] && j >= lo[1] && j < hi[1] && k >= lo[2] && k < hi[2]) {
-    const auto* p = static_cast<const unsigned char*>(local.data) + (i - lo[0]) * local.byte_strides[0] +
-                    (j - lo[1]) * local.byte_strides[1] + (k - lo[2]) * local.byte_strides[2];
+  // (one unsigned compare per axis: a vertex below lo wraps to a huge offset)
+  const std::int64_t li = i - lo[0], lj = j - lo[1], lk = k - lo[2];
+  if (static_cast<std::uint64_t>(li) < static_cast<std::uint64_t>(hi[0] - lo[0]) &&
+      static_cast<std::uint64_t>(lj) < static_cast<std::uint64_t>(hi[1] - lo[1]) &&
+      static_cast<std::uint64_t>(lk) < static_cast<std::uint64_t>(hi[2] - lo[2])) {
+    const auto* p = static_cast<const unsigned char*>(local.data) + li * local.byte_strides[0] +
+                    lj * local.byte_strides[1] + lk * local.byte_strides[2];
     return detail::load_as_double(dtype, p);
   }
   // Another rank's: its brick's slot, fetched on a miss
