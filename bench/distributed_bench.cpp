@@ -5,10 +5,12 @@
 //
 //   mpirun -n P distributed_bench --mode replicated|distributed [--csv FILE] [--grid N]
 //          [--image W H] [--spp S] [--reps R] [--threads T] [--ranks-per-node K] [--multiple]
+//          [--cache-fraction F] [--shift S]
 //
 // Defaults: distributed_bench.csv, 96^3 float32, 128x128, 8 spp, 2 reps, 1 thread per rank,
 // single scattering. The cache is sized as the adapter sizes it without a memory limit: 40% of
-// the global field (field_plan.h). scripts/run_distributed_bench.sh runs the sweep.
+// the global field (field_plan.h; --cache-fraction changes it), with the adapter's brick size
+// (--shift changes it). scripts/run_distributed_bench.sh runs the sweep.
 #include "field_plan.h"
 #include "parallel_context_mpi.h"
 
@@ -39,6 +41,8 @@ struct Args {
   std::string csv = "distributed_bench.csv", mode = "distributed";
   int grid = 96, width = 128, height = 128, spp = 8, reps = 2, threads = 1, ranks_per_node = 0;
   bool multiple = false;
+  double cache_fraction = tessera::insitu::kCacheFieldFraction;  ///< --cache-fraction
+  int shift = 0;  ///< --shift: log2 of the brick edge; 0 = as the adapter picks it
 };
 
 Args parse(int argc, char** argv) {
@@ -55,6 +59,8 @@ Args parse(int argc, char** argv) {
     else if (s == "--threads") a.threads = std::atoi(next());
     else if (s == "--ranks-per-node") a.ranks_per_node = std::atoi(next());
     else if (s == "--multiple") a.multiple = true;
+    else if (s == "--cache-fraction") a.cache_fraction = std::atof(next());
+    else if (s == "--shift") a.shift = std::atoi(next());
     else { std::fprintf(stderr, "unknown argument %s\n", s.c_str()); std::exit(2); }
   }
   if (a.mode != "replicated" && a.mode != "distributed") { std::fprintf(stderr, "--mode replicated|distributed\n"); std::exit(2); }
@@ -126,10 +132,10 @@ int main(int argc, char** argv) {
     const tessera::insitu::GlobalPlacement where{{n, n, n}, {0, 0, z0}};
     const tessera::SceneDesc scene = make_scene(a);
     const double field_bytes = 4.0 * static_cast<double>(n * n * n);
-    const int shift = tessera::insitu::brick_shift(where.global_dims);
+    const int shift = a.shift > 0 ? a.shift : tessera::insitu::brick_shift(where.global_dims);
     const tessera::BrickGrid grid = tessera::BrickGrid::make(where.global_dims, tessera::DType::Float32, shift);
     const std::size_t capacity = std::max<std::size_t>(
-        1, static_cast<std::size_t>(tessera::insitu::kCacheFieldFraction * field_bytes / static_cast<double>(grid.slot_bytes())));
+        1, static_cast<std::size_t>(a.cache_fraction * field_bytes / static_cast<double>(grid.slot_bytes())));
 
     double best_render = 1e300, best_total = 1e300, moved = 0.0, held = 0.0;
     double fetched = 0.0, flushes = 0.0;

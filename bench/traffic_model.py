@@ -51,7 +51,7 @@ def human(b):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--csv", default="traffic_model.csv")
+    ap.add_argument("--csv", default="bench/results/traffic_model.csv")
     ap.add_argument("--touched", type=float, default=1.0)
     ap.add_argument("--refetch", type=float, default=1.0)
     a = ap.parse_args()
