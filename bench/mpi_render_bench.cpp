@@ -14,6 +14,7 @@
 // real nodes. The volume fills about half of the image, so a static split is unbalanced.
 // Per-rank rows go to FILE, one summary row per mode to FILE with _summary before .csv.
 // scripts/run_mpi_bench.sh runs it for 1, 2 and 4 ranks.
+#include "mpi_bench_field.h"
 #include "parallel_context_mpi.h"
 
 #include <tessera/render.h>
@@ -60,15 +61,6 @@ Args parse(int argc, char** argv) {
     else { std::fprintf(stderr, "unknown argument %s\n", s.c_str()); std::exit(2); }
   }
   return a;
-}
-
-/// A heat-like field: warm blobs on 300 K, world size 1 (spacing 1 / (n - 1)).
-double temperature(int n, std::int64_t i, std::int64_t j, std::int64_t k) {
-  const double x = i / (n - 1.0), y = j / (n - 1.0), z = k / (n - 1.0);
-  const auto blob = [&](double cx, double cy, double cz, double r) {
-    return std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy) + (z - cz) * (z - cz)) / (r * r));
-  };
-  return 300.0 + 100.0 * std::min(1.0, blob(0.4, 0.45, 0.55, 0.22) + 0.8 * blob(0.65, 0.6, 0.35, 0.15));
 }
 
 tessera::SceneDesc make_scene(const Args& a) {
@@ -136,19 +128,9 @@ int main(int argc, char** argv) {
     MpiParallelContext ctx(MPI_COMM_WORLD, a.ranks_per_node);
 
     // This rank's slab along k, C order with one ghost layer per side (as a simulation holds it)
-    const std::int64_t n = a.grid, base = n / size, extra = n % size;
-    const std::int64_t nz = base + (rank < extra ? 1 : 0), z0 = rank * base + std::min<std::int64_t>(rank, extra);
-    const std::int64_t full[3] = {n + 2, n + 2, nz + 2};
-    std::vector<float> local(static_cast<std::size_t>(full[0] * full[1] * full[2]), 0.0f);
-    for (std::int64_t k = 0; k < nz; ++k)
-      for (std::int64_t j = 0; j < n; ++j)
-        for (std::int64_t i = 0; i < n; ++i)
-          local[static_cast<std::size_t>(((k + 1) * full[1] + j + 1) * full[0] + i + 1)] =
-              static_cast<float>(temperature(a.grid, i, j, z0 + k));
-    const std::int64_t strides[3] = {4, 4 * full[0], 4 * full[0] * full[1]}, one[3] = {1, 1, 1};
-    const tessera::FieldView view =
-        tessera::FieldView::with_ghosts(local.data(), tessera::DType::Float32, full, strides, one, one);
-    tessera::insitu::GlobalPlacement where{{n, n, n}, {0, 0, z0}};
+    const tessera::bench::KSlab slab(a.grid, rank, size);
+    const tessera::FieldView& view = slab.view;
+    const tessera::insitu::GlobalPlacement& where = slab.where;
     const tessera::SceneDesc scene = make_scene(a);
 
     std::ofstream csv, summary;
