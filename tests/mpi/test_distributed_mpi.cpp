@@ -9,6 +9,7 @@
 // (its deadline) makes every rank fail, none hangs.
 #include "parallel_context_mpi.h"
 
+#include "mpi_render_support.h"
 #include "mpi_test_support.h"
 
 #include <tessera/render.h>
@@ -68,46 +69,13 @@ Box uneven_block(int n, int rank) {
 /// Shadows from a rect light above and a sphere light inside the far corner of the field
 /// (another rank's block), emission, hybrid shading.
 tessera::SceneDesc scene_for(tessera::Scattering scattering, int threads) {
-  tessera::SceneDesc s;
-  s.geometry.origin = Vec3(0.0);
-  s.geometry.spacing = Vec3(0.05);
-  s.tf.lo = 0.0;
-  s.tf.hi = 250.0;
-  s.tf.density_scale = 20.0;
-  s.tf.opacity = tessera::ScalarTF({0.0, 0.15, 0.5, 1.0}, {0.0, 0.3, 0.8, 1.0});
-  s.tf.diffuse = tessera::ColorTF({0.0, 1.0}, {Color(0.9, 0.6, 0.3), Color(0.3, 0.7, 0.95)});
-  s.tf.specular = tessera::ColorTF::constant(Color(0.04));
-  s.tf.emission = tessera::ColorTF({0.0, 0.6, 1.0}, {Color(0.0), Color(0.0), Color(2.0, 0.5, 0.1)});
-  s.camera.position = Vec3(2.8, -1.6, 1.4);
+  tessera::SceneDesc s = base_scene(scattering, threads);
   s.camera.look_at = Vec3(0.55, 0.45, 0.4);
-  s.camera.up = Vec3(0.0, 0.0, 1.0);
-  s.camera.fov_deg = 45.0;
-  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 2.5), Vec3(0.5, 0.5, 0.4), 1.0, 1.0, Color(5.0, 4.0, 3.0)});
   s.lights.push_back(tessera::SphereLightDesc{Vec3(0.95, 0.75, 0.65), 0.06, Color(8.0, 8.0, 12.0)});
-  s.background.type = tessera::BackgroundType::Gradient;
-  s.background.top = Color(0.4, 0.5, 0.8);
-  s.background.middle = Color(0.3);
-  s.background.bottom = Color(0.05);
-  s.integrator.scattering = scattering;
-  s.integrator.max_bounces = 8;
-  s.integrator.macrocell = 4;
   s.image = {41, 29, 2, 0.0};
   s.options.seed = 5;
   s.options.frame = 3;
-  s.options.tile = 8;
-  s.options.threads = threads;
   return s;
-}
-
-bool same_pixels(const tessera::Film& a, const tessera::Film& b) {
-  return a.width() == b.width() && a.height() == b.height() &&
-         std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0;
-}
-
-bool same_counters(const tessera::RenderStats& a, const tessera::RenderStats& b) {
-  for (const tessera::RenderCounter& c : tessera::kRenderCounters)
-    if (a.*c.field != b.*c.field) return false;
-  return true;
 }
 
 tessera::FieldView whole_view(const std::vector<unsigned char>& bytes) {
