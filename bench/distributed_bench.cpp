@@ -41,7 +41,7 @@ using Clock = std::chrono::steady_clock;
 struct Args {
   std::string csv = "distributed_bench.csv", mode = "distributed";
   int grid = 96, width = 128, height = 128, spp = 8, reps = 2, threads = 1, ranks_per_node = 0;
-  bool multiple = false;
+  bool multiple = false, morton = false;
   double cache_fraction = tessera::insitu::kCacheFieldFraction;  ///< --cache-fraction
   int shift = 0;  ///< --shift: log2 of the brick edge; 0 = as the adapter picks it
 };
@@ -60,6 +60,7 @@ Args parse(int argc, char** argv) {
     else if (s == "--threads") a.threads = std::atoi(next());
     else if (s == "--ranks-per-node") a.ranks_per_node = std::atoi(next());
     else if (s == "--multiple") a.multiple = true;
+    else if (s == "--morton") a.morton = true;
     else if (s == "--cache-fraction") a.cache_fraction = std::atof(next());
     else if (s == "--shift") a.shift = std::atoi(next());
     else { std::fprintf(stderr, "unknown argument %s\n", s.c_str()); std::exit(2); }
@@ -85,6 +86,7 @@ tessera::SceneDesc make_scene(const Args& a) {
   s.integrator.scattering = a.multiple ? tessera::Scattering::Multiple : tessera::Scattering::Single;
   s.image = {a.width, a.height, a.spp, 0.0};
   s.options.tile = 16;
+  if (a.morton) s.options.order = tessera::TileOrder::Morton;
   s.options.threads = a.threads;
   return s;
 }

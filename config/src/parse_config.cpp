@@ -80,9 +80,9 @@ namespace detail {
 
 GlobalOptions parse_global(const Value& v) {
   const Map m = v.map("a mapping with keys output_dir, on_error, threads, render_final_step, "
-                      "max_failures, time_limit, memory_limit_mb, distribution");
+                      "max_failures, time_limit, memory_limit_mb, distribution, brick_cache");
   m.allow({"output_dir", "on_error", "threads", "render_final_step", "max_failures",
-           "time_limit", "memory_limit_mb", "distribution"});
+           "time_limit", "memory_limit_mb", "distribution", "brick_cache"});
   GlobalOptions g;
   if (const auto d = m.get("output_dir")) {
     g.output_dir = d->string();
@@ -102,6 +102,7 @@ GlobalOptions parse_global(const Value& v) {
   g.memory_limit_mb = m.integer_or("memory_limit_mb", g.memory_limit_mb, 0,
                                    GlobalOptions::kMaxMemoryLimitMb);
   g.distribution = m.choice_or("distribution", g.distribution, kDistributionNames);
+  g.brick_cache = m.number_or("brick_cache", g.brick_cache, Range{0.0, 1.0, true, false});
   return g;
 }
 

@@ -121,6 +121,7 @@ void write(YAML::Emitter& out, const GlobalOptions& g) {
   field(out, "time_limit", g.time_limit);
   field(out, "memory_limit_mb", g.memory_limit_mb);
   field(out, "distribution", name_of(detail::kDistributionNames, g.distribution));
+  field(out, "brick_cache", g.brick_cache);
   out << YAML::EndMap;
 }
 

@@ -70,6 +70,7 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
                            : "the default tessera.memory_limit_mb (half of the machine's " +
                                  format_bytes(physical_memory_bytes()) + " over " + std::to_string(node_ranks) +
                                  " rank(s) on this node: " + format_bytes(plan.limit) + ")";
+  plan.cache_fraction = cfg.global.brick_cache;
   if (ranks > 1) plan.replica_share = field_bytes(binding) / static_cast<std::uint64_t>(node_ranks);
   switch (cfg.global.distribution) {
     case config::Distribution::Replicated: plan.distributed = false; break;
@@ -94,7 +95,10 @@ void plan_distributed(FieldPlan& plan, const FieldBinding& binding) {
   const std::uint64_t directory = BrickCache::bytes_for(grid, 0);
   e.add("brick directory", directory);
   const std::uint64_t used = e.total();
-  const std::uint64_t cap_field = static_cast<std::uint64_t>(kCacheFieldFraction * static_cast<double>(field_bytes(binding)));
+  // tessera.brick_cache's share of the field, but at least one brick (a one-slot cache still
+  // makes progress): only the memory limit can make a distributed render impossible
+  const std::uint64_t cap_field = std::max<std::uint64_t>(
+      slot, static_cast<std::uint64_t>(plan.cache_fraction * static_cast<double>(field_bytes(binding))));
   const std::uint64_t budget = used < plan.limit ? std::min(plan.limit - used, cap_field) : 0;
   plan.capacity = static_cast<std::size_t>(
       std::min<std::uint64_t>(budget / slot, static_cast<std::uint64_t>(grid.brick_count())));

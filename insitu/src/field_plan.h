@@ -20,12 +20,17 @@
 
 namespace tessera::insitu {
 
+/// The most the cache of a distributed render may hold by default (`tessera.brick_cache`):
+/// 40% of the global field's bytes, so that a rank holds less than half of what a replica costs.
+inline constexpr double kCacheFieldFraction = config::GlobalOptions::kDefaultBrickCache;
+
 struct FieldPlan {
   bool distributed = false;   ///< this rank's answer (combine across ranks for `auto`)
   int shift = 0;              ///< distributed: bricks of 2^shift vertices per edge
   std::size_t capacity = 0;   ///< distributed: cache slots
   std::uint64_t replica_share = 0;  ///< bytes of this rank's share of a node replica
   std::uint64_t limit = 0;          ///< the memory limit in bytes
+  double cache_fraction = kCacheFieldFraction;  ///< tessera.brick_cache: the cache's cap, of the field
   std::string limit_text;           ///< how the limit was set, for messages
   MemoryEstimate base;        ///< the render's own allocations without the field's
 };
@@ -33,10 +38,6 @@ struct FieldPlan {
 /// Bricks of 2^shift vertices per edge for a global grid: the power of two nearest below an
 /// eighth of the longest axis, clamped to [8, 32] vertices.
 int brick_shift(const std::int64_t global_dims[3]);
-
-/// The most the cache of a distributed render may hold: 40% of the global field's bytes, so
-/// that a rank always holds less than half of what a replica costs.
-inline constexpr double kCacheFieldFraction = 0.4;
 
 /// The plan for `spec` on this rank (ranks: the communicator's size). Throws
 /// std::runtime_error naming the estimate and the limit when even the chosen mode does not fit.

@@ -81,3 +81,28 @@ TEST_CASE("bricks are 8 to 32 vertices, about an eighth of the longest axis", "[
   CHECK(brick_shift(mid) == 4);
   CHECK(brick_shift(big) == 5);
 }
+
+TEST_CASE("tessera.brick_cache caps the cache at its share of the field; absurd values are refused", "[insitu][distribution]") {
+  const auto with_cache = [](const std::string& value) {
+    return config::parse_config("tessera: {distribution: distributed, memory_limit_mb: 4096, brick_cache: " + value +
+                                    "}\nrenders:\n  - name: r\n    camera: {position: [3, 0, 0]}\n"
+                                    "    image: {width: 64, height: 64, spp: 1}\n"
+                                    "    transfer_function: {opacity: [[0, 1]]}\n",
+                                "plan.yaml", "");
+  };
+  const FieldBinding b = binding_for(256);  // 64 MiB, bricks of 32^3 (128 KiB)
+  const BrickGrid g = BrickGrid::make(b.placement.global_dims, DType::Float32, brick_shift(b.placement.global_dims));
+  const auto capacity = [&](const config::Config& cfg) {
+    FieldPlan plan = plan_field(cfg, cfg.renders[0], b, 4, 1, true);
+    plan_distributed(plan, b);
+    return plan.capacity;
+  };
+  REQUIRE(g.brick_count() == 512);
+  CHECK(config_for("distributed", 4096).global.brick_cache == kCacheFieldFraction);
+  CHECK(capacity(config_for("distributed", 4096)) == static_cast<std::size_t>(0.4 * 512));
+  CHECK(capacity(with_cache("1")) == 512);          // every brick fits
+  CHECK(capacity(with_cache("0.25")) == 128);
+  CHECK(capacity(with_cache("1e-300")) == 1);       // never less than one brick
+  for (const char* bad : {"0", "-0.5", "1.5", ".nan", ".inf", "lots", "[0.5]"})
+    CHECK_THROWS_WITH(with_cache(bad), Catch::Contains("brick_cache"));
+}

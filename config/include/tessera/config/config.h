@@ -41,9 +41,14 @@ struct GlobalOptions {
   std::int64_t memory_limit_mb = 0;
   /// Adapter under MPI: replicated | distributed | auto (docs/mpi.md, "Distributed mode").
   Distribution distribution = Distribution::Auto;
+  /// Distributed mode: the most the cache of other ranks' bricks may hold, as a fraction of
+  /// the global field's bytes, in (0, 1] (and always within memory_limit_mb). The default
+  /// keeps a rank under half of what a replica costs; 1 lets the cache hold every brick.
+  double brick_cache = kDefaultBrickCache;
 
   static constexpr double kMaxTimeLimit = 31536000.0;            ///< one year, in seconds
   static constexpr std::int64_t kMaxMemoryLimitMb = std::int64_t(1) << 40;
+  static constexpr double kDefaultBrickCache = 0.4;
 };
 
 /// `volume:` (CLI only): a raw binary array of dims[0]*dims[1]*dims[2] values, i fastest.
