@@ -30,7 +30,7 @@ std::uint64_t field_bytes(const FieldBinding& b) {
 int brick_shift(const std::int64_t global_dims[3]) {
   const std::int64_t longest = std::max({global_dims[0], global_dims[1], global_dims[2]});
   int shift = 3;
-  while (shift < 5 && (std::int64_t{1} << (shift + 1)) <= longest / 8) ++shift;
+  while (shift < kMaxBrickShift && (std::int64_t{1} << (shift + 1)) <= longest / 8) ++shift;
   return shift;
 }
 
@@ -85,21 +85,38 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   return plan;
 }
 
-void plan_distributed(FieldPlan& plan, const FieldBinding& binding) {
+void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift) {
   plan.distributed = true;
-  plan.shift = brick_shift(binding.placement.global_dims);
-  const BrickGrid grid = BrickGrid::make(binding.placement.global_dims, binding.local.dtype, plan.shift);
+  const std::int64_t* dims = binding.placement.global_dims;
+  const DType dtype = binding.local.dtype;
+  // The cache's cap: tessera.brick_cache's share of the field, but at least one brick (a
+  // one-slot cache still makes progress: only the memory limit can make a distributed render
+  // impossible); at 1, every brick of the cut, its padding at the far faces included
+  const auto cap_for = [&](const BrickGrid& g) {
+    const std::uint64_t all = static_cast<std::uint64_t>(g.brick_count()) * g.slot_bytes();
+    if (plan.cache_fraction >= 1.0) return all;
+    return std::max<std::uint64_t>(
+        g.slot_bytes(), static_cast<std::uint64_t>(plan.cache_fraction * static_cast<double>(field_bytes(binding))));
+  };
+  // Bricks: about an eighth of the longest axis (small bricks waste little of a cache that must
+  // evict); but when the cap and the limit let the cache keep every brick of a coarser cut,
+  // nothing is ever evicted and fewer, larger messages win: the coarsest such cut
+  plan.shift = shift > 0 ? shift : brick_shift(dims);
+  for (int s = kMaxBrickShift; shift <= 0 && s > plan.shift; --s) {
+    const BrickGrid g = BrickGrid::make(dims, dtype, s);
+    const std::uint64_t all = static_cast<std::uint64_t>(g.brick_count()) * g.slot_bytes();
+    if (all <= cap_for(g) && plan.base.total() + BrickCache::bytes_for(g, static_cast<std::size_t>(g.brick_count())) <=
+                                 plan.limit) {
+      plan.shift = s;
+      break;
+    }
+  }
+  const BrickGrid grid = BrickGrid::make(dims, dtype, plan.shift);
   const std::uint64_t slot = grid.slot_bytes();
-  // The summary's partial parts, reduced across ranks: lo, hi and flags per global macrocell
   MemoryEstimate e = plan.base;
-  const std::uint64_t directory = BrickCache::bytes_for(grid, 0);
-  e.add("brick directory", directory);
+  e.add("brick directory", BrickCache::bytes_for(grid, 0));
   const std::uint64_t used = e.total();
-  // tessera.brick_cache's share of the field, but at least one brick (a one-slot cache still
-  // makes progress): only the memory limit can make a distributed render impossible
-  const std::uint64_t cap_field = std::max<std::uint64_t>(
-      slot, static_cast<std::uint64_t>(plan.cache_fraction * static_cast<double>(field_bytes(binding))));
-  const std::uint64_t budget = used < plan.limit ? std::min(plan.limit - used, cap_field) : 0;
+  const std::uint64_t budget = used < plan.limit ? std::min(plan.limit - used, cap_for(grid)) : 0;
   plan.capacity = static_cast<std::size_t>(
       std::min<std::uint64_t>(budget / slot, static_cast<std::uint64_t>(grid.brick_count())));
   if (plan.capacity < 1) {

@@ -36,8 +36,9 @@ struct FieldPlan {
 };
 
 /// Bricks of 2^shift vertices per edge for a global grid: the power of two nearest below an
-/// eighth of the longest axis, clamped to [8, 32] vertices.
+/// eighth of the longest axis, clamped to [8, 32] vertices. plan_distributed starts from it.
 int brick_shift(const std::int64_t global_dims[3]);
+inline constexpr int kMaxBrickShift = 5;  ///< bricks of at most 32^3 vertices
 
 /// The plan for `spec` on this rank (ranks: the communicator's size). Throws
 /// std::runtime_error naming the estimate and the limit when even the chosen mode does not fit.
@@ -45,8 +46,13 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
                      int ranks, int ranks_on_node, bool root);
 
 /// Sets plan.shift / capacity for distributed mode and checks the limit (throws like
-/// plan_field); after the ranks have agreed on distributed for `auto`.
-void plan_distributed(FieldPlan& plan, const FieldBinding& binding);
+/// plan_field); after the ranks have agreed on distributed for `auto`. The cache holds at most
+/// tessera.brick_cache of the field's bytes (at least one brick; at 1, every brick) within
+/// what the limit leaves. Bricks: brick_shift(), or the coarsest cut up to 32^3 of which the
+/// cache can keep every brick (then nothing is evicted and fewer messages carry the field).
+/// `shift` > 0 imposes the brick size instead (every rank must use the same cut: the caller
+/// plans, takes the smallest shift over the ranks and plans again with it where it differs).
+void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift = 0);
 
 /// One line for the log: the mode, and why (the rule's figures).
 std::string describe_plan(const FieldPlan& plan, config::Distribution asked);

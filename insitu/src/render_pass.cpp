@@ -113,8 +113,16 @@ class Pass {
       return std::move(m_out);
     if (m_cfg.global.distribution == config::Distribution::Auto && m_ctx.size() > 1)
       m_plan.distributed = m_ctx.range(0.0, m_plan.distributed ? 1.0 : 0.0).second > 0.0;
-    if (m_plan.distributed && !phase(TESSERA_ERROR_RENDER, [&] { plan_distributed(m_plan, m_binding); }))
-      return std::move(m_out);
+    if (m_plan.distributed) {
+      if (!phase(TESSERA_ERROR_RENDER, [&] { plan_distributed(m_plan, m_binding); })) return std::move(m_out);
+      // One brick cut for all: the finest any rank chose (their limits may differ). Every rank
+      // takes part in the phase (it ends in a collective), re-planning only where it differs
+      const int agreed = static_cast<int>(m_ctx.range(m_plan.shift, m_plan.shift).first);
+      if (!phase(TESSERA_ERROR_RENDER, [&] {
+            if (agreed != m_plan.shift) plan_distributed(m_plan, m_binding, agreed);
+          }))
+        return std::move(m_out);
+    }
     if (root && m_ctx.size() > 1 && m_render.logged_mode != (m_plan.distributed ? 1 : 0)) {
       m_render.logged_mode = m_plan.distributed ? 1 : 0;
       if (!quiet) log_line("render '" + m_spec.name + "': " + describe_plan(m_plan, m_cfg.global.distribution));

@@ -103,6 +103,21 @@ TEST_CASE("tessera.brick_cache caps the cache at its share of the field; absurd 
   CHECK(capacity(with_cache("1")) == 512);          // every brick fits
   CHECK(capacity(with_cache("0.25")) == 128);
   CHECK(capacity(with_cache("1e-300")) == 1);       // never less than one brick
+  // A cache that may keep every brick takes the coarsest cut (32^3) when the limit allows:
+  // nothing is ever evicted, fewer messages. Otherwise the cut stays at an eighth of the axis.
+  const auto plan_for = [&](const config::Config& cfg, std::int64_t n, int shift) {
+    FieldPlan plan = plan_field(cfg, cfg.renders[0], binding_for(n), 4, 1, true);
+    plan_distributed(plan, binding_for(n), shift);
+    return plan;
+  };
+  CHECK(plan_for(config_for("distributed", 4096), 96, 0).shift == 3);
+  CHECK(plan_for(with_cache("0.9"), 96, 0).shift == 3);
+  CHECK(plan_for(with_cache("1"), 96, 0).shift == 5);
+  CHECK(plan_for(with_cache("1"), 96, 0).capacity == 27);
+  CHECK(plan_for(with_cache("1"), 100, 0).shift == 5);     // padded far faces count: 4^3 bricks
+  CHECK(plan_for(with_cache("1"), 100, 0).capacity == 64);
+  CHECK(plan_for(with_cache("1"), 100, 3).shift == 3);     // imposed by the ranks' agreement
+  CHECK(plan_for(with_cache("1"), 100, 3).capacity == 13 * 13 * 13);
   for (const char* bad : {"0", "-0.5", "1.5", ".nan", ".inf", "lots", "[0.5]"})
     CHECK_THROWS_WITH(with_cache(bad), Catch::Contains("brick_cache"));
 }

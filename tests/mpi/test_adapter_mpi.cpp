@@ -28,9 +28,11 @@ constexpr std::array<std::int64_t, 3> kGlobal{29, 26, 24};
 
 /// One render, far camera so that the volume fills part of the image; EXR only.
 std::string config_text(const std::string& output_dir, const std::string& distribution = "auto",
-                        const std::string& scattering = "multiple", int threads = 1) {
+                        const std::string& scattering = "multiple", int threads = 1,
+                        const std::string& brick_cache = "") {
   return "tessera:\n  output_dir: " + output_dir + "\n  distribution: " + distribution +
-         "\n  threads: " + std::to_string(threads) + "\n"
+         "\n  threads: " + std::to_string(threads) + "\n" +
+         (brick_cache.empty() ? "" : "  brick_cache: " + brick_cache + "\n") +
          "renders:\n"
          "  - name: view\n"
          "    field: density\n"
@@ -219,10 +221,15 @@ TEST_CASE("distributed mode gives the replicated mode's images bit for bit at 1,
     REQUIRE(run_on(1, ref + ".yaml") == TESSERA_OK);
     std::vector<std::string> runs;
     // (at one rank `distributed` reads the one block in place, as replicated mode does)
+    // Caches: the default, one that keeps every brick (then one 32^3 brick covers this field)
+    // and one of a single 8^3 brick
+    struct Variant { int threads; const char* cache; };
     for (int n : sizes_up_to_world()) {
-      for (int threads : {1, 2}) {
-        const std::string out = dir.file("dist_" + scattering + "_np" + std::to_string(n) + "_t" + std::to_string(threads));
-        if (world_rank() == 0) std::ofstream(out + ".yaml") << config_text(out, "distributed", scattering, threads);
+      for (const Variant v : {Variant{1, ""}, Variant{2, ""}, Variant{1, "1"}, Variant{2, "0.02"}}) {
+        const std::string out = dir.file("dist_" + scattering + "_np" + std::to_string(n) + "_t" +
+                                         std::to_string(v.threads) + "_c" + v.cache);
+        if (world_rank() == 0)
+          std::ofstream(out + ".yaml") << config_text(out, "distributed", scattering, v.threads, v.cache);
         MPI_Barrier(MPI_COMM_WORLD);
         REQUIRE(run_on(n, out + ".yaml") == TESSERA_OK);
         runs.push_back(out);
