@@ -82,7 +82,7 @@ TEST_CASE("bricks are 8 to 32 vertices, about an eighth of the longest axis", "[
   CHECK(brick_shift(big) == 5);
 }
 
-TEST_CASE("tessera.brick_cache caps the cache at its share of the field; absurd values are refused", "[insitu][distribution]") {
+TEST_CASE("tessera.brick_cache caps the cache at its share of the field and refuses absurd values", "[insitu][distribution]") {
   const auto with_cache = [](const std::string& value) {
     return config::parse_config("tessera: {distribution: distributed, memory_limit_mb: 4096, brick_cache: " + value +
                                     "}\nrenders:\n  - name: r\n    camera: {position: [3, 0, 0]}\n"
