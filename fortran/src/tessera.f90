@@ -88,63 +88,7 @@ module tessera
     tessera_execute_final, tessera_open, tessera_open_with_output_dir, tessera_close, &
     tessera_field_unchanged, tessera_last_error
 
-  interface
-    function c_open(path, comm, out) bind(C, name="tessera_open") result(st)
-      import :: c_char, c_int, c_ptr
-      character(kind=c_char), intent(in) :: path(*)
-      integer(c_int), value :: comm
-      type(c_ptr), intent(out) :: out
-      integer(c_int) :: st
-    end function c_open
-    function c_open_with_output_dir(path, comm, dir, out) &
-        bind(C, name="tessera_open_with_output_dir") result(st)
-      import :: c_char, c_int, c_ptr
-      character(kind=c_char), intent(in) :: path(*), dir(*)
-      integer(c_int), value :: comm
-      type(c_ptr), intent(out) :: out
-      integer(c_int) :: st
-    end function c_open_with_output_dir
-    function c_execute(a, step, time, grid, fields, n) bind(C, name="tessera_execute") result(st)
-      import :: c_ptr, c_int64_t, c_double, c_int, tessera_grid
-      type(c_ptr), value :: a, fields
-      integer(c_int64_t), value :: step
-      real(c_double), value :: time
-      type(tessera_grid), intent(in) :: grid
-      integer(c_int), value :: n
-      integer(c_int) :: st
-    end function c_execute
-    function c_execute_final(a, step, time, grid, fields, n) &
-        bind(C, name="tessera_execute_final") result(st)
-      import :: c_ptr, c_int64_t, c_double, c_int, tessera_grid
-      type(c_ptr), value :: a, fields
-      integer(c_int64_t), value :: step
-      real(c_double), value :: time
-      type(tessera_grid), intent(in) :: grid
-      integer(c_int), value :: n
-      integer(c_int) :: st
-    end function c_execute_final
-    function c_field_unchanged(a, name) bind(C, name="tessera_field_unchanged") result(st)
-      import :: c_ptr, c_char, c_int
-      type(c_ptr), value :: a
-      character(kind=c_char), intent(in) :: name(*)
-      integer(c_int) :: st
-    end function c_field_unchanged
-    function c_close(a) bind(C, name="tessera_close") result(st)
-      import :: c_ptr, c_int
-      type(c_ptr), value :: a
-      integer(c_int) :: st
-    end function c_close
-    function c_last_error(a) bind(C, name="tessera_last_error") result(p)
-      import :: c_ptr
-      type(c_ptr), value :: a
-      type(c_ptr) :: p
-    end function c_last_error
-    function c_strlen(s) bind(C, name="strlen") result(n)
-      import :: c_ptr, c_size_t
-      type(c_ptr), value :: s
-      integer(c_size_t) :: n
-    end function c_strlen
-  end interface
+  include 'tessera_c_api.inc'
 
 contains
 
