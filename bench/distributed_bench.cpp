@@ -5,12 +5,13 @@
 //
 //   mpirun -n P distributed_bench --mode replicated|distributed [--csv FILE] [--grid N]
 //          [--image W H] [--spp S] [--reps R] [--threads T] [--ranks-per-node K] [--multiple]
-//          [--cache-fraction F] [--shift S]
+//          [--cache-fraction F] [--shift S] [--morton]
 //
 // Defaults: distributed_bench.csv, 96^3 float32, 128x128, 8 spp, 2 reps, 1 thread per rank,
 // single scattering. The cache is sized as the adapter sizes it without a memory limit: 40% of
 // the global field (field_plan.h; --cache-fraction changes it), with the adapter's brick size
-// (--shift changes it). scripts/run_distributed_bench.sh runs the sweep.
+// (--shift changes it), tiles in row-major order (--morton: Morton order).
+// scripts/run_distributed_bench.sh and scripts/run_distributed_cache_sweep.sh run the sweeps.
 #include "field_plan.h"
 #include "mpi_bench_field.h"
 #include "parallel_context_mpi.h"
