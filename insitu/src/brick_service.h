@@ -8,7 +8,8 @@
 /// - it fetches: bricks this rank's workers wanted (BrickCache::take_wanted) get a slot; the
 ///   parts that other ranks own are received straight into the slot (a subarray datatype),
 ///   then the brick is published (the part this rank owns is read in place, never from a slot);
-/// - when the cache is full it empties it at the next quiescent moment (BrickCache::try_flush).
+/// - when the cache is full it evicts the older half of it at the next quiescent moment
+///   (BrickCache::try_flush).
 ///
 /// Messages: a request is two int64 {brick, fetch id} on kTagRequest; the reply from each
 /// owner comes on kTagReply + fetch id, which the requester posted a receive for before it

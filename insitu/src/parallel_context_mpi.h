@@ -133,6 +133,9 @@ class MpiParallelContext final : public ParallelContext {
   // Distributed mode (parallel_context_mpi_paged.cpp)
   /// Runs fn on another thread while this thread serves and fetches bricks (no drain).
   void serve_during(const std::function<void()>& fn);
+  /// This rank's work is done: serves until every rank's is (BrickService::drain), then
+  /// throws std::runtime_error if the drain or the cache failed. Collective.
+  void finish_serving();
   /// Ends distributed mode (assemble() was called): frees the service and the cache.
   void end_distribution();
 

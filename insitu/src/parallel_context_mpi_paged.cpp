@@ -133,9 +133,18 @@ void MpiParallelContext::serve_while(const std::function<void()>& fn) {
   } catch (...) {
     error = std::current_exception();
   }
-  m_service->drain();  // every rank serves until every rank's fn has returned
-  if (m_cache->failed() && !error) throw std::runtime_error(m_cache->failure());
-  if (error) std::rethrow_exception(error);
+  // Every rank serves until every rank's fn has returned
+  if (!error) {
+    finish_serving();
+    return;
+  }
+  m_service->drain();  // fn's error says more than the cache's failure it caused
+  std::rethrow_exception(error);
+}
+
+void MpiParallelContext::finish_serving() {
+  m_service->drain();
+  if (m_cache->failed()) throw std::runtime_error(m_cache->failure());
 }
 
 }  // namespace tessera::insitu

@@ -51,7 +51,6 @@ void copy_box(const FieldView& v, void* replica, const std::int64_t global[3], c
 
 }  // namespace
 
-
 void MpiParallelContext::free_replica() {
   if (m_replica_win == MPI_WIN_NULL) return;
   MPI_Win_unlock_all(m_replica_win);
@@ -173,7 +172,6 @@ std::vector<MpiParallelContext::RankBox> MpiParallelContext::check_boxes(const F
     throw std::runtime_error("the ranks' real vertices cover " + std::to_string(covered) + " of the " +
                              std::to_string(total) + " global vertices");
   return boxes;
-
 }
 
 FieldView MpiParallelContext::assemble(const FieldView& local, const GlobalPlacement& where) {

@@ -126,11 +126,10 @@ std::vector<int> MpiParallelContext::render_grabbed_tiles(const PreparedScene& s
   // Distributed mode: serve the other ranks until every rank has rendered its last tile
   if (m_service) {
     try {
-      m_service->drain();
+      finish_serving();
     } catch (const std::exception& e) {
       if (error.empty()) error = "rank " + std::to_string(m_rank) + ": " + e.what();
     }
-    if (m_cache->failed() && error.empty()) error = "rank " + std::to_string(m_rank) + ": " + m_cache->failure();
   }
   m_report.render_cpu_seconds = process_cpu_seconds() - cpu0;
   m_report.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -113,9 +113,9 @@ class BrickCache {
   unsigned char* reserve(std::int64_t b);
   /// b's reserved slot is filled: makes it visible and wakes the workers waiting for it.
   void publish(std::int64_t b);
-  /// Evicts the older half of the resident bricks (at least one; by publication order) if no slot is reserved-but-unpublished and
-  /// every worker is quiescent; otherwise marks a flush pending (so enter_tile blocks) and
-  /// returns false. Wanted bricks stay wanted.
+  /// Evicts the older half of the resident bricks (at least one; by publication order) if no
+  /// slot is reserved-but-unpublished and every worker is quiescent; otherwise marks a flush
+  /// pending (so enter_tile blocks) and returns false. Wanted bricks stay wanted.
   bool try_flush();
   /// Ends the render in failure: wakes every waiting worker (acquire returns zeros from now
   /// on) and records `why` (the first reason is kept).
