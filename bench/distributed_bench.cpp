@@ -12,6 +12,7 @@
 // the global field (field_plan.h; --cache-fraction changes it), with the adapter's brick size
 // (--shift changes it), tiles in row-major order (--morton: Morton order).
 // scripts/run_distributed_bench.sh and scripts/run_distributed_cache_sweep.sh run the sweeps.
+#include "bench_args.h"
 #include "field_plan.h"
 #include "mpi_bench_field.h"
 #include "parallel_context_mpi.h"
@@ -39,9 +40,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct Args {
-  std::string csv = "distributed_bench.csv", mode = "distributed";
-  int grid = 96, width = 128, height = 128, spp = 8, reps = 2, threads = 1, ranks_per_node = 0;
+struct Args : tessera::bench::BenchArgs {
+  std::string mode = "distributed";
+  int ranks_per_node = 0;
   bool multiple = false, morton = false;
   double cache_fraction = tessera::insitu::kCacheFieldFraction;  ///< --cache-fraction
   int shift = 0;  ///< --shift: log2 of the brick edge; 0 = as the adapter picks it
@@ -49,23 +50,18 @@ struct Args {
 
 Args parse(int argc, char** argv) {
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string s = argv[i];
-    const auto next = [&] { return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s needs a value\n", s.c_str()), std::exit(2), ""); };
-    if (s == "--csv") a.csv = next();
-    else if (s == "--mode") a.mode = next();
-    else if (s == "--grid") a.grid = std::atoi(next());
-    else if (s == "--image") { a.width = std::atoi(next()); a.height = std::atoi(next()); }
-    else if (s == "--spp") a.spp = std::atoi(next());
-    else if (s == "--reps") a.reps = std::atoi(next());
-    else if (s == "--threads") a.threads = std::atoi(next());
+  a.csv = "distributed_bench.csv";
+  a.reps = 2;
+  tessera::bench::parse_args(argc, argv, a, [&](const std::string& s, auto next) {
+    if (s == "--mode") a.mode = next();
     else if (s == "--ranks-per-node") a.ranks_per_node = std::atoi(next());
     else if (s == "--multiple") a.multiple = true;
     else if (s == "--morton") a.morton = true;
     else if (s == "--cache-fraction") a.cache_fraction = std::atof(next());
     else if (s == "--shift") a.shift = std::atoi(next());
-    else { std::fprintf(stderr, "unknown argument %s\n", s.c_str()); std::exit(2); }
-  }
+    else return false;
+    return true;
+  });
   if (a.mode != "replicated" && a.mode != "distributed") { std::fprintf(stderr, "--mode replicated|distributed\n"); std::exit(2); }
   return a;
 }

@@ -14,6 +14,7 @@
 // real nodes. The volume fills about half of the image, so a static split is unbalanced.
 // Per-rank rows go to FILE, one summary row per mode to FILE with _summary before .csv.
 // scripts/run_mpi_bench.sh runs it for 1, 2 and 4 ranks.
+#include "bench_args.h"
 #include "mpi_bench_field.h"
 #include "parallel_context_mpi.h"
 
@@ -41,25 +42,20 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct Args {
-  std::string csv = "mpi_render_bench.csv";
-  int grid = 96, width = 256, height = 256, spp = 16, reps = 3, threads = 1, ranks_per_node = 0;
+struct Args : tessera::bench::BenchArgs {
+  int ranks_per_node = 0;
 };
 
 Args parse(int argc, char** argv) {
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string s = argv[i];
-    const auto next = [&] { return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s needs a value\n", s.c_str()), std::exit(2), ""); };
-    if (s == "--csv") a.csv = next();
-    else if (s == "--grid") a.grid = std::atoi(next());
-    else if (s == "--image") { a.width = std::atoi(next()); a.height = std::atoi(next()); }
-    else if (s == "--spp") a.spp = std::atoi(next());
-    else if (s == "--reps") a.reps = std::atoi(next());
-    else if (s == "--threads") a.threads = std::atoi(next());
-    else if (s == "--ranks-per-node") a.ranks_per_node = std::atoi(next());
-    else { std::fprintf(stderr, "unknown argument %s\n", s.c_str()); std::exit(2); }
-  }
+  a.csv = "mpi_render_bench.csv";
+  a.width = a.height = 256;
+  a.spp = 16;
+  tessera::bench::parse_args(argc, argv, a, [&](const std::string& s, auto next) {
+    if (s != "--ranks-per-node") return false;
+    a.ranks_per_node = std::atoi(next());
+    return true;
+  });
   return a;
 }
 

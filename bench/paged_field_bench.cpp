@@ -12,6 +12,7 @@
 #include <tessera/brick_cache.h>
 #include <tessera/render.h>
 
+#include "bench_args.h"
 #include "fake_brick_service.h"
 #include "test_support.h"
 
@@ -31,27 +32,21 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-struct Args {
-  std::string csv = "paged_field_bench.csv";
-  int grid = 96, width = 192, height = 192, spp = 8, reps = 3, threads = 1, shift = 5;
+struct Args : tessera::bench::BenchArgs {
+  int shift = 5;
   bool small_cache = true;  ///< --no-small-cache skips the (slow) 1/8 cache
 };
 
 Args parse(int argc, char** argv) {
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string s = argv[i];
-    const auto next = [&] { return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s needs a value\n", s.c_str()), std::exit(2), ""); };
-    if (s == "--csv") a.csv = next();
-    else if (s == "--grid") a.grid = std::atoi(next());
-    else if (s == "--image") { a.width = std::atoi(next()); a.height = std::atoi(next()); }
-    else if (s == "--spp") a.spp = std::atoi(next());
-    else if (s == "--reps") a.reps = std::atoi(next());
-    else if (s == "--threads") a.threads = std::atoi(next());
-    else if (s == "--shift") a.shift = std::atoi(next());
+  a.csv = "paged_field_bench.csv";
+  a.width = a.height = 192;
+  tessera::bench::parse_args(argc, argv, a, [&](const std::string& s, auto next) {
+    if (s == "--shift") a.shift = std::atoi(next());
     else if (s == "--no-small-cache") a.small_cache = false;
-    else { std::fprintf(stderr, "unknown argument %s\n", s.c_str()); std::exit(2); }
-  }
+    else return false;
+    return true;
+  });
   return a;
 }
 
