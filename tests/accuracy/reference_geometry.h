@@ -17,14 +17,7 @@
 #include <string>
 #include <vector>
 
-
-namespace tessera_acc {
-
-using tessera::Color;
-using tessera::FieldView;
-using tessera::Ray;
-using tessera::Vec3;
-using tessera::kPi;
+namespace tessera_acc {  // its using-declarations (Color, Vec3, ...) are accuracy_support.h's
 
 // ------------------------------------------------------------------------------------------
 // Reference geometry, independent of tessera::Camera
