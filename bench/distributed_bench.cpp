@@ -67,22 +67,14 @@ Args parse(int argc, char** argv) {
 }
 
 tessera::SceneDesc make_scene(const Args& a) {
-  tessera::SceneDesc s;
-  s.geometry.spacing = Vec3(1.0 / (a.grid - 1));
-  s.tf.lo = 300.0;
-  s.tf.hi = 400.0;
+  tessera::SceneDesc s = tessera::bench::heat_blobs_scene(a.grid, 8.0);
   s.tf.density_scale = 70.0;
   s.tf.opacity = tessera::ScalarTF({0.0, 0.08, 0.45, 1.0}, {0.004, 0.004, 0.25, 1.0});
   s.tf.diffuse = tessera::ColorTF({0.0, 1.0}, {Color(0.25, 0.45, 0.95), Color(1.0, 0.85, 0.55)});
   s.camera.position = Vec3(2.2, -1.3, 1.3);
   s.camera.look_at = Vec3(0.5, 0.5, 0.5);
-  s.camera.up = Vec3(0.0, 0.0, 1.0);
-  s.camera.fov_deg = 40.0;
-  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 3.0), Vec3(0.5, 0.5, 0.5), 1.2, 1.2, Color(8.0)});
-  s.background.color = Color(0.2, 0.2, 0.25);
   s.integrator.scattering = a.multiple ? tessera::Scattering::Multiple : tessera::Scattering::Single;
   s.image = {a.width, a.height, a.spp, 0.0};
-  s.options.tile = 16;
   if (a.morton) s.options.order = tessera::TileOrder::Morton;
   s.options.threads = a.threads;
   return s;

@@ -5,6 +5,7 @@
 #include "parallel_context.h"
 
 #include <tessera/field_view.h>
+#include <tessera/scene.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,23 @@ inline double heat_blobs(int n, std::int64_t i, std::int64_t j, std::int64_t k) 
     return std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy) + (z - cz) * (z - cz)) / (r * r));
   };
   return 300.0 + 100.0 * std::min(1.0, blob(0.4, 0.45, 0.55, 0.22) + 0.8 * blob(0.65, 0.6, 0.35, 0.15));
+}
+
+/// What the MPI benchmarks' scenes of heat_blobs share: the n^3 grid in a unit box, the
+/// transfer function's range [300, 400] K, a 40-degree camera with z up, one rect light of
+/// `light` above the box, a grey-blue background, 16-pixel tiles. The caller sets the rest
+/// (transfer function, camera position and target, image, scattering, threads).
+inline SceneDesc heat_blobs_scene(int n, double light) {
+  SceneDesc s;
+  s.geometry.spacing = Vec3(1.0 / (n - 1));
+  s.tf.lo = 300.0;
+  s.tf.hi = 400.0;
+  s.camera.up = Vec3(0.0, 0.0, 1.0);
+  s.camera.fov_deg = 40.0;
+  s.lights.push_back(RectLightDesc{Vec3(0.5, 0.5, 3.0), Vec3(0.5, 0.5, 0.5), 1.2, 1.2, Color(light)});
+  s.background.color = Color(0.2, 0.2, 0.25);
+  s.options.tile = 16;
+  return s;
 }
 
 /// This rank's slab of the n^3 field: slabs differ by at most one layer (the first n % size

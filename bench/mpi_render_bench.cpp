@@ -60,23 +60,15 @@ Args parse(int argc, char** argv) {
 }
 
 tessera::SceneDesc make_scene(const Args& a) {
-  tessera::SceneDesc s;
-  s.geometry.spacing = Vec3(1.0 / (a.grid - 1));
-  s.tf.lo = 300.0;
-  s.tf.hi = 400.0;
+  tessera::SceneDesc s = tessera::bench::heat_blobs_scene(a.grid, 6.0);
   s.tf.density_scale = 40.0;
   s.tf.opacity = tessera::ScalarTF({0.0, 0.06, 0.3, 1.0}, {0.0, 0.0, 0.25, 1.0});
   s.tf.diffuse = tessera::ColorTF({0.0, 1.0}, {Color(0.9, 0.5, 0.2), Color(1.0, 0.9, 0.6)});
   // Camera aimed to the right of the volume: it fills about the left half of the image.
   s.camera.position = Vec3(2.6, -1.4, 1.3);
   s.camera.look_at = Vec3(0.9, 0.9, 0.5);
-  s.camera.up = Vec3(0.0, 0.0, 1.0);
-  s.camera.fov_deg = 40.0;
-  s.lights.push_back(tessera::RectLightDesc{Vec3(0.5, 0.5, 3.0), Vec3(0.5, 0.5, 0.5), 1.2, 1.2, Color(6.0)});
-  s.background.color = Color(0.2, 0.2, 0.25);
   s.integrator.scattering = tessera::Scattering::Single;
   s.image = {a.width, a.height, a.spp, 0.0};
-  s.options.tile = 16;
   s.options.threads = a.threads;
   return s;
 }
