@@ -7,6 +7,7 @@
 #include <tessera/image_io.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <thread>
@@ -64,6 +65,7 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
 
   FieldPlan plan;
   plan.base = estimate_render_memory(f);
+  plan.threads = f.threads;
   const std::int64_t mb = cfg.global.memory_limit_mb;
   plan.limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(node_ranks);
   plan.limit_text = mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
@@ -124,6 +126,24 @@ void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift) {
     over_limit(e, plan);
   }
   e.add("brick cache", plan.capacity * slot);
+  plan.cache_warning = small_cache_warning(grid, plan.capacity, plan.threads, plan.cache_fraction);
+}
+
+std::string small_cache_warning(const BrickGrid& grid, std::size_t capacity, int threads, double fraction) {
+  const std::int64_t crossing = grid.bricks[0] + grid.bricks[1] + grid.bricks[2];
+  const std::int64_t useful = kCacheSlotsPerCrossing * std::max(1, threads) * crossing;
+  const auto slots = static_cast<std::int64_t>(std::min<std::size_t>(capacity, INT64_MAX));
+  if (slots >= grid.brick_count() || slots >= useful) return "";
+  char fraction_text[32];
+  std::snprintf(fraction_text, sizeof fraction_text, "%.6g", fraction);
+  return "distributed mode: the brick cache holds " + std::to_string(slots) + " of the field's " +
+         std::to_string(grid.brick_count()) + " bricks (" + std::to_string(grid.edge()) +
+         "^3 vertices), fewer than the " + std::to_string(useful) + " (" + std::to_string(kCacheSlotsPerCrossing) +
+         " x " + std::to_string(std::max(1, threads)) + " thread(s) x " + std::to_string(crossing) +
+         " bricks along x + y + z) that the paths being traced can cross: bricks are fetched again and "
+         "again and the render can be tens to hundreds of times slower than replicated; raise "
+         "tessera.brick_cache (now " + fraction_text + ") or tessera.memory_limit_mb, or use "
+         "distribution: replicated";
 }
 
 std::string describe_plan(const FieldPlan& plan, config::Distribution asked) {

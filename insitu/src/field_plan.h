@@ -11,6 +11,7 @@
 /// the caller combines them: distributed if any rank says so. One rank is always replicated.
 #include "field_binding.h"
 
+#include <tessera/brick_cache.h>
 #include <tessera/config/config.h>
 #include <tessera/memory_estimate.h>
 
@@ -33,7 +34,22 @@ struct FieldPlan {
   double cache_fraction = kCacheFieldFraction;  ///< tessera.brick_cache: the cache's cap, of the field
   std::string limit_text;           ///< how the limit was set, for messages
   MemoryEstimate base;        ///< the render's own allocations without the field's
+  int threads = 1;            ///< rendering threads on this rank (paths in flight at once)
+  /// Distributed: a warning when the cache is too small for the bricks the paths in flight
+  /// cross (small_cache_warning); "" otherwise.
+  std::string cache_warning;
 };
+
+/// A cache of fewer than this many bricks per thread and per brick along the three axes
+/// (capacity < kCacheSlotsPerCrossing x threads x (bricks along x + y + z)) cannot keep what
+/// the rays being traced cross, so bricks are fetched again and again (measured: 5-40x the
+/// replicated time, hundreds of times for a one-brick cache; docs/mpi.md): warned about.
+inline constexpr std::int64_t kCacheSlotsPerCrossing = 4;
+
+/// The warning for a distributed cache of `capacity` slots over `grid` with `threads`
+/// rendering threads and `fraction` = tessera.brick_cache, or "" when the cache holds every
+/// brick or at least kCacheSlotsPerCrossing x threads x (bricks along x + y + z).
+std::string small_cache_warning(const BrickGrid& grid, std::size_t capacity, int threads, double fraction);
 
 /// Bricks of 2^shift vertices per edge for a global grid: the power of two nearest below an
 /// eighth of the longest axis, clamped to [8, 32] vertices. plan_distributed starts from it.

@@ -181,6 +181,7 @@ class Pass {
     // Warnings about the image (rank 0 holds the stats summed over ranks): never a failure
     if (root) {
       r.warnings = render_warnings(prepared, r.stats);
+      if (m_plan.distributed && !m_plan.cache_warning.empty()) r.warnings.insert(r.warnings.begin(), m_plan.cache_warning);
       for (const std::string& w : r.warnings)
         log_line("warning: render '" + r.name + "' at step " + std::to_string(r.step) + ": " + w);
     }

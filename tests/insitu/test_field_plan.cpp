@@ -121,3 +121,39 @@ TEST_CASE("tessera.brick_cache caps the cache at its share of the field and refu
   for (const char* bad : {"0", "-0.5", "1.5", ".nan", ".inf", "lots", "[0.5]"})
     CHECK_THROWS_WITH(with_cache(bad), Catch::Contains("brick_cache"));
 }
+
+TEST_CASE("a distributed cache too small for the bricks the paths cross is warned about", "[insitu][distribution]") {
+  const std::int64_t dims[3] = {96, 96, 96};
+  const BrickGrid g8 = BrickGrid::make(dims, DType::Float32, 3);   // 12^3 bricks, 36 along x + y + z
+  const BrickGrid g32 = BrickGrid::make(dims, DType::Float32, 5);  // 3^3 bricks, 9 along x + y + z
+  // The default 40% of 1728 bricks (691) against 4 x 1 thread x 36: no warning
+  CHECK(small_cache_warning(g8, 691, 1, 0.4).empty());
+  CHECK(small_cache_warning(g8, 144, 1, 0.4).empty());  // exactly 4 x 36
+  // One brick, or too few for the threads: a warning naming the figures and the remedies
+  const std::string one = small_cache_warning(g8, 1, 1, 1e-300);
+  CHECK_THAT(one, Catch::Contains("holds 1 of the field's 1728 bricks (8^3 vertices)"));
+  CHECK_THAT(one, Catch::Contains("4 x 1 thread(s) x 36 bricks along x + y + z"));
+  CHECK_THAT(one, Catch::Contains("tessera.brick_cache (now 1e-300)"));
+  CHECK_THAT(one, Catch::Contains("distribution: replicated"));
+  CHECK_FALSE(small_cache_warning(g8, 143, 1, 0.4).empty());
+  CHECK_FALSE(small_cache_warning(g8, 691, 8, 0.4).empty());  // 4 x 8 x 36 = 1152 slots wanted
+  // A cache of every brick never warns, however many threads
+  CHECK(small_cache_warning(g32, 27, 64, 1.0).empty());
+  CHECK_FALSE(small_cache_warning(g32, 10, 1, 0.4).empty());  // 32^3 bricks at 40%: 14x slower measured
+
+  // Through the plan: a one-brick cache warns, a cache of every brick does not
+  const auto plan_for = [](const std::string& cache) {
+    const config::Config cfg = config::parse_config(
+        "tessera: {distribution: distributed, memory_limit_mb: 4096, threads: 1, brick_cache: " + cache +
+            "}\nrenders:\n  - name: r\n    camera: {position: [3, 0, 0]}\n"
+            "    image: {width: 64, height: 64, spp: 1}\n"
+            "    transfer_function: {opacity: [[0, 1]]}\n",
+        "plan.yaml", "");
+    FieldPlan plan = plan_field(cfg, cfg.renders[0], binding_for(96), 4, 1, true);
+    plan_distributed(plan, binding_for(96));
+    return plan;
+  };
+  CHECK(plan_for("1e-300").capacity == 1);
+  CHECK_THAT(plan_for("1e-300").cache_warning, Catch::Contains("holds 1 of the field's"));
+  CHECK(plan_for("1").cache_warning.empty());
+}

@@ -58,8 +58,9 @@ std::array<int, 3> procs_for(int n) {
 
 /// This rank's block as the simulation holds it: float32, one ghost layer on every side.
 struct Published {
-  Published(const Box& box, tessera_field& f, tessera_grid& g)
-      : local(box, tessera::DType::Float32, Layout::COrder, blobs(kGlobal)) {
+  Published(const Box& box, tessera_field& f, tessera_grid& g,
+            const std::array<std::int64_t, 3>& global = kGlobal)
+      : local(box, tessera::DType::Float32, Layout::COrder, blobs(global)) {
     const tessera::FieldView real = local.view();
     f = tessera_field{};
     f.name = "density";
@@ -69,8 +70,8 @@ struct Published {
       f.byte_strides[a] = real.byte_strides[a];
       f.ghosts_lo[a] = f.ghosts_hi[a] = 1;
       g.origin[a] = -0.5;
-      g.spacing[a] = 1.0 / (kGlobal[a] - 1);
-      g.global_dims[a] = kGlobal[a];
+      g.spacing[a] = 1.0 / (global[a] - 1);
+      g.global_dims[a] = global[a];
       g.offset[a] = box.offset[a];
     }
     // data: element (0,0,0) of the array, ghosts included
@@ -222,7 +223,7 @@ TEST_CASE("distributed mode gives the replicated mode's images bit for bit at 1,
     std::vector<std::string> runs;
     // (at one rank `distributed` reads the one block in place, as replicated mode does)
     // Caches: the default, one that keeps every brick (then one 32^3 brick covers this field)
-    // and one of a single 8^3 brick
+    // and 2% of the field (one slot: at this size also the one 32^3 brick)
     struct Variant { int threads; const char* cache; };
     for (int n : sizes_up_to_world()) {
       for (const Variant v : {Variant{1, ""}, Variant{2, ""}, Variant{1, "1"}, Variant{2, "0.02"}}) {
@@ -256,4 +257,31 @@ TEST_CASE("a bad field on one rank in distributed mode gives every rank an error
   if (world_rank() == 0) std::ofstream(out + ".yaml") << config_text(out, "distributed");
   MPI_Barrier(MPI_COMM_WORLD);
   REQUIRE(run_on(world_size(), out + ".yaml", true) == TESSERA_ERROR_DATA);
+}
+
+TEST_CASE("a distributed render with a cache too small to be useful warns on rank 0", "[mpi][adapter][distributed]") {
+  SharedTempDir dir;
+  const std::string out = dir.file("tiny_cache");
+  if (world_rank() == 0) std::ofstream(out + ".yaml") << config_text(out, "distributed", "single", 1, "0.02");
+  MPI_Barrier(MPI_COMM_WORLD);
+  tessera_field f{};
+  tessera_grid g{};
+  // 80 x 72 x 64 vertices: 720 bricks of 8^3; 2% of the field is 14 of them, fewer than
+  // 4 x 1 thread x 27 bricks along x + y + z (a coarser cut does not fit the cap either)
+  constexpr std::array<std::int64_t, 3> global{80, 72, 64};
+  Published pub(block_of(global, procs_for(world_size()), world_rank()), f, g, global);
+  tessera::insitu::Adapter adapter;
+  adapter.set_quiet(true);
+  REQUIRE(adapter.open(out + ".yaml", MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK);
+  REQUIRE(adapter.execute(3, 0.0, g, {&f, 1}) == TESSERA_OK);
+  REQUIRE(adapter.last_results().size() == 1);
+  bool warned = false;
+  for (const std::string& w : adapter.last_results()[0].warnings) {
+    INFO("rank " << world_rank() << " warning: " << w);
+    warned = warned || w.find("the brick cache holds 14 of the field's 720 bricks") != std::string::npos;
+  }
+  INFO("rank " << world_rank() << " of " << world_size());
+  // One rank renders replicated (its block is the field): nothing to warn about
+  CHECK(warned == (world_rank() == 0 && world_size() > 1));
+  adapter.close();
 }
