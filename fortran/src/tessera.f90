@@ -6,7 +6,9 @@
 !>     differences of neighbours), so an array section such as u(:, :, :, 2) or
 !>     u(2:10:2, :, :) is read where it lies, without a copy;
 !>   * strings are Fortran strings (trailing blanks dropped, as Fortran compares them), and
-!>     tessera_last_error returns character(:), allocatable;
+!>     tessera_last_error returns character(:), allocatable; a name or path holding a NUL
+!>     character (achar(0)), which C would read as its end, is refused with a message instead
+!>     of being passed on cut (the refusal's message is kept by the module, see `refused`);
 !>   * a field's name is kept inside type(tessera_field); tessera_execute builds the C
 !>     descriptors, with NUL-terminated names in its own storage, for the duration of the call.
 !> Field memory is read only during tessera_execute / tessera_execute_final, and only when a
@@ -88,6 +90,14 @@ module tessera
     tessera_execute_final, tessera_open, tessera_open_with_output_dir, tessera_close, &
     tessera_field_unchanged, tessera_last_error
 
+  !> The last argument the module itself refused (a NUL inside a name or path): its message,
+  !> and the handle it belongs to (null for an open). tessera_last_error returns it for that
+  !> handle until the next call with the handle. Module state, not per thread: like the rest
+  !> of the module, call it from one thread at a time.
+  logical :: refused = .false.
+  type(c_ptr) :: refused_handle = c_null_ptr
+  character(:), allocatable :: refused_message
+
   include 'tessera_c_api.inc'
 
 contains
@@ -104,7 +114,16 @@ contains
     integer, intent(in) :: comm
     type(tessera_adapter), intent(out) :: viz
     character(*), intent(in), optional :: output_dir
-    if (present(output_dir)) then
+    character(:), allocatable :: fault
+    call forget_refusal(c_null_ptr)
+    fault = nul_fault('tessera_open: path', path)
+    if (present(output_dir) .and. len(fault) == 0) fault = nul_fault('tessera_open: output_dir', output_dir)
+    if (len(fault) > 0) then
+      ! Collective: this rank still opens, with no config, so that every rank fails together
+      st = c_open(c_string(''), int(comm, c_int), viz%handle)
+      st = TESSERA_ERROR_CONFIG
+      call refuse(c_null_ptr, fault)
+    else if (present(output_dir)) then
       st = c_open_with_output_dir(c_string(path), int(comm, c_int), c_string(output_dir), viz%handle)
     else
       st = c_open(c_string(path), int(comm, c_int), viz%handle)
@@ -123,18 +142,23 @@ contains
   !> returns TESSERA_ERROR_CONFIG, "adapter was closed". A never-opened viz is TESSERA_OK.
   integer function tessera_close(viz) result(st)
     type(tessera_adapter), intent(in) :: viz
+    call forget_refusal(viz%handle)
     st = c_close(viz%handle)
   end function tessera_close
 
   !> The adapter's last error message, "" after a success; for an adapter that failed to open
-  !> (or was never opened) or with no argument, this thread's last tessera_open failure.
+  !> (or was never opened) or with no argument, this thread's last tessera_open failure. An
+  !> argument the module refused (a NUL in a name or path) gives the module's own message.
   function tessera_last_error(viz) result(msg)
     type(tessera_adapter), intent(in), optional :: viz
     character(:), allocatable :: msg
-    if (present(viz)) then
-      msg = from_c_string(c_last_error(viz%handle))
+    type(c_ptr) :: h
+    h = c_null_ptr
+    if (present(viz)) h = viz%handle
+    if (refused .and. same_handle(refused_handle, h)) then
+      msg = refused_message
     else
-      msg = from_c_string(c_last_error(c_null_ptr))
+      msg = from_c_string(c_last_error(h))
     end if
   end function tessera_last_error
 
@@ -143,7 +167,15 @@ contains
   integer function tessera_field_unchanged(viz, name) result(st)
     type(tessera_adapter), intent(in) :: viz
     character(*), intent(in) :: name
-    st = c_field_unchanged(viz%handle, c_string(name))
+    character(:), allocatable :: fault
+    call forget_refusal(viz%handle)
+    fault = nul_fault('tessera_field_unchanged: name', name)
+    if (len(fault) > 0) then
+      st = TESSERA_ERROR_DATA
+      call refuse(viz%handle, fault)
+    else
+      st = c_field_unchanged(viz%handle, c_string(name))
+    end if
   end function tessera_field_unchanged
 
   ! ---- Execute ------------------------------------------------------------------------------
@@ -222,7 +254,9 @@ contains
   end function execute_final_i4_r4
 
   !> Builds the C descriptors (names NUL-terminated in a local buffer that lives until the C
-  !> call returns) and calls tessera_execute or tessera_execute_final.
+  !> call returns) and calls tessera_execute or tessera_execute_final. A name holding a NUL is
+  !> refused: the call is made with no fields (collective: a render that fires then fails on
+  !> every rank instead of leaving the others waiting) and returns TESSERA_ERROR_DATA.
   integer function run_execute(final, viz, step, time, grid, fields) result(st)
     logical, intent(in) :: final
     type(tessera_adapter), intent(in) :: viz
@@ -234,6 +268,26 @@ contains
     character(kind=c_char), allocatable, target :: names(:)
     type(c_ptr) :: first
     integer :: i, j, n, pos, total
+    character(:), allocatable :: fault
+    character(len=16) :: index_text
+
+    ! A name C would cut: the call goes on with no fields, then reports the name
+    call forget_refusal(viz%handle)
+    do i = 1, size(fields)
+      if (.not. allocated(fields(i)%name)) cycle
+      write(index_text, '(i0)') i
+      fault = nul_fault('fields(' // trim(index_text) // ')%name', fields(i)%name)
+      if (len(fault) == 0) cycle
+      if (final) then
+        st = c_execute_final(viz%handle, step, time, grid, c_null_ptr, 0_c_int)
+      else
+        st = c_execute(viz%handle, step, time, grid, c_null_ptr, 0_c_int)
+      end if
+      if (st == TESSERA_ERROR_CONFIG) return  ! no open adapter: C's message says so
+      st = TESSERA_ERROR_DATA
+      call refuse(viz%handle, fault // '; the step was executed with no fields')
+      return
+    end do
 
     ! Names: one buffer, each NUL-terminated (an unset name stays NULL: C reports it)
     n = size(fields)
@@ -336,7 +390,8 @@ contains
   end function field_from_u8
 
   !> Name, dtype, extent and ghosts; strides as if contiguous until locate() measures them.
-  !> An empty array keeps data NULL (tessera_execute then reports the field).
+  !> An empty array keeps data NULL and its zero extent: tessera_execute then reports the
+  !> field as a zero-size array along that axis.
   function describe(name, dtype, extent, element_bits, ghosts, ghosts_lo, ghosts_hi) result(f)
     character(*), intent(in) :: name
     integer, intent(in) :: dtype, element_bits
@@ -345,7 +400,9 @@ contains
     type(tessera_field) :: f
     f%name = trim(name)
     f%dtype = dtype
-    f%dims = extent
+    ! Clamped: gfortran 12's shape() of a zero-size section such as u(:, :, 6:1) says -4 along
+    ! k (size() says 0); the field is reported as zero-size along that axis, not as negative
+    f%dims = max(extent, 0_c_int64_t)
     f%byte_strides(1) = element_bits / 8
     f%byte_strides(2) = f%byte_strides(1) * max(extent(1), 1_c_int64_t)
     f%byte_strides(3) = f%byte_strides(2) * max(extent(2), 1_c_int64_t)
@@ -370,7 +427,43 @@ contains
     if (f%dims(3) > 1) f%byte_strides(3) = int(address(next_k) - a0, c_int64_t)
   end subroutine locate
 
-  ! ---- Strings ------------------------------------------------------------------------------
+  ! ---- Strings and refusals -----------------------------------------------------------------
+
+  !> "" if s holds no NUL character; else the message naming `what`, the position and the
+  !> string C would see (cut at the NUL).
+  function nul_fault(what, s) result(msg)
+    character(*), intent(in) :: what, s
+    character(:), allocatable :: msg
+    character(len=16) :: at
+    integer :: k
+    k = index(s, c_null_char)
+    if (k == 0) then
+      msg = ''
+      return
+    end if
+    write(at, '(i0)') k
+    msg = what // ' contains a NUL character (achar(0)) at position ' // trim(at) // &
+      ", which C would read as its end ('" // s(1:k - 1) // "'); names and paths must not contain one"
+  end function nul_fault
+
+  subroutine refuse(handle, message)
+    type(c_ptr), intent(in) :: handle
+    character(*), intent(in) :: message
+    refused = .true.
+    refused_handle = handle
+    refused_message = message
+  end subroutine refuse
+
+  !> A call with `handle` starts: an earlier refusal for it is no longer its last error.
+  subroutine forget_refusal(handle)
+    type(c_ptr), intent(in) :: handle
+    if (refused .and. same_handle(refused_handle, handle)) refused = .false.
+  end subroutine forget_refusal
+
+  logical function same_handle(p, q)
+    type(c_ptr), intent(in) :: p, q
+    same_handle = address(p) == address(q)
+  end function same_handle
 
   integer(c_intptr_t) function address(p)
     type(c_ptr), intent(in) :: p

@@ -130,11 +130,18 @@ FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
   if (dt < TESSERA_UINT8 || dt > TESSERA_FLOAT64)
     fail(label, "dtype " + std::to_string(dt) + " is out of range (TESSERA_UINT8 .. TESSERA_FLOAT64)");
   const DType dtype = static_cast<DType>(dt);
-  if (!f.data) fail(label, "data pointer is null");
+  // Extents before the pointer: an empty array (Fortran's zero-size section, whose address
+  // is NULL) is reported as empty along its axis, not as a missing pointer
   for (int a = 0; a < 3; ++a) {
-    if (f.dims[a] < 1)
+    if (f.dims[a] == 0)
+      fail(label, "zero-size array: dims[" + std::to_string(a) + "] (" + kAxis[a] + ") = 0, " +
+                      "each extent must be >= 1 (dims " + triple(f.dims) + ")");
+    if (f.dims[a] < 0)
       fail(label, "dims[" + std::to_string(a) + "] (" + kAxis[a] + ") = " +
                       std::to_string(f.dims[a]) + ", must be >= 1");
+  }
+  if (!f.data) fail(label, "data pointer is null (dims " + triple(f.dims) + ")");
+  for (int a = 0; a < 3; ++a) {
     if (f.ghosts_lo[a] < 0 || f.ghosts_hi[a] < 0)
       fail(label, "negative ghost width along " + std::string(1, kAxis[a]));
     if (f.ghosts_lo[a] >= f.dims[a] || f.ghosts_hi[a] >= f.dims[a] - f.ghosts_lo[a])

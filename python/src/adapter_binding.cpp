@@ -31,6 +31,8 @@ class PyAdapter {
   /// Validates the config here first (a ConfigError with its key path), then opens.
   PyAdapter(const std::string& source, bool is_text, const std::string& name, int comm_f,
             const std::string& output_dir, bool quiet) {
+    if (!is_text) require_no_nul(source, "config");
+    require_no_nul(output_dir, "output_dir");
     load_config_source(source, is_text, name);
     insitu::OpenOptions options;
     options.output_dir = output_dir;
@@ -58,6 +60,7 @@ class PyAdapter {
     for (std::size_t f = 0; f < fields.size(); ++f) {
       const auto& [name, data, dtype, dims, strides, lo, hi] = fields[f];
       tessera_field& d = descs[f];
+      require_no_nul(name, "field name");
       d.name = name.c_str();
       d.data = reinterpret_cast<const void*>(data);
       d.dtype = static_cast<tessera_dtype>(dtype);

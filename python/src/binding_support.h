@@ -39,6 +39,11 @@ PyError error_for_status(tessera_status status, std::string message);
 /// which would point into generated text). Throws PyError of kind Config.
 config::Config load_config_source(const std::string& source, bool is_text, const std::string& name);
 
+/// Throws std::invalid_argument (ValueError) naming `what` and the position when `text` holds
+/// a NUL: a C string of it would be cut there. The package checks first (tessera/_checks.py);
+/// this keeps the extension from ever passing a cut name or path on.
+void require_no_nul(const std::string& text, const char* what);
+
 /// Registers the translator and _set_error_types (called once by tessera/__init__.py).
 void register_errors(nb::module_& m);
 

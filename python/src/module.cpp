@@ -3,6 +3,7 @@
 
 #include <nanobind/stl/string.h>
 
+#include <stdexcept>
 #include <utility>
 
 namespace tessera::python {
@@ -44,6 +45,12 @@ config::Config load_config_source(const std::string& source, bool is_text, const
     }
     throw e;
   }
+}
+
+void require_no_nul(const std::string& text, const char* what) {
+  const std::size_t at = text.find('\0');
+  if (at != std::string::npos)
+    throw std::invalid_argument(std::string(what) + ": contains a NUL character at position " + std::to_string(at));
 }
 
 void register_errors(nb::module_& m) {

@@ -56,6 +56,8 @@ nb::tuple render_array(const std::string& source, bool is_text, const std::strin
                        const std::string& render_name, std::int64_t render_index, std::uintptr_t data,
                        int dtype, Int3 dims, Int3 byte_strides, std::optional<Double3> spacing,
                        std::optional<Double3> origin, std::int64_t step) {
+  if (!is_text) require_no_nul(source, "config");
+  require_no_nul(render_name, "render");
   const config::Config cfg = load_config_source(source, is_text, name);
   const config::RenderSpec& spec = select_render(cfg, render_name, render_index);
   if (dtype < 0 || dtype > static_cast<int>(DType::Float64)) throw std::invalid_argument("dtype code out of range");

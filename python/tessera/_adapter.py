@@ -1,14 +1,10 @@
 """tessera.Adapter: the in situ adapter (C API, docs/c-api.md) for simulations in Python."""
 import warnings
 
-from . import _tessera
-from ._arrays import field_descriptor, triple
+from . import _checks, _tessera
+from ._arrays import field_descriptor
 from ._config import config_source
 from ._errors import TesseraError, TesseraWarning
-
-
-def _ghost_triple(value, what):
-    return triple(value, what, int)
 
 
 class Adapter:
@@ -24,11 +20,15 @@ class Adapter:
     """
 
     def __init__(self, config, comm=None, output_dir=None, quiet=False):
+        self._impl = None
         source, is_text, name = config_source(config)
+        if comm is not None and not callable(getattr(comm, "py2f", None)):
+            raise TypeError(f"comm: an mpi4py communicator or None is needed, got {type(comm).__name__}")
+        out = "" if output_dir is None else _checks.path(output_dir, "output_dir")
+        quiet = _checks.flag(quiet, "quiet")
         comm_f = -1 if comm is None else int(comm.py2f())
         self._comm = comm  # kept alive while the adapter uses its duplicate
-        self._impl = _tessera.Adapter(source, is_text, name, comm_f, "" if output_dir is None else str(output_dir),
-                                      bool(quiet))
+        self._impl = _tessera.Adapter(source, is_text, name, comm_f, out, quiet)
         self.last_status = 0
         self.last_error = ""
         self.results = []
@@ -51,29 +51,37 @@ class Adapter:
         A failing render follows the config's ``on_error``: ``warn`` and ``disable`` issue a
         TesseraWarning and go on (last_status, last_error and results say what failed);
         ``abort`` raises (DataError, RenderError, OutputError, DisabledError).
+
+        Arguments are checked, never converted (docs/python.md, "Arguments"): step an integer,
+        time a real number, ghosts / global_dims / offset integers, spacing / origin finite
+        numbers, field names str without NUL; TypeError or ValueError naming the argument.
         """
         if self._impl is None:
             raise TesseraError("execute: the adapter is closed")
         try:
+            step_i = _checks.integer(step, "step")
+            time_f = _checks.real(time, "time")
+            final_b = _checks.flag(final, "final")
             if not isinstance(fields, dict):
-                raise TypeError("fields: a dict {name: array} is needed")
-            lo = _ghost_triple(ghosts, "ghosts")
-            hi = lo if ghosts_hi is None else _ghost_triple(ghosts_hi, "ghosts_hi")
+                raise TypeError(f"fields: a dict {{name: array}} is needed, got {type(fields).__name__}")
+            lo = _checks.integer_triple(ghosts, "ghosts")
+            hi = lo if ghosts_hi is None else _checks.integer_triple(ghosts_hi, "ghosts_hi")
             held, descs = [], []
             for fname, array in fields.items():
+                fname = _checks.name(fname, "fields key")
                 a, address, code, dims, strides = field_descriptor(array, f"fields['{fname}']")
                 held.append(a)
-                descs.append((str(fname), address, code, dims, strides, lo, hi))
+                descs.append((fname, address, code, dims, strides, lo, hi))
             if global_dims is None:
                 first = descs[0][3] if descs else (1, 1, 1)
                 global_dims = tuple(first[a] - lo[a] - hi[a] for a in range(3))
-            grid = (triple(origin, "origin"), triple(spacing, "spacing"), _ghost_triple(global_dims, "global_dims"),
-                    _ghost_triple(offset, "offset"))
+            grid = (_checks.real_triple(origin, "origin"), _checks.real_triple(spacing, "spacing"),
+                    _checks.integer_triple(global_dims, "global_dims"), _checks.integer_triple(offset, "offset"))
         except Exception:
             if self._comm is not None:
                 self._enter_without_fields(step, time, final)
             raise
-        status = self._impl.execute(int(step), float(time), *grid, descs, bool(final))
+        status = self._impl.execute(step_i, time_f, *grid, descs, final_b)
         del held  # the arrays were read in place during the call
         self.last_status = status
         self.last_error = self._impl.last_error()
@@ -94,7 +102,7 @@ class Adapter:
         then fails on every rank (its field is missing here, and the ranks agree on failure
         before any collective) instead of leaving the others waiting; the caller then raises
         the argument's own error on this rank."""
-        try:
+        try:  # a step or time refused above is entered as its int / float if it has one
             self._impl.execute(int(step), float(time), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1, 1, 1), (0, 0, 0),
                                [], bool(final))
         except Exception:  # the argument error raised next says what is wrong

@@ -4,6 +4,8 @@ import os
 
 import numpy as np
 
+from . import _checks
+
 DICT_NAME = "config dict"
 
 
@@ -21,7 +23,8 @@ def config_source(config):
     """(source, is_text, name): a file name, or the dict as YAML text (JSON is YAML) that the
     config library validates exactly as a file."""
     if isinstance(config, (str, os.PathLike)):
-        return os.fspath(config), False, os.fspath(config)
+        path = _checks.path(config, "config")
+        return path, False, path
     if isinstance(config, dict):
         return json.dumps(config, default=_plain, indent=1, allow_nan=False), True, DICT_NAME
     raise TypeError(f"config: a YAML file name or a dict is needed, got {type(config).__name__}")

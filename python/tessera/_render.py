@@ -2,21 +2,13 @@
 import warnings
 
 from . import _tessera
-from ._arrays import field_descriptor, triple
+from . import _checks
+from ._arrays import field_descriptor
 from ._config import config_source
 from ._errors import TesseraWarning
 
 # Test hook: the address of the first vertex the renderer read in the last render() call
 _last_field_address = None
-
-
-def _step(step):
-    if isinstance(step, bool) or not isinstance(step, (int,)) and not hasattr(step, "__index__"):
-        raise TypeError(f"step: an integer is needed, got {step!r}")
-    step = int(step.__index__()) if not isinstance(step, int) else step
-    if not -2**63 <= step < 2**63:
-        raise ValueError(f"step: {step} is outside the 64-bit range")
-    return step
 
 
 def render(volume, config, render=None, spacing=None, origin=None, step=0):
@@ -36,6 +28,10 @@ def render(volume, config, render=None, spacing=None, origin=None, step=0):
     step: render as the adapter does at this simulation step (its random numbers), as
         ``tessera-render --step``; default 0.
 
+    Every argument is checked, never converted: TypeError or ValueError naming the argument
+    for a step that is not an integer, a spacing that is not numbers, a NUL in a name or path,
+    a masked array (docs/python.md, "Arguments").
+
     Raises ConfigError (a ValueError, with the key path), TypeError (dtype), DataError,
     RenderError. Warnings about the image (e.g. a transfer-function range that misses the data)
     are issued as TesseraWarning. The GIL is released while rendering.
@@ -46,16 +42,20 @@ def render(volume, config, render=None, spacing=None, origin=None, step=0):
     if render is None:
         render_name, render_index = "", -1
     elif isinstance(render, str):
-        render_name, render_index = render, -1
-    elif isinstance(render, int) and not isinstance(render, bool) and render >= 0:
-        render_name, render_index = "", render
+        render_name, render_index = _checks.name(render, "render"), -1
     else:
-        raise TypeError(f"render: a render name or an index >= 0 is needed, got {render!r}")
-    spacing = None if spacing is None else triple(spacing, "spacing")
-    origin = None if origin is None else triple(origin, "origin")
+        try:
+            render_name, render_index = "", _checks.integer(render, "render")
+        except TypeError:
+            raise TypeError(f"render: a render name or an index >= 0 is needed, got "
+                            f"{type(render).__name__} {render!r}") from None
+        if render_index < 0:
+            raise ValueError(f"render: a render name or an index >= 0 is needed, got {render_index}")
+    spacing = None if spacing is None else _checks.real_triple(spacing, "spacing")
+    origin = None if origin is None else _checks.real_triple(origin, "origin")
+    step = _checks.integer(step, "step")
     image, messages, seen = _tessera.render_array(source, is_text, name, render_name, render_index,
-                                                  address, code, dims, strides, spacing, origin,
-                                                  _step(step))
+                                                  address, code, dims, strides, spacing, origin, step)
     del array  # held until here: the renderer read it in place
     _last_field_address = seen
     for m in messages:
