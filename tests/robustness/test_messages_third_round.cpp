@@ -145,6 +145,21 @@ TEST_CASE("tessera-render: output.file leaving output_dir is refused before anyt
   CHECK_FALSE(std::filesystem::exists(dir.path() / "escaped.exr"));
 }
 
+TEST_CASE("tessera-render: a 5000-character output_dir is not echoed in full", "[robustness][messages]") {
+  TempDir dir;
+  dir.write("v.raw", std::string(8 * 4, '\0'));
+  const std::string long_dir = std::string(5000, 'o');
+  dir.write("s.yaml", "volume: {file: v.raw, dims: [2, 2, 2], dtype: float32}\ntessera: {output_dir: " + long_dir +
+                          "}\nrenders:\n  - name: a\n    image: {width: 4, height: 4, spp: 1}\n"
+                          "    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: fit}}}\n"
+                          "    transfer_function: {opacity: [[0, 0], [1, 1]]}\n");
+  const tessera_test::CliRun r = tessera_test::run_cli(dir, "s.yaml");
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.size() < kShortMessage);
+  CHECK_THAT(r.err, Contains("tessera-render: error: ") && Contains(" characters)"));
+}
+
 TEST_CASE("distance: fit on data of one vertex names the data's extent, not the camera", "[robustness][messages]") {
   const tessera::config::Config cfg = tessera::config::parse_config(
       "renders:\n  - name: a\n    image: {width: 4, height: 4, spp: 1}\n"
