@@ -211,9 +211,9 @@ class Pass {
       fault = "unknown exception";
     }
     if (m_ctx.agree(ok)) return true;
-    // Rank 0 logs every failure; another rank only one of its own that rank 0 did not share
-    // (one extra reduction, on the failure path only)
-    // (one reduction: min < 0 when a rank's fault is a LayoutError, max > 0 when rank 0 failed)
+    // Rank 0 logs every failure; another rank only one of its own that rank 0 did not share.
+    // One extra reduction, on the failure path only: min < 0 when some rank's fault is a
+    // LayoutError, max > 0 when rank 0 failed
     const bool root = m_ctx.rank() == 0;
     const auto [any_layout, root_fault] = m_ctx.range(layout ? -1.0 : 0.0, root && !ok ? 1.0 : 0.0);
     const bool root_failed = root_fault > 0.0;
