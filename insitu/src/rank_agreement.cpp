@@ -99,7 +99,7 @@ bool same_knob(const OpenRecord& a, const OpenRecord& b, std::size_t k) {
 
 std::string knob_value(const OpenRecord& rec, std::size_t k) {
   if (!rec.knob_set[k]) return "unset";
-  if (rec.knob_bytes[k] == 0) return "set but empty";
+  if (rec.knob_bytes[k] == 0) return "'' (set but empty)";
   const std::string_view text(rec.knob_text[k], std::min<std::size_t>(rec.knob_bytes[k], kKnobText));
   if (rec.knob_bytes[k] <= kKnobText) return quoted(text, kKnobText);
   std::string q(1, '\'');

@@ -116,14 +116,26 @@ TEST_CASE("an empty TESSERA_MPI_RANKS_PER_NODE is reported as set but empty", "[
   const char* kKnob = "TESSERA_MPI_RANKS_PER_NODE";
   const char* saved = std::getenv(kKnob);
   const std::string restore = saved ? saved : "";
+  const auto open_fails_with = [&](const std::string& says) {
+    tessera_adapter* a = nullptr;
+    const tessera_status s = tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a);
+    const std::string error = tessera_last_error(nullptr);
+    INFO(error);
+    const bool ok = s == TESSERA_ERROR_CONFIG && a == nullptr && has(error, says);
+    CHECK(ok);
+    if (a) tessera_close(a);
+    return ok;
+  };
+  // Empty on every rank: an error saying so (it was taken as unset)
   setenv(kKnob, "", 1);
-  tessera_adapter* a = nullptr;
-  const tessera_status s = tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a);
-  const std::string error = tessera_last_error(nullptr);
-  INFO(error);
-  const bool ok = s == TESSERA_ERROR_CONFIG && a == nullptr && has(error, "TESSERA_MPI_RANKS_PER_NODE is set but empty");
-  CHECK(ok);
-  if (a) tessera_close(a);
+  bool ok = open_fails_with("TESSERA_MPI_RANKS_PER_NODE is set but empty");
+  // Empty on one rank, unset on the others: the disagreement says "set but empty"
+  unsetenv(kKnob);
+  if (world_size() > 1) {
+    if (world_rank() == world_size() - 1) setenv(kKnob, "", 1);
+    ok = open_fails_with("TESSERA_MPI_RANKS_PER_NODE is '' (set but empty) on rank " +
+                         std::to_string(world_size() - 1) + " but unset on rank 0") && ok;
+  }
   if (saved) setenv(kKnob, restore.c_str(), 1);
   else unsetenv(kKnob);
   REQUIRE(all_ranks(ok));
