@@ -199,7 +199,7 @@ TEST_CASE("tessera-render: flat data (one vertex thick) is blamed on its extent,
   }
 }
 
-TEST_CASE("adapter: a 5000-character output_dir or file name is not echoed in full", "[robustness][messages]") {
+TEST_CASE("adapter: a 5000-character output_dir, file name or field name is not echoed in full", "[robustness][messages]") {
   using namespace tessera::insitu::test;
   TempDir dir;
   const std::string renders = render_yaml("r", "", "", "density", 8, 1);
@@ -231,6 +231,17 @@ TEST_CASE("adapter: a 5000-character output_dir or file name is not echoed in fu
     CHECK(s == TESSERA_ERROR_IO);
     CHECK(e.size() < kShortMessage);
     CHECK_THAT(e, Contains("fff.exr") && Contains(" characters)"));
+    tessera_close(a);
+  }
+  SECTION("a field name passed to tessera_field_unchanged, with a BOM in it") {
+    tessera_adapter* a = nullptr;
+    REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
+    const std::string name = kBom + std::string(5000, 'n');
+    CHECK(tessera_field_unchanged(a, name.c_str()) == TESSERA_ERROR_DATA);
+    const std::string e = tessera_last_error(a);
+    INFO(e);
+    CHECK(e.size() < kShortMessage);
+    CHECK_THAT(e, Contains("called '\\u{FEFF}nnnn") && Contains("... (5003 characters)'"));
     tessera_close(a);
   }
 }
