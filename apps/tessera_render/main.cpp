@@ -9,6 +9,8 @@
 #include <tessera/config/raw_volume.h>
 #include <tessera/denoiser.h>
 
+#include <tessera/message_text.h>
+
 #include <unistd.h>
 
 #include <cstdio>
@@ -97,9 +99,11 @@ int run(int argc, const char* const* argv) {
   return 0;
 }
 
-/// One line: newlines in the message become "; ".
+/// One line: newlines in the message become "; "; a long path is cut to its first and last
+/// parts, and nothing prints raw (message_text.h).
 void print_error(std::string message) {
   for (std::size_t p; (p = message.find('\n')) != std::string::npos;) message.replace(p, 1, "; ");
+  message = message_quoting(std::move(message), {});
   std::fprintf(stderr, "tessera-render: error: %s\n", message.c_str());
 }
 

@@ -70,6 +70,15 @@ struct Resolver {
       fail(key + " " + format_number(v) + " is larger than 2^40 smallest spacings (" + format_number(lim) + ")");
     return v;
   }
+  /// An orbit is placed in multiples of the data's bounding-sphere radius: data of one vertex
+  /// (radius 0) puts it on the data itself, a fault of the data's extent, not of the camera.
+  void orbit_extent(const std::string& key, const PointSpec& p, const Bounds& b) const {
+    if (p.kind != PointSpec::Kind::Orbit || b.radius() > 0.0) return;
+    fail(key + ": an orbit" + (p.orbit.fit ? std::string(" with distance: fit") : std::string()) +
+         " is measured in the data's bounding-sphere radius, but the data's bounds are the single point " +
+         vec_text(b.lo) + " (a volume of one vertex, dims 1x1x1), so there is nothing to frame (allowed: "
+         "data with 2 or more vertices along some axis, or an absolute position [x, y, z])");
+  }
   [[noreturn]] void fail(const std::string& what) const {
     throw std::invalid_argument("render \"" + render + "\": " + what);
   }
@@ -134,6 +143,7 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
   const double h = std::min({geom.spacing.x, geom.spacing.y, geom.spacing.z});
   const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
   const double fit_radii = fit_distance(spec.camera.fov, spec.image.width, spec.image.height);
+  res.orbit_extent("camera.position", spec.camera.position, data_bounds);
   s.camera.position =
       res.point("camera.position", resolve_point(spec.camera.position, data_bounds, up, fit_radii));
   s.camera.look_at = res.point("camera.look_at", resolve_point(spec.camera.look_at, data_bounds, up));
@@ -152,6 +162,7 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
       throw std::invalid_argument("render \"" + spec.name + "\": " + key + "intensity " +
                                   format_number(l.intensity) + " times color " + vec_text(l.color) +
                                   " is a radiance above 1e30 (pixels would overflow float32)");
+    res.orbit_extent(key + "position", l.position, data_bounds);
     if (l.type == LightSpec::Type::Rect) {
       RectLightDesc r;
       r.position = res.point(key + "position", resolve_point(l.position, data_bounds, up));

@@ -1,4 +1,5 @@
 #include <tessera/config/config_error.h>
+#include <tessera/message_text.h>
 
 #include <utility>
 
@@ -7,7 +8,7 @@ namespace {
 
 std::string compose(const std::string& file, SourceMark mark, const std::string& key_path,
                     const std::string& message) {
-  std::string s = file;
+  std::string s = shown_path(file);  // a long or odd file name stays short and visible
   if (mark.line > 0) {
     s.append(":").append(std::to_string(mark.line));
     s.append(":").append(std::to_string(mark.column));

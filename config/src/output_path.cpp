@@ -143,6 +143,36 @@ void expand(const std::string& pattern, const std::string& name, std::int64_t st
   }
 }
 
+/// The name (the pattern as written, or expanded) must stay a file inside output_dir:
+/// relative, no `.` or `..` component, and a final name neither empty nor hidden (a leading
+/// '.'). A fault of the pattern as written stays one after expansion, so checking it first
+/// names it without the expansion.
+void require_inside(const std::string& pattern, const std::string& name) {
+  const auto fault = [&](const std::string& what, const std::string& allowed) {
+    bad(pattern, what + (name == pattern ? "" : " after formatting (gives \"" + detail::cut_for_message(name) + "\")") +
+                     " (allowed: " + allowed + ")");
+  };
+  if (!name.empty() && name.front() == '/')
+    fault("is an absolute path, which would write outside output_dir",
+          "a name relative to output_dir, e.g. \"images/{name}\"; set output_dir to write elsewhere");
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t slash = name.find('/', start);
+    const std::string_view part(name.data() + start, (slash == std::string::npos ? name.size() : slash) - start);
+    if (part == "..")
+      fault("has a '..' component, which would write outside output_dir",
+            "names below output_dir, e.g. \"images/{name}\"; set output_dir to write elsewhere");
+    if (part == ".") fault("has a '.' component", "directory and file names, e.g. \"images/{name}\"");
+    if (slash == std::string::npos) {
+      if (part.empty()) fault("gives an empty file name", "a file name, e.g. \"{name}\"");
+      if (part.front() == '.')
+        fault("gives a hidden file name (starting with '.')", "a file name that does not start with '.', e.g. \"{name}\"");
+      break;
+    }
+    start = slash + 1;
+  }
+}
+
 }  // namespace
 
 void validate_output_pattern(const std::string& pattern) {
@@ -162,6 +192,12 @@ void validate_output_pattern(const std::string& pattern) {
                  "\"images/{name}\")");
   }
   expand(pattern, {}, 0, 0.0, 0, nullptr);
+  // Where it writes: as written, then with a stand-in name ({name} is a word of letters,
+  // digits, _ and -)
+  require_inside(pattern, pattern);
+  std::string sample;
+  expand(pattern, "x", 0, 0.0, 0, &sample);
+  require_inside(pattern, sample);
 }
 
 std::string format_output_path(const std::string& pattern, const std::string& name,
@@ -169,6 +205,7 @@ std::string format_output_path(const std::string& pattern, const std::string& na
   validate_output_pattern(pattern);
   std::string out;
   expand(pattern, name, step, time, rank, &out);
+  require_inside(pattern, out);  // the real name, step and time, checked again
   return out;
 }
 

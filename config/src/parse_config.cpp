@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/depthguard.h>
 
+#include <tessera/message_text.h>
 #include <tessera/regular_file.h>
 
 #include <sys/stat.h>
@@ -155,7 +156,7 @@ std::string resolve_existing_file(const Value& v) {
   if (p.is_relative() && !v.doc().base_dir.empty()) p = fs::path(v.doc().base_dir) / p;
   std::error_code ec;
   p = fs::absolute(p, ec).lexically_normal();
-  const std::string shown = detail::cut_for_message(p.string(), detail::kMessagePathMax);
+  const std::string shown = shown_path(p.string());
   if (ec) v.fail("cannot resolve " + v.describe() + ": " + ec.message());
   // Only regular files: a FIFO would block the reader, /dev/zero would never end
   struct stat st{};
@@ -191,6 +192,11 @@ Config parse_config(const std::string& yaml_text, const std::string& file_name_f
                         "a second YAML document starts here (allowed: one document per config "
                         "file)");
     }
+    if (const auto tag = detail::first_explicit_tag(yaml_text)) {
+      throw ConfigError(doc.file, tag->mark, "",
+                        "YAML tag " + tag->tag + " is not supported (allowed: untagged values; "
+                        "quote a value that starts with '!')");
+    }
     return parse_root(root, doc);
   } catch (const YAML::DeepRecursion& e) {
     throw ConfigError(doc.file, from_yaml(e.mark), "",
@@ -208,7 +214,10 @@ Config load_config(const std::string& path) {
   try {
     file.emplace(path);
   } catch (const std::exception& e) {
-    throw ConfigError(path, {}, "", std::string("cannot open config file: ") + e.what());
+    // The path leads the message already: not a second time (the reason names it first)
+    std::string why = e.what();
+    if (why.rfind(path + ": ", 0) == 0) why.erase(0, path.size() + 2);
+    throw ConfigError(path, {}, "", "cannot open config file: " + message_quoting(std::move(why), path));
   }
   if (file->size() > detail::kMaxConfigBytes) throw ConfigError(path, {}, "", too_large(file->size()));
   std::string text(static_cast<std::size_t>(file->size()), '\0');

@@ -1,5 +1,7 @@
 #include "yaml_reader.h"
 
+#include <tessera/message_text.h>
+
 #include <yaml-cpp/eventhandler.h>
 
 #include <charconv>
@@ -55,6 +57,32 @@ class ContentFinder final : public YAML::EventHandler {
   }
 };
 
+/// Records the first node that carries an explicit tag.
+class TagFinder final : public YAML::EventHandler {
+ public:
+  std::optional<ExplicitTag> found;
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark& m, const std::string& tag, YAML::anchor_t,
+                const std::string&) override { note(m, tag); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string& tag, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override { note(m, tag); }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& m, const std::string& tag, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override { note(m, tag); }
+  void OnMapEnd() override {}
+
+ private:
+  void note(const YAML::Mark& m, const std::string& tag) {
+    if (found || tag.empty() || tag == "?" || tag == "!") return;
+    constexpr std::string_view kCore = "tag:yaml.org,2002:";
+    const std::string shown = tag.rfind(kCore, 0) == 0 ? "!!" + tag.substr(kCore.size()) : tag;
+    found = ExplicitTag{SourceMark{m.line + 1, m.column + 1}, "'" + cut_for_message(shown) + "'"};
+  }
+};
+
 /// A line that starts with a document marker: `---` or `...` then a blank or the end.
 bool has_document_marker(const std::string& text) {
   for (std::size_t i = 0; i + 3 <= text.size();) {
@@ -72,29 +100,14 @@ bool has_document_marker(const std::string& text) {
 /// A number written with more characters than this is shown through format_number.
 constexpr std::size_t kLongNumberText = 24;
 
-/// Control characters as \xHH, so a message stays on one line and shows what is there.
-std::string escape_controls(std::string_view s) {
-  std::string out;
-  out.reserve(s.size());
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", u);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
-/// `s` cut to `max` characters, in quotes when `quoted`.
+/// `s` escaped and cut to `max` bytes (message_text.h), in quotes when `quoted`.
 std::string shown_text(std::string_view s, bool quoted, std::size_t max = kMessageValueMax) {
-  const char* q = quoted ? "\"" : "";
-  if (s.size() <= max) return q + escape_controls(s) + q;
-  return q + escape_controls(s.substr(0, max)) + q + "... (" +
-         std::to_string(s.size()) + " characters)";
+  const std::string_view q = quoted ? "\"" : "";
+  std::string out(q);
+  if (s.size() <= max) return out.append(printable_text(s)).append(q);
+  const std::string cut = shown_value(s, max);  // `aaa... (N characters)`
+  const std::size_t dots = cut.rfind("... (");
+  return out.append(cut, 0, dots).append(q).append(cut, dots);
 }
 
 }  // namespace
@@ -107,6 +120,15 @@ std::optional<SourceMark> second_document(const std::string& text) {
   if (!parser.HandleNextDocument(first)) return std::nullopt;
   if (!parser.HandleNextDocument(second)) return std::nullopt;
   return second.first;
+}
+
+std::optional<ExplicitTag> first_explicit_tag(const std::string& text) {
+  if (text.find('!') == std::string::npos) return std::nullopt;
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  TagFinder finder;
+  parser.HandleNextDocument(finder);
+  return finder.found;
 }
 
 std::string cut_for_message(std::string_view s, std::size_t max) {
@@ -279,7 +301,7 @@ std::vector<Value> Value::list(const std::string& allowed, std::size_t min_size,
 }
 
 Value Value::child(const YAML::Node& n, const std::string& key, SourceMark key_mark) const {
-  const std::string shown = key.size() > kMessageValueMax ? cut_for_message(key) : key;
+  const std::string shown = cut_for_message(key);  // a BOM or control character shows escaped
   return Value(n, m_path.empty() ? shown : m_path + "." + shown, m_doc, key_mark, true);
 }
 

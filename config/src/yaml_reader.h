@@ -47,14 +47,26 @@ struct Document {
 /// LoadAll can loop without end on malformed input). Throws YAML::Exception on bad syntax.
 std::optional<SourceMark> second_document(const std::string& text);
 
+/// An explicit tag in the text (`!foo`, `!!binary`, `!<tag:x>`), shown as written where
+/// yaml-cpp allows (`!!binary` for tag:yaml.org,2002:binary) and escaped, and where its node
+/// starts.
+struct ExplicitTag {
+  SourceMark mark;
+  std::string tag;
+};
+/// The first explicit tag in the first document of `text`; the non-specific tags yaml-cpp
+/// gives every untagged node ("?" plain, "!" quoted) do not count. Cheap when the text has no
+/// '!'; otherwise one more pass of yaml-cpp's event parser. Throws YAML::Exception on bad
+/// syntax.
+std::optional<ExplicitTag> first_explicit_tag(const std::string& text);
+
 /// Values echoed in messages are cut to this many characters, then "..." and the full length:
 /// `"aaaa..." (10485760 characters)`.
 inline constexpr std::size_t kMessageValueMax = 64;
 /// `s` as it may appear in a message: itself when short, else its first `max` characters,
-/// "..." and " (N characters)"; control characters are written as \xHH.
+/// "..." and " (N characters)"; control characters, invalid UTF-8 and invisible characters
+/// such as a BOM are escaped (tessera::shown_value). Paths use tessera::shown_path instead.
 std::string cut_for_message(std::string_view s, std::size_t max = kMessageValueMax);
-/// File paths in messages are cut at this length instead (a real path is shorter: PATH_MAX).
-inline constexpr std::size_t kMessagePathMax = 4096;
 
 /// An interval of allowed numbers, with its description for messages.
 struct Range {

@@ -22,6 +22,30 @@ std::string interval(double lo, double hi) {
   return buf;
 }
 
+/// The axes along which the bounds have no extent ("x", "y and z"; "" when none): a volume
+/// one vertex thick there has no thickness, so nothing in it absorbs or scatters light.
+std::string flat_axes(const Bounds& b) {
+  std::string names;
+  for (int a = 0; a < 3; ++a)
+    if (b.lo[a] == b.hi[a]) names += char('x' + a);
+  if (names.size() < 2) return names;
+  std::string axes;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    axes += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + std::string(1, names[i]);
+  return axes;
+}
+
+/// The warning for flat data, naming its extent, or "".
+std::string flat_data(const Bounds& b) {
+  const std::string axes = flat_axes(b);
+  if (axes.empty()) return "";
+  const std::string where = "the data's bounds (" + interval(b.lo.x, b.hi.x) + " x " + interval(b.lo.y, b.hi.y) +
+                            " x " + interval(b.lo.z, b.hi.z) + ")";
+  if (b.lo == b.hi) return where + " are a single point (the volume has one vertex)";
+  return where + " have no extent along " + axes + " (the volume is one vertex thick there, so it has no "
+         "thickness to absorb or scatter light; give it at least 2 vertices along every axis)";
+}
+
 /// What the transfer function makes of the data's finite values.
 struct TfVerdict {
   bool disjoint = false;   ///< transfer_function.range misses [vmin, vmax]
@@ -123,8 +147,10 @@ std::vector<std::string> scene_warnings(const PreparedScene& scene) {
                   interval(tf.lo, tf.hi) + "): nothing of the field is visible");
   }
 
-  // The camera against the data's bounds
-  const std::string cam = camera_misses(desc, scene.bounds());
+  // Flat data, else the camera against the data's bounds (flat data is never in view: the
+  // camera is not to blame)
+  const std::string flat = flat_data(scene.bounds());
+  const std::string cam = flat.empty() ? camera_misses(desc, scene.bounds()) : flat;
   if (!cam.empty()) out.push_back(cam + ": nothing of the field is visible");
   return out;
 }
@@ -144,7 +170,9 @@ std::vector<std::string> render_warnings(const PreparedScene& scene, const Rende
     const TfVerdict v = judge_tf(desc.tf, s.value_min(), s.value_max());
     const Bounds b = scene.bounds();
     const double depth = desc.tf.density_scale * v.max_opacity * 2.0 * b.radius();
-    if (v.disjoint)
+    if (!flat_axes(b).empty())
+      cause = "the data has no extent along " + flat_axes(b) + " (one vertex thick)";
+    else if (v.disjoint)
       cause = "transfer_function.range misses the data's values";
     else if (v.invisible)
       cause = "the opacity transfer function is 0 over the data's values";

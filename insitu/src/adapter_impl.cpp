@@ -4,6 +4,7 @@
 #include "rank_agreement.h"
 
 #include <tessera/denoiser.h>
+#include <tessera/message_text.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -37,7 +38,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
         try {
           require_denoiser();
         } catch (const DenoiserUnavailable& e) {
-          throw std::runtime_error(m_config.path + ": renders[" + std::to_string(i) + "].image.denoise (render '" +
+          throw std::runtime_error(shown_path(m_config.path) + ": renders[" + std::to_string(i) + "].image.denoise (render '" +
                                    m_config.renders[i].name + "'): " + e.what());
         }
         break;
@@ -87,7 +88,9 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
       fault = e.what();
     }
     if (!m_ctx->agree(ok)) {
-      m_error = ok ? "rank 0 could not write the effective config" : fault;
+      // (a long output_dir is quoted short, however often the message names it)
+      m_error = ok ? "rank 0 could not write the effective config"
+                   : message_quoting(std::move(fault), m_config.global.output_dir);
       m_policy = ErrorPolicy();
       close();
       return TESSERA_ERROR_IO;
@@ -242,7 +245,7 @@ tessera_status Adapter::Impl::field_unchanged(const char* field_name) noexcept {
       }
       if (names.find("'" + r.field + "'") == std::string::npos) names += (names.empty() ? "'" : ", '") + r.field + "'";
     }
-    m_error = std::string("field_unchanged: no render uses a field called '") + field_name +
+    m_error = std::string("field_unchanged: no render uses a field called '") + shown_value(field_name) +
               "' (the config's renders use " + names + ")";
     return TESSERA_ERROR_DATA;
   } catch (...) {

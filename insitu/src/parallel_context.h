@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -26,6 +27,15 @@ namespace tessera::insitu {
 struct GlobalPlacement {
   std::int64_t global_dims[3];
   std::int64_t offset[3];
+};
+
+/// The ranks' fields do not fit together: boxes of real vertices that overlap, leave a gap,
+/// leave the global grid, or ranks that disagree on dtype or global_dims (or publish an
+/// invalid view). A fault in the simulation's descriptors, reported as TESSERA_ERROR_DATA
+/// like the other descriptor faults. Thrown alike on every rank (each sees every box).
+class LayoutError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 class ParallelContext {
@@ -66,7 +76,8 @@ class ParallelContext {
   /// One rank whose view covers the global grid: returns that view itself (zero copy).
   /// Several ranks: packs straight from the local views into one replica per node (MPI-3
   /// shared-memory window) and returns a view of it, valid until the next assemble() or the
-  /// destruction of the context. All ranks must pass the same dtype and global dims.
+  /// destruction of the context. All ranks must pass the same dtype and global dims; boxes
+  /// that do not tile the global grid throw LayoutError.
   virtual FieldView assemble(const FieldView& local, const GlobalPlacement& where) = 0;
 
   /// Distributed mode (docs/mpi.md): the summary of the global field for macrocell edge `edge`

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace tessera::insitu {
 namespace {
@@ -19,6 +20,21 @@ std::string box_text(const std::int64_t offset[3], const std::int64_t dims[3]) {
   for (int a = 0; a < 3; ++a)
     s += (a ? ", " : "") + std::to_string(offset[a]) + ".." + std::to_string(offset[a] + dims[a]);
   return s + ")";
+}
+
+std::string dims_text(const std::int64_t dims[3]) {
+  return std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]);
+}
+
+/// Every rank's box, the first 8 by name: "rank 0 [0..4, 0..8, 0..8), rank 1 ...".
+template <class Box>
+std::string boxes_text(const std::vector<Box>& boxes) {
+  constexpr std::size_t kShown = 8;
+  std::string s;
+  for (std::size_t r = 0; r < boxes.size() && r < kShown; ++r)
+    s += (r ? ", rank " : "rank ") + std::to_string(r) + " " + box_text(boxes[r].offset, boxes[r].dims);
+  if (boxes.size() > kShown) s += " and " + std::to_string(boxes.size() - kShown) + " more ranks";
+  return s;
 }
 
 /// Copies a strided view into its box of the C-order replica: one copy, no staging buffer.
@@ -140,19 +156,19 @@ std::vector<MpiParallelContext::RankBox> MpiParallelContext::check_boxes(const F
     const RankBox& b = boxes[r];
     const std::string who = "rank " + std::to_string(r);
     if (!b.view_ok)
-      throw std::runtime_error(r == m_rank ? view_error : who + " published an invalid field view");
+      throw LayoutError(r == m_rank ? view_error : who + " published an invalid field view");
     if (b.dtype != first.dtype)
-      throw std::runtime_error("ranks publish different dtypes: rank 0 " +
+      throw LayoutError("ranks publish different dtypes: rank 0 " +
                                std::string(dtype_name(static_cast<DType>(first.dtype))) + ", " + who +
                                " " + dtype_name(static_cast<DType>(b.dtype)));
     for (int a = 0; a < 3; ++a) {
       if (b.global[a] != first.global[a])
-        throw std::runtime_error("ranks disagree on global_dims: rank 0 and " + who + " differ along axis " +
-                                 std::to_string(a));
+        throw LayoutError("ranks disagree on global_dims: rank 0 has " + dims_text(first.global) + ", " + who +
+                                 " has " + dims_text(b.global));
       if (b.global[a] < 1 || b.global[a] > INT_MAX)
-        throw std::runtime_error("global_dims must be in [1, " + std::to_string(INT_MAX) + "]");
+        throw LayoutError("global_dims must be in [1, " + std::to_string(INT_MAX) + "]");
       if (b.offset[a] < 0 || b.dims[a] < 1 || b.offset[a] + b.dims[a] > b.global[a])
-        throw std::runtime_error(who + "'s real vertices " + box_text(b.offset, b.dims) +
+        throw LayoutError(who + "'s real vertices " + box_text(b.offset, b.dims) +
                                  " leave the global grid");
     }
     covered += b.dims[0] * b.dims[1] * b.dims[2];
@@ -162,15 +178,16 @@ std::vector<MpiParallelContext::RankBox> MpiParallelContext::check_boxes(const F
       for (int a = 0; a < 3; ++a)
         overlap = overlap && b.offset[a] < o.offset[a] + o.dims[a] && o.offset[a] < b.offset[a] + b.dims[a];
       if (overlap)
-        throw std::runtime_error("rank " + std::to_string(q) + "'s real vertices " + box_text(o.offset, o.dims) +
+        throw LayoutError("rank " + std::to_string(q) + "'s real vertices " + box_text(o.offset, o.dims) +
                                  " overlap " + who + "'s " + box_text(b.offset, b.dims) +
                                  " (declare shared vertices as ghosts on all but one rank)");
     }
   }
   const std::int64_t total = first.global[0] * first.global[1] * first.global[2];
   if (covered != total)
-    throw std::runtime_error("the ranks' real vertices cover " + std::to_string(covered) + " of the " +
-                             std::to_string(total) + " global vertices");
+    throw LayoutError("the ranks' real vertices cover " + std::to_string(covered) + " of the " +
+                             std::to_string(total) + " global vertices " + dims_text(first.global) +
+                             " (real vertices: " + boxes_text(boxes) + ")");
   return boxes;
 }
 
@@ -180,7 +197,7 @@ FieldView MpiParallelContext::assemble(const FieldView& local, const GlobalPlace
     local.validate("field");
     for (int a = 0; a < 3; ++a)
       if (where.offset[a] != 0 || local.dims[a] != where.global_dims[a])
-        throw std::runtime_error("one rank must hold the whole grid: its real vertices " +
+        throw LayoutError("one rank must hold the whole grid: its real vertices " +
                                  box_text(where.offset, local.dims) + " do not cover global dims " +
                                  std::to_string(where.global_dims[0]) + "x" +
                                  std::to_string(where.global_dims[1]) + "x" +

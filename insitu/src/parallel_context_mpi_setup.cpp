@@ -4,6 +4,8 @@
 #include "mpi_check.h"
 #include "parallel_context_mpi.h"
 
+#include <tessera/message_text.h>
+
 #include <algorithm>
 #include <climits>
 #include <cstdlib>
@@ -20,12 +22,14 @@ using detail::check;
 /// The raw value is compared across ranks at open (rank_agreement.h) before this is read.
 int ranks_per_node_from_env() {
   const char* s = std::getenv("TESSERA_MPI_RANKS_PER_NODE");
-  if (!s || !*s) return 0;
+  if (!s) return 0;
+  if (!*s)
+    throw std::runtime_error("TESSERA_MPI_RANKS_PER_NODE is set but empty (allowed: an integer >= 0; "
+                             "unset it for one replica per shared-memory node)");
   char* end = nullptr;
   const long v = std::strtol(s, &end, 10);
   if (*end != '\0' || v < 0 || v > INT_MAX)
-    throw std::runtime_error(std::string("TESSERA_MPI_RANKS_PER_NODE=") + std::string(s).substr(0, 40) +
-                             " must be an integer >= 0");
+    throw std::runtime_error("TESSERA_MPI_RANKS_PER_NODE='" + shown_value(s, 40) + "' must be an integer >= 0");
   return static_cast<int>(v);
 }
 

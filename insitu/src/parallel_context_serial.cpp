@@ -25,7 +25,7 @@ class SerialContext final : public ParallelContext {
   FieldView assemble(const FieldView& local, const GlobalPlacement& where) override {
     for (int a = 0; a < 3; ++a)
       if (where.offset[a] != 0 || local.dims[a] != where.global_dims[a])
-        throw std::invalid_argument(
+        throw LayoutError(
             "one rank must hold the whole grid: real vertices " + std::to_string(local.dims[0]) +
             "x" + std::to_string(local.dims[1]) + "x" + std::to_string(local.dims[2]) +
             " at offset (" + std::to_string(where.offset[0]) + ", " +

@@ -2,6 +2,8 @@
 
 #include "hash64.h"
 
+#include <tessera/message_text.h>
+
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -39,14 +41,13 @@ std::string vec3(const T v[3]) {
 }
 
 /// A value quoted for a message, cut to `max` characters.
+/// Escaped as message_text.h says: `'abc'`, `'abc...' (5000 characters)`.
 std::string quoted(std::string_view s, std::size_t max = 60) {
-  std::string q = "'";
-  q.append(s.substr(0, max));
-  if (s.size() <= max) return q += '\'';
-  q += "...' (";
-  q += std::to_string(s.size());
-  q += " characters)";
-  return q;
+  std::string q(1, '\'');
+  if (s.size() <= max) return q.append(printable_text(s)).append(1, '\'');
+  const std::string cut = shown_value(s, max);
+  const std::size_t dots = cut.rfind("... (");
+  return q.append(cut, 0, dots).append("...'").append(cut, dots + 3);
 }
 
 std::string rank_name(int r) { return "rank " + std::to_string(r); }
@@ -98,9 +99,11 @@ bool same_knob(const OpenRecord& a, const OpenRecord& b, std::size_t k) {
 
 std::string knob_value(const OpenRecord& rec, std::size_t k) {
   if (!rec.knob_set[k]) return "unset";
+  if (rec.knob_bytes[k] == 0) return "'' (set but empty)";
   const std::string_view text(rec.knob_text[k], std::min<std::size_t>(rec.knob_bytes[k], kKnobText));
   if (rec.knob_bytes[k] <= kKnobText) return quoted(text, kKnobText);
-  return "'" + std::string(text) + "...' (" + std::to_string(rec.knob_bytes[k]) + " characters)";
+  std::string q(1, '\'');
+  return q.append(printable_text(text)).append("...' (" + std::to_string(rec.knob_bytes[k]) + " characters)");
 }
 
 /// The lines of `text`, without their newlines (a final newline ends the last line).

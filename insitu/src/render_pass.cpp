@@ -10,6 +10,7 @@
 #include <tessera/film.h>
 #include <tessera/image_io.h>
 #include <tessera/memory_estimate.h>
+#include <tessera/message_text.h>
 #include <tessera/render.h>
 #include <tessera/scene_warnings.h>
 
@@ -191,12 +192,18 @@ class Pass {
  private:
   /// Runs fn on this rank, then agrees with the others; on any rank's failure records
   /// `status` and the message (this rank's own, or that another rank failed) and returns false.
+  /// A LayoutError on any rank (the ranks' boxes do not fit together) records
+  /// TESSERA_ERROR_DATA instead, on every rank: a descriptor fault, whichever phase found it.
   template <class Fn>
   bool phase(tessera_status status, Fn&& fn) {
-    bool ok = true;
+    bool ok = true, layout = false;
     std::string fault;
     try {
       fn();
+    } catch (const LayoutError& e) {
+      ok = false;
+      layout = true;
+      fault = e.what();
     } catch (const std::exception& e) {
       ok = false;
       fault = e.what();
@@ -205,12 +212,16 @@ class Pass {
       fault = "unknown exception";
     }
     if (m_ctx.agree(ok)) return true;
-    // Rank 0 logs every failure; another rank only one of its own that rank 0 did not share
-    // (one extra reduction, on the failure path only)
+    // Rank 0 logs every failure; another rank only one of its own that rank 0 did not share.
+    // One extra reduction, on the failure path only: min < 0 when some rank's fault is a
+    // LayoutError, max > 0 when rank 0 failed
     const bool root = m_ctx.rank() == 0;
-    const bool root_failed = m_ctx.range(0.0, root && !ok ? 1.0 : 0.0).second > 0.0;
+    const auto [any_layout, root_fault] = m_ctx.range(layout ? -1.0 : 0.0, root && !ok ? 1.0 : 0.0);
+    const bool root_failed = root_fault > 0.0;
     m_out.report_here = root || (!ok && !root_failed);
-    m_out.result.status = status;
+    m_out.result.status = any_layout < 0.0 ? TESSERA_ERROR_DATA : status;
+    // A long output_dir is quoted short (each time), and nothing prints raw
+    fault = message_quoting(std::move(fault), m_cfg.global.output_dir);
     std::string where = "render '" + m_spec.name + "' at step " + std::to_string(m_call.step) + ": ";
     if (ok)
       m_out.result.error = where + "failed on another rank";

@@ -16,7 +16,8 @@ struct SourceMark {
 ///   `FILE:LINE:COL: KEY.PATH: what is wrong (what is allowed)`
 /// e.g. `scene.yaml:12:7: renders[0].camera.fov: 270 is out of range (0, 180)`.
 /// Parts that are unknown are left out: no position gives `FILE: KEY.PATH: ...`, no key path
-/// (a YAML syntax error, an unreadable file) gives `FILE:LINE:COL: ...`.
+/// (a YAML syntax error, an unreadable file) gives `FILE:LINE:COL: ...`. FILE is shown as
+/// tessera::shown_path gives it (escaped, a long one cut in the middle); file() is the whole.
 class ConfigError : public std::runtime_error {
  public:
   ConfigError(std::string file, SourceMark mark, std::string key_path, std::string message);

@@ -16,10 +16,15 @@ namespace tessera::config {
 /// brace, a control character such as NUL, a pattern ending in '/') in a pattern. A valid
 /// pattern expands to a non-empty file name with no control characters, so the extensions
 /// appended per format always give distinct paths.
+///
+/// Output stays inside output_dir: a pattern that is an absolute path, has a `.` or `..`
+/// component, or whose file name is hidden (starts with '.', e.g. "." or ".{step}") is refused,
+/// as written and as expanded.
 void validate_output_pattern(const std::string& pattern);
 
 /// The pattern with its placeholders replaced; throws std::invalid_argument like
-/// validate_output_pattern.
+/// validate_output_pattern, and also when the expanded name (with these values) would leave
+/// output_dir or be hidden.
 std::string format_output_path(const std::string& pattern, const std::string& name,
                                std::int64_t step, double time, int rank);
 
