@@ -144,8 +144,8 @@ TEST_CASE("file writes: under a file-size limit at every byte, EXR, PNG and text
             REQUIRE(limit.ok());
             run();
           });
-      CHECK(bad.empty());
       for (std::size_t i = 0; i < bad.size() && i < 5; ++i) UNSCOPED_INFO(bad[i]);
+      CHECK(bad.empty());
 
       // At the exact size it succeeds, and the file is the complete one
       {
@@ -175,8 +175,8 @@ TEST_CASE("file writes: ENOSPC at every byte fails each writer with the offset a
             const InjectedFault fault(n, ENOSPC);
             run();
           });
-      CHECK(bad.empty());
       for (std::size_t i = 0; i < bad.size() && i < 5; ++i) UNSCOPED_INFO(bad[i]);
+      CHECK(bad.empty());
     }
   }
   // The message names the byte offset
@@ -256,7 +256,7 @@ TEST_CASE("file writes: the adapter returns TESSERA_ERROR_IO for the effective c
   tessera_test::TempDir dir;
   const std::string out = dir.file("out");
   const std::string extra = "    output: {file: \"{name}_{step:04d}\", formats: [exr, png], cinema: {azimuth: [0]}}\n";
-  const std::string cfg = dir.write("a.yaml", config_yaml(out, render_yaml("w", "", extra, "density", 16, 1)));
+  const std::string cfg = dir.write("a.yaml", config_yaml(out, render_yaml("w", "", extra, "density", 8, 1)));
   const std::vector<float> v = to_float(blob_values(16));
   const tessera_field f = dense_field("density", v.data(), 16);
   const tessera_grid g = unit_grid(16);
@@ -301,7 +301,9 @@ TEST_CASE("file writes: the adapter returns TESSERA_ERROR_IO for the effective c
 #if defined(TESSERA_RENDER_EXE) && defined(TESSERA_WRITE_DRIVER_EXE)
 namespace {
 
-/// A scene for tessera-render with its volume, output to results/ (EXR and PNG, 64x64).
+/// A scene for tessera-render with its volume, output to results/ (EXR and PNG, 8x8: small
+/// enough for a buffered stream to hold a whole file, the case where a final flush failed
+/// unnoticed), and an 8x64 render for the adapter driver.
 void write_cli_scene(const tessera_test::TempDir& dir) {
   const std::vector<float> v = to_float(blob_values(16));
   std::ofstream(dir.file("blob.raw"), std::ios::binary)
@@ -309,10 +311,13 @@ void write_cli_scene(const tessera_test::TempDir& dir) {
   dir.write("scene.yaml", "tessera:\n  output_dir: results\n"
                           "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
                           "renders:\n" +
-                              render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "", 64, 1));
-  // The same for the adapter driver
-  dir.write("driver.yaml", config_yaml("results", render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n",
-                                                              "density", 64, 1)));
+                              render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "", 8, 1));
+  // The driver's EXR must outgrow its effective config (~1.3 KB) for a limit between them
+  std::string driver = config_yaml("results", render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n",
+                                                          "density", 8, 1));
+  const std::string square = "image: {width: 8, height: 8,";
+  driver.replace(driver.find(square), square.size(), "image: {width: 8, height: 64,");
+  dir.write("driver.yaml", driver);
 }
 
 /// Runs `shell` (sh -c) in `dir` with a time limit; returns the exit status.
@@ -338,23 +343,28 @@ TEST_CASE("file writes: tessera-render and the adapter on a full file system fai
           "[robustness][writes][cli]") {
   tessera_test::TempDir dir;
   write_cli_scene(dir);
-  // A private mount namespace with a 12 KiB tmpfs on results/ (3 pages: the effective config
-  // fits, a 64x64 EXR does not); the listing is taken before the namespace goes away
-  const std::string mount = "mkdir -p results && unshare -m sh -c \"mount -t tmpfs -o size=12k tessera_full results || exit 97; ";
+  // A private mount namespace with an 8 KiB tmpfs (2 pages) on results/, `fill` bytes of it
+  // taken by a filler file; the listing is taken before the namespace goes away
+  const auto mount = [](int fill) {
+    return "mkdir -p results && unshare -m sh -c \"mount -t tmpfs -o size=8k tessera_full results || exit 97; "
+           "head -c " + std::to_string(fill) + " /dev/zero > results/filler; ";
+  };
   const std::string list = "; echo \\$? > status; ls -a results > listing\"";
-  const int probe = run_shell(dir, mount + "true" + list);
+  const int probe = run_shell(dir, mount(0) + "true" + list);
   if (probe != 0) {
     WARN("cannot mount a tmpfs here (needs root and unshare): full-disk test skipped; " + slurp(dir.file("sh.err")));
     return;
   }
   SECTION("tessera-render") {
-    REQUIRE(run_shell(dir, mount + "\\\"" TESSERA_RENDER_EXE "\\\" scene.yaml --quiet 2> cli.err" + list) == 0);
+    // Full: the EXR fails at its first byte
+    REQUIRE(run_shell(dir, mount(8192) + "\\\"" TESSERA_RENDER_EXE "\\\" scene.yaml --quiet 2> cli.err" + list) == 0);
     CHECK(slurp(dir.file("status")) == "1\n");
     CHECK_THAT(slurp(dir.file("cli.err")), Contains("tessera-render: error:") && Contains("No space left on device") &&
                                                Contains("big_0000.exr"));
   }
   SECTION("adapter") {
-    REQUIRE(run_shell(dir, mount + "\\\"" TESSERA_WRITE_DRIVER_EXE "\\\" driver.yaml > driver.out" + list) == 0);
+    // One page left: the effective config fits, the EXR does not
+    REQUIRE(run_shell(dir, mount(4096) + "\\\"" TESSERA_WRITE_DRIVER_EXE "\\\" driver.yaml > driver.out" + list) == 0);
     CHECK(slurp(dir.file("status")) == std::to_string(int(TESSERA_ERROR_IO)) + "\n");
     CHECK_THAT(slurp(dir.file("driver.out")), Contains("execute " + std::to_string(int(TESSERA_ERROR_IO))) &&
                                                   Contains("No space left on device") && Contains("big_0000.exr"));
@@ -383,9 +393,14 @@ TEST_CASE("file writes: under prlimit --fsize at a handful of sizes, tessera-ren
       const std::map<std::string, std::string> complete = files_under(dir.file("results"));
       REQUIRE(complete.count("big_0000.exr") == 1);
       const std::uint64_t exr = complete.at("big_0000.exr").size();
+      if (complete.count("tessera_effective_config.yaml"))
+        REQUIRE(complete.at("tessera_effective_config.yaml").size() < exr);
       fs::remove_all(dir.file("results"));
 
-      for (const std::uint64_t n : {std::uint64_t(0), std::uint64_t(1), std::uint64_t(300), exr / 2, exr - 1}) {
+      std::vector<std::uint64_t> limits = {0, 1, 300, exr / 2, exr - 1};
+      if (complete.count("tessera_effective_config.yaml"))  // fits exactly; the EXR does not
+        limits.push_back(complete.at("tessera_effective_config.yaml").size());
+      for (const std::uint64_t n : limits) {
         INFO("prlimit --fsize=" << n << " (complete EXR: " << exr << " bytes)");
         // Output through a pipe: the limit applies to regular files, and the messages must get out
         REQUIRE(run_shell(dir, "(prlimit --fsize=" + std::to_string(n) + ":" + std::to_string(n) + " " + run +
