@@ -429,3 +429,21 @@ TEST_CASE("file writes: under prlimit --fsize at a handful of sizes, tessera-ren
   }
 }
 #endif
+
+#ifdef TESSERA_SYNTH_EXE
+TEST_CASE("file writes: tessera-synth under a file-size limit exits non-zero with no volume under its name",
+          "[robustness][writes][cli]") {
+  tessera_test::TempDir dir;
+  const std::string synth = "\"" TESSERA_SYNTH_EXE "\" vol/v.raw --dims 8 8 8 --dtype uint8";
+  // 512 bytes; with the limit one byte short the write fails
+  const std::string in_dir = "cd '" + dir.path().string() + "' && ";
+  REQUIRE(std::system((in_dir + "(prlimit --fsize=511:511 " + synth + "; echo $? > status) 2>&1 | cat > out").c_str()) == 0);
+  CHECK(slurp(dir.file("status")) != "0\n");
+  CHECK_THAT(slurp(dir.file("out")), Contains("vol/v.raw") && Contains("File too large"));
+  CHECK_FALSE(fs::exists(dir.file("vol/v.raw")));
+  CHECK(count_files(dir.file("vol"), ".tmp") == 0);
+  // Without the limit the whole file is written
+  REQUIRE(std::system((in_dir + synth).c_str()) == 0);
+  CHECK(fs::file_size(dir.file("vol/v.raw")) == 512);
+}
+#endif
