@@ -8,7 +8,6 @@
 #include <atomic>
 #include <cerrno>
 #include <climits>
-#include <cstdio>
 #include <cstring>
 #include <mutex>
 
@@ -62,10 +61,14 @@ AtomicOutputFile::AtomicOutputFile(const std::string& path) : m_path(path) {
       m_fault_errno = f.error;
     }
   }
-  m_temp = temp_path_for(path);
-  do {
-    m_fd = ::open(m_temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOCTTY, 0666);
-  } while (m_fd < 0 && errno == EINTR);
+  // A fresh file: a leftover of a killed process with a reused pid is skipped, never opened
+  for (int attempt = 0; attempt < 100 && m_fd < 0; ++attempt) {
+    m_temp = temp_path_for(path);
+    do {
+      m_fd = ::open(m_temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOCTTY, 0666);
+    } while (m_fd < 0 && errno == EINTR);
+    if (m_fd < 0 && errno != EEXIST) break;
+  }
   if (m_fd < 0) {
     const int error = errno;
     throw AtomicOutputError(path, "cannot create the temporary file '" + m_temp + "': " +

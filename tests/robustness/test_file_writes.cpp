@@ -245,6 +245,22 @@ TEST_CASE("file writes: AtomicOutputFile checks positioned writes, size and doub
   CHECK(slurp(dir.file("q.bin")) == "abcd");
   CHECK_FALSE(fs::exists(dir.file("q2.bin")));
 
+  // A leftover temporary name (a killed process whose pid came back) is skipped, not reused
+  {
+    std::string next;
+    {
+      const tessera::AtomicOutputFile probe(dir.file("r.bin"));  // ends in .tmp.<pid>.<k>
+      const std::string& t = probe.temp_path();
+      const std::size_t dot = t.rfind('.');
+      next = t.substr(0, dot + 1) + std::to_string(std::stoul(t.substr(dot + 1)) + 1);
+    }
+    dir.write(fs::path(next).filename().string(), "someone else's");
+    tessera::write_file_atomically(dir.file("r.bin"), "mine");
+    CHECK(slurp(dir.file("r.bin")) == "mine");
+    CHECK(slurp(next) == "someone else's");
+    fs::remove(next);
+  }
+
   // No directory, or a NUL in the name: an error naming the path, nothing created
   CHECK_THROWS_WITH(tessera::write_file_atomically(dir.file("missing/x.txt"), "a"),
                     Contains("missing/x.txt") && Contains("No such file or directory"));
