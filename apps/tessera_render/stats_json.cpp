@@ -1,13 +1,12 @@
 #include "stats_json.h"
 
-#include <tessera/signal_guard.h>
+#include <tessera/atomic_output.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
 namespace tessera::cli {
@@ -113,11 +112,11 @@ void write_stats_json(const std::string& path, const std::vector<RenderRecord>& 
   const std::filesystem::path p(path);
   std::error_code ec;
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path(), ec);
-  const BlockWriteSignals no_signals;  // a file-size limit fails the write, not the process
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << stats_json(records);
-  out.close();
-  if (!out) throw std::runtime_error("cannot write statistics file " + path);
+  try {
+    write_file_atomically(path, stats_json(records));
+  } catch (const AtomicOutputError& e) {
+    throw std::runtime_error("cannot write statistics file '" + path + "': " + e.fault());
+  }
 }
 
 }  // namespace tessera::cli

@@ -24,7 +24,8 @@ struct RenderRecord {
 /// object per record.
 std::string stats_json(const std::vector<RenderRecord>& records);
 
-/// Writes stats_json(records) to `path`, creating its directory; throws naming the path.
+/// Writes stats_json(records) to `path` through AtomicOutputFile (nothing under `path` unless
+/// complete), creating its directory; throws naming the path.
 void write_stats_json(const std::string& path, const std::vector<RenderRecord>& records);
 
 }  // namespace tessera::cli

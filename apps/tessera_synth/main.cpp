@@ -11,22 +11,22 @@
 /// linear: v = i + 2j + 3k in voxel indices (for interpolation checks), unscaled (integer
 ///         dtypes clamp at their maximum). Integer dtypes truncate toward zero.
 /// The output's folder is created when missing.
+#include <tessera/atomic_output.h>
 #include <tessera/field_view.h>
 
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <new>
 #include <random>
 #include <type_traits>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace {
@@ -144,10 +144,8 @@ void write_as(const Args& a, const std::vector<double>& v, double scale) {
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   if (ec) throw std::runtime_error("cannot create the folder " + parent.string() + ": " + ec.message());
-  std::ofstream f(a.out, std::ios::binary);
-  if (!f) throw std::runtime_error("cannot write " + a.out + ": " + std::strerror(errno));
-  f.write(reinterpret_cast<const char*>(out.data()), static_cast<std::streamsize>(out.size() * sizeof(T)));
-  if (!f) throw std::runtime_error("write failed: " + a.out);
+  tessera::write_file_atomically(
+      a.out, std::string_view(reinterpret_cast<const char*>(out.data()), out.size() * sizeof(T)));
 }
 
 }  // namespace

@@ -1,35 +1,28 @@
 /// EXR and PNG writers/readers and the display tone map.
 ///
-/// Writers never produce a half-written file under the final name: they write
-/// `<path>.tmp.<pid>.<n>` in the same directory (so the rename stays on one file system), then
-/// std::rename it onto `path`. On any failure the temporary file is removed and a
-/// std::runtime_error names the path and the fault. The rename protects against a crashed or
-/// killed process, not against power loss (no fsync: in-situ output may be on a parallel file
-/// system where fsync per frame is expensive).
+/// Writers go through AtomicOutputFile (atomic_output.h): every byte written is checked, the
+/// temporary file is verified (size; an EXR's header and offset table read back) before the
+/// rename, and on any failure nothing new appears under the final name and a
+/// std::runtime_error names the path and the fault.
 #include <tessera/image_io.h>
+#include <tessera/atomic_output.h>
 #include <tessera/regular_file.h>
 
 #include "exr_header.h"
-#include <tessera/signal_guard.h>
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfIO.h>
 #include <ImfInputFile.h>
-#include <ImfStdIO.h>
 #include <ImfOutputFile.h>
 #include <png.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cerrno>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -42,34 +35,24 @@ constexpr std::size_t k_px_stride = 4 * sizeof(float);  ///< interleaved RGBA fl
 constexpr const char* k_denoised_names[3] = {"denoised.R", "denoised.G", "denoised.B"};
 constexpr std::size_t k_rgb_stride = 3 * sizeof(float);  ///< interleaved RGB float pixel
 
-/// A file name next to `path`, unique within this process and across processes.
-std::string temp_path_for(const std::string& path) {
-  static std::atomic<unsigned long> counter{0};
-  return path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
-         std::to_string(counter.fetch_add(1, std::memory_order_relaxed));
-}
-
-/// Runs write(tmp) and renames tmp onto path; on any failure removes tmp and throws with
-/// `what` ("write_exr") and the path.
+/// Runs write(out) into an AtomicOutputFile for `path` and commits it; on any failure the
+/// temporary file is gone, nothing new is under `path`, and the throw names `what`
+/// ("write_exr"), the path and the fault.
 template <class WriteFn>
 void write_atomically(const char* what, const std::string& path, WriteFn&& write) {
-  // A file-size limit or a closed pipe fails the write (EFBIG, EPIPE) instead of a signal
-  const BlockWriteSignals no_signals;
-  const std::string tmp = temp_path_for(path);
   std::string fault;
   try {
-    write(tmp);
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (!ec) return;
-    fault = "cannot rename temporary file '" + tmp + "' into place: " + ec.message();
+    AtomicOutputFile out(path);
+    write(out);
+    out.commit();
+    return;
+  } catch (const AtomicOutputError& e) {
+    fault = e.fault();
   } catch (const std::exception& e) {
     fault = e.what();
   } catch (...) {
     fault = "unknown error";
   }
-  std::error_code ignored;
-  std::filesystem::remove(tmp, ignored);
   throw std::runtime_error(std::string(what) + ": cannot write '" + path + "': " + fault);
 }
 
@@ -116,9 +99,25 @@ void png_on_error(png_structp png, png_const_charp msg) {
 
 void png_on_warning(png_structp, png_const_charp) {}
 
-/// Encodes 8-bit RGBA rows into an open file. Only trivially destructible locals live here,
-/// because libpng reports errors by longjmp. Returns false with err.message set on failure.
-bool encode_png(std::FILE* file, int width, int height, const unsigned char* rgba8,
+/// libpng output into memory (the io pointer is a std::vector<unsigned char>); the file is
+/// then written in one checked write.
+void png_on_write(png_structp png, png_bytep data, png_size_t n) {
+  auto* bytes = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(png));
+  bool grown = true;
+  try {
+    bytes->insert(bytes->end(), data, data + n);
+  } catch (...) {
+    grown = false;
+  }
+  if (!grown) png_error(png, "out of memory while encoding");
+}
+
+void png_on_flush(png_structp) {}
+
+/// Encodes 8-bit RGBA rows, appending the PNG file's bytes to `bytes`. Only trivially
+/// destructible locals live here, because libpng reports errors by longjmp. Returns false with
+/// err.message set on failure.
+bool encode_png(std::vector<unsigned char>& bytes, int width, int height, const unsigned char* rgba8,
                 PngError& err) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_on_error,
                                             png_on_warning);
@@ -136,7 +135,7 @@ bool encode_png(std::FILE* file, int width, int height, const unsigned char* rgb
     png_destroy_write_struct(&png, &info);
     return false;
   }
-  png_init_io(png, file);
+  png_set_write_fn(png, &bytes, png_on_write, png_on_flush);
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
                PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
@@ -166,6 +165,25 @@ class FdIStream final : public Imf::IStream {
 
  private:
   const RegularFile& m_file;
+  std::uint64_t m_pos = 0;
+};
+
+/// OpenEXR output into an AtomicOutputFile: every byte checked, seeks (OpenEXR goes back to
+/// fill in the chunk offset table) become positioned writes. OpenEXR's destructor swallows a
+/// failure of that last write; the AtomicOutputFile remembers it and commit() refuses.
+class AtomicOStream final : public Imf::OStream {
+ public:
+  explicit AtomicOStream(AtomicOutputFile& out) : Imf::OStream(out.path().c_str()), m_out(out) {}
+  void write(const char c[], int n) override {
+    if (n <= 0) return;
+    m_out.write_at(m_pos, c, static_cast<std::size_t>(n));
+    m_pos += static_cast<std::uint64_t>(n);
+  }
+  std::uint64_t tellp() override { return m_pos; }
+  void seekp(std::uint64_t pos) override { m_pos = pos; }
+
+ private:
+  AtomicOutputFile& m_out;
   std::uint64_t m_pos = 0;
 };
 
@@ -225,7 +243,7 @@ unsigned char to_byte(double x) { return static_cast<unsigned char>(std::floor(x
 
 void write_exr(const std::string& path, const Image& img) {
   validate("write_exr", path, img);
-  write_atomically("write_exr", path, [&](const std::string& tmp) {
+  write_atomically("write_exr", path, [&](AtomicOutputFile& out) {
     // Header: float32 channels, ZIP, data window = display window = the image
     Imf::Header header(img.width, img.height);
     header.compression() = Imf::ZIP_COMPRESSION;
@@ -250,9 +268,16 @@ void write_exr(const std::string& path, const Image& img) {
         fb.insert(k_denoised_names[c],
                   Imf::Slice::Make(Imf::FLOAT, img.denoised.data() + c, dw, k_rgb_stride));
 
-    Imf::OutputFile file(tmp.c_str(), header);
-    file.setFrameBuffer(fb);
-    file.writePixels(img.height);
+    {
+      AtomicOStream stream(out);
+      Imf::OutputFile file(stream, header);
+      file.setFrameBuffer(fb);
+      file.writePixels(img.height);
+    }  // the destructor writes the chunk offset table
+
+    // Verify before the rename: the header reads back and the offset table fits the file
+    const RegularFile written(out.temp_path());
+    detail::check_exr_header(written);
   });
 }
 
@@ -313,19 +338,13 @@ void write_png(const std::string& path, const Image& img, const ToneMap& tm) {
     rgba8[i * 4 + 3] = to_byte(a > 0.0 ? std::min(a, 1.0) : 0.0);
   }
 
-  write_atomically("write_png", path, [&](const std::string& tmp) {
-    std::FILE* file = std::fopen(tmp.c_str(), "wb");
-    if (!file) throw std::runtime_error("cannot open '" + tmp + "': " + std::strerror(errno));
-    PngError err;
-    const bool ok = encode_png(file, img.width, img.height, rgba8.data(), err);
-    const bool flushed = std::fflush(file) == 0;
-    const int flush_errno = errno;
-    const bool closed = std::fclose(file) == 0;
-    if (!ok) throw std::runtime_error(std::string("libpng: ") + err.message);
-    if (!flushed || !closed)
-      throw std::runtime_error("cannot finish '" + tmp + "': " +
-                               std::strerror(flushed ? errno : flush_errno));
-  });
+  // Encode in memory, then one checked write
+  std::vector<unsigned char> bytes;
+  PngError err;
+  if (!encode_png(bytes, img.width, img.height, rgba8.data(), err))
+    throw std::runtime_error("write_png: cannot write '" + path + "': libpng: " + err.message);
+  write_atomically("write_png", path,
+                   [&](AtomicOutputFile& out) { out.write(bytes.data(), bytes.size()); });
 }
 
 }  // namespace tessera

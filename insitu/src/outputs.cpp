@@ -2,15 +2,9 @@
 
 #include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>
-#include <tessera/signal_guard.h>
+#include <tessera/atomic_output.h>
 
-#include <unistd.h>
-
-#include <atomic>
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
 namespace tessera::insitu {
@@ -44,29 +38,7 @@ void write_image_files(const std::string& base, const config::OutputSpec& output
 
 void write_text_atomic(const std::string& path, const std::string& text) {
   ensure_directory(fs::path(path).parent_path().string());
-  const BlockWriteSignals no_signals;  // EFBIG / EPIPE, never SIGXFSZ / SIGPIPE
-  // A name unique to this process and call, in the same directory, so rename() is atomic
-  static std::atomic<unsigned> counter{0};
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." +
-                          std::to_string(counter.fetch_add(1));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.flush();
-    if (!out) {
-      const std::string fault = std::strerror(errno);
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("cannot write '" + path + "': " + fault);
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw std::runtime_error("cannot write '" + path + "': " + ec.message());
-  }
+  write_file_atomically(path, text);
 }
 
 }  // namespace tessera::insitu

@@ -21,7 +21,8 @@ std::string output_base(const std::string& output_dir, const config::RenderSpec&
 void write_image_files(const std::string& base, const config::OutputSpec& output,
                        const Image& img, std::vector<std::string>& files);
 
-/// Writes `text` to `path` atomically, creating the parent directory. Throws like the above.
+/// Writes `text` to `path` through AtomicOutputFile (every byte checked, nothing under `path`
+/// unless complete), creating the parent directory. Throws like the above.
 void write_text_atomic(const std::string& path, const std::string& text);
 
 /// Creates `dir` and its parents if missing; throws std::runtime_error naming it on failure.

@@ -2,7 +2,13 @@
 
 #include <mpi.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -37,21 +43,56 @@ void dump_field(const CartDecomposition& decomp, const HeatSolver& solver, const
   MPI_Datatype view;
   MPI_Type_create_subarray(3, sizes, sub, start, MPI_ORDER_C, MPI_FLOAT, &view);
   MPI_Type_commit(&view);
+  const int count = static_cast<int>(block.size());
+  const MPI_Offset expected = static_cast<MPI_Offset>(g[0] * g[1] * g[2]) * MPI_Offset(sizeof(float));
+
+  // One temporary name for all ranks (rank 0's pid), next to the file: renamed into place only
+  // when every rank's block is written, so a full disk never leaves a truncated dump
+  int rank = 0;
+  MPI_Comm_rank(decomp.comm(), &rank);
+  long pid = rank == 0 ? static_cast<long>(::getpid()) : 0;
+  MPI_Bcast(&pid, 1, MPI_LONG, 0, decomp.comm());
+  const std::string tmp = path + ".tmp." + std::to_string(pid);
+
+  // Write: every result checked (the status's count too: a short write is a failure)
+  std::string fault;
   MPI_File file;
-  int rc = MPI_File_open(decomp.comm(), path.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY, MPI_INFO_NULL, &file);
-  if (rc == MPI_SUCCESS) {
-    MPI_File_set_size(file, 0);  // an older, longer file must not leave a tail
+  int rc = MPI_File_open(decomp.comm(), tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_EXCL | MPI_MODE_WRONLY,
+                         MPI_INFO_NULL, &file);
+  const bool opened = rc == MPI_SUCCESS;
+  if (!opened) fault = mpi_error(rc);
+  if (opened) {
     rc = MPI_File_set_view(file, 0, MPI_FLOAT, view, "native", MPI_INFO_NULL);
-    if (rc == MPI_SUCCESS)
-      rc = MPI_File_write_all(file, block.data(), static_cast<int>(block.size()), MPI_FLOAT, MPI_STATUS_IGNORE);
-    MPI_File_close(&file);
+    MPI_Status status;
+    if (rc == MPI_SUCCESS) rc = MPI_File_write_all(file, block.data(), count, MPI_FLOAT, &status);
+    int written = 0;
+    if (rc != MPI_SUCCESS)
+      fault = mpi_error(rc);
+    else if (MPI_Get_count(&status, MPI_FLOAT, &written) != MPI_SUCCESS || written != count)
+      fault = "short write: " + std::to_string(written) + " of " + std::to_string(count) + " values";
+    rc = MPI_File_close(&file);
+    if (fault.empty() && rc != MPI_SUCCESS) fault = mpi_error(rc);
   }
   MPI_Type_free(&view);
-  // Every rank reports the same outcome.
-  int worst = rc;
-  MPI_Allreduce(&rc, &worst, 1, MPI_INT, MPI_MAX, decomp.comm());
-  if (worst != MPI_SUCCESS)
-    throw std::runtime_error("--dump " + path + ": " + mpi_error(rc != MPI_SUCCESS ? rc : worst));
+
+  // Every rank agrees; rank 0 renames (or removes) the temporary file and reports the rename
+  int ok = fault.empty() ? 1 : 0, all_ok = 0;
+  MPI_Allreduce(&ok, &all_ok, 1, MPI_INT, MPI_MIN, decomp.comm());
+  int renamed = 0;
+  if (rank == 0) {
+    // Closed on every rank: the whole file is visible here; its size must be the field's
+    struct stat st {};
+    if (all_ok && (::stat(tmp.c_str(), &st) != 0 || st.st_size != expected)) {
+      all_ok = 0;
+      fault = "the written file has " + std::to_string(st.st_size) + " bytes, expected " + std::to_string(expected);
+    }
+    if (all_ok && std::rename(tmp.c_str(), path.c_str()) == 0) renamed = 1;
+    else if (all_ok) fault = std::string("cannot rename '") + tmp + "' into place: " + std::strerror(errno);
+    if (!renamed && opened) std::remove(tmp.c_str());
+  }
+  MPI_Bcast(&renamed, 1, MPI_INT, 0, decomp.comm());
+  if (!renamed)
+    throw std::runtime_error("--dump " + path + ": " + (fault.empty() ? std::string("failed on another rank") : fault));
 }
 
 }  // namespace heat

@@ -11,7 +11,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <filesystem>
+#include <string>
+#include <sys/resource.h>
 #include <unistd.h>
 #include <numbers>
 #include <vector>
@@ -211,4 +215,49 @@ TEST_CASE("--dump writes the global field as raw float32, the same for any rank 
   }
   // An unwritable path fails on every rank with the file named, and nothing hangs.
   CHECK_THROWS_WITH(heat::dump_field(d, s, "/nonexistent_dir/x.raw"), Catch::Contains("/nonexistent_dir/x.raw"));
+}
+
+TEST_CASE("--dump under a file-size limit fails on every rank and keeps the older dump", "[mpi][heat][dump]") {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  char name[256] = {};
+  if (rank == 0) std::snprintf(name, sizeof name, "/tmp/tessera_heat_dump_limit_%d.raw", static_cast<int>(getpid()));
+  MPI_Bcast(name, sizeof name, MPI_CHAR, 0, MPI_COMM_WORLD);
+  const std::string older = "an older, complete dump";
+  if (rank == 0) {
+    FILE* f = std::fopen(name, "wb");
+    REQUIRE(f != nullptr);
+    std::fwrite(older.data(), 1, older.size(), f);
+    std::fclose(f);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  CartDecomposition d(MPI_COMM_WORLD, Index3{13, 9, 7});  // 3276 bytes
+  HeatParams p;
+  HeatSolver s(d, p);
+  {
+    // Each rank: at most 1000 bytes per file; SIGXFSZ ignored so the write fails with EFBIG
+    rlimit old_limit{};
+    getrlimit(RLIMIT_FSIZE, &old_limit);
+    rlimit limit = old_limit;
+    limit.rlim_cur = 1000;
+    REQUIRE(setrlimit(RLIMIT_FSIZE, &limit) == 0);
+    const sighandler_t old_action = std::signal(SIGXFSZ, SIG_IGN);
+    CHECK_THROWS_WITH(heat::dump_field(d, s, name), Catch::Contains(name));
+    setrlimit(RLIMIT_FSIZE, &old_limit);
+    std::signal(SIGXFSZ, old_action);
+  }
+  if (rank == 0) {
+    std::string text(64, '\0');
+    FILE* f = std::fopen(name, "rb");
+    REQUIRE(f != nullptr);
+    text.resize(std::fread(text.data(), 1, text.size(), f));
+    std::fclose(f);
+    CHECK(text == older);
+    int temporaries = 0;
+    for (const auto& e : std::filesystem::directory_iterator("/tmp"))
+      if (e.path().string().rfind(std::string(name) + ".tmp", 0) == 0) ++temporaries;
+    CHECK(temporaries == 0);
+    std::remove(name);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
 }

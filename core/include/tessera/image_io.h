@@ -1,6 +1,8 @@
 #pragma once
-/// Reading and writing images. Writers go through a temporary file in the same directory and
-/// rename it into place, so a crash never leaves a half-written image under the final name.
+/// Reading and writing images. Writers go through AtomicOutputFile (atomic_output.h): a
+/// temporary file in the same directory, every byte checked, verified, then renamed into place,
+/// so neither a crash nor a full disk, quota or file-size limit ever leaves a half-written
+/// image under the final name (an older image there stays until the new one is complete).
 /// All functions throw std::runtime_error naming the path and the fault. Writers hold
 /// BlockWriteSignals (signal_guard.h): a file-size limit or a closed pipe is an error, never
 /// a SIGXFSZ / SIGPIPE in the caller; the temporary file is removed on any failure.
