@@ -1,9 +1,10 @@
 #pragma once
 // Private: a YAML document as a compact tree, built from yaml-cpp's parse events (the event
 // parser holds no tree). YAML::Load spends about 500 bytes per node (a 4 MiB flow list of
-// one-character scalars took about 1 GB); here a node is 20 bytes, a list element or mapping
-// entry 4 or 8 more, and scalars share one text buffer, so the tree of a file of N bytes takes
-// at most about 20 N bytes, counted and bounded while it is built (docs/config.md "Limits").
+// one-character scalars took about 1 GB); here a node is 20 bytes, a reference to it from its
+// list or mapping 4 more, and scalars share one text buffer. The nodes are counted while the
+// tree is built and bounded by the caller (kMaxYamlNodes, 2^21: about 64 MiB with the
+// building stack; docs/config.md "Limits").
 #include <tessera/config/config_error.h>
 
 #include <cstddef>
