@@ -8,6 +8,7 @@
 /// system where fsync per frame is expensive).
 #include <tessera/image_io.h>
 #include <tessera/regular_file.h>
+#include <tessera/temp_file.h>
 
 #include "exr_header.h"
 #include <tessera/signal_guard.h>
@@ -20,10 +21,8 @@
 #include <ImfStdIO.h>
 #include <ImfOutputFile.h>
 #include <png.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <csetjmp>
@@ -43,21 +42,16 @@ constexpr const char* k_denoised_names[3] = {"denoised.R", "denoised.G", "denois
 constexpr std::size_t k_rgb_stride = 3 * sizeof(float);  ///< interleaved RGB float pixel
 
 /// A file name next to `path`, unique within this process and across processes.
-std::string temp_path_for(const std::string& path) {
-  static std::atomic<unsigned long> counter{0};
-  return path + ".tmp." + std::to_string(static_cast<long>(::getpid())) + "." +
-         std::to_string(counter.fetch_add(1, std::memory_order_relaxed));
-}
-
 /// Runs write(tmp) and renames tmp onto path; on any failure removes tmp and throws with
 /// `what` ("write_exr") and the path.
 template <class WriteFn>
 void write_atomically(const char* what, const std::string& path, WriteFn&& write) {
   // A file-size limit or a closed pipe fails the write (EFBIG, EPIPE) instead of a signal
   const BlockWriteSignals no_signals;
-  const std::string tmp = temp_path_for(path);
+  std::string tmp;  // made new: a FIFO or a link already under the name is never opened
   std::string fault;
   try {
+    tmp = create_temp_file_beside(path);
     write(tmp);
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
@@ -69,7 +63,7 @@ void write_atomically(const char* what, const std::string& path, WriteFn&& write
     fault = "unknown error";
   }
   std::error_code ignored;
-  std::filesystem::remove(tmp, ignored);
+  if (!tmp.empty()) std::filesystem::remove(tmp, ignored);
   throw std::runtime_error(std::string(what) + ": cannot write '" + path + "': " + fault);
 }
 

@@ -3,10 +3,9 @@
 #include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>
 #include <tessera/signal_guard.h>
+#include <tessera/temp_file.h>
 
-#include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -45,10 +44,13 @@ void write_image_files(const std::string& base, const config::OutputSpec& output
 void write_text_atomic(const std::string& path, const std::string& text) {
   ensure_directory(fs::path(path).parent_path().string());
   const BlockWriteSignals no_signals;  // EFBIG / EPIPE, never SIGXFSZ / SIGPIPE
-  // A name unique to this process and call, in the same directory, so rename() is atomic
-  static std::atomic<unsigned> counter{0};
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." +
-                          std::to_string(counter.fetch_add(1));
+  // A new file beside it (temp_file.h): a FIFO or a link already under the name is not opened
+  std::string tmp;
+  try {
+    tmp = create_temp_file_beside(path);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot write '" + path + "': " + e.what());
+  }
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (out) out.write(text.data(), static_cast<std::streamsize>(text.size()));

@@ -5,7 +5,9 @@
 // relative or empty PATH or LD_LIBRARY_PATH entry, or a relative HOME, is never loaded. The
 // denoiser is loaded once per process, so the lookup runs in tessera-render children (with a
 // timeout: a regression fails instead of hanging CTest) or through oidn_search_paths(), which
-// loads nothing. An existing Cinema data.csv that is a FIFO is refused without blocking.
+// loads nothing. An existing Cinema data.csv that is a FIFO is refused without blocking, and
+// the temporary files of atomic writes are made new (temp_file.h): a FIFO or a link planted
+// under the name is passed over, never opened.
 #include "cinema.h"
 #include "cli_run.h"
 #include "denoise_scene.h"
@@ -16,6 +18,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -216,3 +219,40 @@ TEST_CASE("open paths: a Cinema data.csv that is a FIFO is refused without block
   CHECK(returned);
   CHECK_THAT(error, Contains(fifo + " is a FIFO (allowed: a regular file)"));
 }
+
+#ifdef TESSERA_RENDER_EXE
+TEST_CASE("open paths: FIFOs and a link planted under the outputs' temporary names are passed over",
+          "[robustness][open_paths]") {
+  TempDir dir;
+  write_cli_scene(dir, false);
+  fs::create_directories(dir.path() / "results");
+  dir.write("victim.txt", "untouched");
+  // The renderer starts after a second, under the pid of the shell that execs it: time to
+  // plant the names its writes would use (path.tmp.<pid>.<n>, n counting from 0)
+  const std::string cmd = "sleep 1; exec '" TESSERA_RENDER_EXE "' scene.yaml --quiet > cli.out 2> cli.err";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (::chdir(dir.path().c_str()) != 0) ::_exit(126);
+    ::alarm(30);  // survives exec: a render blocked on a FIFO dies of SIGALRM
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  REQUIRE(pid > 0);
+  std::vector<std::string> planted;
+  for (const char* name : {"d.exr", "d.png"})
+    for (int n = 0; n < 8; ++n) {
+      planted.push_back((dir.path() / "results" / name).string() + ".tmp." + std::to_string(pid) + "." + std::to_string(n));
+      make_fifo(planted.back());
+    }
+  fs::create_symlink(dir.file("victim.txt"), (dir.path() / "results/d.png.tmp.").string() + std::to_string(pid) + ".8");
+  int st = 0;
+  REQUIRE(::waitpid(pid, &st, 0) == pid);
+  INFO(tessera_test::slurp(dir.path() / "cli.err"));
+  CHECK(WIFEXITED(st));  // not killed by the watchdog
+  CHECK((WIFEXITED(st) && WEXITSTATUS(st) == 0));
+  CHECK(fs::is_regular_file(dir.path() / "results/d.exr"));
+  CHECK(fs::is_regular_file(dir.path() / "results/d.png"));
+  CHECK(tessera_test::slurp(dir.path() / "victim.txt") == "untouched");
+  for (const std::string& p : planted) CHECK(fs::is_fifo(p));  // left as they were
+}
+#endif
