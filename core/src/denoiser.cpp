@@ -2,6 +2,7 @@
 /// (declared here from OIDN 2.x's public C API, include/OpenImageDenoise/oidn.h), one CPU
 /// device per process.
 #include <tessera/denoiser.h>
+#include <tessera/memory_estimate.h>
 #include <tessera/regular_file.h>
 
 #include <dlfcn.h>
@@ -35,6 +36,7 @@ struct OidnApi {
                                std::size_t height, std::size_t byte_offset, std::size_t pixel_stride,
                                std::size_t row_stride) = nullptr;
   void (*setFilterBool)(OIDNFilter, const char* name, bool value) = nullptr;
+  void (*setFilterInt)(OIDNFilter, const char* name, int value) = nullptr;
   void (*commitFilter)(OIDNFilter) = nullptr;
   void (*executeFilter)(OIDNFilter) = nullptr;
   void (*releaseFilter)(OIDNFilter) = nullptr;
@@ -188,6 +190,7 @@ std::string try_load(const std::string& path, Loaded& l) {
     sym(api.newFilter, "oidnNewFilter");
     sym(api.setSharedFilterImage, "oidnSetSharedFilterImage");
     sym(api.setFilterBool, "oidnSetFilterBool");
+    sym(api.setFilterInt, "oidnSetFilterInt");
     sym(api.commitFilter, "oidnCommitFilter");
     sym(api.executeFilter, "oidnExecuteFilter");
     sym(api.releaseFilter, "oidnReleaseFilter");
@@ -291,6 +294,7 @@ void denoise(Image& img) {
   if (normal) api.setSharedFilterImage(f, "normal", img.normal.data(), kOidnFormatFloat3, w, h, 0, 0, 0);
   api.setSharedFilterImage(f, "output", img.denoised.data(), kOidnFormatFloat3, w, h, 0, 0, 0);
   api.setFilterBool(f, "hdr", true);
+  api.setFilterInt(f, "maxMemoryMB", kDenoiserMaxMemoryMB);  // larger images go in tiles
   api.commitFilter(f);
   std::string e = device_error(api, device);
   if (e.empty()) {
