@@ -6,6 +6,7 @@
 #include "parsers.h"
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/exceptions.h>
 
 #include <tessera/message_text.h>
 #include <tessera/regular_file.h>
@@ -42,11 +43,11 @@ std::string too_large(std::uint64_t bytes) {
          std::to_string(detail::kMaxConfigBytes) + " bytes, 4 MiB)";
 }
 
-Config parse_root(const YAML::Node& root, const detail::Document& doc) {
-  if (!root.IsDefined() || root.IsNull()) {
+Config parse_root(const detail::Document& doc) {
+  const Value top(&doc, SourceMark{1, 1});
+  if (top.is_null()) {
     throw ConfigError(doc.file, {}, "", std::string("empty config (allowed: ") + kTopKeys + ")");
   }
-  const Value top(root, "", &doc, SourceMark{1, 1}, false);
   const detail::Map m = top.map(kTopKeys);
   m.allow({"tessera", "volume", "renders"});
 
@@ -186,7 +187,10 @@ Config parse_config(const std::string& yaml_text, const std::string& file_name_f
   }
   try {
     // One document: a second one (after ---) is refused unless it is empty
-    const YAML::Node root = YAML::Load(yaml_text);
+    // The tree is built from the parser's events, its nodes counted as they come
+    // (yaml_tree.h): a file within the size cap cannot make the parse take unbounded memory
+    const detail::YamlTree tree = detail::YamlTree::parse(yaml_text, doc.file, detail::kMaxYamlNodes);
+    doc.tree = &tree;
     if (const auto second = detail::second_document(yaml_text)) {
       throw ConfigError(doc.file, *second, "",
                         "a second YAML document starts here (allowed: one document per config "
@@ -197,7 +201,7 @@ Config parse_config(const std::string& yaml_text, const std::string& file_name_f
                         "YAML tag " + tag->tag + " is not supported (allowed: untagged values; "
                         "quote a value that starts with '!')");
     }
-    return parse_root(root, doc);
+    return parse_root(doc);
   } catch (const YAML::DeepRecursion& e) {
     throw ConfigError(doc.file, from_yaml(e.mark), "",
                       "invalid YAML: nested too deeply (allowed: the YAML parser's limit of " +

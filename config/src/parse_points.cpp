@@ -43,7 +43,7 @@ PointSpec parse_point(const Value& v, bool allow_fit) {
              "(allowed here: a number >= 0, in bounding-sphere radii of the data)");
     return PointSpec::on_orbit_fit(s.azimuth, s.elevation);
   }
-  if (allow_fit && d.is_scalar() && !reads_as_number(d.node().Scalar()))
+  if (allow_fit && d.is_scalar() && !reads_as_number(std::string(d.text())))
     d.fail(d.describe() + " is not a distance (allowed: " + std::string(distance_allowed) + ")");
   s.distance = d.number(Range::at_least(0.0));
   return PointSpec::on_orbit(s.azimuth, s.elevation, s.distance);

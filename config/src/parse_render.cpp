@@ -61,7 +61,9 @@ TriggerSpec parse_trigger(const Value& v) {
     t.every = e->integer(1, std::numeric_limits<std::int64_t>::max());
   } else if (const auto a = m.get("at")) {
     t.kind = TriggerSpec::Kind::At;
-    for (const Value& s : a->list("a list of steps (integers >= 0)", 1))
+    const ValueList steps = a->list("a list of steps (integers >= 0)", 1);
+    t.at.reserve(steps.size());
+    for (const Value& s : steps)
       t.at.push_back(s.integer(0, std::numeric_limits<std::int64_t>::max()));
   } else {
     const Value w = *m.get("when");

@@ -3,6 +3,10 @@
 #include <tessera/message_text.h>
 
 #include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/mark.h>
+#include <yaml-cpp/parser.h>
+
+#include <algorithm>
 
 #include <charconv>
 #include <cmath>
@@ -13,9 +17,6 @@
 
 namespace tessera::config::detail {
 namespace {
-
-/// A plain (unquoted) scalar: the only kind that may be a number or a boolean.
-bool is_plain(const YAML::Node& n) { return n.IsScalar() && n.Tag() == "?"; }
 
 std::optional<double> parse_double(std::string_view s) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
@@ -170,45 +171,56 @@ std::string join_words(const std::vector<std::string>& words, const char* last_s
 // ---------------------------------------------------------------------------------------------
 // Value
 
-Value::Value(YAML::Node node, std::string path, const Document* doc, SourceMark anchor,
-             bool anchor_is_key)
-    : m_node(std::move(node)),
-      m_path(std::move(path)),
-      m_doc(doc),
+Value::Value(const Document* doc, SourceMark anchor)
+    : Value(doc, doc->tree->root(), nullptr, {}, -1, anchor, false) {}
+
+Value::Value(const Document* doc, YamlTree::Id id, Base base, std::string_view key, std::int64_t index,
+             SourceMark anchor, bool anchor_is_key)
+    : m_doc(doc),
+      m_id(id),
+      m_base(std::move(base)),
+      m_key(key),
+      m_index(index),
       m_anchor(anchor),
       m_anchor_is_key(anchor_is_key) {}
 
+std::string Value::path() const {
+  const std::string base = m_base ? *m_base : std::string();
+  if (m_index >= 0) return base + "[" + std::to_string(m_index) + "]";
+  if (!m_base) return base;
+  const std::string shown = cut_for_message(m_key);  // a BOM or control character shows escaped
+  return base.empty() ? shown : base + "." + shown;
+}
+
 SourceMark Value::mark() const {
   if (m_anchor_is_key) return m_anchor;
-  const YAML::Mark m = m_node.Mark();
-  if (m_node.IsNull() || m.is_null() || m.line < 0) return m_anchor;
-  return SourceMark{m.line + 1, m.column + 1};
+  const SourceMark m = m_doc->tree->mark(m_id);
+  if (is_null() || m.line <= 0) return m_anchor;
+  return m;
 }
 
 void Value::fail(const std::string& message) const {
-  throw ConfigError(m_doc->file, mark(), m_path, message);
+  throw ConfigError(m_doc->file, mark(), path(), message);
 }
 
 void Value::wrong_type(const std::string& allowed) const {
   fail(describe() + " is not allowed here (allowed: " + allowed + ")");
 }
 
-bool Value::is_word(std::string_view word) const {
-  return m_node.IsScalar() && m_node.Scalar() == word;
-}
+bool Value::is_word(std::string_view word) const { return is_scalar() && text() == word; }
 
 std::string Value::describe() const {
-  if (m_node.IsMap()) return "a mapping";
-  if (m_node.IsSequence()) return "a list";
-  if (m_node.IsScalar()) {
-    const std::string& text = m_node.Scalar();
-    if (!is_plain(m_node)) return shown_text(text, true);
+  if (is_map()) return "a mapping";
+  if (is_sequence()) return "a list";
+  if (is_scalar()) {
+    const std::string_view t = text();
+    if (!plain()) return shown_text(t, true);
     // A long number reads short: `1e+299 (written with 300 characters)`
-    if (text.size() > kLongNumberText) {
-      if (const auto v = parse_double(text); v && std::isfinite(*v))
-        return format_number(*v) + " (written with " + std::to_string(text.size()) + " characters)";
+    if (t.size() > kLongNumberText) {
+      if (const auto v = parse_double(t); v && std::isfinite(*v))
+        return format_number(*v) + " (written with " + std::to_string(t.size()) + " characters)";
     }
-    return cut_for_message(text);
+    return cut_for_message(t);
   }
   return "an empty value";
 }
@@ -217,8 +229,8 @@ double Value::number(const Range& r) const {
   const std::string allowed = std::isfinite(r.lo) || std::isfinite(r.hi)
                                   ? "a number in " + r.describe()
                                   : std::string("a finite number");
-  if (!is_plain(m_node)) wrong_type(allowed);
-  const auto v = parse_double(m_node.Scalar());
+  if (!is_scalar() || !plain()) wrong_type(allowed);
+  const auto v = parse_double(text());
   if (!v) fail(describe() + " is not a number (allowed: " + allowed + ")");
   if (!std::isfinite(*v)) fail(describe() + " is not finite (allowed: " + allowed + ")");
   if (!r.contains(*v)) fail(describe() + " is out of range " + r.describe());
@@ -234,12 +246,12 @@ std::int64_t Value::integer(std::int64_t lo, std::int64_t hi) const {
   else if (bounded_lo) range = "(>= " + std::to_string(lo) + ")";
   else if (bounded_hi) range = "(<= " + std::to_string(hi) + ")";
   if (!range.empty()) allowed += " in " + range;
-  if (!is_plain(m_node)) wrong_type(allowed);
-  const auto v = parse_integer<std::int64_t>(m_node.Scalar());
+  if (!is_scalar() || !plain()) wrong_type(allowed);
+  const auto v = parse_integer<std::int64_t>(text());
   if (!v) {
     // Digits beyond 64 bits: out of range, not "not an integer"
-    const auto d = parse_double(m_node.Scalar());
-    const bool digits_only = m_node.Scalar().find_first_not_of("+-0123456789") == std::string::npos;
+    const auto d = parse_double(text());
+    const bool digits_only = text().find_first_not_of("+-0123456789") == std::string_view::npos;
     if (d && digits_only && !range.empty()) fail(describe() + " is out of range " + range);
     fail(describe() + " is not an integer (allowed: " + allowed + ")");
   }
@@ -249,15 +261,15 @@ std::int64_t Value::integer(std::int64_t lo, std::int64_t hi) const {
 
 std::uint64_t Value::unsigned64() const {
   const std::string allowed = "an integer in [0, 18446744073709551615]";
-  if (!is_plain(m_node)) wrong_type(allowed);
-  const auto v = parse_integer<std::uint64_t>(m_node.Scalar());
+  if (!is_scalar() || !plain()) wrong_type(allowed);
+  const auto v = parse_integer<std::uint64_t>(text());
   if (!v) fail(describe() + " is not an unsigned 64-bit integer (allowed: " + allowed + ")");
   return *v;
 }
 
 bool Value::boolean() const {
-  if (is_plain(m_node)) {
-    const std::string& s = m_node.Scalar();
+  if (is_scalar() && plain()) {
+    const std::string_view s = text();
     if (s == "true" || s == "True" || s == "TRUE") return true;
     if (s == "false" || s == "False" || s == "FALSE") return false;
     fail(describe() + " is not a boolean (allowed: true or false)");
@@ -266,13 +278,13 @@ bool Value::boolean() const {
 }
 
 std::string Value::string(bool allow_empty) const {
-  if (!m_node.IsScalar()) wrong_type("a string");
-  if (!allow_empty && m_node.Scalar().empty()) fail("empty string (allowed: a non-empty string)");
-  return m_node.Scalar();
+  if (!is_scalar()) wrong_type("a string");
+  if (!allow_empty && text().empty()) fail("empty string (allowed: a non-empty string)");
+  return std::string(text());
 }
 
 Vec3 Value::triple(const char* shape, const Range& r) const {
-  const auto xs = list(shape, 3, 3);
+  const ValueList xs = list(shape, 3, 3);
   return Vec3(xs[0].number(r), xs[1].number(r), xs[2].number(r));
 }
 
@@ -280,10 +292,9 @@ Vec3 Value::vec3(const Range& r) const { return triple("[x, y, z]", r); }
 
 Color Value::color(const Range& r) const { return triple("[r, g, b]", r); }
 
-std::vector<Value> Value::list(const std::string& allowed, std::size_t min_size,
-                               std::size_t max_size) const {
-  if (!m_node.IsSequence()) wrong_type(allowed);
-  const std::size_t n = m_node.size();
+ValueList Value::list(const std::string& allowed, std::size_t min_size, std::size_t max_size) const {
+  if (!is_sequence()) wrong_type(allowed);
+  const std::size_t n = m_doc->tree->size(m_id);
   visit(n);
   if (n < min_size || n > max_size) {
     std::string count;
@@ -294,15 +305,15 @@ std::vector<Value> Value::list(const std::string& allowed, std::size_t min_size,
     fail("list has " + std::to_string(n) + " element" + (n == 1 ? "" : "s") + " (allowed: " +
          allowed + count + ")");
   }
-  std::vector<Value> out;
-  out.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) out.push_back(element(m_node[i], i));
-  return out;
+  return ValueList(*this);
 }
 
-Value Value::child(const YAML::Node& n, const std::string& key, SourceMark key_mark) const {
-  const std::string shown = cut_for_message(key);  // a BOM or control character shows escaped
-  return Value(n, m_path.empty() ? shown : m_path + "." + shown, m_doc, key_mark, true);
+Value Value::child(YamlTree::Id id, const Base& base, std::string_view key, SourceMark key_mark) const {
+  return Value(m_doc, id, base, key, -1, key_mark, true);
+}
+
+Value Value::element(YamlTree::Id id, const Base& base, std::size_t index) const {
+  return Value(m_doc, id, base, {}, static_cast<std::int64_t>(index), mark(), false);
 }
 
 void Value::visit(std::size_t n) const {
@@ -314,64 +325,91 @@ void Value::visit(std::size_t n) const {
   }
 }
 
-Value Value::element(const YAML::Node& n, std::size_t index) const {
-  return Value(n, m_path + "[" + std::to_string(index) + "]", m_doc, mark(), false);
+Map Value::map(const std::string& allowed) const {
+  if (!is_map()) wrong_type(allowed);
+  const YamlTree& t = *m_doc->tree;
+  const std::size_t n = t.size(m_id);
+  // Keys are plain words, each once: sorted by key (then by position), a repeated key is
+  // next to its first; the one reported is the earliest second occurrence, as a reader meets it
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    visit(1);
+    const YamlTree::Id k = t.key(m_id, i);
+    if (t.kind(k) != YamlTree::Kind::Scalar) throw ConfigError(m_doc->file, t.mark(k), path(), "a key must be a plain word");
+    order[i] = static_cast<std::uint32_t>(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return t.scalar(t.key(m_id, a)) < t.scalar(t.key(m_id, b));
+  });
+  std::size_t first = n, second = n;
+  for (std::size_t j = 1, group = 0; j < n; ++j) {
+    if (t.scalar(t.key(m_id, order[j])) != t.scalar(t.key(m_id, order[j - 1]))) {
+      group = j;
+    } else if (j == group + 1 && order[j] < second) {
+      first = order[group];
+      second = order[j];
+    }
+  }
+  const Map m(*this);
+  if (second < n) {
+    throw ConfigError(m_doc->file, t.mark(t.key(m_id, second)), m.entry(first).path(),
+                      "duplicate key (first given at line " + std::to_string(t.mark(t.key(m_id, first)).line) + ")");
+  }
+  return m;
 }
 
-Map Value::map(const std::string& allowed) const {
-  if (!m_node.IsMap()) wrong_type(allowed);
-  std::vector<std::pair<std::string, Value>> entries;
-  std::vector<SourceMark> key_marks;
-  std::unordered_map<std::string, std::size_t> index;  // key -> entry, for duplicates
-  for (const auto& kv : m_node) {  // kv: a pair of node handles, held by value
-    visit(1);
-    const YAML::Node k = kv.first;
-    const YAML::Mark km = k.Mark();
-    const SourceMark key_mark{km.line + 1, km.column + 1};
-    if (!k.IsScalar()) {
-      throw ConfigError(m_doc->file, key_mark, m_path, "a key must be a plain word");
-    }
-    const std::string& key = k.Scalar();
-    const auto [it, fresh] = index.emplace(key, entries.size());
-    if (!fresh) {
-      const SourceMark first = key_marks[it->second];
-      throw ConfigError(m_doc->file, key_mark, entries[it->second].second.path(),
-                        "duplicate key (first given at line " + std::to_string(first.line) + ")");
-    }
-    entries.emplace_back(key, child(kv.second, key, key_mark));
-    key_marks.push_back(key_mark);
-  }
-  return Map(*this, std::move(entries), std::move(key_marks));
+// ---------------------------------------------------------------------------------------------
+// ValueList
+
+ValueList::ValueList(const Value& list)
+    : m_list(list), m_base(std::make_shared<const std::string>(list.path())), m_size(list.m_doc->tree->size(list.m_id)) {}
+
+Value ValueList::operator[](std::size_t i) const {
+  return m_list.element(m_list.m_doc->tree->element(m_list.m_id, i), m_base, i);
 }
 
 // ---------------------------------------------------------------------------------------------
 // Map
 
-Map::Map(Value self, std::vector<std::pair<std::string, Value>> entries,
-         std::vector<SourceMark> key_marks)
-    : m_self(std::move(self)), m_entries(std::move(entries)), m_key_marks(std::move(key_marks)) {}
+Map::Map(Value self) : m_self(std::move(self)), m_base(std::make_shared<const std::string>(m_self.path())) {}
+
+std::size_t Map::size() const { return m_self.m_doc->tree->size(m_self.m_id); }
+
+std::string_view Map::key(std::size_t i) const {
+  const YamlTree& t = *m_self.m_doc->tree;
+  return t.scalar(t.key(m_self.m_id, i));
+}
+
+SourceMark Map::key_mark(std::size_t i) const {
+  const YamlTree& t = *m_self.m_doc->tree;
+  return t.mark(t.key(m_self.m_id, i));
+}
+
+Value Map::entry(std::size_t i) const {
+  const YamlTree& t = *m_self.m_doc->tree;
+  return m_self.child(t.value(m_self.m_id, i), m_base, key(i), key_mark(i));
+}
 
 void Map::allow(std::initializer_list<std::string_view> keys) const {
-  for (std::size_t i = 0; i < m_entries.size(); ++i) {
+  for (std::size_t i = 0; i < size(); ++i) {
     bool known = false;
-    for (auto k : keys) known = known || k == m_entries[i].first;
+    for (auto k : keys) known = known || k == key(i);
     if (known) continue;
     std::string list;
     for (auto k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
-    throw ConfigError(m_self.doc().file, m_key_marks[i], m_entries[i].second.path(),
-                      "unknown key (allowed: " + list + ")");
+    throw ConfigError(m_self.doc().file, key_mark(i), entry(i).path(), "unknown key (allowed: " + list + ")");
   }
 }
 
-bool Map::has(std::string_view key) const {
-  for (const auto& e : m_entries)
-    if (e.first == key) return true;
+bool Map::has(std::string_view k) const {
+  for (std::size_t i = 0; i < size(); ++i)
+    if (key(i) == k) return true;
   return false;
 }
 
-std::optional<Value> Map::get(std::string_view key) const {
-  for (const auto& e : m_entries)
-    if (e.first == key) return e.second;
+std::optional<Value> Map::get(std::string_view k) const {
+  for (std::size_t i = 0; i < size(); ++i)
+    if (key(i) == k) return entry(i);
   return std::nullopt;
 }
 

@@ -1,16 +1,17 @@
 #pragma once
-// Private: typed, validating access to a yaml-cpp tree. Every accessor either returns a value
-// that satisfies the stated constraint or throws ConfigError at the node's file:line:col with
-// its key path and what is allowed.
+// Private: typed, validating access to a parsed YAML document (yaml_tree.h). Every accessor
+// either returns a value that satisfies the stated constraint or throws ConfigError at the
+// node's file:line:col with its key path and what is allowed.
 #include <tessera/config/config_error.h>
 #include <tessera/math.h>
 
-#include <yaml-cpp/yaml.h>
+#include "yaml_tree.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -25,18 +26,24 @@ namespace tessera::config::detail {
 /// - the walk over the tree visits at most node_budget(text size) list elements and mapping
 ///   entries, an alias counted each time it is walked: max(kNodeBudgetBase, size / 2). A
 ///   file without aliases needs at least two bytes per node ("1," in a flow list, "-\n" in a
-///   block list), so only alias expansion can reach the budget.
+///   block list), so only alias expansion can reach the budget;
+/// - the tree holds at most kMaxYamlNodes nodes (list elements, keys, values, aliases),
+///   counted while it is built (YamlTree::parse), so the parse's memory stays bounded
+///   (about 64 MiB for the tree at the bound). A key without a value (`{a, b}`) makes two
+///   nodes from two bytes, so a 4 MiB file can reach it; other files cannot.
 inline constexpr std::size_t kMaxConfigBytes = std::size_t(4) << 20;  // 4 MiB
 inline constexpr std::size_t kNodeBudgetBase = 1'000'000;
+inline constexpr std::size_t kMaxYamlNodes = std::size_t(1) << 21;  // 2,097,152
 inline constexpr std::size_t node_budget(std::size_t text_bytes) {
   return text_bytes / 2 > kNodeBudgetBase ? text_bytes / 2 : kNodeBudgetBase;
 }
 
-/// The file being parsed: what messages call it, what relative names resolve against, and
-/// how many nodes the walk has visited (the alias-expansion budget above).
+/// The file being parsed: what messages call it, what relative names resolve against, its
+/// tree, and how many nodes the walk has visited (the alias-expansion budget above).
 struct Document {
   std::string file;
   std::string base_dir;
+  const YamlTree* tree = nullptr;  ///< outlives every Value of the document
   std::size_t node_budget = kNodeBudgetBase;
   mutable std::size_t nodes_visited = 0;
 };
@@ -88,28 +95,30 @@ struct Range {
 std::string format_number(double v);
 
 class Map;
+class ValueList;
 
-/// A node plus the key path that leads to it.
+/// A node plus the key path that leads to it. Cheap to copy (the path is built when asked
+/// for, from the parent's, which its children share).
 class Value {
  public:
-  /// `anchor`: the key's position for a mapping value (`anchor_is_key`), otherwise where to
-  /// point when the node itself has no position (an empty list element).
-  Value(YAML::Node node, std::string path, const Document* doc, SourceMark anchor,
-        bool anchor_is_key);
+  /// The root of `doc`'s tree; `anchor` is where to point when it has no position.
+  Value(const Document* doc, SourceMark anchor);
 
-  const std::string& path() const { return m_path; }
+  /// The key path: `renders[0].camera.fov`.
+  std::string path() const;
   const Document& doc() const { return *m_doc; }
-  const YAML::Node& node() const { return m_node; }
   /// 1-based position for messages: a mapping value points at its key (`fov: 270` at `fov`),
   /// a list element at itself.
   SourceMark mark() const;
 
   [[noreturn]] void fail(const std::string& message) const;
 
-  bool is_null() const { return m_node.IsNull(); }
-  bool is_scalar() const { return m_node.IsScalar(); }
-  bool is_map() const { return m_node.IsMap(); }
-  bool is_sequence() const { return m_node.IsSequence(); }
+  bool is_null() const { return kind() == YamlTree::Kind::Null; }
+  bool is_scalar() const { return kind() == YamlTree::Kind::Scalar; }
+  bool is_map() const { return kind() == YamlTree::Kind::Map; }
+  bool is_sequence() const { return kind() == YamlTree::Kind::Sequence; }
+  /// A scalar's text (quoted or not), "" for anything else.
+  std::string_view text() const { return m_doc->tree->scalar(m_id); }
   /// A scalar (quoted or not) whose text is `word`.
   bool is_word(std::string_view word) const;
   /// How the value reads in a message: `270`, `"abc"`, `a mapping`, `a list`, `nothing`.
@@ -133,32 +142,75 @@ class Value {
   Color color(const Range& r) const;
 
   /// The elements of a list of `min_size` to `max_size` elements; `allowed` says what the list
-  /// should hold, for the message when it is not a list.
-  std::vector<Value> list(const std::string& allowed, std::size_t min_size = 0,
-                          std::size_t max_size = std::numeric_limits<std::size_t>::max()) const;
+  /// should hold, for the message when it is not a list. The elements are made as they are
+  /// read (no copy of a long list).
+  ValueList list(const std::string& allowed, std::size_t min_size = 0,
+                 std::size_t max_size = std::numeric_limits<std::size_t>::max()) const;
   /// The entries of a mapping (keys checked for duplicates); `allowed` is for the message when
   /// it is not one.
   Map map(const std::string& allowed = "a mapping") const;
 
-  Value child(const YAML::Node& n, const std::string& key, SourceMark key_mark) const;
-  Value element(const YAML::Node& n, std::size_t index) const;
-
  private:
+  friend class Map;
+  friend class ValueList;
+  using Base = std::shared_ptr<const std::string>;
+  Value(const Document* doc, YamlTree::Id id, Base base, std::string_view key, std::int64_t index,
+        SourceMark anchor, bool anchor_is_key);
+  YamlTree::Kind kind() const { return m_doc->tree->kind(m_id); }
+  bool plain() const { return m_doc->tree->plain(m_id); }
+  /// The value of mapping key `key` (at `key_mark`), element `index` of a list; `base` is
+  /// this value's path, shared by its children.
+  Value child(YamlTree::Id id, const Base& base, std::string_view key, SourceMark key_mark) const;
+  Value element(YamlTree::Id id, const Base& base, std::size_t index) const;
   [[noreturn]] void wrong_type(const std::string& allowed) const;
   /// Counts `n` more visited nodes; throws here when the document's budget is exceeded.
   void visit(std::size_t n) const;
   Vec3 triple(const char* shape, const Range& r) const;
-  YAML::Node m_node;
-  std::string m_path;
   const Document* m_doc;
+  YamlTree::Id m_id;
+  Base m_base;              ///< the parent's path; null for the root
+  std::string_view m_key;   ///< the key that leads here (in the tree's text), or
+  std::int64_t m_index;     ///< the list index that does (-1: none)
   SourceMark m_anchor;
   bool m_anchor_is_key;
 };
 
-/// A mapping's entries, in document order.
+/// The elements of a list, made as they are read.
+class ValueList {
+ public:
+  class iterator {
+   public:
+    iterator(const ValueList* list, std::size_t i) : m_list(list), m_i(i) {}
+    Value operator*() const { return (*m_list)[m_i]; }
+    iterator& operator++() {
+      ++m_i;
+      return *this;
+    }
+    bool operator==(const iterator& o) const { return m_i == o.m_i; }
+    bool operator!=(const iterator& o) const { return m_i != o.m_i; }
+
+   private:
+    const ValueList* m_list;
+    std::size_t m_i;
+  };
+
+  explicit ValueList(const Value& list);
+  std::size_t size() const { return m_size; }
+  Value operator[](std::size_t i) const;
+  iterator begin() const { return iterator(this, 0); }
+  iterator end() const { return iterator(this, m_size); }
+
+ private:
+  Value m_list;
+  Value::Base m_base;
+  std::size_t m_size;
+};
+
+/// A mapping's entries, in document order (read from the tree; nothing is copied).
 class Map {
  public:
-  Map(Value self, std::vector<std::pair<std::string, Value>> entries, std::vector<SourceMark> key_marks);
+  /// `self` must be a mapping whose keys are checked (Value::map()).
+  explicit Map(Value self);
 
   /// Throws at the first key not in `keys`, listing them.
   void allow(std::initializer_list<std::string_view> keys) const;
@@ -167,8 +219,7 @@ class Map {
   /// Throws "missing required key (allowed: `what`)" at the mapping's position.
   Value require(std::string_view key, const std::string& what) const;
   const Value& self() const { return m_self; }
-  std::size_t size() const { return m_entries.size(); }
-  const std::vector<std::pair<std::string, Value>>& entries() const { return m_entries; }
+  std::size_t size() const;
 
   /// Optional-key helpers: the value if present, else `fallback`.
   double number_or(std::string_view key, double fallback, const Range& r = Range::any()) const;
@@ -184,9 +235,12 @@ class Map {
   }
 
  private:
+  friend class Value;
+  std::string_view key(std::size_t i) const;
+  SourceMark key_mark(std::size_t i) const;
+  Value entry(std::size_t i) const;
   Value m_self;
-  std::vector<std::pair<std::string, Value>> m_entries;
-  std::vector<SourceMark> m_key_marks;
+  Value::Base m_base;
 };
 
 /// "a, b or c" from a list of words (`sep` between all but the last two).

@@ -65,7 +65,7 @@ AtomicOutputFile::AtomicOutputFile(const std::string& path) : m_path(path) {
   for (int attempt = 0; attempt < 100 && m_fd < 0; ++attempt) {
     m_temp = temp_path_for(path);
     do {
-      m_fd = ::open(m_temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOCTTY, 0666);
+      m_fd = ::open(m_temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY, 0666);
     } while (m_fd < 0 && errno == EINTR);
     if (m_fd < 0 && errno != EEXIST) break;
   }

@@ -2,6 +2,8 @@
 /// (declared here from OIDN 2.x's public C API, include/OpenImageDenoise/oidn.h), one CPU
 /// device per process.
 #include <tessera/denoiser.h>
+#include <tessera/memory_estimate.h>
+#include <tessera/regular_file.h>
 
 #include <dlfcn.h>
 #include <glob.h>
@@ -34,6 +36,7 @@ struct OidnApi {
                                std::size_t height, std::size_t byte_offset, std::size_t pixel_stride,
                                std::size_t row_stride) = nullptr;
   void (*setFilterBool)(OIDNFilter, const char* name, bool value) = nullptr;
+  void (*setFilterInt)(OIDNFilter, const char* name, int value) = nullptr;
   void (*commitFilter)(OIDNFilter) = nullptr;
   void (*executeFilter)(OIDNFilter) = nullptr;
   void (*releaseFilter)(OIDNFilter) = nullptr;
@@ -57,6 +60,29 @@ bool is_file(const std::string& p) {
   return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
+/// Something exists under `p` (stat: names are looked up, nothing is opened).
+bool exists(const std::string& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0;
+}
+
+/// An absolute, literal location: starts with '/' and holds no loader token ($ORIGIN, $LIB).
+bool is_absolute(const std::string& p) { return !p.empty() && p[0] == '/' && p.find('$') == std::string::npos; }
+
+/// The entries of a search-path variable (split at ':', and also at ';' for the loader's).
+std::vector<std::string> split_path_list(const char* value, const char* separators) {
+  std::vector<std::string> out;
+  if (!value) return out;
+  const std::string all(value);
+  for (std::size_t a = 0; a <= all.size();) {
+    std::size_t b = all.find_first_of(separators, a);
+    if (b == std::string::npos) b = all.size();
+    out.push_back(all.substr(a, b - a));
+    a = b + 1;
+  }
+  return out;
+}
+
 void glob_into(const std::string& pattern, std::vector<std::string>& out) {
   glob_t g{};
   if (::glob(pattern.c_str(), 0, nullptr, &g) == 0)
@@ -65,18 +91,13 @@ void glob_into(const std::string& pattern, std::vector<std::string>& out) {
   ::globfree(&g);
 }
 
-/// The first `python3` on PATH that is an executable file, "" if none.
+/// The first `python3` in an absolute PATH entry that is an executable file, "" if none.
+/// Empty and relative entries (the working directory) are skipped.
 std::string python3_on_path() {
-  const char* path = std::getenv("PATH");
-  if (!path) return "";
-  const std::string all(path);
-  for (std::size_t a = 0; a <= all.size();) {
-    std::size_t b = all.find(':', a);
-    if (b == std::string::npos) b = all.size();
-    const std::string dir = b > a ? all.substr(a, b - a) : ".";
+  for (const std::string& dir : split_path_list(std::getenv("PATH"), ":")) {
+    if (!is_absolute(dir)) continue;
     const std::string exe = dir + "/python3";
     if (is_file(exe) && ::access(exe.c_str(), X_OK) == 0) return exe;
-    a = b + 1;
   }
   return "";
 }
@@ -94,14 +115,62 @@ std::vector<std::string> pyoidn_paths() {
     if (!ec && real.parent_path() != fs::canonical(dir, ec))
       glob_into((real.parent_path() / "../lib/python3*/site-packages/").string() + kPyoidnLib, out);
   }
-  if (const char* home = std::getenv("HOME"); home && *home)
+  if (const char* home = std::getenv("HOME"); home && is_absolute(home))
     glob_into(std::string(home) + "/.local/lib/python3*/site-packages/" + kPyoidnLib, out);
   glob_into(std::string("/usr/local/lib/python3*/dist-packages/") + kPyoidnLib, out);
   return out;
 }
 
+/// The candidates of the lookup in order, and the places passed over with why.
+struct Lookup {
+  std::vector<std::string> paths;
+  std::vector<std::string> skipped;
+};
+
+/// Steps 2 and 3 of denoiser.h. The soname is resolved over LD_LIBRARY_PATH here, so every
+/// file loaded is checked first; the loader's own search (dlopen by soname) is left for the
+/// cache and the system directories, and is skipped when LD_LIBRARY_PATH would lead it to a
+/// file that was not checked: one under a relative, empty or token entry.
+Lookup lookup() {
+  Lookup l;
+  bool soname_in_env = false;
+  for (const std::string& dir : split_path_list(std::getenv("LD_LIBRARY_PATH"), ":;")) {
+    const std::string file = (dir.empty() ? std::string(".") : dir) + "/" + kSoname;
+    if (dir.find('$') != std::string::npos) {
+      soname_in_env = true;  // the loader expands it; it cannot be checked here
+      l.skipped.push_back("LD_LIBRARY_PATH entry '" + dir + "': has a loader token, not searched");
+    } else if (!exists(file)) {
+      continue;
+    } else if (is_absolute(dir)) {
+      soname_in_env = true;
+      l.paths.push_back(file);
+    } else {
+      soname_in_env = true;
+      l.skipped.push_back(file + ": in the relative LD_LIBRARY_PATH entry '" + dir +
+                          "', not loaded (only absolute locations are searched)");
+    }
+  }
+  if (!soname_in_env) l.paths.emplace_back(kSoname);
+  for (std::string& p : pyoidn_paths()) l.paths.push_back(std::move(p));
+  return l;
+}
+
+/// Why `path` must not be given to dlopen, "" when it may: a regular file, opened with
+/// O_NONBLOCK and typed by fstat (regular_file.h), so a FIFO or a terminal cannot block.
+/// A bare soname is the loader's to find.
+std::string not_loadable(const std::string& path) {
+  if (path.find('/') == std::string::npos) return "";
+  try {
+    const RegularFile f(path);
+    return "";
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+}
+
 /// dlopen + dlsym of every function; "" on success, else why not.
 std::string try_load(const std::string& path, Loaded& l) {
+  if (std::string why = not_loadable(path); !why.empty()) return why;
   ::dlerror();
   void* h = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!h) {
@@ -121,6 +190,7 @@ std::string try_load(const std::string& path, Loaded& l) {
     sym(api.newFilter, "oidnNewFilter");
     sym(api.setSharedFilterImage, "oidnSetSharedFilterImage");
     sym(api.setFilterBool, "oidnSetFilterBool");
+    sym(api.setFilterInt, "oidnSetFilterInt");
     sym(api.commitFilter, "oidnCommitFilter");
     sym(api.executeFilter, "oidnExecuteFilter");
     sym(api.releaseFilter, "oidnReleaseFilter");
@@ -137,22 +207,24 @@ Loaded load_oidn() {
   Loaded l;
   const char* env = std::getenv("TESSERA_OIDN_LIBRARY");
   if (env && *env) {
-    const std::string why = try_load(env, l);
+    std::string why = is_absolute(env) ? try_load(env, l) : "not an absolute path (allowed: /path/to/" + std::string(kSoname) + ")";
     if (!why.empty())
       l.error = "cannot load Intel Open Image Denoise from TESSERA_OIDN_LIBRARY=" +
                 std::string(env) + ": " + why + "; point it at libOpenImageDenoise.so.2 of OIDN 2.x, or unset it and " +
                 kInstallHint;
     return l;
   }
-  std::string tried;
-  for (const std::string& p : oidn_search_paths()) {
+  std::string tried = std::string("TESSERA_OIDN_LIBRARY: ") + (env ? "empty (ignored)" : "unset");
+  const Lookup places = lookup();
+  for (const std::string& p : places.paths) {
     const std::string why = try_load(p, l);
     if (why.empty()) return l;
-    tried += (tried.empty() ? "" : "; ") + (why.rfind(p, 0) == 0 ? why : p + ": " + why);  // dlerror names it
+    tried += "; " + (why.rfind(p, 0) == 0 ? why : p + ": " + why);  // dlerror names it
   }
+  for (const std::string& s : places.skipped) tried += "; " + s;
   const std::string py = python3_on_path();
-  l.error = "Intel Open Image Denoise 2.x not found (tried TESSERA_OIDN_LIBRARY: unset; " +
-            tried + "; pyoidn of " + (py.empty() ? std::string("python3 on PATH: no python3 on PATH") : py) +
+  l.error = "Intel Open Image Denoise 2.x not found (tried " + tried + "; pyoidn of " +
+            (py.empty() ? std::string("python3 on PATH: no python3 in an absolute PATH entry") : py) +
             " and the user/system site directories: not installed); " + kInstallHint;
   return l;
 }
@@ -174,9 +246,7 @@ std::string device_error(const OidnApi& api, OIDNDevice dev) {
 std::vector<std::string> oidn_search_paths() {
   const char* env = std::getenv("TESSERA_OIDN_LIBRARY");
   if (env && *env) return {env};
-  std::vector<std::string> out{kSoname};
-  for (std::string& p : pyoidn_paths()) out.push_back(std::move(p));
-  return out;
+  return lookup().paths;
 }
 
 std::string require_denoiser() {
@@ -224,6 +294,7 @@ void denoise(Image& img) {
   if (normal) api.setSharedFilterImage(f, "normal", img.normal.data(), kOidnFormatFloat3, w, h, 0, 0, 0);
   api.setSharedFilterImage(f, "output", img.denoised.data(), kOidnFormatFloat3, w, h, 0, 0, 0);
   api.setFilterBool(f, "hdr", true);
+  api.setFilterInt(f, "maxMemoryMB", kDenoiserMaxMemoryMB);  // larger images go in tiles
   api.commitFilter(f);
   std::string e = device_error(api, device);
   if (e.empty()) {

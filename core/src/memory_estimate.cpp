@@ -91,7 +91,7 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
     // and the EXR's three extra channels
     if (f.denoise) {
       u64 d = mul(mul(pixels, 9 * sizeof(float)), 1 + views + (f.keeps_last_image ? 1 : 0));
-      d = sum(d, mul(pixels, kDenoiserBytesPerPixel));
+      d = sum(d, sum(std::min(mul(pixels, kDenoiserBytesPerPixel), kDenoiserMaxWorkingBytes), kDenoiserFixedBytes));
       if (f.exr) d = sum(d, mul(mul(nonneg(f.width), 3 * sizeof(float)), 2 * 16));
       e.add("denoise buffers", d);
     }

@@ -4,10 +4,11 @@
 
 #include <tessera/config/build_scene.h>
 #include <tessera/config/output_path.h>
+#include <tessera/regular_file.h>
 
 #include <charconv>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace tessera::insitu {
@@ -86,9 +87,16 @@ std::string cinema_file_base(const config::RenderSpec& spec, std::int64_t step, 
 
 void CinemaDatabase::load_existing() {
   m_loaded = true;
-  std::ifstream in(std::filesystem::path(m_dir) / "data.csv");
+  // Read through RegularFile: a FIFO or a device named data.csv is refused without blocking
+  const std::string path = (std::filesystem::path(m_dir) / "data.csv").string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return;
+  const RegularFile file(path);
+  std::string text(static_cast<std::size_t>(file.size()), '\0');
+  file.read_at(0, text.data(), text.size());
+  std::istringstream in(text);
   std::string line;
-  if (!in || !std::getline(in, line) || line != kHeader) return;
+  if (!std::getline(in, line) || line != kHeader) return;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
     const std::vector<std::string> f = csv_split(line);

@@ -38,7 +38,8 @@ std::string cinema_file_base(const config::RenderSpec& spec, std::int64_t step, 
 
 /// data.csv of one database. Rows persist across timesteps (and across runs: an existing
 /// data.csv with the same columns is read back first); a row for a FILE already listed
-/// replaces it. Not thread-safe; rank 0 only.
+/// replaces it. set_row() throws std::runtime_error naming the file when an existing data.csv
+/// is not a regular file (a FIFO is refused without blocking). Not thread-safe; rank 0 only.
 class CinemaDatabase {
  public:
   explicit CinemaDatabase(std::string dir) : m_dir(std::move(dir)) {}

@@ -199,6 +199,27 @@ TEST_CASE("memory estimate counts the denoise buffers", "[denoise][memory]") {
   CHECK(on.describe().find("denoise buffers") != std::string::npos);
 }
 
+TEST_CASE("memory estimate: OIDN's working memory is counted per pixel up to the cap where OIDN tiles",
+          "[denoise][memory]") {
+  const auto oidn_part = [](int w, int h) {
+    tessera::RenderFootprint f;
+    f.width = w;
+    f.height = h;
+    f.exr = false;  // no EXR line buffers for the extra channels
+    const std::uint64_t off = tessera::estimate_render_memory(f).total();
+    f.denoise = true;
+    const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+    // Less the film's aux sums and the three float layers: OIDN's part
+    return tessera::estimate_render_memory(f).total() - off -
+           pixels * (sizeof(tessera::AuxSums) + 9 * sizeof(float));
+  };
+  // Below the cap: per pixel, plus the fixed cost
+  CHECK(oidn_part(1024, 1024) == 1024u * 1024u * tessera::kDenoiserBytesPerPixel + tessera::kDenoiserFixedBytes);
+  // A 16384^2 image (OIDN tiles it): the cap, not 268 million pixels' worth
+  CHECK(oidn_part(16384, 16384) == tessera::kDenoiserMaxWorkingBytes + tessera::kDenoiserFixedBytes);
+  CHECK(tessera::kDenoiserMaxWorkingBytes >= (std::uint64_t(tessera::kDenoiserMaxMemoryMB) << 20));
+}
+
 TEST_CASE("OIDN lookup order: TESSERA_OIDN_LIBRARY alone, else the soname, then pyoidn of python3 on PATH",
           "[denoise][lookup]") {
   tessera_test::TempDir dir;

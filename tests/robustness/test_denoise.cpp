@@ -5,6 +5,7 @@
 // EXR's RGBA is bit-identical to a render without denoising and gains denoised.R/G/B.
 #include "../insitu/insitu_test_support.h"
 #include "cli_run.h"
+#include "denoise_scene.h"
 
 #include <tessera/denoiser.h>
 #include <tessera/image_io.h>
@@ -21,29 +22,11 @@
 #include <string>
 
 using namespace tessera::insitu::test;
+using namespace tessera_test::denoise;
 using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
 namespace {
-
-/// `image: {..., spp: N}` of render_yaml with `denoise: <on>` added.
-std::string with_denoise(std::string render, bool on) {
-  const std::size_t p = render.find("}\n", render.find("image:"));
-  return render.insert(p, std::string(", denoise: ") + (on ? "true" : "false"));
-}
-
-/// A 16^3 float32 blob and a CLI scene with one 32x32 render writing EXR and PNG.
-void write_cli_scene(const TempDir& dir, bool denoise) {
-  const std::vector<float> v = to_float(blob_values(16));
-  std::ofstream(dir.file("blob.raw"), std::ios::binary)
-      .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
-  dir.write("scene.yaml", "tessera:\n  output_dir: results\n"
-                          "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
-                          "renders:\n" +
-                              with_denoise(render_yaml("d", "", "    output: {file: \"{name}\", formats: [exr, png]}\n",
-                                                       "", 32, 4),
-                                           denoise));
-}
 
 /// The path of a shared library this process has loaded whose name contains `part`, "".
 std::string loaded_library(const char* part) {

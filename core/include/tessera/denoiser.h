@@ -2,15 +2,27 @@
 /// Denoising with Intel Open Image Denoise (OIDN 2.x), loaded at run time with dlopen: the
 /// build needs nothing of it, and a process that never denoises never loads it.
 ///
-/// Where the library is looked for, first that loads wins (oidn_search_paths()):
-///   1. $TESSERA_OIDN_LIBRARY, a path, when set and not empty; then ONLY that (a wrong path
-///      is an error naming it, never a silent fall-back to another copy);
-///   2. the system's libOpenImageDenoise.so.2 (plain dlopen by soname: LD_LIBRARY_PATH,
-///      the loader cache);
-///   3. the library inside the PyPI package `pyoidn` of the first `python3` on PATH:
-///      <its dir>/../lib/python3*/site-packages/pyoidn/oidn/lib/ (a venv; the same again
-///      from the directory the python3 link resolves to), then the user and system site
-///      directories ~/.local/lib/python3*/site-packages and /usr/local/lib/python3*/dist-packages.
+/// Where the library is looked for, first that loads wins (oidn_search_paths()). Only
+/// absolute locations are searched: an empty or relative entry (the working directory) of PATH
+/// or LD_LIBRARY_PATH, and a relative HOME, are passed over.
+///   1. $TESSERA_OIDN_LIBRARY, an absolute path, when set and not empty; then ONLY that (a
+///      wrong or relative path is an error naming it, never a silent fall-back to another
+///      copy). Set but empty counts as unset, and the not-found message says "empty (ignored)";
+///   2. the system's libOpenImageDenoise.so.2: first <dir>/libOpenImageDenoise.so.2 for each
+///      absolute LD_LIBRARY_PATH entry that holds one, then, only when no LD_LIBRARY_PATH
+///      entry holds one, a plain dlopen by soname (the loader cache, the system directories).
+///      A relative or empty entry that holds one, or an entry with a loader token ($ORIGIN),
+///      makes the plain dlopen skipped (the loader would go there unchecked);
+///   3. the library inside the PyPI package `pyoidn` of the first `python3` in an absolute
+///      PATH entry: <its dir>/../lib/python3*/site-packages/pyoidn/oidn/lib/ (a venv; the same
+///      again from the directory the python3 link resolves to), then the user and system site
+///      directories $HOME/.local/lib/python3*/site-packages and /usr/local/lib/python3*/dist-packages.
+/// Every path is checked right before dlopen to be a regular file, without blocking
+/// (RegularFile: O_NONBLOCK open, fstat): a FIFO, a terminal, a device, a socket or a
+/// directory is refused, naming the path and its kind, instead of blocking dlopen. The check
+/// and the load open the name twice: a file swapped in between (by someone who can write that
+/// directory) is not caught, and the libraries OIDN itself loads (its core library, TBB) are
+/// the loader's to find.
 /// No subprocess is run (fork is unsafe inside MPI simulations).
 ///
 /// The library is loaded once per process (thread-safe); the outcome, success or failure, is
@@ -33,7 +45,8 @@ class DenoiserUnavailable : public std::runtime_error {
 };
 
 /// The candidate library paths of the lookup above, in order, for the current environment
-/// (globs expanded; a path that does not exist is left out, except the ones of steps 1 and 2).
+/// (globs expanded; a path that does not exist is left out, except the one of step 1 and the
+/// bare soname of step 2). Nothing is opened or loaded.
 std::vector<std::string> oidn_search_paths();
 
 /// Loads OIDN if not yet done; throws DenoiserUnavailable if it cannot be loaded or is not

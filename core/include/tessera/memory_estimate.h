@@ -23,7 +23,8 @@ struct RenderFootprint {
   bool samples = false;        ///< the resolved image has a sample-count layer
   /// image.denoise: the film's auxiliary sums (AuxSums per pixel), and where the image is
   /// written the albedo, normal and denoised layers (3 floats per pixel each) and OIDN's
-  /// working memory (kDenoiserBytesPerPixel)
+  /// working memory (kDenoiserBytesPerPixel up to kDenoiserMaxWorkingBytes, and
+  /// kDenoiserFixedBytes)
   bool denoise = false;
   bool exr = true, png = true; ///< formats written (this rank writes: rank 0, or the CLI)
   bool writes = true;          ///< this rank resolves and writes the image
@@ -34,9 +35,20 @@ struct RenderFootprint {
   std::int64_t envmap_width = 0, envmap_height = 0;  ///< envmap texels; 0 = no envmap
 };
 
-/// Open Image Denoise's own working memory per pixel, an upper estimate from its CPU
-/// device at 512x512 (docs/cli.md, "Denoising").
-inline constexpr std::uint64_t kDenoiserBytesPerPixel = 256;
+/// Open Image Denoise's own working memory per pixel (its RT filter's tensors and scratch),
+/// an upper estimate: the peak RSS growth of denoised CLI renders, less the image and
+/// auxiliary buffers counted apart, is about 576 bytes per pixel from 256x256 to 2048x1024
+/// (OIDN 2.5.1, CPU device; docs/insitu.md, "Limits and failure"), plus a margin.
+inline constexpr std::uint64_t kDenoiserBytesPerPixel = 640;
+/// The scratch memory OIDN's filter is allowed (its maxMemoryMB, set by denoise()): a larger
+/// image is denoised in overlapping tiles, so OIDN's working memory stops growing (about
+/// 1.8 GiB measured at 4096x2048). Below about 3.5 million pixels it does not tile.
+inline constexpr int kDenoiserMaxMemoryMB = 2048;
+/// The most the per-pixel term counts: OIDN's working memory at that cap, with a margin.
+inline constexpr std::uint64_t kDenoiserMaxWorkingBytes = std::uint64_t(2560) << 20;
+/// Open Image Denoise's fixed cost once loaded: its libraries, the CPU device and the
+/// filter's weights (about 8 MiB measured), with a margin.
+inline constexpr std::uint64_t kDenoiserFixedBytes = std::uint64_t(32) << 20;
 
 struct MemoryEstimate {
   struct Part {
