@@ -51,6 +51,10 @@ class ParallelContext {
   /// node's memory among them.
   virtual int ranks_on_node() const { return 1; }
 
+  /// False once communication is no longer possible (MPI finalized): close then releases
+  /// without agreeing. Not collective.
+  virtual bool can_communicate() const { return true; }
+
   /// True on every rank iff ok is true on every rank (allreduce of a flag).
   virtual bool agree(bool ok) = 0;
   /// Global min and max of per-rank values (allreduce).

@@ -76,9 +76,11 @@ class PyAdapter {
     }
   }
 
-  void close() {
+  /// Waits (GIL released) for a call another Python thread is making on this adapter, then
+  /// closes; returns the status (with MPI, a rank that disagreed about the calls is reported).
+  int close() {
     nb::gil_scoped_release unlocked;
-    m_adapter.close();
+    return m_adapter.close();
   }
 
   const std::string& last_error() const { return m_adapter.last_error(); }
