@@ -76,7 +76,7 @@ TEST_CASE("close race: tessera_close while another thread is inside tessera_exec
   }
 }
 
-TEST_CASE("close race: overlapping calls on one handle are refused, two closes at once close once",
+TEST_CASE("close race: overlapping calls on one handle are refused and two closes at once close once",
           "[robustness][handles][race]") {
   TempDir dir;
   const std::string cfg = small_config(dir);
@@ -149,7 +149,7 @@ TEST_CASE("close race: Adapter::close while another thread is inside execute wai
   }
 }
 
-TEST_CASE("close race: closing from the only thread, twice, and a refusal message stays with its thread",
+TEST_CASE("close race: closing twice from the only thread and last_error outlives the close",
           "[robustness][handles][race]") {
   TempDir dir;
   const std::string cfg = small_config(dir);
