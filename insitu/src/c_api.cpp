@@ -133,8 +133,11 @@ tessera_status guarded(tessera_adapter* a, const char* function, Call&& call) no
     return TESSERA_ERROR_CONFIG;
   }
   tessera::insitu::clear_refusal(a);
-  auto* impl = open_impl(a, function, &status);  // closed between the check and the gate?
-  return impl ? call(*impl) : status;
+  // Closed between the check and the gate? tessera_close moves impl out only with the gate
+  // shut, and the gate's mutex orders that move before this read: no registry lock needed
+  if (tessera_adapter::Impl* impl = a->impl.get()) return call(*impl);
+  set_open_error(kClosedMessage, function);
+  return TESSERA_ERROR_CONFIG;
 }
 
 /// Per thread, per handle: the copy of the message tessera_last_error(adapter) returned last.
