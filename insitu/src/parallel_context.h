@@ -62,6 +62,18 @@ class ParallelContext {
   /// Every rank's `bytes` bytes at `mine`, in rank order, into `all` (size() * bytes bytes).
   /// Every rank must pass the same `bytes`; the data travel as raw bytes.
   virtual void allgather(const void* mine, std::size_t bytes, void* all) = 0;
+  /// As allgather(), but never silent while it waits: once the call has waited `warn_after`
+  /// seconds (> 0; 0 = never) for the other ranks, and again each time the wait doubles, it
+  /// calls on_wait(seconds waited so far) on this rank (an exception from it is ignored), then
+  /// goes on waiting. Polls (MPI_Iallgather + MPI_Test, pauses of at most a millisecond) where
+  /// allgather() blocks; a non-blocking collective matches only its own kind, so every rank
+  /// must call this one where one does.
+  virtual void allgather_waiting(const void* mine, std::size_t bytes, void* all, double warn_after,
+                                 const std::function<void(double)>& on_wait) {
+    (void)warn_after;
+    (void)on_wait;
+    allgather(mine, bytes, all);
+  }
   /// Rank `root`'s `text` on every rank (other ranks' `text` is replaced). Two collectives
   /// (length, then bytes); meant for failure paths, not per call.
   virtual void broadcast(std::string& text, int root) = 0;

@@ -1,10 +1,12 @@
 #include "rank_agreement.h"
 
+#include "error_policy.h"
 #include "hash64.h"
 
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string_view>
@@ -289,12 +291,26 @@ std::optional<Disagreement> agree_on_open(ParallelContext& ctx, const std::strin
   return d;
 }
 
-std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call) {
+std::string waiting_message(int rank, const CallView& call, double waited) {
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.0f", waited);
+  CallRecord rec{};
+  rec.kind = static_cast<std::uint64_t>(call.kind);
+  rec.step = call.step;
+  return rank_name(rank) + " has waited " + seconds + " s for the other ranks in the agreement of its call (it " +
+         call_name(rec) + "): a rank that skipped this call, stopped calling the adapter without closing it, or is "
+         "stuck leaves it waiting until that rank comes (no deadline; bound the job with the launcher, e.g. mpiexec "
+         "--timeout)";
+}
+
+std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call, double warn_after) {
   const int n = ctx.size();
   if (n == 1) return std::nullopt;
   const CallRecord mine = call_record(call);
   std::vector<CallRecord> all(static_cast<std::size_t>(n));
-  ctx.allgather(&mine, sizeof mine, all.data());
+  const int rank = ctx.rank();
+  ctx.allgather_waiting(&mine, sizeof mine, all.data(), warn_after,
+                        [&](double waited) { log_line(waiting_message(rank, call, waited)); });
   const CallRecord& ref = all[0];
 
   // A rank that closes while another executes: nothing else in the records compares

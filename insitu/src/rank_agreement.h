@@ -43,6 +43,10 @@ namespace tessera::insitu {
 /// be the same on every rank.
 inline constexpr std::array<const char*, 1> kEnvironmentKnobs = {"TESSERA_MPI_RANKS_PER_NODE"};
 
+/// A rank that has waited this long (seconds) in agree_on_call for the others says so on
+/// stderr, and again each time the wait doubles (it keeps waiting: see agree_on_call).
+inline constexpr double kAgreementWarnSeconds = 60.0;
+
 /// At most this many bytes of each config text are exchanged to name the first differing line.
 inline constexpr std::size_t kMaxConfigDiffBytes = std::size_t{1} << 20;
 
@@ -82,7 +86,16 @@ struct CallView {
 /// disagree on the call: ..." naming the first rank that differs from rank 0 and both calls;
 /// rank_closed set); then the step, the renders that fire, execute vs execute_final (the same
 /// message), and the grid. Throws only on MPI failure. Not called where nothing fires.
-std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call);
+/// A rank the others never join (one that skipped this call, stopped calling the adapter
+/// without closing it, or is stuck) leaves this one waiting, with no deadline (a late rank
+/// would complete an abandoned collective and go on alone); after warn_after seconds, and each
+/// time the wait doubles, this rank logs waiting_message() (one line on stderr), so that the
+/// hang is visible and names the call.
+std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call,
+                                          double warn_after = kAgreementWarnSeconds);
+
+/// The line a rank logs while it waits in agree_on_call (exposed for tests).
+std::string waiting_message(int rank, const CallView& call, double waited);
 
 /// The first differing line of two texts, as "line N: 'a' vs 'b'" (1-based, lines trimmed
 /// and cut short); "" if equal. Exposed for tests.

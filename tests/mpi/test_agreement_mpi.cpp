@@ -21,6 +21,8 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <thread>
+#include <vector>
 
 using namespace tessera_mpi_test;
 namespace fs = std::filesystem;
@@ -389,5 +391,35 @@ TEST_CASE("a final call on rank 0 while the others go on to a firing step fails 
   const tessera_status closed = tessera_close(a);  // every rank closes: they agree
   CHECK(closed == TESSERA_OK);
   ok = ok && closed == TESSERA_OK;
+  REQUIRE(all_ranks(ok));
+}
+
+TEST_CASE("a rank left waiting in the agreement says so, and keeps waiting until the others come",
+          "[mpi][agreement][robustness]") {
+  using tessera::insitu::CallKind;
+  using tessera::insitu::CallView;
+  CHECK(contains(tessera::insitu::waiting_message(2, CallView{CallKind::Final, 3, {}, {}, nullptr}, 61.2),
+                 "rank 2 has waited 61 s for the other ranks in the agreement of its call (it called execute_final "
+                 "at step 3)"));
+  CHECK(contains(tessera::insitu::waiting_message(0, CallView{CallKind::Close, 0, {}, {}, nullptr}, 120),
+                 "(it closed the adapter)"));
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedTempDir dir("tessera_agree_");
+  const std::string marker = dir.file("rank0_warned");
+  auto ctx = tessera::insitu::ParallelContext::create(MPI_Comm_c2f(MPI_COMM_WORLD));
+  // The other ranks join only once rank 0 has said that it waits: the order is forced, not timed
+  if (world_rank() != 0)
+    while (!fs::exists(marker)) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  int warnings = 0;
+  const int mine = 100 + world_rank();
+  std::vector<int> all(static_cast<std::size_t>(world_size()), -1);
+  ctx->allgather_waiting(&mine, sizeof mine, all.data(), 0.01, [&](double waited) {
+    if (world_rank() == 0 && warnings == 0) std::ofstream(marker) << waited;
+    ++warnings;
+  });
+  bool ok = world_rank() != 0 || warnings >= 1;
+  for (int r = 0; r < world_size(); ++r) ok = ok && all[static_cast<std::size_t>(r)] == 100 + r;
+  CHECK(ok);
   REQUIRE(all_ranks(ok));
 }
