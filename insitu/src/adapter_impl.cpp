@@ -14,7 +14,7 @@ namespace tessera::insitu {
 
 tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
                                    const char* output_dir, const std::string* yaml_text) noexcept {
-  close();
+  close();  // an adapter open before: closed as close() does (collectively)
   try {
     // Communicator: duplicated only; the nodes are set up once the ranks agree (below)
     try {
@@ -50,7 +50,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
     }
     if (!m_ctx->agree(ok)) {
       m_error = ok ? "the config failed to load on another rank" : fault;
-      close();
+      teardown();
       return TESSERA_ERROR_CONFIG;
     }
 
@@ -58,7 +58,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
     // them; then the nodes (TESSERA_MPI_RANKS_PER_NODE, now known to be the same everywhere)
     if (std::optional<Disagreement> d = agree_on_open(*m_ctx, effective)) {
       m_error = std::move(d->message);
-      close();
+      teardown();
       return d->status;
     }
     try {
@@ -69,7 +69,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
     }
     if (!m_ctx->agree(ok)) {
       m_error = ok ? "the MPI nodes could not be set up on another rank" : fault;
-      close();
+      teardown();
       return TESSERA_ERROR_CONFIG;
     }
     m_policy = ErrorPolicy(m_config.global.on_error, m_config.global.max_failures,
@@ -92,7 +92,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
       m_error = ok ? "rank 0 could not write the effective config"
                    : message_quoting(std::move(fault), m_config.global.output_dir);
       m_policy = ErrorPolicy();
-      close();
+      teardown();
       return TESSERA_ERROR_IO;
     }
 
@@ -109,7 +109,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
   } catch (...) {
     m_error = "tessera_open: unknown exception";
   }
-  close();
+  teardown();
   return TESSERA_ERROR_CONFIG;
 }
 
@@ -134,6 +134,10 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
       m_error = m_closed ? "adapter was closed: execute after close" : "the adapter is not open";
       return TESSERA_ERROR_CONFIG;
     }
+    if (!m_broken.empty()) {
+      m_error = m_broken;
+      return TESSERA_ERROR_CONFIG;
+    }
     if (m_policy.blocked()) {
       m_error = m_policy.blocked_message();
       return m_policy.blocked_status();
@@ -156,11 +160,13 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     const bool root = m_ctx->rank() == 0;
 
     // Ranks agree on the step, the renders that fire and the grid, before any other collective
-    const CallView view{step,
+    const CallView view{final_step ? CallKind::Final : CallKind::Execute,
+                        step,
                         {reinterpret_cast<const unsigned char*>(m_decisions.data()), m_decisions.size()},
                         m_config.renders, grid};
     if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view)) {
       if (root) log_line(d->message);
+      if (d->rank_closed) m_broken = d->message;
       m_error = std::move(d->message);
       return d->status;
     }
@@ -254,8 +260,31 @@ tessera_status Adapter::Impl::field_unchanged(const char* field_name) noexcept {
   return TESSERA_ERROR_DATA;
 }
 
-void Adapter::Impl::close() noexcept {
+tessera_status Adapter::Impl::close() noexcept {
+  tessera_status status = TESSERA_OK;
+  if (m_ctx && m_broken.empty() && m_ctx->size() > 1 && m_ctx->can_communicate()) {
+    try {
+      const CallView view{CallKind::Close, 0, {}, m_config.renders, nullptr};
+      if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view)) {
+        if (m_ctx->rank() == 0) log_line(d->message);
+        m_error = std::move(d->message);
+        status = d->status;
+      }
+    } catch (const std::exception& e) {
+      try {
+        m_error = std::string("tessera_close: ") + e.what();
+      } catch (...) {
+      }
+      status = TESSERA_ERROR_RENDER;
+    }
+  }
+  teardown();
+  return status;
+}
+
+void Adapter::Impl::teardown() noexcept {
   if (m_ctx) m_closed = true;
+  m_broken.clear();
   m_results.clear();
   m_summaries.clear();
   m_renders.clear();

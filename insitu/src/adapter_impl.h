@@ -2,6 +2,7 @@
 /// Adapter::Impl: the adapter's state and its open / execute / close logic. Shared by the C++
 /// class (adapter.cpp, which adds the `on_error: abort` rethrow) and the C API (c_api.cpp).
 /// No member throws.
+#include "call_gate.h"
 #include "error_policy.h"
 #include "parallel_context.h"
 #include "render_pass.h"
@@ -28,7 +29,14 @@ struct Adapter::Impl {
   tessera_status execute(std::int64_t step, double time, const tessera_grid* grid,
                          const tessera_field* fields, std::int64_t nfields,
                          bool final_step) noexcept;
-  void close() noexcept;
+  /// Collective with MPI: the ranks agree that every one of them is closing (one allgather
+  /// of the call record, rank_agreement.h), so a rank still inside an execute call that
+  /// fires is told so, and so is this one: TESSERA_ERROR_CONFIG with m_error saying which
+  /// rank did what. Everything is released whatever the outcome. Skips the agreement when
+  /// an earlier one found that a rank had closed already (it would wait forever).
+  tessera_status close() noexcept;
+  /// Releases everything without communicating (failure paths where the ranks have agreed).
+  void teardown() noexcept;
   /// Adapter::field_unchanged / tessera_field_unchanged (field_name may be NULL: an error).
   tessera_status field_unchanged(const char* field_name) noexcept;
 
@@ -43,6 +51,11 @@ struct Adapter::Impl {
   std::vector<RenderResult> m_results;
   bool m_quiet = false;
   bool m_closed = false;  ///< close() ended an open adapter (execute says so)
+  /// Set when an agreement found that another rank has closed: every later execute returns
+  /// it, and close skips its agreement.
+  std::string m_broken;
+  /// The C++ Adapter's gate (call_gate.h); the C API keeps its own in the handle.
+  CallGate m_gate;
 
  private:
   /// Read as bytes by the agreement (rank_agreement.h CallView::fired): keep these values.

@@ -5,11 +5,13 @@
 #include <tessera/adapter.h>
 
 #include "adapter_impl.h"
+#include "call_gate.h"
 
 #include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 
 /// A handle. tessera_close frees the adapter (impl) but keeps this small struct and its entry
@@ -17,11 +19,16 @@
 /// by the allocator again, so a closed handle can never alias a newer one, and a second close
 /// or an execute after close is recognised and refused. Cost: sizeof(tessera_adapter) (16
 /// bytes) plus one hash-set node (about 32 bytes) per adapter ever opened in the process.
+/// Every entry point on an open handle runs inside its gate (call_gate.h): tessera_close waits
+/// for the call inside and refuses new ones meanwhile; overlapping calls are refused.
 struct tessera_adapter {
   using Impl = tessera::insitu::Adapter::Impl;
   static constexpr std::uint64_t kMagic = 0x7e55e7a0ada97e72ull;
   std::uint64_t magic = kMagic;
   std::unique_ptr<Impl> impl;  ///< null once closed
+  tessera::insitu::CallGate gate;
+  /// What tessera_close reported, if it failed (written once, under g_handles_mutex).
+  std::string close_error;
 };
 
 namespace {
@@ -86,7 +93,7 @@ tessera_status open_adapter(const char* function, const char* yaml_path, int mpi
     std::lock_guard<std::mutex> lock(g_handles_mutex);
     handles().insert(a.get());
   } catch (...) {
-    a->impl->close();
+    a->impl->teardown();
     set_open_error("out of memory", function);
     return TESSERA_ERROR_CONFIG;
   }
@@ -108,6 +115,34 @@ tessera_adapter::Impl* open_impl(tessera_adapter* a, const char* function, tesse
   }
 }
 
+/// Runs call(impl) inside the handle's gate: refused (TESSERA_ERROR_CONFIG, the message for
+/// this thread's tessera_last_error(adapter)) while another call is inside or a close waits
+/// or runs; the Impl cannot be freed meanwhile (tessera_close waits at the gate).
+template <class Call>
+tessera_status guarded(tessera_adapter* a, const char* function, Call&& call) noexcept {
+  tessera_status status;
+  if (!open_impl(a, function, &status)) return status;
+  tessera::insitu::GateCall inside(a->gate);
+  if (inside.refusal() != tessera::insitu::CallGate::Refusal::None) {
+    try {
+      const std::string message = tessera::insitu::refusal_message(inside.refusal(), function);
+      tessera::insitu::note_refusal(a, message);
+      set_open_error(message.c_str());
+    } catch (...) {
+    }
+    return TESSERA_ERROR_CONFIG;
+  }
+  tessera::insitu::clear_refusal(a);
+  // Closed between the check and the gate? tessera_close moves impl out only with the gate
+  // shut, and the gate's mutex orders that move before this read: no registry lock needed
+  if (tessera_adapter::Impl* impl = a->impl.get()) return call(*impl);
+  set_open_error(kClosedMessage, function);
+  return TESSERA_ERROR_CONFIG;
+}
+
+/// Per thread, per handle: the copy of the message tessera_last_error(adapter) returned last.
+thread_local std::unordered_map<const tessera_adapter*, std::string> t_messages;
+
 }  // namespace
 
 extern "C" {
@@ -124,48 +159,83 @@ tessera_status tessera_open_with_output_dir(const char* yaml_path, int mpi_comm_
 tessera_status tessera_execute(tessera_adapter* adapter, int64_t step, double time,
                                const tessera_grid* grid, const tessera_field* fields,
                                int nfields) {
-  tessera_status status;
-  auto* impl = open_impl(adapter, "tessera_execute", &status);
-  return impl ? impl->execute(step, time, grid, fields, nfields, false) : status;
+  return guarded(adapter, "tessera_execute", [&](tessera_adapter::Impl& impl) {
+    return impl.execute(step, time, grid, fields, nfields, false);
+  });
 }
 
 tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, double time,
                                      const tessera_grid* grid, const tessera_field* fields,
                                      int nfields) {
-  tessera_status status;
-  auto* impl = open_impl(adapter, "tessera_execute_final", &status);
-  return impl ? impl->execute(step, time, grid, fields, nfields, true) : status;
+  return guarded(adapter, "tessera_execute_final", [&](tessera_adapter::Impl& impl) {
+    return impl.execute(step, time, grid, fields, nfields, true);
+  });
 }
 
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name) {
-  tessera_status status;
-  auto* impl = open_impl(adapter, "tessera_field_unchanged", &status);
-  return impl ? impl->field_unchanged(field_name) : status;
+  return guarded(adapter, "tessera_field_unchanged",
+                 [&](tessera_adapter::Impl& impl) { return impl.field_unchanged(field_name); });
 }
 
 tessera_status tessera_close(tessera_adapter* adapter) {
   if (!adapter) return TESSERA_OK;
-  std::unique_ptr<tessera_adapter::Impl> impl;
-  bool known = false;
-  {
-    std::lock_guard<std::mutex> lock(g_handles_mutex);
-    known = handles().count(adapter) && adapter->magic == tessera_adapter::kMagic;
-    if (known) impl = std::move(adapter->impl);  // the handle stays, as a tombstone
-  }
-  if (!impl) {
-    set_open_error(known ? kClosedMessage : kUnknownMessage, "tessera_close");
+  if (state_of(adapter) == HandleState::Unknown) {
+    set_open_error(kUnknownMessage, "tessera_close");
     return TESSERA_ERROR_CONFIG;
   }
-  impl->close();
-  return TESSERA_OK;
+  // Wait for the call inside (if any) and keep new ones out; a second close waits here too
+  adapter->gate.begin_close();
+  std::unique_ptr<tessera_adapter::Impl> impl;
+  {
+    std::lock_guard<std::mutex> lock(g_handles_mutex);
+    impl = std::move(adapter->impl);  // the handle stays, as a tombstone
+  }
+  if (!impl) {
+    adapter->gate.end_close();
+    set_open_error(kClosedMessage, "tessera_close");
+    return TESSERA_ERROR_CONFIG;
+  }
+  // Collective: the ranks agree that they all close (a rank still executing is told so)
+  const tessera_status s = impl->close();
+  if (s != TESSERA_OK) {
+    try {
+      std::string message = "tessera_close: " + impl->m_error + " (the adapter is closed all the same)";
+      set_open_error(message.c_str());
+      std::lock_guard<std::mutex> lock(g_handles_mutex);
+      adapter->close_error = std::move(message);
+    } catch (...) {
+    }
+  }
+  impl.reset();
+  adapter->gate.end_close();
+  return s;
 }
 
 const char* tessera_last_error(const tessera_adapter* adapter) {
   if (!adapter) return t_open_error.c_str();
   switch (state_of(adapter)) {
-    case HandleState::Open: return adapter->impl->m_error.c_str();
-    case HandleState::Closed: return kClosedMessage;
+    case HandleState::Open: break;
+    case HandleState::Closed: {
+      std::lock_guard<std::mutex> lock(g_handles_mutex);
+      return adapter->close_error.empty() ? kClosedMessage : adapter->close_error.c_str();
+    }
     case HandleState::Unknown: default: return kUnknownMessage;
+  }
+  if (const std::string* refused = tessera::insitu::refusal_for(adapter)) return refused->c_str();
+  // A copy made inside the gate: no other thread writes it, and it outlives tessera_close
+  auto* a = const_cast<tessera_adapter*>(adapter);
+  try {
+    std::string& copy = t_messages[adapter];
+    tessera::insitu::GateCall inside(a->gate);
+    if (inside.refusal() != tessera::insitu::CallGate::Refusal::None) {
+      copy = tessera::insitu::refusal_message(inside.refusal(), "tessera_last_error");
+    } else {
+      std::lock_guard<std::mutex> lock(g_handles_mutex);
+      copy = a->impl ? a->impl->m_error : std::string(a->close_error.empty() ? kClosedMessage : a->close_error);
+    }
+    return copy.c_str();
+  } catch (...) {
+    return "out of memory for the message";
   }
 }
 

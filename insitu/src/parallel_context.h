@@ -61,6 +61,10 @@ class ParallelContext {
   /// node's memory among them.
   virtual int ranks_on_node() const { return 1; }
 
+  /// False once communication is no longer possible (MPI finalized): close then releases
+  /// without agreeing. Not collective.
+  virtual bool can_communicate() const { return true; }
+
   /// True on every rank iff ok is true on every rank (allreduce of a flag).
   virtual bool agree(bool ok) = 0;
   /// Global min and max of per-rank values (allreduce).
@@ -68,6 +72,18 @@ class ParallelContext {
   /// Every rank's `bytes` bytes at `mine`, in rank order, into `all` (size() * bytes bytes).
   /// Every rank must pass the same `bytes`; the data travel as raw bytes.
   virtual void allgather(const void* mine, std::size_t bytes, void* all) = 0;
+  /// As allgather(), but never silent while it waits: once the call has waited `warn_after`
+  /// seconds (> 0; 0 = never) for the other ranks, and again each time the wait doubles, it
+  /// calls on_wait(seconds waited so far) on this rank (an exception from it is ignored), then
+  /// goes on waiting. Polls (MPI_Iallgather + MPI_Test, pauses of at most a millisecond) where
+  /// allgather() blocks; a non-blocking collective matches only its own kind, so every rank
+  /// must call this one where one does.
+  virtual void allgather_waiting(const void* mine, std::size_t bytes, void* all, double warn_after,
+                                 const std::function<void(double)>& on_wait) {
+    (void)warn_after;
+    (void)on_wait;
+    allgather(mine, bytes, all);
+  }
   /// Rank `root`'s `text` on every rank (other ranks' `text` is replaced). Two collectives
   /// (length, then bytes); meant for failure paths, not per call.
   virtual void broadcast(std::string& text, int root) = 0;

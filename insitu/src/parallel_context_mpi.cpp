@@ -27,6 +27,13 @@ MpiParallelContext::~MpiParallelContext() {
 // ---------------------------------------------------------------------------------------
 // Small collectives
 
+bool MpiParallelContext::can_communicate() const {
+  if (!m_mpi) return false;
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  return finalized == 0;
+}
+
 bool MpiParallelContext::agree(bool ok) {
   if (m_size == 1) return ok;
   int local = ok ? 1 : 0, all = 0;

@@ -79,9 +79,12 @@ class MpiParallelContext final : public ParallelContext {
   /// Groups the ranks by TESSERA_MPI_RANKS_PER_NODE (see the two-argument constructor).
   void connect() override;
   int ranks_on_node() const override { return m_node_size; }
+  bool can_communicate() const override;
   bool agree(bool ok) override;
   std::pair<double, double> range(double local_min, double local_max) override;
   void allgather(const void* mine, std::size_t bytes, void* all) override;
+  void allgather_waiting(const void* mine, std::size_t bytes, void* all, double warn_after,
+                         const std::function<void(double)>& on_wait) override;
   void broadcast(std::string& text, int root) override;
   FieldView assemble(const FieldView& local, const GlobalPlacement& where) override;
   std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where,

@@ -7,11 +7,13 @@
 #include <tessera/message_text.h>
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace tessera::insitu {
 namespace {
@@ -112,6 +114,39 @@ void MpiParallelContext::allgather(const void* mine, std::size_t bytes, void* al
   if (bytes > static_cast<std::size_t>(INT_MAX)) throw std::length_error("allgather: too many bytes");
   check(MPI_Allgather(mine, static_cast<int>(bytes), MPI_BYTE, all, static_cast<int>(bytes), MPI_BYTE, m_comm),
         "MPI_Allgather");
+}
+
+void MpiParallelContext::allgather_waiting(const void* mine, std::size_t bytes, void* all, double warn_after,
+                                           const std::function<void(double)>& on_wait) {
+  if (m_size == 1) return allgather(mine, bytes, all);  // (every rank of a larger one polls: no mixing)
+  if (bytes > static_cast<std::size_t>(INT_MAX)) throw std::length_error("allgather: too many bytes");
+  MPI_Request request = MPI_REQUEST_NULL;
+  check(MPI_Iallgather(mine, static_cast<int>(bytes), MPI_BYTE, all, static_cast<int>(bytes), MPI_BYTE, m_comm,
+                       &request),
+        "MPI_Iallgather");
+  // Test back to back for the first millisecond (ranks that arrive together: as fast as a
+  // blocking allgather), then with pauses of 50 us doubling to 1 ms, which leave the core to
+  // the simulation or to oversubscribed ranks; on_wait at warn_after, 2x, 4x, ...
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  double next_warning = warn_after;
+  std::chrono::microseconds pause(50);
+  for (;;) {
+    int done = 0;
+    check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), "MPI_Test");
+    if (done) return;
+    const double waited = std::chrono::duration<double>(Clock::now() - start).count();
+    if (warn_after > 0.0 && on_wait && waited >= next_warning) {
+      try {
+        on_wait(waited);
+      } catch (...) {
+      }
+      next_warning *= 2.0;
+    }
+    if (waited < 1e-3) continue;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::microseconds(1000));
+  }
 }
 
 void MpiParallelContext::broadcast(std::string& text, int root) {

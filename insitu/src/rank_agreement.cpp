@@ -1,5 +1,6 @@
 #include "rank_agreement.h"
 
+#include "error_policy.h"
 #include "hash64.h"
 
 #include <tessera/message_text.h>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string_view>
@@ -133,6 +135,7 @@ std::string_view trimmed(std::string_view s) {
 constexpr std::size_t kFiredWords = 4;  ///< renders named individually: the first 256
 
 struct CallRecord {
+  std::uint64_t kind;  ///< CallKind
   std::int64_t step;
   std::uint64_t fired_bits[kFiredWords];        ///< fires or may fire
   std::uint64_t conditional_bits[kFiredWords];  ///< fires if its `when` trigger does
@@ -146,6 +149,7 @@ static_assert(std::is_trivially_copyable_v<CallRecord>);
 
 CallRecord call_record(const CallView& call) {
   CallRecord rec{};
+  rec.kind = static_cast<std::uint64_t>(call.kind);
   rec.step = call.step;
   std::uint64_t h = 14695981039346656037ull;
   for (std::size_t i = 0; i < call.fired.size(); ++i) {
@@ -224,6 +228,16 @@ std::string fired_difference(const CallRecord& mine, const CallRecord& ref, int 
   return s + " (a final_step flag that differs between ranks does this)";
 }
 
+/// "closed the adapter", "called execute_final at step 7", ...
+std::string call_name(const CallRecord& rec) {
+  switch (static_cast<CallKind>(rec.kind)) {
+    case CallKind::Close: return "closed the adapter";
+    case CallKind::Final: return "called execute_final at step " + std::to_string(rec.step);
+    case CallKind::Execute: return "called execute at step " + std::to_string(rec.step);
+  }
+  return "made call kind " + std::to_string(rec.kind);
+}
+
 }  // namespace
 
 std::string first_difference(const std::string& a, const std::string& b) {
@@ -280,13 +294,46 @@ std::optional<Disagreement> agree_on_open(ParallelContext& ctx, const std::strin
   return d;
 }
 
-std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call) {
+std::string waiting_message(int rank, const CallView& call, double waited) {
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.0f", waited);
+  CallRecord rec{};
+  rec.kind = static_cast<std::uint64_t>(call.kind);
+  rec.step = call.step;
+  return rank_name(rank) + " has waited " + seconds + " s for the other ranks in the agreement of its call (it " +
+         call_name(rec) + "): a rank that skipped this call, stopped calling the adapter without closing it, or is "
+         "stuck leaves it waiting until that rank comes (no deadline; bound the job with the launcher, e.g. mpiexec "
+         "--timeout)";
+}
+
+std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call, double warn_after) {
   const int n = ctx.size();
   if (n == 1) return std::nullopt;
   const CallRecord mine = call_record(call);
   std::vector<CallRecord> all(static_cast<std::size_t>(n));
-  ctx.allgather(&mine, sizeof mine, all.data());
+  const int rank = ctx.rank();
+  ctx.allgather_waiting(&mine, sizeof mine, all.data(), warn_after,
+                        [&](double waited) { log_line(waiting_message(rank, call, waited)); });
   const CallRecord& ref = all[0];
+
+  // A rank that closes while another executes: nothing else in the records compares
+  bool closed = false;
+  for (int r = 0; r < n; ++r) closed = closed || all[r].kind == static_cast<std::uint64_t>(CallKind::Close);
+  int other_call = -1;  // the first rank whose kind of call differs from rank 0's
+  for (int r = 1; r < n && other_call < 0; ++r)
+    if (all[r].kind != ref.kind) other_call = r;
+  const auto call_disagreement = [&] {
+    Disagreement d{TESSERA_ERROR_CONFIG,
+                   "ranks disagree on the call: " + rank_name(other_call) + " " + call_name(all[other_call]) +
+                       " while rank 0 " + call_name(ref) +
+                       " (every rank must make the same calls: execute_final on every rank or on none, at the "
+                       "same step, and close after the same calls)",
+                   closed};
+    if (closed) d.message += "; a rank has closed, so the others can only close this adapter now";
+    return d;
+  };
+  if (other_call >= 0 && closed) return call_disagreement();
+  if (ref.kind == static_cast<std::uint64_t>(CallKind::Close)) return std::nullopt;  // every rank closes
 
   // Step first (a different step explains different renders), then renders, then grid
   for (int r = 1; r < n; ++r)
@@ -300,6 +347,8 @@ std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& 
       return Disagreement{TESSERA_ERROR_CONFIG, "ranks disagree on which renders fire at step " +
                                                     std::to_string(ref.step) + ": " +
                                                     fired_difference(all[r], ref, r, call)};
+  // execute on one rank, execute_final on another, with the same renders firing
+  if (other_call >= 0) return call_disagreement();
   // A missing grid fails the bind phase on every rank alike; the others are compared
   bool grids = true;
   for (int r = 0; r < n; ++r) grids = grids && all[r].has_grid;

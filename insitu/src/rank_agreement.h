@@ -12,14 +12,19 @@
 ///     kMaxConfigDiffBytes each, failure path only) so that the message names the first
 ///     differing line.
 ///   at each execute call where a render fires (agree_on_call), before any other collective:
-///     the step, which renders fire, and the global grid (origin, spacing, global_dims,
-///     doubles compared bit for bit).
+///     the kind of call (execute or execute_final), the step, which renders fire, and the
+///     global grid (origin, spacing, global_dims, doubles compared bit for bit).
+///   at close (agree_on_call with CallKind::Close): the same record, so that a rank still in
+///     an execute call that fires meets the other ranks' close (and the reverse) and every
+///     rank involved reports it instead of one of them waiting forever.
 /// What is not compared here is checked later, also on every rank alike: field names and
 /// per-rank descriptors (bind phase), dtypes, boxes, overlap and coverage of the global grid
 /// (ParallelContext::assemble). Calls where nothing fires communicate nothing, so ranks must
 /// make their execute calls with the same sequence of steps: with identical configs the
-/// `every`/`at` triggers then decide identically, but a rank that skips a call another rank
-/// renders in cannot be detected (it waits in the other rank's collective).
+/// `every`/`at` triggers then decide identically. A rank that skips a call another rank
+/// renders in is detected at its own next agreement (its next firing call, or its close),
+/// which meets the other rank's record; a rank that never makes one again leaves the
+/// others waiting.
 #include "parallel_context.h"
 
 #include <tessera/config/render_spec.h>
@@ -38,6 +43,10 @@ namespace tessera::insitu {
 /// be the same on every rank.
 inline constexpr std::array<const char*, 1> kEnvironmentKnobs = {"TESSERA_MPI_RANKS_PER_NODE"};
 
+/// A rank that has waited this long (seconds) in agree_on_call for the others says so on
+/// stderr, and again each time the wait doubles (it keeps waiting: see agree_on_call).
+inline constexpr double kAgreementWarnSeconds = 60.0;
+
 /// At most this many bytes of each config text are exchanged to name the first differing line.
 inline constexpr std::size_t kMaxConfigDiffBytes = std::size_t{1} << 20;
 
@@ -45,6 +54,9 @@ inline constexpr std::size_t kMaxConfigDiffBytes = std::size_t{1} << 20;
 struct Disagreement {
   tessera_status status = TESSERA_ERROR_CONFIG;
   std::string message;
+  /// Some rank's record was a close: that rank has left the communicator, so no rank may
+  /// enter another collective on it (every rank sees the same records: the same verdict).
+  bool rank_closed = false;
 };
 
 /// Collective (one allgather; two broadcasts more on a config mismatch). effective_config:
@@ -52,8 +64,13 @@ struct Disagreement {
 /// disagreement (status TESSERA_ERROR_CONFIG) or nothing. Throws only on MPI failure.
 std::optional<Disagreement> agree_on_open(ParallelContext& ctx, const std::string& effective_config);
 
-/// This rank's view of one execute call where a render fires.
+/// Which call a rank is in at an agreement (read as a number by every rank: keep the values).
+enum class CallKind : unsigned char { Execute = 0, Final = 1, Close = 2 };
+
+/// This rank's view of one execute call where a render fires, or of its close (kind Close:
+/// step 0, fired empty, grid NULL).
 struct CallView {
+  CallKind kind = CallKind::Execute;
   std::int64_t step = 0;
   /// Per config render: 0 it does not fire, 1 it fires, 2 it fires if its `when` trigger
   /// does (decided later by an allreduce that every rank enters).
@@ -64,9 +81,21 @@ struct CallView {
 };
 
 /// Collective (one allgather of a fixed-size record). Returns the disagreement (status
-/// TESSERA_ERROR_DATA for step and grid, TESSERA_ERROR_CONFIG for the set of renders) or
-/// nothing. Throws only on MPI failure. Not called where nothing fires.
-std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call);
+/// TESSERA_ERROR_CONFIG for the kind of call and the set of renders, TESSERA_ERROR_DATA for
+/// step and grid) or nothing. A rank closing while another executes is found first ("ranks
+/// disagree on the call: ..." naming the first rank that differs from rank 0 and both calls;
+/// rank_closed set); then the step, the renders that fire, execute vs execute_final (the same
+/// message), and the grid. Throws only on MPI failure. Not called where nothing fires.
+/// A rank the others never join (one that skipped this call, stopped calling the adapter
+/// without closing it, or is stuck) leaves this one waiting, with no deadline (a late rank
+/// would complete an abandoned collective and go on alone); after warn_after seconds, and each
+/// time the wait doubles, this rank logs waiting_message() (one line on stderr), so that the
+/// hang is visible and names the call.
+std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call,
+                                          double warn_after = kAgreementWarnSeconds);
+
+/// The line a rank logs while it waits in agree_on_call (exposed for tests).
+std::string waiting_message(int rank, const CallView& call, double waited);
 
 /// The first differing line of two texts, as "line N: 'a' vs 'b'" (1-based, lines trimmed
 /// and cut short); "" if equal. Exposed for tests.

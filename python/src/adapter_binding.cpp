@@ -1,6 +1,8 @@
 // tessera._tessera.Adapter: tessera.Adapter's C++ half over tessera::insitu::Adapter (the C
 // API's own implementation). Open, execute and close run with the GIL released; the fields
-// arrive as descriptors of the caller's arrays (tessera/_arrays.py), read in place.
+// arrive as descriptors of the caller's arrays (tessera/_arrays.py), read in place. A close()
+// from another Python thread waits for a running execute (the Adapter's gate) and for the
+// accessors (m_state), so nothing is read after it was freed.
 #include "binding_support.h"
 
 #include <tessera/adapter.h>
@@ -13,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <mutex>
 #include <new>
 #include <string>
 #include <tuple>
@@ -79,17 +82,27 @@ class PyAdapter {
     }
   }
 
-  void close() {
+  /// Waits (GIL released) for a call another Python thread is making on this adapter, then
+  /// closes; returns the status (with MPI, a rank that disagreed about the calls is reported).
+  int close() {
     nb::gil_scoped_release unlocked;
-    m_adapter.close();
+    std::lock_guard<std::mutex> lock(m_state);
+    return m_adapter.close();
   }
 
-  const std::string& last_error() const { return m_adapter.last_error(); }
-  bool is_open() const { return m_adapter.is_open(); }
+  std::string last_error() const {
+    auto lock = lock_state();
+    return m_adapter.last_error();
+  }
+  bool is_open() const {
+    auto lock = lock_state();
+    return m_adapter.is_open();
+  }
 
   /// The renders of the last execute, one dict each; `image`: a float32 (H, W, 4) copy of the
   /// image on rank 0 when the render succeeded, else None.
   nb::list results() const {
+    auto lock = lock_state();
     nb::list out;
     for (const insitu::RenderResult& r : m_adapter.last_results()) {
       nb::dict d;
@@ -119,7 +132,15 @@ class PyAdapter {
   }
 
  private:
+  /// The state the last call left (results, message) against a close() on another thread:
+  /// taken with the GIL released, and never held while waiting for the GIL.
+  std::unique_lock<std::mutex> lock_state() const {
+    nb::gil_scoped_release unlocked;
+    return std::unique_lock<std::mutex>(m_state);
+  }
+
   insitu::Adapter m_adapter;
+  mutable std::mutex m_state;  ///< held by close() and while the accessors read
 };
 
 }  // namespace

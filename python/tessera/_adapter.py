@@ -56,7 +56,8 @@ class Adapter:
         time a real number, ghosts / global_dims / offset integers, spacing / origin finite
         numbers, field names str without NUL; TypeError or ValueError naming the argument.
         """
-        if self._impl is None:
+        impl = self._impl  # another thread's close() may clear self._impl meanwhile
+        if impl is None:
             raise TesseraError("execute: the adapter is closed")
         try:
             step_i = _checks.integer(step, "step")
@@ -79,13 +80,13 @@ class Adapter:
                     _checks.integer_triple(global_dims, "global_dims"), _checks.integer_triple(offset, "offset"))
         except Exception:
             if self._comm is not None:
-                self._enter_without_fields(step, time, final)
+                self._enter_without_fields(impl, step, time, final)
             raise
-        status = self._impl.execute(step_i, time_f, *grid, descs, final_b)
+        status = impl.execute(step_i, time_f, *grid, descs, final_b)
         del held  # the arrays were read in place during the call
         self.last_status = status
-        self.last_error = self._impl.last_error()
-        self.results = self._impl.results()
+        self.last_error = impl.last_error()
+        self.results = impl.results()
         if status != 0:
             warnings.warn(f"tessera: step {step}: {self.last_error}", TesseraWarning, stacklevel=2)
         images = {}
@@ -96,23 +97,31 @@ class Adapter:
                 images[r["name"]] = r["image"]
         return images
 
-    def _enter_without_fields(self, step, time, final):
+    def _enter_without_fields(self, impl, step, time, final):
         """An argument this rank could not describe, under MPI: the other ranks are entering
         the collective call, so this rank enters it too, with no fields. A render that fires
         then fails on every rank (its field is missing here, and the ranks agree on failure
         before any collective) instead of leaving the others waiting; the caller then raises
         the argument's own error on this rank."""
         try:  # a step or time refused above is entered as its int / float if it has one
-            self._impl.execute(int(step), float(time), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1, 1, 1), (0, 0, 0),
-                               [], bool(final))
+            impl.execute(int(step), float(time), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1, 1, 1), (0, 0, 0),
+                         [], bool(final))
         except Exception:  # the argument error raised next says what is wrong
             pass
 
     def close(self):
-        """Releases the adapter (collective); idempotent."""
-        if self._impl is not None:
-            self._impl.close()
-            self._impl = None
+        """Releases the adapter (collective); idempotent. Safe while another thread is inside
+        execute(): close waits for that call to return, and calls made meanwhile are refused
+        (their status is nonzero and last_error says "adapter is being closed"). With MPI, a
+        rank that disagreed about the calls (execute(final=True) on some ranks only) is
+        reported here as a TesseraWarning; everything is released all the same."""
+        impl, self._impl = self._impl, None
+        if impl is not None:
+            status = impl.close()
+            if status != 0:
+                self.last_status = status
+                self.last_error = impl.last_error()
+                warnings.warn(f"tessera: close: {self.last_error}", TesseraWarning, stacklevel=2)
 
     def __enter__(self):
         return self

@@ -21,6 +21,8 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <thread>
+#include <vector>
 
 using namespace tessera_mpi_test;
 namespace fs = std::filesystem;
@@ -294,4 +296,130 @@ TEST_CASE("ranks that agree render, and calls where nothing fires stay local", "
   bool written = true;
   if (world_rank() == 0) written = fs::exists(dir.file("out/view_0002.exr"));
   REQUIRE(all_ranks(written));
+}
+
+TEST_CASE("execute_final on one rank while the others execute fails the call on every rank",
+          "[mpi][agreement][robustness]") {
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedTempDir dir("tessera_agree_");
+  // Every render fires at every step: forcing them changes nothing but the kind of call
+  const std::string cfg = write_config(dir, config_text(dir.file("out"), "{every: 1}", "", "  render_final_step: true\n"));
+  Published pub;
+  tessera_adapter* a = nullptr;
+  REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
+  const tessera_status s = odd_one_out() ? tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1)
+                                         : tessera_execute(a, 3, 0.5, &pub.grid, &pub.field, 1);
+  const std::string error = tessera_last_error(a);
+  INFO(error);
+  bool ok = s == TESSERA_ERROR_CONFIG &&
+            contains(error, "ranks disagree on the call: rank " + std::to_string(last_rank()) +
+                                " called execute_final at step 3 while rank 0 called execute at step 3");
+  CHECK(ok);
+  // Nobody closed: the adapter goes on, and closes cleanly on every rank
+  const tessera_status next = tessera_execute(a, 4, 0.6, &pub.grid, &pub.field, 1);
+  INFO(tessera_last_error(a));
+  CHECK(next == TESSERA_OK);
+  const tessera_status closed = tessera_close(a);
+  CHECK(closed == TESSERA_OK);
+  ok = ok && next == TESSERA_OK && closed == TESSERA_OK;
+  REQUIRE(all_ranks(ok));
+}
+
+TEST_CASE("a final call that renders on rank 0 while the others fire nothing and close: every rank reports it",
+          "[mpi][agreement][robustness]") {
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedTempDir dir("tessera_agree_");
+  // Nothing fires at step 3 unless forced by the final call (render_final_step)
+  const std::string cfg = write_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
+  Published pub;
+  tessera_adapter* a = nullptr;
+  REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
+  const std::string expected =
+      "ranks disagree on the call: rank 1 closed the adapter while rank 0 called execute_final at step 3";
+  bool ok = true;
+  if (world_rank() == 0) {
+    // Its final call meets the others' close
+    const tessera_status s = tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1);
+    const std::string error = tessera_last_error(a);
+    INFO(error);
+    CHECK(s == TESSERA_ERROR_CONFIG);
+    CHECK_THAT(error, Catch::Matchers::Contains(expected));
+    ok = s == TESSERA_ERROR_CONFIG && contains(error, expected);
+    // The others have left: a later call says so without communicating, and close is local
+    const tessera_status again = tessera_execute_final(a, 4, 0.6, &pub.grid, &pub.field, 1);
+    INFO(tessera_last_error(a));
+    CHECK(again == TESSERA_ERROR_CONFIG);
+    CHECK_THAT(std::string(tessera_last_error(a)), Catch::Matchers::Contains("can only close this adapter"));
+    CHECK(tessera_close(a) == TESSERA_OK);
+    ok = ok && again == TESSERA_ERROR_CONFIG;
+  } else {
+    // Their plain call fires nothing and returns at once; their close meets rank 0's final call
+    ok = tessera_execute(a, 3, 0.5, &pub.grid, &pub.field, 1) == TESSERA_OK;
+    const tessera_status closed = tessera_close(a);
+    const std::string error = tessera_last_error(a);
+    INFO(error);
+    CHECK(closed == TESSERA_ERROR_CONFIG);
+    CHECK_THAT(error, Catch::Matchers::Contains(expected) && Catch::Matchers::Contains("closed all the same"));
+    ok = ok && closed == TESSERA_ERROR_CONFIG && contains(error, expected);
+    CHECK(tessera_close(a) == TESSERA_ERROR_CONFIG);  // closed once, whatever the agreement said
+  }
+  REQUIRE(all_ranks(ok));
+}
+
+TEST_CASE("a final call on rank 0 while the others go on to a firing step fails on every rank",
+          "[mpi][agreement][robustness]") {
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedTempDir dir("tessera_agree_");
+  const std::string cfg = write_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
+  Published pub;
+  tessera_adapter* a = nullptr;
+  REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
+  tessera_status s;
+  if (world_rank() == 0) {
+    s = tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1);
+  } else {
+    REQUIRE(tessera_execute(a, 3, 0.5, &pub.grid, &pub.field, 1) == TESSERA_OK);  // fires nothing
+    s = tessera_execute(a, 1000, 1.0, &pub.grid, &pub.field, 1);                   // fires 'view'
+  }
+  const std::string error = tessera_last_error(a);
+  INFO(error);
+  bool ok = s == TESSERA_ERROR_DATA && contains(error, "ranks disagree on the step: rank 1 is at step 1000, rank 0 at step 3");
+  CHECK(ok);
+  const tessera_status closed = tessera_close(a);  // every rank closes: they agree
+  CHECK(closed == TESSERA_OK);
+  ok = ok && closed == TESSERA_OK;
+  REQUIRE(all_ranks(ok));
+}
+
+TEST_CASE("a rank left waiting in the agreement says so, and keeps waiting until the others come",
+          "[mpi][agreement][robustness]") {
+  using tessera::insitu::CallKind;
+  using tessera::insitu::CallView;
+  CHECK(contains(tessera::insitu::waiting_message(2, CallView{CallKind::Final, 3, {}, {}, nullptr}, 61.2),
+                 "rank 2 has waited 61 s for the other ranks in the agreement of its call (it called execute_final "
+                 "at step 3)"));
+  CHECK(contains(tessera::insitu::waiting_message(0, CallView{CallKind::Close, 0, {}, {}, nullptr}, 120),
+                 "(it closed the adapter)"));
+  if (world_size() < 2) return;
+  Watchdog watchdog;
+  SharedTempDir dir("tessera_agree_");
+  const std::string marker = dir.file("rank0_warned");
+  auto ctx = tessera::insitu::ParallelContext::create(MPI_Comm_c2f(MPI_COMM_WORLD));
+  // The other ranks join only once rank 0 has said that it waits: the order is forced, not timed
+  if (world_rank() != 0)
+    while (!fs::exists(marker)) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  int warnings = 0;
+  const int mine = 100 + world_rank();
+  std::vector<int> all(static_cast<std::size_t>(world_size()), -1);
+  ctx->allgather_waiting(&mine, sizeof mine, all.data(), 0.01, [&](double waited) {
+    if (world_rank() == 0 && warnings == 0) std::ofstream(marker) << waited;
+    ++warnings;
+  });
+  bool ok = world_rank() != 0 || warnings >= 1;
+  for (int r = 0; r < world_size(); ++r) ok = ok && all[static_cast<std::size_t>(r)] == 100 + r;
+  CHECK(ok);
+  REQUIRE(all_ranks(ok));
 }

@@ -11,8 +11,13 @@
 /// later execute()). open() never throws. last_error() holds the message of the last failing
 /// call ("" after a call that succeeded). See docs/insitu.md for on_error warn / disable.
 ///
-/// Thread safety: one Adapter must not be used by two threads at once. With MPI, open,
-/// execute and close are collective over the communicator.
+/// Thread safety: close() (and the destructor) while another thread is inside open, execute
+/// or field_unchanged waits for that call to return; calls that arrive during a close, or
+/// while another thread's call is inside, are refused (TESSERA_ERROR_CONFIG, nothing done,
+/// no AdapterError even with `on_error: abort`; last_error() shows the message to the refused
+/// thread only). The accessors (last_error, last_results, last_image) read what the last call
+/// left: call them from the thread that made it, not while close() runs elsewhere. With MPI,
+/// open, execute and close are collective over the communicator.
 #include <tessera/image.h>
 #include <tessera/stats.h>
 #include <tessera/tessera.h>
@@ -130,7 +135,10 @@ class Adapter {
   /// (last_error() says why). Never throws.
   tessera_status field_unchanged(const std::string& field_name) noexcept;
 
-  /// Releases everything. Idempotent. Returns TESSERA_OK.
+  /// Releases everything. Idempotent. Waits for a call another thread is making. Returns
+  /// TESSERA_OK; with MPI collective, TESSERA_ERROR_CONFIG when a rank was still inside an
+  /// execute call that renders instead of closing (last_error() says which; released all the
+  /// same, and that rank's call fails too).
   tessera_status close() noexcept;
 
   bool is_open() const noexcept;

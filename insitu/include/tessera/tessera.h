@@ -7,9 +7,12 @@
  * a signal or an abort out, whatever the input; with `on_error: abort` a failure makes every
  * later tessera_execute return that error.
  *
- * Thread safety: one adapter must not be used by two threads at once; distinct adapters are
- * independent. With MPI every call except tessera_last_error and tessera_field_unchanged is
- * collective over the communicator given to tessera_open (or tessera_open_with_output_dir).
+ * Thread safety: calls on one adapter never race. tessera_close while another thread is
+ * inside a call waits for that call to return; calls that arrive during a close, or while
+ * another thread's call is inside, are refused (TESSERA_ERROR_CONFIG, nothing done, the
+ * message in that thread's tessera_last_error(adapter)). Distinct adapters are independent.
+ * With MPI every call except tessera_last_error and tessera_field_unchanged is collective
+ * over the communicator given to tessera_open (or tessera_open_with_output_dir).
  *
  * C99-compatible; usable from C++ (extern "C"). */
 #ifndef TESSERA_TESSERA_H
@@ -115,12 +118,20 @@ tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* fie
  * tessera_last_error(adapter) says "adapter was closed ..." (the library keeps a 16-byte
  * tombstone per closed handle, so its address never names a newer adapter); a pointer that
  * tessera_open never returned is refused the same way ("not an adapter returned by
- * tessera_open"). Closing an adapter while another thread uses it is not supported. */
+ * tessera_open"). A close while another thread is inside a call on the adapter waits for
+ * that call to return; calls meanwhile return TESSERA_ERROR_CONFIG ("adapter is being
+ * closed"); a second close at the same time waits, then finds the adapter closed. With MPI
+ * collective: the ranks check that every one of them is closing; a rank still inside a call
+ * that renders (tessera_execute_final on some ranks only) makes that call and this close
+ * return TESSERA_ERROR_CONFIG ("ranks disagree on the call: ..."), the adapter released all
+ * the same and the message kept for tessera_last_error(adapter). */
 tessera_status tessera_close(tessera_adapter* adapter);
 
 /* The adapter's last error message, or "" if the last call succeeded; with NULL, the calling
- * thread's last tessera_open (or tessera_open_with_output_dir) failure. Valid until the next
- * call on the same adapter (or, for NULL, the next open on this thread). Never NULL.
+ * thread's last tessera_open (or tessera_open_with_output_dir) failure. For an adapter, a
+ * copy for the calling thread, valid until this thread's next tessera_last_error on the same
+ * adapter, even across tessera_close (a call refused on this thread shows its own message, to
+ * this thread only); for NULL, valid until the next open on this thread. Never NULL.
  * tessera_field_unchanged(NULL, ...) also sets the NULL message. */
 const char* tessera_last_error(const tessera_adapter* adapter);
 
