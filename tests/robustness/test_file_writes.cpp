@@ -5,6 +5,7 @@
 // name (an older complete one left unchanged) and no temporary file left.
 #include "../insitu/insitu_test_support.h"
 #include "cli_run.h"
+#include "file_size_limit.h"
 #include "outputs.h"
 
 #include <tessera/atomic_output.h>
@@ -35,30 +36,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// Lowers this process's soft RLIMIT_FSIZE to `bytes` with SIGXFSZ at its default action (a
-/// signal that escaped a writer kills the test) and restores both at scope exit.
-class FileSizeLimit {
- public:
-  explicit FileSizeLimit(rlim_t bytes) {
-    getrlimit(RLIMIT_FSIZE, &m_old);
-    rlimit lim = m_old;
-    lim.rlim_cur = bytes;
-    m_ok = setrlimit(RLIMIT_FSIZE, &lim) == 0;
-    m_old_action = signal(SIGXFSZ, SIG_DFL);
-  }
-  ~FileSizeLimit() {
-    setrlimit(RLIMIT_FSIZE, &m_old);
-    signal(SIGXFSZ, m_old_action);
-  }
-  FileSizeLimit(const FileSizeLimit&) = delete;
-  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
-  bool ok() const { return m_ok; }
-
- private:
-  rlimit m_old{};
-  bool m_ok = false;
-  sighandler_t m_old_action = SIG_DFL;
-};
+using tessera_test::FileSizeLimit;
 
 /// detail::set_write_fault for the scope.
 class InjectedFault {

@@ -2,6 +2,7 @@
 // adapter handles are validated (double close, execute after close, foreign pointers).
 #include "../insitu/insitu_test_support.h"
 #include "cli_run.h"
+#include "file_size_limit.h"
 
 #include <tessera/adapter.h>
 #include <tessera/image_io.h>
@@ -26,31 +27,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using tessera_test::FileSizeLimit;
+
 using tessera_test::count_files;
-
-/// Lowers this process's soft RLIMIT_FSIZE to `bytes` (SIGXFSZ at its default action, which
-/// kills the process) and restores both at scope exit. A test that lets the signal escape
-/// dies here, which CTest reports as a failure.
-class FileSizeLimit {
- public:
-  explicit FileSizeLimit(rlim_t bytes) {
-    getrlimit(RLIMIT_FSIZE, &m_old);
-    rlimit lim = m_old;
-    lim.rlim_cur = bytes;
-    m_ok = setrlimit(RLIMIT_FSIZE, &lim) == 0;
-    m_old_action = signal(SIGXFSZ, SIG_DFL);
-  }
-  ~FileSizeLimit() {
-    setrlimit(RLIMIT_FSIZE, &m_old);
-    signal(SIGXFSZ, m_old_action);
-  }
-  bool ok() const { return m_ok; }
-
- private:
-  rlimit m_old{};
-  bool m_ok = false;
-  sighandler_t m_old_action = SIG_DFL;
-};
 
 bool pending(int sig) {
   sigset_t set;
