@@ -280,6 +280,14 @@ bool Value::boolean() const {
 std::string Value::string(bool allow_empty) const {
   if (!is_scalar()) wrong_type("a string");
   if (!allow_empty && text().empty()) fail("empty string (allowed: a non-empty string)");
+  // YAML is Unicode text: a byte that is not UTF-8 would be rewritten by the effective
+  // config's writer (a different name or path on the way back), so it is refused here
+  if (const std::size_t bad = first_invalid_utf8(text()); bad != std::string_view::npos) {
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(text()[bad])));
+    fail(describe() + " is not valid UTF-8 (byte " + byte + " at offset " + std::to_string(bad) +
+         "; allowed: UTF-8 text)");
+  }
   return std::string(text());
 }
 

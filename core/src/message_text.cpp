@@ -64,6 +64,16 @@ std::size_t cut_after(std::string_view s, std::size_t n) {
 
 }  // namespace
 
+std::size_t first_invalid_utf8(std::string_view s) {
+  char32_t cp = 0;
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = utf8_char(s, i, cp);
+    if (n == 0) return i;
+    i += n;
+  }
+  return std::string_view::npos;
+}
+
 std::string printable_text(std::string_view s, bool keep_newlines) {
   std::string out;
   out.reserve(s.size());

@@ -79,6 +79,21 @@ TEST_CASE("config: a BOM starts a file legally, one inside it and invalid UTF-8 
   CHECK(e.find('\xFF') == std::string::npos);
 }
 
+TEST_CASE("config: a string that is not UTF-8 is refused naming the byte (it could not be written back)",
+          "[robustness][messages]") {
+  // A field name, an output pattern and an output_dir with bytes that are no UTF-8: the
+  // effective config's writer would turn them into other characters (found by fuzzing)
+  std::string e = config_error("renders:\n" + minimal_render() + "    field: \"te\xFF\xFFmp\"\n");
+  CHECK_THAT(e, Contains("renders[0].field") && Contains("is not valid UTF-8 (byte 0xFF at offset 2"));
+  CHECK(e.find('\xFF') == std::string::npos);
+  e = config_error("renders:\n" + minimal_render() + "    output: {file: \"a\xC3(\"}\n");
+  CHECK_THAT(e, Contains("renders[0].output.file") && Contains("byte 0xC3 at offset 1"));
+  e = config_error("tessera: {output_dir: \"out\xED\xA0\x80\"}\nrenders:\n" + minimal_render());  // a surrogate
+  CHECK_THAT(e, Contains("tessera.output_dir") && Contains("byte 0xED at offset 3"));
+  // Other scripts are fine
+  CHECK(config_error("renders:\n" + minimal_render() + "    field: \"température_β\"\n") == "");
+}
+
 TEST_CASE("config: a long file name is cut to its first and last parts", "[robustness][messages]") {
   TempDir dir;
   const std::string missing = dir.file(std::string(4000, 'q') + "/scene.yaml");

@@ -19,6 +19,11 @@ inline constexpr std::size_t kShownValueMax = 64;
 /// Paths are cut to about this many bytes: their first and last parts.
 inline constexpr std::size_t kShownPathMax = 200;
 
+/// The byte offset of the first byte of `s` that does not start a valid UTF-8 character (a
+/// stray continuation byte, an overlong form, a surrogate, a code point past U+10FFFF, a
+/// sequence cut short), or std::string_view::npos when all of `s` is valid UTF-8.
+std::size_t first_invalid_utf8(std::string_view s);
+
 /// `s` with the escapes above, not cut. A newline is kept only when `keep_newlines`.
 std::string printable_text(std::string_view s, bool keep_newlines = false);
 
