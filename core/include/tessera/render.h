@@ -18,8 +18,10 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
+#include <utility>
 
 namespace tessera {
 
@@ -64,8 +66,9 @@ class DeadlineExceeded : public std::runtime_error {
 
 Bounds field_bounds(const FieldView& field, const VolumeGeometry& g);
 
-/// Min and max of the finite vertex values (NaN and Inf ignored); {0,0} if none is finite.
-std::pair<double, double> field_range(const FieldView& field);
+/// Min and max of the finite vertex values (NaN and Inf ignored); nullopt if none is finite
+/// (distinct from a field that is all zero, {0, 0}).
+std::optional<std::pair<double, double>> field_range(const FieldView& field);
 
 PreparedScene prepare(const FieldView& field, const SceneDesc& scene);
 
