@@ -233,6 +233,7 @@ PreparedScene::PreparedScene() : m_impl(std::make_unique<PreparedSceneImpl>()) {
 PreparedScene::~PreparedScene() = default;
 PreparedScene::PreparedScene(PreparedScene&&) noexcept = default;
 PreparedScene& PreparedScene::operator=(PreparedScene&&) noexcept = default;
+const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene) { return *scene.m_impl; }
 const SceneDesc& PreparedScene::desc() const { return m_impl->desc; }
 const std::vector<Tile>& PreparedScene::tiles() const { return m_impl->tiles; }
 Bounds PreparedScene::bounds() const { return m_impl->bounds; }

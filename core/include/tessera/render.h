@@ -37,7 +37,6 @@ class PreparedScene {
   const SceneDesc& desc() const;
   const std::vector<Tile>& tiles() const;
   Bounds bounds() const;
-  const PreparedSceneImpl& impl() const { return *m_impl; }
   /// The field summary the majorants were derived from (never null once prepared): pass it
   /// to the next prepare of the same, unchanged field to skip the pass over the values.
   const std::shared_ptr<const FieldSummary>& summary() const;
@@ -47,6 +46,8 @@ class PreparedScene {
  private:
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
+  /// The prepared data, for core's own sources (core/src/prepared_scene_impl.h).
+  friend const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
   std::unique_ptr<PreparedSceneImpl> m_impl;
 };
 
