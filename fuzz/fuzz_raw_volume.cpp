@@ -58,7 +58,8 @@ void render_volume(const tessera::config::RawVolume& vol, std::uint8_t knob) {
   // `range: auto`, as the CLI resolves it (config/build_scene.h)
   tessera::config::RangeSpec auto_range;
   auto_range.automatic = true;
-  const auto [lo, hi] = tessera::config::resolve_range(auto_range, tessera::field_range(view));
+  const auto [lo, hi] = tessera::config::resolve_range(
+      auto_range, tessera::field_range(view).value_or(std::pair{0.0, 0.0}));  // none finite: as the CLI
   tessera::SceneDesc s;
   s.tf.lo = lo;
   s.tf.hi = hi;

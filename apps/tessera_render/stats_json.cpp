@@ -1,9 +1,9 @@
 #include "stats_json.h"
 
 #include <tessera/atomic_output.h>
+#include <tessera/number_text.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -36,9 +36,7 @@ std::string quote(const std::string& s) {
 
 std::string number(double v) {
   if (!std::isfinite(v)) return "0";
-  char buf[64];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, end);
+  return format_number(v);
 }
 
 /// The times, derived rates and every counter of kRenderCounters (in its order), shared by

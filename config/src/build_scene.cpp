@@ -4,7 +4,7 @@
 #include <tessera/image_io.h>
 #include <tessera/loop_bounds.h>
 
-#include "yaml_reader.h"  // detail::format_number
+#include "yaml_reader.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,7 +34,7 @@ ColorTF to_color_tf(const ColorTFSpec& spec) {
   return ColorTF(xs, vs);
 }
 
-using detail::format_number;
+using tessera::format_number;
 
 std::string vec_text(const Vec3& v) {
   std::string out = "[";
@@ -46,7 +46,6 @@ std::string vec_text(const Vec3& v) {
   out += "]";
   return out;
 }
-bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 /// Resolved points and lengths: finite (an orbit distance times a huge data radius
 /// overflows) and within kMaxCoordinateVoxels smallest spacings of 0, as prepare() requires,
@@ -56,7 +55,7 @@ struct Resolver {
   double lim;  ///< kMaxCoordinateVoxels * smallest spacing
 
   Vec3 point(const std::string& key, const Vec3& p) const {
-    if (!finite3(p))
+    if (!is_finite(p))
       fail(key + " is not finite after resolving (" + vec_text(p) + "; an orbit distance times the data radius overflows)");
     if (std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > lim)
       fail(key + " " + vec_text(p) + " lies beyond 2^40 smallest spacings (" + format_number(lim) +
@@ -130,7 +129,7 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
   SceneDesc s;
   s.geometry = geom;
   // The data bounds first: every relative point and size is resolved against them
-  if (!finite3(data_bounds.lo) || !finite3(data_bounds.hi) || !finite3(data_bounds.hi - data_bounds.lo) ||
+  if (!is_finite(data_bounds.lo) || !is_finite(data_bounds.hi) || !is_finite(data_bounds.hi - data_bounds.lo) ||
       !std::isfinite(data_bounds.radius()))
     throw std::invalid_argument("volume.spacing " + vec_text(geom.spacing) + " with volume.origin " +
                                 vec_text(geom.origin) +
@@ -158,7 +157,7 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
     const LightSpec& l = spec.lights[i];
     const std::string key = "lights[" + std::to_string(i) + "].";
     const Color radiance = l.color * l.intensity;
-    if (!finite3(radiance) || std::max({radiance.x, radiance.y, radiance.z}) > kMaxRadiance)
+    if (!is_finite(radiance) || std::max({radiance.x, radiance.y, radiance.z}) > kMaxRadiance)
       throw std::invalid_argument("render \"" + spec.name + "\": " + key + "intensity " +
                                   format_number(l.intensity) + " times color " + vec_text(l.color) +
                                   " is a radiance above 1e30 (pixels would overflow float32)");

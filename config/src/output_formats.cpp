@@ -31,6 +31,5 @@ const OutputFormat& output_format(ImageFormat f) {
 }
 
 const char* format_name(ImageFormat f) { return output_format(f).name; }
-const char* format_extension(ImageFormat f) { return output_format(f).extension; }
 
 }  // namespace tessera::config

@@ -83,11 +83,8 @@ std::string pad(std::string s, const Spec& spec, bool left_align) {
 }
 
 std::string format_time(double t, const Spec& spec) {
+  if (spec.type == 0 && spec.precision < 0) return format_number(t);
   char buf[512];
-  if (spec.type == 0 && spec.precision < 0) {
-    const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, t);
-    return std::string(buf, ec == std::errc() ? end : buf);
-  }
   const char type = spec.type == 0 ? 'g' : spec.type;
   const int precision = spec.precision < 0 ? 6 : spec.precision;
   const char fmt[] = {'%', '.', '*', type, '\0'};

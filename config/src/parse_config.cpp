@@ -25,7 +25,7 @@
 
 namespace tessera::config {
 namespace fs = std::filesystem;
-using detail::format_number;
+using tessera::format_number;
 using detail::Range;
 using detail::Value;
 
@@ -81,10 +81,8 @@ Config parse_root(const detail::Document& doc) {
 namespace detail {
 
 GlobalOptions parse_global(const Value& v) {
-  const Map m = v.map("a mapping with keys output_dir, on_error, threads, render_final_step, "
-                      "max_failures, time_limit, memory_limit_mb, distribution, brick_cache");
-  m.allow({"output_dir", "on_error", "threads", "render_final_step", "max_failures",
-           "time_limit", "memory_limit_mb", "distribution", "brick_cache"});
+  const Map m = v.map_with_keys({"output_dir", "on_error", "threads", "render_final_step", "max_failures",
+                                 "time_limit", "memory_limit_mb", "distribution", "brick_cache"});
   GlobalOptions g;
   if (const auto d = m.get("output_dir")) {
     g.output_dir = d->string();
@@ -109,9 +107,7 @@ GlobalOptions parse_global(const Value& v) {
 }
 
 VolumeSpec parse_volume(const Value& v) {
-  const Map m = v.map("a mapping with keys file, dims, dtype, spacing, origin, byte_order, "
-                      "header_bytes");
-  m.allow({"file", "dims", "dtype", "spacing", "origin", "byte_order", "header_bytes"});
+  const Map m = v.map_with_keys({"file", "dims", "dtype", "spacing", "origin", "byte_order", "header_bytes"});
   VolumeSpec s;
   s.file = resolve_existing_file(m.require("file", "a file name, relative to this YAML file"));
 

@@ -35,8 +35,7 @@ bool valid_name(const std::string& s) {
 }
 
 ImageDesc parse_image(const Value& v) {
-  const Map m = v.map("a mapping with keys width, height, spp, target_error, denoise");
-  m.allow({"width", "height", "spp", "target_error", "denoise"});
+  const Map m = v.map_with_keys({"width", "height", "spp", "target_error", "denoise"});
   ImageDesc d;
   d.width = static_cast<int>(m.integer_or("width", d.width, 1, kMaxImageEdge));
   d.height = static_cast<int>(m.integer_or("height", d.height, 1, kMaxImageEdge));
@@ -76,8 +75,7 @@ TriggerSpec parse_trigger(const Value& v) {
 }
 
 CameraSpec parse_camera(const Value& v) {
-  const Map m = v.map("a mapping with keys position, look_at, up, fov, aperture, focus_distance");
-  m.allow({"position", "look_at", "up", "fov", "aperture", "focus_distance"});
+  const Map m = v.map_with_keys({"position", "look_at", "up", "fov", "aperture", "focus_distance"});
   CameraSpec c;
   c.position = parse_point(m.require("position", "[x, y, z], center or {orbit: {azimuth, "
                                                  "elevation, distance}} (distance: a number or fit)"),
@@ -104,9 +102,7 @@ CameraSpec parse_camera(const Value& v) {
 }
 
 OutputSpec parse_output(const Value& v) {
-  const Map m = v.map("a mapping with keys file, formats, exposure, tonemap, variance, samples, "
-                      "cinema");
-  m.allow({"file", "formats", "exposure", "tonemap", "variance", "samples", "cinema"});
+  const Map m = v.map_with_keys({"file", "formats", "exposure", "tonemap", "variance", "samples", "cinema"});
   OutputSpec o;
   if (const auto f = m.get("file")) {
     o.file = f->string();
@@ -131,8 +127,7 @@ OutputSpec parse_output(const Value& v) {
   o.variance = m.boolean_or("variance", o.variance);
   o.samples = m.boolean_or("samples", o.samples);
   if (const auto c = m.get("cinema")) {
-    const Map cm = c->map("a mapping with keys azimuth, elevation (lists of degrees)");
-    cm.allow({"azimuth", "elevation"});
+    const Map cm = c->map_with_keys({"azimuth", "elevation"}, " (lists of degrees)");
     CinemaSpec cs;
     if (const auto a = cm.get("azimuth"))
       for (const Value& e : a->list("a list of angles in degrees", 1)) cs.azimuths.push_back(e.number());
@@ -150,10 +145,8 @@ OutputSpec parse_output(const Value& v) {
 }
 
 RenderSpec parse_render(const Value& v) {
-  const Map m = v.map("a mapping with keys name, field, trigger, image, camera, "
-                      "transfer_function, lights, background, integrator, output");
-  m.allow({"name", "field", "trigger", "image", "camera", "transfer_function", "lights",
-           "background", "integrator", "output"});
+  const Map m = v.map_with_keys({"name", "field", "trigger", "image", "camera", "transfer_function", "lights",
+                                 "background", "integrator", "output"});
   RenderSpec r;
   const Value name = m.require("name", "a name of 1 to 128 letters, digits, _ and -");
   r.name = name.string();

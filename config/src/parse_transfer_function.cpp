@@ -68,9 +68,8 @@ RangeSpec parse_range(const Value& v) {
 }  // namespace
 
 TransferFunctionSpec parse_transfer_function(const Value& v) {
-  const Map m = v.map("a mapping with keys range, density_scale, opacity, diffuse, specular, "
-                      "roughness, emission");
-  m.allow({"range", "density_scale", "opacity", "diffuse", "specular", "roughness", "emission"});
+  const Map m = v.map_with_keys({"range", "density_scale", "opacity", "diffuse", "specular", "roughness",
+                                 "emission"});
   TransferFunctionSpec tf;
   tf.range.automatic = true;
   if (const auto r = m.get("range")) tf.range = parse_range(*r);

@@ -28,7 +28,7 @@ Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up_in) {
 
 double fit_distance(double fov_deg, int width, int height) {
   if (!(fov_deg > 0.0 && fov_deg < 180.0))
-    throw std::invalid_argument("distance: fit: fov " + detail::format_number(fov_deg) + " is outside (0, 180) degrees");
+    throw std::invalid_argument("distance: fit: fov " + format_number(fov_deg) + " is outside (0, 180) degrees");
   if (width < 1 || height < 1)
     throw std::invalid_argument("distance: fit: image size " + std::to_string(width) + "x" +
                                 std::to_string(height) + " must be at least 1x1");

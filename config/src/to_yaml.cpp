@@ -14,7 +14,7 @@
 namespace tessera::config {
 namespace {
 
-using detail::format_number;
+using tessera::format_number;
 using detail::name_of;
 
 // `write(out, x)` writes x as one YAML node, chosen by the type of x; `field(out, key, x)` writes

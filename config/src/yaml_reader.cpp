@@ -153,12 +153,6 @@ std::string Range::describe() const {
   return "(any finite number)";
 }
 
-std::string format_number(double v) {
-  char buf[64];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, ec == std::errc() ? end : buf);
-}
-
 std::string join_words(const std::vector<std::string>& words, const char* last_sep, const char* sep) {
   std::string s;
   for (std::size_t i = 0; i < words.size(); ++i) {
@@ -396,6 +390,19 @@ SourceMark Map::key_mark(std::size_t i) const {
 Value Map::entry(std::size_t i) const {
   const YamlTree& t = *m_self.m_doc->tree;
   return m_self.child(t.value(m_self.m_id, i), m_base, key(i), key_mark(i));
+}
+
+Map Value::map_with_keys(std::initializer_list<std::string_view> keys, std::string_view note) const {
+  std::string allowed = "a mapping with keys ";
+  bool first = true;
+  for (auto k : keys) {
+    allowed.append(first ? "" : ", ").append(k);
+    first = false;
+  }
+  allowed.append(note);
+  Map m = map(allowed);
+  m.allow(keys);
+  return m;
 }
 
 void Map::allow(std::initializer_list<std::string_view> keys) const {

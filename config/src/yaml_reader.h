@@ -4,6 +4,7 @@
 // node's file:line:col with its key path and what is allowed.
 #include <tessera/config/config_error.h>
 #include <tessera/math.h>
+#include <tessera/number_text.h>  // format_number: shortest text that reads back as the same double
 
 #include "yaml_tree.h"
 
@@ -91,9 +92,6 @@ struct Range {
   std::string describe() const;
 };
 
-/// Shortest text that reads back as the same double ("0.5", "270", "1e-07").
-std::string format_number(double v);
-
 class Map;
 class ValueList;
 
@@ -149,6 +147,9 @@ class Value {
   /// The entries of a mapping (keys checked for duplicates); `allowed` is for the message when
   /// it is not one.
   Map map(const std::string& allowed = "a mapping") const;
+  /// A mapping whose keys are all among `keys` (Map::allow), from the one list: when it is not
+  /// a mapping the message says "a mapping with keys k1, k2, ..." and then `note`.
+  Map map_with_keys(std::initializer_list<std::string_view> keys, std::string_view note = "") const;
 
  private:
   friend class Map;

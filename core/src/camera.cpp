@@ -6,15 +6,12 @@
 #include <string>
 
 namespace tessera {
-namespace {
-bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-}  // namespace
 
 Camera::Camera(const CameraDesc& c, int width, int height) {
   if (width < 1 || height < 1)
     throw std::invalid_argument("camera: image size " + std::to_string(width) + "x" +
                                 std::to_string(height) + " must be at least 1x1");
-  if (!finite3(c.position) || !finite3(c.look_at) || !finite3(c.up))
+  if (!is_finite(c.position) || !is_finite(c.look_at) || !is_finite(c.up))
     throw std::invalid_argument("camera: position, look_at and up must be finite");
   if (!(c.fov_deg > 0.0 && c.fov_deg < 180.0))
     throw std::invalid_argument("camera: fov " + std::to_string(c.fov_deg) +

@@ -1,13 +1,13 @@
 #include <tessera/render.h>
 
 #include <tessera/loop_bounds.h>
+#include <tessera/number_text.h>
 
 #include "adaptive_sampling.h"
 #include "prepared_scene_impl.h"
 #include "tile_culling.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -23,14 +23,8 @@ void require(bool ok, const std::string& msg) {
   if (!ok) throw std::invalid_argument(msg);
 }
 
-bool finite3(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-/// A number short (%.6g): never 300 digits in a message.
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+std::string num(double v) { return short_number(v); }
 std::string vec(const Vec3& v) {
   std::string out = "[";
   out += num(v.x);
@@ -81,7 +75,7 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
   const Bounds b = field_bounds(field, g);
   const std::string dims = std::to_string(field.dims[0]) + "x" + std::to_string(field.dims[1]) + "x" +
                            std::to_string(field.dims[2]);
-  require(finite3(b.hi) && finite3(b.hi - b.lo) && std::isfinite(glm::length(b.hi - b.lo)),
+  require(is_finite(b.hi) && is_finite(b.hi - b.lo) && std::isfinite(glm::length(b.hi - b.lo)),
           "volume spacing " + vec(g.spacing) + " with origin " + vec(g.origin) + " and dims " + dims +
               " makes the data bounds overflow (their corner or diagonal is not finite)");
   require(std::min({g.spacing.x, g.spacing.y, g.spacing.z}) >= kMinSpacing &&
@@ -96,8 +90,8 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
                                             vec(b.hi) + ")" + why);
   // Camera
   const CameraDesc& c = s.camera;
-  require(finite3(c.position), "camera.position " + vec(c.position) + " is not finite");
-  require(finite3(c.look_at), "camera.look_at " + vec(c.look_at) + " is not finite");
+  require(is_finite(c.position), "camera.position " + vec(c.position) + " is not finite");
+  require(is_finite(c.look_at), "camera.look_at " + vec(c.look_at) + " is not finite");
   require(near(c.position), "camera.position " + vec(c.position) + " lies" + why);
   require(near(c.look_at), "camera.look_at " + vec(c.look_at) + " lies" + why);
   require(!(c.aperture > lim), "camera.aperture " + num(c.aperture) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
@@ -105,14 +99,14 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
                                          " is larger than 2^40 smallest spacings (" + num(lim) + ")");
   // Lights
   const auto light_point = [&](const std::string& name, const char* key, const Vec3& p) {
-    require(finite3(p), name + ": " + key + " " + vec(p) + " is not finite");
+    require(is_finite(p), name + ": " + key + " " + vec(p) + " is not finite");
     require(near(p), name + ": " + key + " " + vec(p) + " lies" + why);
   };
   const auto light_length = [&](const std::string& name, const char* key, double v) {
     require(!(v > lim), name + ": " + key + " " + num(v) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
   };
   const auto radiance = [&](const std::string& name, const Color& L) {
-    require(finite3(L) && std::min({L.x, L.y, L.z}) >= 0.0 && max_abs(L) <= kMaxRadiance,
+    require(is_finite(L) && std::min({L.x, L.y, L.z}) >= 0.0 && max_abs(L) <= kMaxRadiance,
             name + ": radiance (color * intensity) " + vec(L) + " must be finite, >= 0 and at most 1e30");
   };
   const BackgroundDesc& bg = s.background;
@@ -137,8 +131,8 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
 /// The scene's checks against the field's geometry (dims, dtype); reads no value.
 void validate_scene(const FieldView& field, const SceneDesc& s) {
   const VolumeGeometry& g = s.geometry;
-  require(finite3(g.origin), "volume origin " + vec(g.origin) + " must be finite");
-  require(finite3(g.spacing) && g.spacing.x > 0 && g.spacing.y > 0 && g.spacing.z > 0,
+  require(is_finite(g.origin), "volume origin " + vec(g.origin) + " must be finite");
+  require(is_finite(g.spacing) && g.spacing.x > 0 && g.spacing.y > 0 && g.spacing.z > 0,
           "volume spacing " + vec(g.spacing) + " must be finite and > 0 on every axis");
   const TransferFunction& tf = s.tf;
   // hi - lo must be finite too: u = (v - lo) / (hi - lo) is NaN for v near hi otherwise.
@@ -217,7 +211,7 @@ Bounds field_bounds(const FieldView& field, const VolumeGeometry& g) {
   return Bounds{g.origin, g.origin + n * g.spacing};
 }
 
-std::pair<double, double> field_range(const FieldView& field) {
+std::optional<std::pair<double, double>> field_range(const FieldView& field) {
   field.validate("field");
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   dispatch_dtype(field, [&](auto view) {
@@ -231,14 +225,15 @@ std::pair<double, double> field_range(const FieldView& field) {
           }
         }
   });
-  if (lo > hi) return {0.0, 0.0};
-  return {lo, hi};
+  if (lo > hi) return std::nullopt;
+  return std::pair{lo, hi};
 }
 
 PreparedScene::PreparedScene() : m_impl(std::make_unique<PreparedSceneImpl>()) {}
 PreparedScene::~PreparedScene() = default;
 PreparedScene::PreparedScene(PreparedScene&&) noexcept = default;
 PreparedScene& PreparedScene::operator=(PreparedScene&&) noexcept = default;
+const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene) { return *scene.m_impl; }
 const SceneDesc& PreparedScene::desc() const { return m_impl->desc; }
 const std::vector<Tile>& PreparedScene::tiles() const { return m_impl->tiles; }
 Bounds PreparedScene::bounds() const { return m_impl->bounds; }

@@ -33,4 +33,7 @@ struct PreparedSceneImpl {
   KernelScene kernel;
 };
 
+/// What `scene` holds (render.cpp and the core tests; not part of the public API).
+const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
+
 }  // namespace tessera

@@ -129,7 +129,7 @@ double adaptive_preview_scale(const KernelScene& s, const RenderOptions& options
 
 void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film,
                   RenderStats& stats, const std::function<void(int)>& progress) {
-  const PreparedSceneImpl& s = scene.impl();
+  const PreparedSceneImpl& s = prepared_scene_impl(scene);
   if (film.width() != s.desc.image.width || film.height() != s.desc.image.height)
     throw std::invalid_argument("film is " + std::to_string(film.width()) + "x" +
                                 std::to_string(film.height()) + ", scene image is " +

@@ -1,5 +1,7 @@
 #include <tessera/scene_warnings.h>
 
+#include <tessera/number_text.h>
+
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -9,18 +11,10 @@
 namespace tessera {
 namespace {
 
-/// A value as the user wrote it: short (%g), never 300 digits.
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+/// A value as the user wrote it: short, never 300 digits.
+std::string num(double v) { return short_number(v); }
 
-std::string interval(double lo, double hi) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "[%.6g, %.6g]", lo, hi);
-  return buf;
-}
+std::string interval(double lo, double hi) { return "[" + short_number(lo) + ", " + short_number(hi) + "]"; }
 
 /// The axes along which the bounds have no extent ("x", "y and z"; "" when none): a volume
 /// one vertex thick there has no thickness, so nothing in it absorbs or scatters light.

@@ -4,9 +4,9 @@
 
 #include <tessera/config/build_scene.h>
 #include <tessera/config/output_path.h>
+#include <tessera/number_text.h>
 #include <tessera/regular_file.h>
 
-#include <charconv>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -73,16 +73,10 @@ std::vector<CinemaView> cinema_views(const config::CinemaSpec& spec, const Camer
   return views;
 }
 
-std::string cinema_number(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
 std::string cinema_file_base(const config::RenderSpec& spec, std::int64_t step, double time,
                              const CinemaView& view) {
   return config::format_output_path(spec.output.file, spec.name, step, time, 0) + "_phi_" +
-         cinema_number(view.phi) + "_theta_" + cinema_number(view.theta);
+         format_number(view.phi) + "_theta_" + format_number(view.theta);
 }
 
 void CinemaDatabase::load_existing() {
@@ -106,7 +100,7 @@ void CinemaDatabase::load_existing() {
 
 void CinemaDatabase::set_row(double time, double phi, double theta, const std::string& file) {
   if (!m_loaded) load_existing();
-  Row row{cinema_number(time), cinema_number(phi), cinema_number(theta), file};
+  Row row{format_number(time), format_number(phi), format_number(theta), file};
   for (Row& r : m_rows)
     if (r.file == file) {
       r = std::move(row);

@@ -28,9 +28,6 @@ struct CinemaView {
 std::vector<CinemaView> cinema_views(const config::CinemaSpec& spec, const CameraDesc& main,
                                      const Bounds& data_bounds);
 
-/// Shortest text that reads back as the same double ("30", "0.5", "-12.25").
-std::string cinema_number(double v);
-
 /// The image file name of one view, relative to the database directory, without extension:
 /// the render's output pattern followed by _phi_<phi>_theta_<theta>.
 std::string cinema_file_base(const config::RenderSpec& spec, std::int64_t step, double time,

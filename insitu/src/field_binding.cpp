@@ -1,10 +1,10 @@
 #include "field_binding.h"
 
 #include <tessera/loop_bounds.h>
+#include <tessera/number_text.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -27,11 +27,7 @@ std::string field_label(const tessera_field& f) {
 }
 
 /// A double, short ("1e+308", "0.5"): never std::to_string's 300 digits or "0.000000".
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
+std::string num(double v) { return short_number(v); }
 
 std::string triple(const std::int64_t v[3]) {
   return std::to_string(v[0]) + "x" + std::to_string(v[1]) + "x" + std::to_string(v[2]);

@@ -5,6 +5,7 @@
 #include <tessera/config/build_scene.h>
 #include <tessera/field_summary.h>
 #include <tessera/image_io.h>
+#include <tessera/number_text.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -134,8 +135,7 @@ std::string small_cache_warning(const BrickGrid& grid, std::size_t capacity, int
   const std::int64_t useful = kCacheSlotsPerCrossing * std::max(1, threads) * crossing;
   const auto slots = static_cast<std::int64_t>(std::min<std::size_t>(capacity, INT64_MAX));
   if (slots >= grid.brick_count() || slots >= useful) return "";
-  char fraction_text[32];
-  std::snprintf(fraction_text, sizeof fraction_text, "%.6g", fraction);
+  const std::string fraction_text = short_number(fraction);
   return "distributed mode: the brick cache holds " + std::to_string(slots) + " of the field's " +
          std::to_string(grid.brick_count()) + " bricks (" + std::to_string(grid.edge()) +
          "^3 vertices), fewer than the " + std::to_string(useful) + " (" + std::to_string(kCacheSlotsPerCrossing) +

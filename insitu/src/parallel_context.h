@@ -67,6 +67,10 @@ class ParallelContext {
 
   /// True on every rank iff ok is true on every rank (allreduce of a flag).
   virtual bool agree(bool ok) = 0;
+  /// True on every rank iff `flag` is true on some rank (allreduce of a flag).
+  virtual bool any(bool flag) = 0;
+  /// The smallest of every rank's `value`, on every rank (allreduce).
+  virtual int min(int value) = 0;
   /// Global min and max of per-rank values (allreduce).
   virtual std::pair<double, double> range(double local_min, double local_max) = 0;
   /// Every rank's `bytes` bytes at `mine`, in rank order, into `all` (size() * bytes bytes).

@@ -41,6 +41,20 @@ bool MpiParallelContext::agree(bool ok) {
   return all != 0;
 }
 
+bool MpiParallelContext::any(bool flag) {
+  if (m_size == 1) return flag;
+  int local = flag ? 1 : 0, all = 0;
+  check(MPI_Allreduce(&local, &all, 1, MPI_INT, MPI_LOR, m_comm), "MPI_Allreduce");
+  return all != 0;
+}
+
+int MpiParallelContext::min(int value) {
+  if (m_size == 1) return value;
+  int all = value;
+  check(MPI_Allreduce(&value, &all, 1, MPI_INT, MPI_MIN, m_comm), "MPI_Allreduce");
+  return all;
+}
+
 std::pair<double, double> MpiParallelContext::range(double local_min, double local_max) {
   if (m_size == 1) return {local_min, local_max};
   const double local[2] = {local_min, -local_max};

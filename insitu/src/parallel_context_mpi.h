@@ -81,6 +81,8 @@ class MpiParallelContext final : public ParallelContext {
   int ranks_on_node() const override { return m_node_size; }
   bool can_communicate() const override;
   bool agree(bool ok) override;
+  bool any(bool flag) override;
+  int min(int value) override;
   std::pair<double, double> range(double local_min, double local_max) override;
   void allgather(const void* mine, std::size_t bytes, void* all) override;
   void allgather_waiting(const void* mine, std::size_t bytes, void* all, double warn_after,

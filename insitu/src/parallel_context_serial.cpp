@@ -14,6 +14,8 @@ class SerialContext final : public ParallelContext {
   int size() const override { return 1; }
   void connect() override {}
   bool agree(bool ok) override { return ok; }
+  bool any(bool flag) override { return flag; }
+  int min(int value) override { return value; }
   std::pair<double, double> range(double local_min, double local_max) override {
     return {local_min, local_max};
   }

@@ -4,10 +4,10 @@
 #include "hash64.h"
 
 #include <tessera/message_text.h>
+#include <tessera/number_text.h>
 
 #include <algorithm>
 #include <bit>
-#include <charconv>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -21,21 +21,13 @@ namespace {
 // ---------------------------------------------------------------------------------------
 // Formatting
 
-/// Shortest text that reads back as the same double (so two values that differ never print
-/// alike); NaN and infinities as nan / inf.
-std::string number(double v) {
-  char buf[32];
-  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  return ec == std::errc() ? std::string(buf, end) : std::string("?");
-}
-
 // (appends rather than operator+ chains: GCC 12 warns falsely (-Wrestrict) on the latter)
 template <class T>
 std::string vec3(const T v[3]) {
   std::string s = "[";
   for (int a = 0; a < 3; ++a) {
     if (a) s += ", ";
-    if constexpr (std::is_floating_point_v<T>) s += number(v[a]);
+    if constexpr (std::is_floating_point_v<T>) s += format_number(v[a]);  // two values that differ never print alike
     else s += std::to_string(v[a]);
   }
   s += ']';
@@ -151,13 +143,14 @@ CallRecord call_record(const CallView& call) {
   CallRecord rec{};
   rec.kind = static_cast<std::uint64_t>(call.kind);
   rec.step = call.step;
-  std::uint64_t h = 14695981039346656037ull;
+  std::uint64_t h = fnv1a64({});
   for (std::size_t i = 0; i < call.fired.size(); ++i) {
     const unsigned char f = std::min<unsigned char>(call.fired[i], 2);
     const std::uint64_t bit = std::uint64_t{1} << (i % 64);
     if (f != 0 && i < 64 * kFiredWords) rec.fired_bits[i / 64] |= bit;
     if (f == 2 && i < 64 * kFiredWords) rec.conditional_bits[i / 64] |= bit;
-    h = (h ^ (0x35u + f)) * 1099511628211ull;
+    const char byte = static_cast<char>(0x35u + f);
+    h = fnv1a64(std::string_view(&byte, 1), h);
   }
   rec.fired_hash = h;
   if (call.grid) {

@@ -31,18 +31,7 @@ using Clock = std::chrono::steady_clock;
 /// A rank without finite values contributes nothing; with none anywhere, lo > hi.
 std::pair<double, double> global_range(ParallelContext& ctx, const FieldView& local) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  auto [lo, hi] = field_range(local);
-  if (lo == 0.0 && hi == 0.0) {
-    // field_range says {0,0} for "no finite value" too: tell the two apart (early exit)
-    const bool any_finite = dispatch_dtype(local, [&](auto v) {
-      for (std::int64_t k = 0; k < local.dims[2]; ++k)
-        for (std::int64_t j = 0; j < local.dims[1]; ++j)
-          for (std::int64_t i = 0; i < local.dims[0]; ++i)
-            if (std::isfinite(v.load(i, j, k))) return true;
-      return false;
-    });
-    if (!any_finite) lo = kInf, hi = -kInf;
-  }
+  const auto [lo, hi] = field_range(local).value_or(std::pair{kInf, -kInf});
   return ctx.range(lo, hi);
 }
 
@@ -113,12 +102,12 @@ class Pass {
         }))
       return std::move(m_out);
     if (m_cfg.global.distribution == config::Distribution::Auto && m_ctx.size() > 1)
-      m_plan.distributed = m_ctx.range(0.0, m_plan.distributed ? 1.0 : 0.0).second > 0.0;
+      m_plan.distributed = m_ctx.any(m_plan.distributed);
     if (m_plan.distributed) {
       if (!phase(TESSERA_ERROR_RENDER, [&] { plan_distributed(m_plan, m_binding); })) return std::move(m_out);
       // One brick cut for all: the finest any rank chose (their limits may differ). Every rank
       // takes part in the phase (it ends in a collective), re-planning only where it differs
-      const int agreed = static_cast<int>(m_ctx.range(m_plan.shift, m_plan.shift).first);
+      const int agreed = m_ctx.min(m_plan.shift);
       if (!phase(TESSERA_ERROR_RENDER, [&] {
             if (agreed != m_plan.shift) plan_distributed(m_plan, m_binding, agreed);
           }))
@@ -213,13 +202,13 @@ class Pass {
     }
     if (m_ctx.agree(ok)) return true;
     // Rank 0 logs every failure; another rank only one of its own that rank 0 did not share.
-    // One extra reduction, on the failure path only: min < 0 when some rank's fault is a
-    // LayoutError, max > 0 when rank 0 failed
+    // Two extra reductions, on the failure path only: whether some rank's fault is a
+    // LayoutError, and whether rank 0 failed
     const bool root = m_ctx.rank() == 0;
-    const auto [any_layout, root_fault] = m_ctx.range(layout ? -1.0 : 0.0, root && !ok ? 1.0 : 0.0);
-    const bool root_failed = root_fault > 0.0;
+    const bool any_layout = m_ctx.any(layout);
+    const bool root_failed = m_ctx.any(root && !ok);
     m_out.report_here = root || (!ok && !root_failed);
-    m_out.result.status = any_layout < 0.0 ? TESSERA_ERROR_DATA : status;
+    m_out.result.status = any_layout ? TESSERA_ERROR_DATA : status;
     // A long output_dir is quoted short (each time), and nothing prints raw
     fault = message_quoting(std::move(fault), m_cfg.global.output_dir);
     std::string where = "render '" + m_spec.name + "' at step " + std::to_string(m_call.step) + ": ";

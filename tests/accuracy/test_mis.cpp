@@ -17,6 +17,7 @@
 #include <catch2/catch.hpp>
 
 #include "accuracy_support.h"
+#include "light_lookup.h"
 
 using namespace tessera_acc;
 

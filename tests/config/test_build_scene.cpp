@@ -1,5 +1,6 @@
 // From specs to core scenes: orbit and centre points, relative lengths, TF range, lights.
 #include "test_support.h"
+#include "light_lookup.h"
 
 #include <tessera/config/build_scene.h>
 #include <tessera/config/colormaps.h>

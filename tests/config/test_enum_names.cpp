@@ -142,7 +142,6 @@ TEST_CASE("output formats: one row per format, each writer writes what its reade
     CHECK(extensions.insert(row.extension).second);
     CHECK(std::string(row.extension) == std::string(".") + row.name);
     CHECK(std::string(format_name(f)) == row.name);
-    CHECK(std::string(format_extension(f)) == row.extension);
     const std::string path = (dir.path() / (std::string("img") + row.extension)).string();
     row.write(path, img, output);
     std::ifstream in(path, std::ios::binary);

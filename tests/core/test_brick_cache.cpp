@@ -39,7 +39,7 @@ TEST_CASE("BrickGrid: the cut, boxes and slot size", "[brick_cache]") {
   CHECK(g.bricks[2] == 2);
   CHECK(g.brick_count() == 12);
   CHECK(g.slot_bytes() == 64 * 4);
-  CHECK(g.brick_of(9, 6, 4) == g.index(2, 1, 1));
+  CHECK(g.index(9 >> g.shift, 6 >> g.shift, 4 >> g.shift) == g.index(2, 1, 1));  // vertex (9, 6, 4)
   std::int64_t lo[3], hi[3];
   g.box(g.index(2, 1, 1), lo, hi);
   CHECK(lo[0] == 8);

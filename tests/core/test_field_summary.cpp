@@ -300,10 +300,13 @@ TEST_CASE("FieldSummary: a field without finite values", "[field_summary]") {
   CHECK(s.value_min() == 0.0);
   CHECK(s.value_max() == 0.0);
   CHECK(s.nan_vertices() == 27u);
-  // Agrees with field_range() (which says {0, 0} for "none")
-  const auto r = tessera::field_range(FieldView::contiguous(data.data(), DType::Float32, 3, 3, 3));
-  CHECK(r.first == 0.0);
-  CHECK(r.second == 0.0);
+  // field_range() says "none" distinctly from an all-zero field
+  CHECK_FALSE(tessera::field_range(FieldView::contiguous(data.data(), DType::Float32, 3, 3, 3)));
+  const std::vector<float> zeros(27, 0.0f);
+  const auto r = tessera::field_range(FieldView::contiguous(zeros.data(), DType::Float32, 3, 3, 3));
+  REQUIRE(r);
+  CHECK(r->first == 0.0);
+  CHECK(r->second == 0.0);
 }
 
 TEST_CASE("prepare with a reused summary: no new summary, bit-identical image", "[field_summary][render]") {

@@ -10,6 +10,7 @@
 #include "light_set.h"
 #include "prepared_scene_impl.h"
 #include "test_support.h"
+#include "light_lookup.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -70,7 +71,7 @@ TEST_CASE("the light set orders lights kind by kind, whatever the list's order",
   CHECK(tessera::nth_light<tessera::SphereLightDesc>(s.lights, 1).radiance == Color(6.0));
   CHECK_THROWS_AS(tessera::nth_light<tessera::SphereLightDesc>(s.lights, 2), std::out_of_range);
   const tessera::PreparedScene ps = tessera::prepare(view, s);
-  const tessera::LightSet& L = ps.impl().kernel.lights;
+  const tessera::LightSet& L = prepared_scene_impl(ps).kernel.lights;
   REQUIRE(L.count() == 5);
   REQUIRE(L.area_count() == 4);
   // rects in list order (radiance 4 then 8), spheres in list order (2 then 6), background
@@ -91,7 +92,7 @@ TEST_CASE("prepare fills the kernel scene: rects, spheres, then the emitting bac
   const tessera::FieldView view = tessera::FieldView::contiguous(field.data(), tessera::DType::Float32, 4, 4, 4);
   tessera::SceneDesc s = lit_scene();
   const tessera::PreparedScene ps = tessera::prepare(view, s);
-  const tessera::KernelScene& ks = ps.impl().kernel;
+  const tessera::KernelScene& ks = prepared_scene_impl(ps).kernel;
   CHECK(ks.width == 16);
   CHECK(ks.height == 12);
   CHECK(ks.tile_count == ps.tiles().size());
@@ -120,8 +121,8 @@ TEST_CASE("prepare fills the kernel scene: rects, spheres, then the emitting bac
   // A black background is not a light, but camera rays still see it
   s.background.color = Color(0.0);
   const tessera::PreparedScene dark = tessera::prepare(view, s);
-  CHECK(dark.impl().kernel.lights.count() == 2);
-  CHECK(dark.impl().kernel.lights.background_visible());
+  CHECK(prepared_scene_impl(dark).kernel.lights.count() == 2);
+  CHECK(prepared_scene_impl(dark).kernel.lights.background_visible());
 }
 
 TEST_CASE("through the set, every kind's pdf() equals the pdf its sample() reports",
@@ -129,7 +130,7 @@ TEST_CASE("through the set, every kind's pdf() equals the pdf its sample() repor
   const std::vector<float> field = tessera_test::constant_field(4, 4, 4, 0.5f);
   const tessera::FieldView view = tessera::FieldView::contiguous(field.data(), tessera::DType::Float32, 4, 4, 4);
   const tessera::PreparedScene ps = tessera::prepare(view, lit_scene());
-  const tessera::LightSet& L = ps.impl().kernel.lights;
+  const tessera::LightSet& L = prepared_scene_impl(ps).kernel.lights;
   const Vec3 x(0.5, 0.6, 0.4);
   for (int i = 0; i < L.count(); ++i) {
     for (const auto& [u1, u2] : {std::pair{0.1, 0.2}, std::pair{0.5, 0.5}, std::pair{0.9, 0.7}}) {

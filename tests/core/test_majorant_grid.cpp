@@ -275,7 +275,7 @@ TEST_CASE("update() after a TF change equals a fresh build, and global mode is o
   scene.integrator.majorant = tessera::MajorantMode::Global;
   scene.image = {4, 4, 1, 0.0};
   const tessera::PreparedScene ps = tessera::prepare(f.view, scene);
-  const MajorantGrid& g = ps.impl().grid;
+  const MajorantGrid& g = prepared_scene_impl(ps).grid;
   CHECK(g.cells()[0] == 1);
   CHECK(g.cells()[1] == 1);
   CHECK(g.cells()[2] == 1);

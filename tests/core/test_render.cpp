@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "test_support.h"
+#include "light_lookup.h"
 
 #include <cmath>
 #include <limits>

@@ -5,6 +5,7 @@
 
 #include <tessera/adapter.h>
 #include <tessera/image_io.h>
+#include <tessera/number_text.h>
 
 #include <catch2/catch.hpp>
 
@@ -50,8 +51,9 @@ TEST_CASE("cinema_views: orbit about the centre at the render's camera distance"
   CHECK(v[0].camera.position.x == Approx(2.5));  // azimuth 0: +x for up = +z
   CHECK(v[1].camera.position.y == Approx(2.5));  // azimuth 90: +y
   CHECK(v[2].camera.position.z == Approx(2.5));  // elevation 90: +z
-  CHECK(cinema_number(30.0) == "30");
-  CHECK(cinema_number(-12.25) == "-12.25");
+  // phi and theta in file names and data.csv: shortest text that reads back exactly
+  CHECK(tessera::format_number(30.0) == "30");
+  CHECK(tessera::format_number(-12.25) == "-12.25");
 }
 
 TEST_CASE("a Cinema render writes a Spec D database, appending per timestep", "[insitu][cinema]") {

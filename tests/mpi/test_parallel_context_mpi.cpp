@@ -181,11 +181,15 @@ TEST_CASE("renders over 1, 2, 3 and 4 ranks are bit-identical to a one-rank rend
   }
 }
 
-TEST_CASE("agree and range reduce over all ranks", "[mpi]") {
+TEST_CASE("agree, any, min and range reduce over all ranks", "[mpi]") {
   MpiParallelContext ctx(MPI_COMM_WORLD, 0);
   const int r = ctx.rank(), n = ctx.size();
   REQUIRE(ctx.agree(true));
   REQUIRE(ctx.agree(r != n - 1) == false);
+  REQUIRE(ctx.any(false) == false);
+  REQUIRE(ctx.any(r == n - 1));
+  REQUIRE(ctx.min(7 - r) == 7 - (n - 1));
+  REQUIRE(ctx.min(-3) == -3);
   const auto [lo, hi] = ctx.range(10.0 + r, 20.0 + r);
   REQUIRE(lo == 10.0);
   REQUIRE(hi == 20.0 + (n - 1));

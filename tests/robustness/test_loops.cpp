@@ -7,6 +7,7 @@
 #include <tessera/render.h>
 
 #include "loop_support.h"
+#include "light_lookup.h"
 
 #include <catch2/catch.hpp>
 

@@ -8,6 +8,7 @@
 #include <tessera/stats.h>
 
 #include "loop_support.h"
+#include "light_lookup.h"
 
 #include <catch2/catch.hpp>
 #include <tbb/global_control.h>

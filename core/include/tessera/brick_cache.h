@@ -53,10 +53,6 @@ struct BrickGrid {
   std::int64_t index(std::int64_t bx, std::int64_t by, std::int64_t bz) const {
     return (bz * bricks[1] + by) * bricks[0] + bx;
   }
-  /// Brick index of vertex (i, j, k) (inside the global dims).
-  std::int64_t brick_of(std::int64_t i, std::int64_t j, std::int64_t k) const {
-    return index(i >> shift, j >> shift, k >> shift);
-  }
   /// The vertex box [lo, hi) of brick b.
   void box(std::int64_t b, std::int64_t lo[3], std::int64_t hi[3]) const;
   /// Bytes of one slot: B^3 elements.

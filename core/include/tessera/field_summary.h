@@ -98,7 +98,7 @@ class FieldSummary {
   std::uint64_t nan_vertices() const { return m_nan; }
   /// True iff at least one vertex is finite.
   bool has_finite() const { return m_vmin <= m_vmax; }
-  /// Finite min / max over all vertices ({0,0} when none is finite, as field_range()).
+  /// Finite min / max over all vertices ({0,0} when none is finite; has_finite() tells).
   double value_min() const { return has_finite() ? m_vmin : 0.0; }
   double value_max() const { return has_finite() ? m_vmax : 0.0; }
 

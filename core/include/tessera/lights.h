@@ -37,27 +37,6 @@ struct SphereLightDesc {
 /// area_lights.h); on the config side its parser case (docs/lights.md).
 using LightDesc = std::variant<RectLightDesc, SphereLightDesc>;
 
-/// How many lights of kind D `lights` holds.
-template <class D>
-std::size_t count_lights(const std::vector<LightDesc>& lights) {
-  std::size_t n = 0;
-  for (const LightDesc& l : lights) n += std::holds_alternative<D>(l) ? 1 : 0;
-  return n;
-}
-
-/// The n-th light of kind D in `lights` (counted in list order); throws std::out_of_range.
-template <class D>
-const D& nth_light(const std::vector<LightDesc>& lights, std::size_t n) {
-  std::size_t seen = 0;
-  for (const LightDesc& l : lights)
-    if (const D* d = std::get_if<D>(&l); d && seen++ == n) return *d;
-  throw std::out_of_range("light " + std::to_string(n) + " of its kind: the list holds " + std::to_string(seen));
-}
-template <class D>
-D& nth_light(std::vector<LightDesc>& lights, std::size_t n) {
-  return const_cast<D&>(nth_light<D>(static_cast<const std::vector<LightDesc>&>(lights), n));
-}
-
 enum class BackgroundType { Constant, Gradient, EnvMap };
 
 struct BackgroundDesc {

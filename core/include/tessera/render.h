@@ -18,8 +18,10 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
+#include <utility>
 
 namespace tessera {
 
@@ -35,7 +37,6 @@ class PreparedScene {
   const SceneDesc& desc() const;
   const std::vector<Tile>& tiles() const;
   Bounds bounds() const;
-  const PreparedSceneImpl& impl() const { return *m_impl; }
   /// The field summary the majorants were derived from (never null once prepared): pass it
   /// to the next prepare of the same, unchanged field to skip the pass over the values.
   const std::shared_ptr<const FieldSummary>& summary() const;
@@ -45,6 +46,8 @@ class PreparedScene {
  private:
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
+  /// The prepared data, for core's own sources (core/src/prepared_scene_impl.h).
+  friend const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
   std::unique_ptr<PreparedSceneImpl> m_impl;
 };
 
@@ -64,8 +67,9 @@ class DeadlineExceeded : public std::runtime_error {
 
 Bounds field_bounds(const FieldView& field, const VolumeGeometry& g);
 
-/// Min and max of the finite vertex values (NaN and Inf ignored); {0,0} if none is finite.
-std::pair<double, double> field_range(const FieldView& field);
+/// Min and max of the finite vertex values (NaN and Inf ignored); nullopt if none is finite
+/// (distinct from a field that is all zero, {0, 0}).
+std::optional<std::pair<double, double>> field_range(const FieldView& field);
 
 PreparedScene prepare(const FieldView& field, const SceneDesc& scene);
 

@@ -81,6 +81,5 @@ struct RenderSpec {
 
 /// Lower-case names as written in configs.
 const char* format_name(ImageFormat f);      ///< "exr", "png"
-const char* format_extension(ImageFormat f); ///< ".exr", ".png"
 
 }  // namespace tessera::config
