@@ -192,7 +192,7 @@ Config parse_config(const std::string& yaml_text, const std::string& file_name_f
                         "a second YAML document starts here (allowed: one document per config "
                         "file)");
     }
-    if (const auto tag = detail::first_explicit_tag(yaml_text)) {
+    if (const auto tag = detail::first_explicit_tag(tree)) {
       throw ConfigError(doc.file, tag->mark, "",
                         "YAML tag " + tag->tag + " is not supported (allowed: untagged values; "
                         "quote a value that starts with '!')");

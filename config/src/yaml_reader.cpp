@@ -58,32 +58,6 @@ class ContentFinder final : public YAML::EventHandler {
   }
 };
 
-/// Records the first node that carries an explicit tag.
-class TagFinder final : public YAML::EventHandler {
- public:
-  std::optional<ExplicitTag> found;
-  void OnDocumentStart(const YAML::Mark&) override {}
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
-  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
-  void OnScalar(const YAML::Mark& m, const std::string& tag, YAML::anchor_t,
-                const std::string&) override { note(m, tag); }
-  void OnSequenceStart(const YAML::Mark& m, const std::string& tag, YAML::anchor_t,
-                       YAML::EmitterStyle::value) override { note(m, tag); }
-  void OnSequenceEnd() override {}
-  void OnMapStart(const YAML::Mark& m, const std::string& tag, YAML::anchor_t,
-                  YAML::EmitterStyle::value) override { note(m, tag); }
-  void OnMapEnd() override {}
-
- private:
-  void note(const YAML::Mark& m, const std::string& tag) {
-    if (found || tag.empty() || tag == "?" || tag == "!") return;
-    constexpr std::string_view kCore = "tag:yaml.org,2002:";
-    const std::string shown = tag.rfind(kCore, 0) == 0 ? "!!" + tag.substr(kCore.size()) : tag;
-    found = ExplicitTag{SourceMark{m.line + 1, m.column + 1}, "'" + cut_for_message(shown) + "'"};
-  }
-};
-
 /// A line that starts with a document marker: `---` or `...` then a blank or the end.
 bool has_document_marker(const std::string& text) {
   for (std::size_t i = 0; i + 3 <= text.size();) {
@@ -123,13 +97,13 @@ std::optional<SourceMark> second_document(const std::string& text) {
   return second.first;
 }
 
-std::optional<ExplicitTag> first_explicit_tag(const std::string& text) {
-  if (text.find('!') == std::string::npos) return std::nullopt;
-  std::istringstream in(text);
-  YAML::Parser parser(in);
-  TagFinder finder;
-  parser.HandleNextDocument(finder);
-  return finder.found;
+std::optional<ExplicitTag> first_explicit_tag(const YamlTree& tree) {
+  const std::string& tag = tree.first_tag();
+  if (tag.empty()) return std::nullopt;
+  constexpr std::string_view kCore = "tag:yaml.org,2002:";
+  std::string shown = tag;
+  if (shown.rfind(kCore, 0) == 0) shown.replace(0, kCore.size(), "!!");
+  return ExplicitTag{tree.first_tag_mark(), "'" + cut_for_message(shown) + "'"};
 }
 
 std::string cut_for_message(std::string_view s, std::size_t max) {

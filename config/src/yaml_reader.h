@@ -62,11 +62,8 @@ struct ExplicitTag {
   SourceMark mark;
   std::string tag;
 };
-/// The first explicit tag in the first document of `text`; the non-specific tags yaml-cpp
-/// gives every untagged node ("?" plain, "!" quoted) do not count. Cheap when the text has no
-/// '!'; otherwise one more pass of yaml-cpp's event parser. Throws YAML::Exception on bad
-/// syntax.
-std::optional<ExplicitTag> first_explicit_tag(const std::string& text);
+/// The tree's first explicit tag (YamlTree::first_tag), shown for a message, or nothing.
+std::optional<ExplicitTag> first_explicit_tag(const YamlTree& tree);
 
 /// Values echoed in messages are cut to this many characters, then "..." and the full length:
 /// `"aaaa..." (10485760 characters)`.

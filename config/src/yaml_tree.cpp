@@ -29,19 +29,22 @@ class YamlTreeBuilder final : public YAML::EventHandler {
   }
   void OnScalar(const YAML::Mark& m, const std::string& tag, YAML::anchor_t anchor,
                 const std::string& value) override {
+    note_tag(m, tag);
     YamlTree::Node& n = add(m, YamlTree::Kind::Scalar, anchor);
     n.plain = tag == "?";
     n.first = static_cast<std::uint32_t>(m_tree.m_text.size());
     n.count = static_cast<std::uint32_t>(value.size());
     m_tree.m_text += value;
   }
-  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor,
+  void OnSequenceStart(const YAML::Mark& m, const std::string& tag, YAML::anchor_t anchor,
                        YAML::EmitterStyle::value) override {
+    note_tag(m, tag);
     open(m, YamlTree::Kind::Sequence, anchor);
   }
   void OnSequenceEnd() override { close(); }
-  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor,
+  void OnMapStart(const YAML::Mark& m, const std::string& tag, YAML::anchor_t anchor,
                   YAML::EmitterStyle::value) override {
+    note_tag(m, tag);
     open(m, YamlTree::Kind::Map, anchor);
   }
   void OnMapEnd() override { close(); }
@@ -51,6 +54,12 @@ class YamlTreeBuilder final : public YAML::EventHandler {
     YamlTree::Id id;
     std::size_t first_pending;
   };
+
+  void note_tag(const YAML::Mark& m, const std::string& tag) {
+    if (!m_tree.m_first_tag.empty() || tag.empty() || tag == "?" || tag == "!") return;
+    m_tree.m_first_tag = tag;
+    m_tree.m_first_tag_mark = SourceMark{m.line + 1, m.column + 1};
+  }
 
   void count(const YAML::Mark& m) {
     if (++m_count <= m_max_nodes) return;

@@ -41,6 +41,11 @@ class YamlTree {
   Id value(Id n, std::size_t i) const { return m_children[m_nodes[n].first + 2 * i + 1]; }
   /// Nodes and child references held (for tests and messages).
   std::size_t node_count() const { return m_nodes.size(); }
+  /// The first node (in document order) with an explicit tag, as yaml-cpp reports it (e.g.
+  /// "!foo", "tag:yaml.org,2002:binary"), and where it starts; tag "" when there is none. The
+  /// non-specific tags yaml-cpp gives every untagged node ("?" plain, "!" quoted) do not count.
+  const std::string& first_tag() const { return m_first_tag; }
+  SourceMark first_tag_mark() const { return m_first_tag_mark; }
 
  private:
   friend class YamlTreeBuilder;
@@ -54,6 +59,8 @@ class YamlTree {
   std::vector<Node> m_nodes;
   std::vector<Id> m_children;
   std::string m_text;
+  std::string m_first_tag;
+  SourceMark m_first_tag_mark;
 };
 
 }  // namespace tessera::config::detail
