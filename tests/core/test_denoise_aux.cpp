@@ -9,6 +9,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "scoped_env.h"
 #include "temp_dir.h"
 #include "test_support.h"
 
@@ -66,23 +67,7 @@ tessera::Film render_film(const FieldView& view, tessera::SceneDesc s, bool aux,
 
 bool same_bytes(const void* a, const void* b, std::size_t n) { return std::memcmp(a, b, n) == 0; }
 
-/// Sets (or with nullopt unsets) an environment variable for the scope, then restores it.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const std::optional<std::string>& value) : m_name(name) {
-    if (const char* old = std::getenv(name)) m_old = old;
-    if (value) ::setenv(name, value->c_str(), 1);
-    else ::unsetenv(name);
-  }
-  ~ScopedEnv() {
-    if (m_old) ::setenv(m_name, m_old->c_str(), 1);
-    else ::unsetenv(m_name);
-  }
-
- private:
-  const char* m_name;
-  std::optional<std::string> m_old;
-};
+using tessera_test::ScopedEnv;
 
 }  // namespace
 

@@ -11,6 +11,7 @@
 #include "cinema.h"
 #include "cli_run.h"
 #include "denoise_scene.h"
+#include "scoped_env.h"
 
 #include <tessera/denoiser.h>
 
@@ -58,24 +59,7 @@ std::string clean_env(const TempDir& dir) {
   return "env -u TESSERA_OIDN_LIBRARY -u LD_LIBRARY_PATH HOME=" + dir.file("home") + " PATH=/usr/bin:/bin";
 }
 
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const std::optional<std::string>& value) : m_name(name) {
-    if (const char* old = std::getenv(name)) m_old = old;
-    if (value) ::setenv(name, value->c_str(), 1);
-    else ::unsetenv(name);
-  }
-  ~ScopedEnv() {
-    if (m_old) ::setenv(m_name, m_old->c_str(), 1);
-    else ::unsetenv(m_name);
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* m_name;
-  std::optional<std::string> m_old;
-};
+using tessera_test::ScopedEnv;
 
 /// Runs `fn` on a thread; if it has not returned within `seconds`, opens the write end of
 /// `fifo` (which releases a reader blocked opening it) and returns false.
