@@ -12,12 +12,11 @@ namespace tessera::config::detail {
 namespace {
 
 const Range kNonNegative = Range::at_least(0.0);
-const std::string kPointAllowed = "[x, y, z], center or {orbit: {azimuth, elevation, distance}}";
 
 /// `size: [w, h]`, `size: w` (a square) or `size: {relative: r}`; each length > 0.
 void parse_rect_size(const Value& v, RectLightSpec& l) {
   if (v.is_sequence()) {
-    const auto wh = v.list("[width, height], each a number or {relative: r}", 2, 2);
+    const auto wh = v.list("[width, height], each a number or " + length_map_allowed(), 2, 2);
     l.width = parse_length(wh[0], true);
     l.height = parse_length(wh[1], true);
   } else {
@@ -36,22 +35,19 @@ void parse_emission(const Map& m, Spec& l) {
 
 void parse_keys(const Map& m, RectLightSpec& l) {
   m.allow({"type", "position", "target", "size", "color", "intensity"});
-  l.position = parse_point(m.require("position", kPointAllowed));
+  l.position = parse_point(m.require("position", point_allowed()));
   if (const auto t = m.get("target")) l.target = parse_point(*t);
   if (const auto s = m.get("size")) parse_rect_size(*s, l);
   parse_emission(m, l);
 
   // A rect light aimed at itself has no facing
-  const bool same = (l.position.kind == PointSpec::Kind::Center &&
-                     l.target.kind == PointSpec::Kind::Center) ||
-                    (l.position.kind == PointSpec::Kind::Absolute &&
-                     l.target.kind == PointSpec::Kind::Absolute && l.position.xyz == l.target.xyz);
-  if (same) m.get("position")->fail("light position equals its target (allowed: a point other than target)");
+  if (plainly_same(l.position, l.target))
+    m.get("position")->fail("light position equals its target (allowed: a point other than target)");
 }
 
 void parse_keys(const Map& m, SphereLightSpec& l) {
   m.allow({"type", "position", "radius", "color", "intensity"});
-  l.position = parse_point(m.require("position", kPointAllowed));
+  l.position = parse_point(m.require("position", point_allowed()));
   if (const auto r = m.get("radius")) l.radius = parse_length(*r, true);
   parse_emission(m, l);
 }
