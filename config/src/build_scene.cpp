@@ -10,6 +10,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <tuple>
+#include <variant>
 
 namespace tessera::config {
 namespace {
@@ -83,6 +84,43 @@ struct Resolver {
   }
 };
 
+/// Where one light's points and lengths resolve: against the data bounds, orbits about the
+/// camera's up, checked by the Resolver under the light's key (`lights[i].`).
+struct LightFrame {
+  const Resolver& res;
+  const Bounds& bounds;
+  const Vec3& up;
+  std::string key;
+
+  Vec3 point(const char* name, const PointSpec& p) const {
+    return res.point(key + name, resolve_point(p, bounds, up));
+  }
+  double length(const char* name, const LengthSpec& l) const {
+    return res.length(key + name, l.resolve(bounds.radius()));
+  }
+};
+
+// Each kind's spec as its core description, one overload per alternative of LightSpec
+// (build_scene visits them); `radiance` is color * intensity, already checked
+
+RectLightDesc resolve_light(const RectLightSpec& l, const LightFrame& f, const Color& radiance) {
+  RectLightDesc r;
+  r.position = f.point("position", l.position);
+  r.target = f.point("target", l.target);
+  r.width = f.length("size", l.width);
+  r.height = f.length("size", l.height);
+  r.radiance = radiance;
+  return r;
+}
+
+SphereLightDesc resolve_light(const SphereLightSpec& l, const LightFrame& f, const Color& radiance) {
+  SphereLightDesc sp;
+  sp.center = f.point("position", l.position);
+  sp.radius = f.length("radius", l.radius);
+  sp.radiance = radiance;
+  return sp;
+}
+
 }  // namespace
 
 std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, double> auto_range) {
@@ -151,32 +189,20 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
   s.camera.aperture = spec.camera.aperture;
   s.camera.focus_distance = spec.camera.focus_distance;
 
-  // Lights
-  const double radius = data_bounds.radius();
+  // Lights: the checks every kind shares, then its own points and lengths
   for (std::size_t i = 0; i < spec.lights.size(); ++i) {
-    const LightSpec& l = spec.lights[i];
-    const std::string key = "lights[" + std::to_string(i) + "].";
-    const Color radiance = l.color * l.intensity;
-    if (!is_finite(radiance) || std::max({radiance.x, radiance.y, radiance.z}) > kMaxRadiance)
-      throw std::invalid_argument("render \"" + spec.name + "\": " + key + "intensity " +
-                                  format_number(l.intensity) + " times color " + vec_text(l.color) +
-                                  " is a radiance above 1e30 (pixels would overflow float32)");
-    res.orbit_extent(key + "position", l.position, data_bounds);
-    if (l.type == LightSpec::Type::Rect) {
-      RectLightDesc r;
-      r.position = res.point(key + "position", resolve_point(l.position, data_bounds, up));
-      r.target = res.point(key + "target", resolve_point(l.target, data_bounds, up));
-      r.width = res.length(key + "size", l.width.resolve(radius));
-      r.height = res.length(key + "size", l.height.resolve(radius));
-      r.radiance = radiance;
-      s.lights.push_back(r);
-    } else {
-      SphereLightDesc sp;
-      sp.center = res.point(key + "position", resolve_point(l.position, data_bounds, up));
-      sp.radius = res.length(key + "radius", l.radius.resolve(radius));
-      sp.radiance = radiance;
-      s.lights.push_back(sp);
-    }
+    const LightFrame f{res, data_bounds, up, "lights[" + std::to_string(i) + "]."};
+    s.lights.push_back(std::visit(
+        [&](const auto& l) -> LightDesc {
+          const Color radiance = l.color * l.intensity;
+          if (!is_finite(radiance) || std::max({radiance.x, radiance.y, radiance.z}) > kMaxRadiance)
+            throw std::invalid_argument("render \"" + spec.name + "\": " + f.key + "intensity " +
+                                        format_number(l.intensity) + " times color " + vec_text(l.color) +
+                                        " is a radiance above 1e30 (pixels would overflow float32)");
+          res.orbit_extent(f.key + "position", l.position, data_bounds);
+          return resolve_light(l, f, radiance);
+        },
+        spec.lights[i]));
   }
 
   // Background

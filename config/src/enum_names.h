@@ -1,12 +1,14 @@
 #pragma once
-// Private: one table per enum of the schema, name <-> value. The parsers read them (which
+// Private: one table per enum of the schema (and one for the light kinds), name <-> value. The parsers read them (which
 // word means which value, and the allowed words in messages, in table order) and to_yaml
 // writes from them, so each name is spelled once. Image formats have their own table with
 // extension and writer (tessera/config/output_formats.h); dtype names are core's dtype_name.
 #include <tessera/config/config.h>
 
+#include <cstddef>
 #include <iterator>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace tessera::config::detail {
@@ -30,8 +32,20 @@ inline constexpr EnumName<Distribution> kDistributionNames[] = {
     {"auto", Distribution::Auto}};
 inline constexpr EnumName<ByteOrder> kByteOrderNames[] = {{"little", ByteOrder::Little},
                                                           {"big", ByteOrder::Big}};
-inline constexpr EnumName<LightSpec::Type> kLightTypeNames[] = {{"rect", LightSpec::Type::Rect},
-                                                                {"sphere", LightSpec::Type::Sphere}};
+/// The `type:` word of each light kind, one row per alternative of LightSpec in its order; a
+/// row's value is that kind's spec with its defaults, which parse_light fills in.
+inline constexpr EnumName<LightSpec> kLightTypeNames[] = {{"rect", RectLightSpec{}},
+                                                          {"sphere", SphereLightSpec{}}};
+static_assert(
+    [] {
+      std::size_t i = 0;
+      for (const auto& row : kLightTypeNames)
+        if (row.value.index() != i++) return false;
+      return i == std::variant_size_v<LightSpec>;
+    }(),
+    "kLightTypeNames: one row per alternative of LightSpec, in its order");
+/// The `type:` word of the kind `light` holds.
+inline const char* light_type_name(const LightSpec& light) { return kLightTypeNames[light.index()].name; }
 inline constexpr EnumName<BackgroundType> kBackgroundTypeNames[] = {
     {"constant", BackgroundType::Constant},
     {"gradient", BackgroundType::Gradient},

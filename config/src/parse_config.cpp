@@ -18,9 +18,11 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string_view>
 #include <unordered_map>
 
 namespace tessera::config {
@@ -31,7 +33,8 @@ using detail::Value;
 
 namespace {
 
-constexpr const char* kTopKeys = "a mapping with keys tessera, volume, renders";
+/// The top-level keys, in the order messages list them.
+const std::initializer_list<std::string_view> kTopKeys = {"tessera", "volume", "renders"};
 
 SourceMark from_yaml(const YAML::Mark& m) {
   if (m.is_null() || m.line < 0) return {};
@@ -46,10 +49,9 @@ std::string too_large(std::uint64_t bytes) {
 Config parse_root(const detail::Document& doc) {
   const Value top(&doc, SourceMark{1, 1});
   if (top.is_null()) {
-    throw ConfigError(doc.file, {}, "", std::string("empty config (allowed: ") + kTopKeys + ")");
+    throw ConfigError(doc.file, {}, "", "empty config (allowed: " + detail::mapping_with_keys(kTopKeys) + ")");
   }
-  const detail::Map m = top.map(kTopKeys);
-  m.allow({"tessera", "volume", "renders"});
+  const detail::Map m = top.map_with_keys(kTopKeys);
 
   Config c;
   c.path = doc.file;

@@ -5,6 +5,7 @@
 #include "parsers.h"
 
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace tessera::config::detail {
@@ -13,9 +14,9 @@ namespace {
 const Range kNonNegative = Range::at_least(0.0);
 
 /// `size: [w, h]`, `size: w` (a square) or `size: {relative: r}`; each length > 0.
-void parse_rect_size(const Value& v, LightSpec& l) {
+void parse_rect_size(const Value& v, RectLightSpec& l) {
   if (v.is_sequence()) {
-    const auto wh = v.list("[width, height], each a number or {relative: r}", 2, 2);
+    const auto wh = v.list("[width, height], each a number or " + length_map_allowed(), 2, 2);
     l.width = parse_length(wh[0], true);
     l.height = parse_length(wh[1], true);
   } else {
@@ -23,35 +24,42 @@ void parse_rect_size(const Value& v, LightSpec& l) {
   }
 }
 
+/// `color` and `intensity`, which every kind has.
+template <class Spec>
+void parse_emission(const Map& m, Spec& l) {
+  l.color = m.color_or("color", l.color, kNonNegative);
+  l.intensity = m.number_or("intensity", l.intensity, kNonNegative);
+}
+
+// Each kind's keys, one overload per alternative of LightSpec (parse_light visits them)
+
+void parse_keys(const Map& m, RectLightSpec& l) {
+  m.allow({"type", "position", "target", "size", "color", "intensity"});
+  l.position = parse_point(m.require("position", point_allowed()));
+  if (const auto t = m.get("target")) l.target = parse_point(*t);
+  if (const auto s = m.get("size")) parse_rect_size(*s, l);
+  parse_emission(m, l);
+
+  // A rect light aimed at itself has no facing
+  if (plainly_same(l.position, l.target))
+    m.get("position")->fail("light position equals its target (allowed: a point other than target)");
+}
+
+void parse_keys(const Map& m, SphereLightSpec& l) {
+  m.allow({"type", "position", "radius", "color", "intensity"});
+  l.position = parse_point(m.require("position", point_allowed()));
+  if (const auto r = m.get("radius")) l.radius = parse_length(*r, true);
+  parse_emission(m, l);
+}
+
 }  // namespace
 
 LightSpec parse_light(const Value& v) {
   const std::vector<std::string> types = names_of(kLightTypeNames);
   const Map m = v.map("a mapping {type: " + join_words(types, " | ", " | ") + ", ...}");
-  LightSpec l;
-  l.type = m.require("type", join_words(types)).choice(kLightTypeNames);
-  const std::string point = "[x, y, z], center or {orbit: {azimuth, elevation, distance}}";
-  if (l.type == LightSpec::Type::Rect) {
-    m.allow({"type", "position", "target", "size", "color", "intensity"});
-    l.position = parse_point(m.require("position", point));
-    if (const auto t = m.get("target")) l.target = parse_point(*t);
-    if (const auto s = m.get("size")) parse_rect_size(*s, l);
-  } else {
-    m.allow({"type", "position", "radius", "color", "intensity"});
-    l.position = parse_point(m.require("position", point));
-    if (const auto r = m.get("radius")) l.radius = parse_length(*r, true);
-  }
-  l.color = m.color_or("color", l.color, kNonNegative);
-  l.intensity = m.number_or("intensity", l.intensity, kNonNegative);
-
-  // A rect light aimed at itself has no facing
-  if (l.type == LightSpec::Type::Rect) {
-    const bool same = (l.position.kind == PointSpec::Kind::Center &&
-                       l.target.kind == PointSpec::Kind::Center) ||
-                      (l.position.kind == PointSpec::Kind::Absolute &&
-                       l.target.kind == PointSpec::Kind::Absolute && l.position.xyz == l.target.xyz);
-    if (same) m.get("position")->fail("light position equals its target (allowed: a point other than target)");
-  }
+  // The named kind's spec with its defaults, then its keys
+  LightSpec l = m.require("type", join_words(types)).choice(kLightTypeNames);
+  std::visit([&m](auto& kind) { parse_keys(m, kind); }, l);
   return l;
 }
 

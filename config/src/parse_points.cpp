@@ -9,7 +9,12 @@
 namespace tessera::config::detail {
 
 namespace {
-constexpr const char* kPointAllowed = "[x, y, z], center or {orbit: {azimuth, elevation, distance}}";
+// The keys of the mappings a point or a length may be, each with what it takes:
+// `{orbit: {azimuth: degrees, elevation: degrees, distance: radii}}` and `{relative: r}`
+constexpr KeyShape kOrbitKeys[] = {{"azimuth", "degrees"}, {"elevation", "degrees"}, {"distance", "radii"}};
+const std::string kOrbitNames = braced(kOrbitKeys, true);
+const KeyShape kPointKeys[] = {{"orbit", kOrbitNames}};
+constexpr KeyShape kLengthKeys[] = {{"relative", "r"}};
 
 // Whether a scalar's text starts like a number (so a word such as `fitt` gets the message that
 // lists `fit`, and a number gets Value::number's range check)
@@ -20,16 +25,26 @@ bool reads_as_number(const std::string& text) {
 }
 }
 
+std::string point_allowed() { return "[x, y, z], center or " + braced(kPointKeys); }
+
+std::string length_map_allowed() { return braced(kLengthKeys); }
+
+bool plainly_same(const PointSpec& a, const PointSpec& b) {
+  if (a.kind != b.kind) return false;
+  return a.kind == PointSpec::Kind::Center || (a.kind == PointSpec::Kind::Absolute && a.xyz == b.xyz);
+}
+
 PointSpec parse_point(const Value& v, bool allow_fit) {
   if (v.is_word("center")) return PointSpec::center();
   if (v.is_sequence()) return PointSpec::absolute(v.vec3());
-  if (v.is_scalar()) v.fail(v.describe() + " is not a point (allowed: " + std::string(kPointAllowed) + ")");
+  const std::string allowed = point_allowed();
+  if (v.is_scalar()) v.fail(v.describe() + " is not a point (allowed: " + allowed + ")");
 
-  const Map m = v.map(kPointAllowed);
-  m.allow({"orbit"});
-  const Value o = m.require("orbit", kPointAllowed);
-  const Map om = o.map("{azimuth: degrees, elevation: degrees, distance: radii}");
-  om.allow({"azimuth", "elevation", "distance"});
+  const Map m = v.map(allowed);
+  m.allow(kPointKeys);
+  const Value o = m.require("orbit", allowed);
+  const Map om = o.map(braced(kOrbitKeys));
+  om.allow(kOrbitKeys);
   OrbitSpec s;
   s.azimuth = om.number_or("azimuth", 0.0);
   s.elevation = om.number_or("elevation", 0.0, Range::closed(-90.0, 90.0));
@@ -52,9 +67,9 @@ PointSpec parse_point(const Value& v, bool allow_fit) {
 LengthSpec parse_length(const Value& v, bool strictly_positive) {
   const Range r = strictly_positive ? Range::above(0.0) : Range::at_least(0.0);
   if (v.is_scalar()) return LengthSpec::world(v.number(r));
-  const Map m = v.map("a number in world units or {relative: r} (r times the data's "
-                      "bounding-sphere radius)");
-  m.allow({"relative"});
+  const Map m = v.map("a number in world units or " + length_map_allowed() +
+                      " (r times the data's bounding-sphere radius)");
+  m.allow(kLengthKeys);
   return LengthSpec::relative_to_radius(
       m.require("relative", "a multiple of the data's bounding-sphere radius").number(r));
 }

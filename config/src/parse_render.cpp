@@ -50,10 +50,20 @@ ImageDesc parse_image(const Value& v) {
 namespace detail {
 
 TriggerSpec parse_trigger(const Value& v) {
-  constexpr const char* kAllowed = "{every: N}, {at: [steps]} or {when: {above: X}}";
-  const Map m = v.map(kAllowed);
-  m.allow({"every", "at", "when"});
-  if (m.size() != 1) v.fail("give exactly one of every, at, when (allowed: " + std::string(kAllowed) + ")");
+  // The keys, exactly one of which is given, each with what it takes: `{every: N}, {at: [steps]}
+  // or {when: {above: X}}`
+  const KeyShape when_keys[] = {{"above", "X"}};
+  const std::string when_allowed = braced(when_keys);
+  const KeyShape keys[] = {{"every", "N"}, {"at", "[steps]"}, {"when", when_allowed}};
+  std::vector<std::string> names, each;
+  for (const KeyShape& k : keys) {
+    names.emplace_back(k.name);
+    each.push_back(braced({&k, 1}));
+  }
+  const std::string allowed = join_words(each);
+  const Map m = v.map(allowed);
+  m.allow(keys);
+  if (m.size() != 1) v.fail("give exactly one of " + join_words(names, ", ") + " (allowed: " + allowed + ")");
   TriggerSpec t;
   if (const auto e = m.get("every")) {
     t.kind = TriggerSpec::Kind::Every;
@@ -66,8 +76,8 @@ TriggerSpec parse_trigger(const Value& v) {
       t.at.push_back(s.integer(0, std::numeric_limits<std::int64_t>::max()));
   } else {
     const Value w = *m.get("when");
-    const Map wm = w.map("{above: X}");
-    wm.allow({"above"});
+    const Map wm = w.map(when_allowed);
+    wm.allow(when_keys);
     t.kind = TriggerSpec::Kind::When;
     t.above = wm.require("above", "a number: the field maximum that fires the trigger").number();
   }
@@ -77,9 +87,7 @@ TriggerSpec parse_trigger(const Value& v) {
 CameraSpec parse_camera(const Value& v) {
   const Map m = v.map_with_keys({"position", "look_at", "up", "fov", "aperture", "focus_distance"});
   CameraSpec c;
-  c.position = parse_point(m.require("position", "[x, y, z], center or {orbit: {azimuth, "
-                                                 "elevation, distance}} (distance: a number or fit)"),
-                           true);
+  c.position = parse_point(m.require("position", point_allowed() + " (distance: a number or fit)"), true);
   if (const auto p = m.get("look_at")) c.look_at = parse_point(*p);
   if (const auto u = m.get("up")) {
     c.up = u->vec3();
@@ -90,12 +98,7 @@ CameraSpec parse_camera(const Value& v) {
   c.focus_distance = m.number_or("focus_distance", c.focus_distance, Range::at_least(0.0));
 
   // A camera that looks at its own position is caught here when it is plain to see
-  const bool same_center = c.position.kind == PointSpec::Kind::Center &&
-                           c.look_at.kind == PointSpec::Kind::Center;
-  const bool same_point = c.position.kind == PointSpec::Kind::Absolute &&
-                          c.look_at.kind == PointSpec::Kind::Absolute &&
-                          c.position.xyz == c.look_at.xyz;
-  if (same_center || same_point) {
+  if (plainly_same(c.position, c.look_at)) {
     m.get("position")->fail("camera position equals look_at (allowed: a point other than look_at)");
   }
   return c;

@@ -5,6 +5,8 @@
 
 #include "yaml_reader.h"
 
+#include <string>
+
 namespace tessera::config::detail {
 
 GlobalOptions parse_global(const Value& v);
@@ -17,6 +19,14 @@ OutputSpec parse_output(const Value& v);
 PointSpec parse_point(const Value& v, bool allow_fit = false);
 /// A number or `{relative: r}`, resolving to > 0 (strictly_positive) or >= 0.
 LengthSpec parse_length(const Value& v, bool strictly_positive);
+/// For messages, from the keys parse_point and parse_length accept: what a point may be,
+/// `[x, y, z], center or {orbit: {azimuth, elevation, distance}}`, and a length written as a
+/// mapping, `{relative: r}`.
+std::string point_allowed();
+std::string length_map_allowed();
+/// Whether two points are the same before the data bounds are known: both `center`, or the
+/// same `[x, y, z]` (a camera looking at its position, a rect light aimed at itself).
+bool plainly_same(const PointSpec& a, const PointSpec& b);
 TransferFunctionSpec parse_transfer_function(const Value& v);
 LightSpec parse_light(const Value& v);
 BackgroundSpec parse_background(const Value& v);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace tessera::config {
@@ -188,20 +189,28 @@ void write(YAML::Emitter& out, const TransferFunctionSpec& tf) {
   out << YAML::EndMap;
 }
 
-void write(YAML::Emitter& out, const LightSpec& l) {
+// Each kind's own keys, one overload per alternative of LightSpec (written between
+// `position` and `color`)
+
+void write_kind_keys(YAML::Emitter& out, const RectLightSpec& l) {
+  field(out, "target", l.target);
+  key(out, "size");
+  flow_seq(out, l.width, l.height);
+}
+
+void write_kind_keys(YAML::Emitter& out, const SphereLightSpec& l) { field(out, "radius", l.radius); }
+
+void write(YAML::Emitter& out, const LightSpec& light) {
   out << YAML::Flow << YAML::BeginMap;
-  const bool rect = l.type == LightSpec::Type::Rect;
-  field(out, "type", name_of(detail::kLightTypeNames, l.type));
-  field(out, "position", l.position);
-  if (rect) {
-    field(out, "target", l.target);
-    key(out, "size");
-    flow_seq(out, l.width, l.height);
-  } else {
-    field(out, "radius", l.radius);
-  }
-  field(out, "color", l.color);
-  field(out, "intensity", l.intensity);
+  field(out, "type", detail::light_type_name(light));
+  std::visit(
+      [&out](const auto& l) {
+        field(out, "position", l.position);
+        write_kind_keys(out, l);
+        field(out, "color", l.color);
+        field(out, "intensity", l.intensity);
+      },
+      light);
   out << YAML::EndMap;
 }
 

@@ -136,6 +136,23 @@ std::string join_words(const std::vector<std::string>& words, const char* last_s
   return s;
 }
 
+std::string braced(std::span<const KeyShape> keys, bool names_only) {
+  std::vector<std::string> entries;
+  for (const KeyShape& k : keys)
+    entries.push_back(names_only ? std::string(k.name) : std::string(k.name) + ": " + std::string(k.takes));
+  return "{" + join_words(entries, ", ") + "}";
+}
+
+std::string mapping_with_keys(std::initializer_list<std::string_view> keys, std::string_view note) {
+  std::string allowed = "a mapping with keys ";
+  bool first = true;
+  for (auto k : keys) {
+    allowed.append(first ? "" : ", ").append(k);
+    first = false;
+  }
+  return allowed.append(note);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Value
 
@@ -367,19 +384,20 @@ Value Map::entry(std::size_t i) const {
 }
 
 Map Value::map_with_keys(std::initializer_list<std::string_view> keys, std::string_view note) const {
-  std::string allowed = "a mapping with keys ";
-  bool first = true;
-  for (auto k : keys) {
-    allowed.append(first ? "" : ", ").append(k);
-    first = false;
-  }
-  allowed.append(note);
-  Map m = map(allowed);
+  Map m = map(mapping_with_keys(keys, note));
   m.allow(keys);
   return m;
 }
 
-void Map::allow(std::initializer_list<std::string_view> keys) const {
+void Map::allow(std::initializer_list<std::string_view> keys) const { allow_names({keys.begin(), keys.size()}); }
+
+void Map::allow(std::span<const KeyShape> keys) const {
+  std::vector<std::string_view> names;
+  for (const KeyShape& k : keys) names.push_back(k.name);
+  allow_names(names);
+}
+
+void Map::allow_names(std::span<const std::string_view> keys) const {
   for (std::size_t i = 0; i < size(); ++i) {
     bool known = false;
     for (auto k : keys) known = known || k == key(i);

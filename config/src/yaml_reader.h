@@ -14,6 +14,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -88,6 +89,20 @@ struct Range {
   /// "(0, 180)", "[0, 1]", "(>= 0)", "(> 0)", "(any finite number)".
   std::string describe() const;
 };
+
+/// One key of a mapping and what its value takes, as messages show them (`azimuth`, `degrees`).
+/// A table of these is the mapping's one list of keys: Map::allow checks against it and the
+/// messages show it (braced).
+struct KeyShape {
+  std::string_view name;
+  std::string_view takes;
+};
+
+/// `{k1: t1, k2: t2}`, or `{k1, k2}` with `names_only`.
+std::string braced(std::span<const KeyShape> keys, bool names_only = false);
+
+/// "a mapping with keys k1, k2, ..." and then `note`: what Value::map_with_keys allows.
+std::string mapping_with_keys(std::initializer_list<std::string_view> keys, std::string_view note = "");
 
 class Map;
 class ValueList;
@@ -212,6 +227,7 @@ class Map {
 
   /// Throws at the first key not in `keys`, listing them.
   void allow(std::initializer_list<std::string_view> keys) const;
+  void allow(std::span<const KeyShape> keys) const;
   bool has(std::string_view key) const;
   std::optional<Value> get(std::string_view key) const;
   /// Throws "missing required key (allowed: `what`)" at the mapping's position.
@@ -234,6 +250,7 @@ class Map {
 
  private:
   friend class Value;
+  void allow_names(std::span<const std::string_view> keys) const;
   std::string_view key(std::size_t i) const;
   SourceMark key_mark(std::size_t i) const;
   Value entry(std::size_t i) const;

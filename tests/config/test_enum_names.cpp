@@ -103,11 +103,11 @@ TEST_CASE("volume enums and light types round-trip", "[config][enum_names]") {
         REQUIRE(c.volume);
         CHECK(c.volume->dtype == dtype.value);
         CHECK(c.volume->byte_order == order.value);
-        CHECK(c.renders[0].lights[0].type == light.value);
+        CHECK(c.renders[0].lights[0].index() == light.value.index());
         const Config again = parse_config(to_yaml(c), "again.yaml", "/");
         CHECK(again.volume->dtype == dtype.value);
         CHECK(again.volume->byte_order == order.value);
-        CHECK(again.renders[0].lights[0].type == light.value);
+        CHECK(again.renders[0].lights[0].index() == light.value.index());
       }
     }
   }

@@ -76,29 +76,31 @@ TEST_CASE("a full config loads with the values written", "[config]") {
   REQUIRE(tf.emission.points.size() == 2);
   CHECK(tf.emission.points[1].c == Color(2.0, 1.0, 0.5));
 
-  // Lights
+  // Lights, each of the kind its `type:` names (std::get throws for another)
   REQUIRE(r.lights.size() == 4);
-  CHECK(r.lights[0].type == LightSpec::Type::Rect);
-  CHECK(r.lights[0].position.xyz == Vec3(0.0, 0.0, 3.0));
-  CHECK(r.lights[0].target.xyz == Vec3(0.5));
-  CHECK_FALSE(r.lights[0].width.relative);
-  CHECK(r.lights[0].width.value == 1.0);
-  CHECK(r.lights[0].height.value == 2.0);
-  CHECK(r.lights[0].intensity == 10.0);
-  CHECK(r.lights[1].type == LightSpec::Type::Sphere);
-  CHECK(r.lights[1].radius.value == 0.2);
-  CHECK(r.lights[1].color == Color(1.0, 0.9, 0.8));
-  CHECK(r.lights[2].position.kind == PointSpec::Kind::Orbit);
-  CHECK(r.lights[2].position.orbit.azimuth == 90.0);
-  CHECK(r.lights[2].position.orbit.elevation == 45.0);
-  CHECK(r.lights[2].position.orbit.distance == 3.0);
-  CHECK(r.lights[2].target.kind == PointSpec::Kind::Center);  // default
-  CHECK(r.lights[2].width.relative);
-  CHECK(r.lights[2].height.value == 0.5);
-  CHECK(r.lights[2].intensity == 1.0);                        // default
-  CHECK(r.lights[3].position.kind == PointSpec::Kind::Center);
-  CHECK(r.lights[3].radius.relative);
-  CHECK(r.lights[3].radius.value == 0.1);
+  const auto& l0 = std::get<RectLightSpec>(r.lights[0]);
+  CHECK(l0.position.xyz == Vec3(0.0, 0.0, 3.0));
+  CHECK(l0.target.xyz == Vec3(0.5));
+  CHECK_FALSE(l0.width.relative);
+  CHECK(l0.width.value == 1.0);
+  CHECK(l0.height.value == 2.0);
+  CHECK(l0.intensity == 10.0);
+  const auto& l1 = std::get<SphereLightSpec>(r.lights[1]);
+  CHECK(l1.radius.value == 0.2);
+  CHECK(l1.color == Color(1.0, 0.9, 0.8));
+  const auto& l2 = std::get<RectLightSpec>(r.lights[2]);
+  CHECK(l2.position.kind == PointSpec::Kind::Orbit);
+  CHECK(l2.position.orbit.azimuth == 90.0);
+  CHECK(l2.position.orbit.elevation == 45.0);
+  CHECK(l2.position.orbit.distance == 3.0);
+  CHECK(l2.target.kind == PointSpec::Kind::Center);  // default
+  CHECK(l2.width.relative);
+  CHECK(l2.height.value == 0.5);
+  CHECK(l2.intensity == 1.0);                        // default
+  const auto& l3 = std::get<SphereLightSpec>(r.lights[3]);
+  CHECK(l3.position.kind == PointSpec::Kind::Center);
+  CHECK(l3.radius.relative);
+  CHECK(l3.radius.value == 0.1);
 
   // Background
   CHECK(r.background.type == BackgroundType::Gradient);

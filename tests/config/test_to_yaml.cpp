@@ -27,7 +27,7 @@ TEST_CASE("to_yaml round-trips a full config", "[config][to_yaml]") {
   CHECK(b.renders[0].integrator.desc.phase_g == -0.3);
   CHECK(b.renders[0].transfer_function.opacity[1].u == 0.4);
   CHECK(b.renders[0].output.file == "{name}/frame_{step:04d}_r{rank}");
-  CHECK(b.renders[0].lights[2].width.relative);
+  CHECK(std::get<RectLightSpec>(b.renders[0].lights[2]).width.relative);
   CHECK(b.renders[1].camera.position.kind == PointSpec::Kind::Orbit);
   CHECK(b.renders[1].transfer_function.range.automatic);
   CHECK(b.renders[1].transfer_function.diffuse.colormap == "viridis");

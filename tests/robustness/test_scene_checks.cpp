@@ -95,10 +95,9 @@ TEST_CASE("messages name the real key: spacing, camera position", "[robustness][
                       Contains("volume.spacing") && Contains("bounds overflow"));
     // A light far out is named by its index in `lights`, whatever its type
     g.spacing = Vec3(0.1);
-    tessera::config::LightSpec rect, sphere;
-    rect.type = tessera::config::LightSpec::Type::Rect;
+    tessera::config::RectLightSpec rect;
     rect.position = tessera::config::PointSpec::absolute(Vec3(0.0, 0.0, 5.0));
-    sphere.type = tessera::config::LightSpec::Type::Sphere;
+    tessera::config::SphereLightSpec sphere;
     sphere.position = tessera::config::PointSpec::absolute(Vec3(1e200, 3.0, 3.0));
     spec.lights = {rect, sphere};
     CHECK_THROWS_WITH(tessera::config::build_scene(spec, b, {0.0, 1.0}, g, nullptr),

@@ -22,13 +22,13 @@ struct PointSpec {
   Vec3 xyz{0.0};    ///< Absolute
   OrbitSpec orbit;  ///< Orbit
 
-  static PointSpec absolute(const Vec3& p) { return {Kind::Absolute, p, {}}; }
-  static PointSpec center() { return {Kind::Center, Vec3(0.0), {}}; }
-  static PointSpec on_orbit(double azimuth, double elevation, double distance) {
+  static constexpr PointSpec absolute(const Vec3& p) { return {Kind::Absolute, p, {}}; }
+  static constexpr PointSpec center() { return {Kind::Center, Vec3(0.0), {}}; }
+  static constexpr PointSpec on_orbit(double azimuth, double elevation, double distance) {
     return {Kind::Orbit, Vec3(0.0), {azimuth, elevation, distance, false}};
   }
   /// `{orbit: {azimuth, elevation, distance: fit}}`
-  static PointSpec on_orbit_fit(double azimuth, double elevation) {
+  static constexpr PointSpec on_orbit_fit(double azimuth, double elevation) {
     return {Kind::Orbit, Vec3(0.0), {azimuth, elevation, 1.0, true}};
   }
   bool is_fit() const { return kind == Kind::Orbit && orbit.fit; }
@@ -39,8 +39,8 @@ struct LengthSpec {
   bool relative = false;
   double value = 1.0;
 
-  static LengthSpec world(double v) { return {false, v}; }
-  static LengthSpec relative_to_radius(double r) { return {true, r}; }
+  static constexpr LengthSpec world(double v) { return {false, v}; }
+  static constexpr LengthSpec relative_to_radius(double r) { return {true, r}; }
   double resolve(double data_radius) const { return relative ? value * data_radius : value; }
 };
 
