@@ -68,8 +68,8 @@ void check_memory(const config::Config& cfg, const config::RenderSpec& spec, con
   f.variance = spec.output.variance;
   f.samples = spec.output.samples;
   f.denoise = args.denoise.value_or(spec.image.denoise);
-  f.exr = f.png = false;
-  for (const OutputTarget& t : targets) (t.format == config::ImageFormat::Exr ? f.exr : f.png) = true;
+  f.formats.clear();
+  for (const OutputTarget& t : targets) f.formats.push_back(t.format);
   for (int a = 0; a < 3; ++a) f.field_dims[a] = volume.view.dims[a];
   f.macrocell_edge = majorant_edge(volume.view, spec.integrator.desc);
   if (spec.background.type == BackgroundType::EnvMap) {

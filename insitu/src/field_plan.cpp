@@ -49,8 +49,7 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   f.variance = spec.output.variance;
   f.samples = spec.output.samples;
   f.denoise = spec.image.denoise;
-  f.exr = spec.output.has_format(config::ImageFormat::Exr);
-  f.png = spec.output.has_format(config::ImageFormat::Png);
+  f.formats = spec.output.formats;
   f.writes = root;
   f.keeps_last_image = root;
   if (spec.output.cinema)
