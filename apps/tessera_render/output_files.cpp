@@ -1,7 +1,7 @@
 #include "output_files.h"
 
-#include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>
+#include <tessera/image_format.h>
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +10,6 @@
 
 namespace tessera::cli {
 namespace fs = std::filesystem;
-using config::ImageFormat;
 
 namespace {
 
@@ -18,7 +17,7 @@ namespace {
 std::optional<ImageFormat> format_of_extension(const fs::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  for (const config::OutputFormat& f : config::output_formats())
+  for (const ImageFormatInfo& f : image_formats())
     if (ext == f.extension) return f.value;
   return std::nullopt;
 }
@@ -34,7 +33,7 @@ std::vector<OutputTarget> output_targets(const config::GlobalOptions& global,
     const fs::path stem = fs::path(global.output_dir) /
                           config::format_output_path(spec.output.file, spec.name, step, 0.0, 0);
     for (const ImageFormat f : spec.output.formats)
-      targets.push_back({stem.string() + config::output_format(f).extension, f});
+      targets.push_back({stem.string() + image_format(f).extension, f});
     return targets;
   }
 
@@ -50,7 +49,7 @@ std::vector<OutputTarget> output_targets(const config::GlobalOptions& global,
   }
   if (several) out += "_" + spec.name;
   for (const ImageFormat f : spec.output.formats)
-    targets.push_back({out.string() + config::output_format(f).extension, f});
+    targets.push_back({out.string() + image_format(f).extension, f});
   return targets;
 }
 
@@ -63,7 +62,7 @@ void write_outputs(const std::vector<OutputTarget>& targets, const Image& image,
       fs::create_directories(p.parent_path(), ec);
       if (ec) throw std::runtime_error("cannot create directory " + p.parent_path().string() + ": " + ec.message());
     }
-    config::output_format(t.format).write(t.path, image, output);
+    image_format(t.format).write(t.path, image, output.tone_map());
   }
 }
 

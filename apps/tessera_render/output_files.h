@@ -2,6 +2,7 @@
 // Where a render's images go, and writing them.
 #include <tessera/config/config.h>
 #include <tessera/image.h>
+#include <tessera/image_format.h>
 
 #include <optional>
 #include <string>
@@ -11,7 +12,7 @@ namespace tessera::cli {
 
 struct OutputTarget {
   std::string path;
-  config::ImageFormat format;
+  ImageFormat format;
 };
 
 /// Without -o: output_dir / format_output_path(output.file, name, `step`, time 0, rank 0)

@@ -3,19 +3,17 @@
 #include "progress_bar.h"
 
 #include <tessera/config/build_scene.h>
+#include <tessera/config/render_memory.h>
 #include <tessera/denoiser.h>
 #include <tessera/film.h>
-#include <tessera/image_io.h>
 #include <tessera/memory_estimate.h>
 #include <tessera/render.h>
 #include <tessera/axis_order_check.h>
 #include <tessera/scene_warnings.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
-#include <thread>
 
 namespace tessera::cli {
 
@@ -40,52 +38,53 @@ VolumeInfo describe_field(const FieldView& view, const VolumeGeometry& geometry,
   return v;
 }
 
-SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
-                    const VolumeInfo& volume, const Args& args) {
-  // The image size first: `distance: fit` frames the camera for the image's aspect ratio
-  config::RenderSpec sized = spec;
-  if (args.width) sized.image.width = *args.width;
-  if (args.height) sized.image.height = *args.height;
-  SceneDesc scene = config::build_scene(sized, volume.bounds, volume.range, volume.geometry);
-  scene.options = config::build_render_options(spec, cfg.global);
-  if (args.spp) scene.image.spp = *args.spp;
-  if (args.tile) scene.options.tile = *args.tile;
-  if (args.threads) scene.options.threads = *args.threads;
-  if (args.seed) scene.options.seed = *args.seed;
-  scene.options.frame = static_cast<std::uint64_t>(args.step);  // as the adapter at this step
-  if (args.denoise) scene.image.denoise = *args.denoise;
-  return scene;
+namespace {
+
+/// `spec` with the command line's overrides of its image and integrator blocks (--width,
+/// --height, --spp, --denoise, --tile, --scanline, --seed).
+config::RenderSpec with_flags(const config::RenderSpec& spec, const Args& args) {
+  config::RenderSpec s = spec;
+  if (args.width) s.image.width = *args.width;
+  if (args.height) s.image.height = *args.height;
+  if (args.spp) s.image.spp = *args.spp;
+  if (args.denoise) s.image.denoise = *args.denoise;
+  if (args.tile) s.integrator.tile = *args.tile;
+  if (args.seed) s.integrator.seed = *args.seed;
+  return s;
 }
 
+/// The render options of `flagged` (with_flags), with --threads and the step as the frame.
+RenderOptions options_for(const config::Config& cfg, const config::RenderSpec& flagged, const Args& args) {
+  RenderOptions options = config::build_render_options(flagged, cfg.global);
+  if (args.threads) options.threads = *args.threads;
+  options.frame = static_cast<std::uint64_t>(args.step);  // as the adapter at this step
+  return options;
+}
+
+/// The render's estimated allocations against the memory limit, before any of them is made
+/// (the envmap's header is read, not its pixels); writes the formats of `targets`.
 void check_memory(const config::Config& cfg, const config::RenderSpec& spec, const VolumeInfo& volume,
                   const Args& args, const std::vector<OutputTarget>& targets) {
-  RenderFootprint f;
-  f.width = args.width.value_or(spec.image.width);
-  f.height = args.height.value_or(spec.image.height);
-  f.tile = args.tile.value_or(spec.integrator.tile);
-  const int threads = args.threads.value_or(cfg.global.threads);
-  f.threads = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  f.variance = spec.output.variance;
-  f.samples = spec.output.samples;
-  f.denoise = args.denoise.value_or(spec.image.denoise);
-  f.exr = f.png = false;
-  for (const OutputTarget& t : targets) (t.format == config::ImageFormat::Exr ? f.exr : f.png) = true;
-  for (int a = 0; a < 3; ++a) f.field_dims[a] = volume.view.dims[a];
-  f.macrocell_edge = majorant_edge(volume.view, spec.integrator.desc);
-  if (spec.background.type == BackgroundType::EnvMap) {
-    const auto [w, h] = read_exr_size(spec.background.file);  // the header only
-    f.envmap_width = w;
-    f.envmap_height = h;
-  }
-  const MemoryEstimate estimate = estimate_render_memory(f);
-  const std::int64_t mb = cfg.global.memory_limit_mb;
-  const std::uint64_t limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(1);
-  if (estimate.total() <= limit) return;
-  throw std::runtime_error(
-      "render '" + spec.name + "' needs an estimated " + estimate.describe() + ", more than " +
-      (mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
-              : "the default tessera.memory_limit_mb (half of the machine's " +
-                    format_bytes(physical_memory_bytes()) + ": " + format_bytes(limit) + ")"));
+  const config::RenderSpec flagged = with_flags(spec, args);
+  std::vector<ImageFormat> formats;
+  for (const OutputTarget& t : targets) formats.push_back(t.format);
+  const MemoryEstimate estimate = estimate_render_memory(
+      config::render_footprint(flagged, options_for(cfg, flagged, args), formats, volume.view, 1));
+  const config::MemoryLimit limit = config::memory_limit(cfg.global);
+  if (estimate.total() <= limit.bytes) return;
+  throw std::runtime_error("render '" + spec.name + "' needs an estimated " + estimate.describe() + ", more than " +
+                           limit.text);
+}
+
+}  // namespace
+
+SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
+                    const VolumeInfo& volume, const Args& args) {
+  // The flags first: `distance: fit` frames the camera for the image's aspect ratio
+  const config::RenderSpec flagged = with_flags(spec, args);
+  SceneDesc scene = config::build_scene(flagged, volume.bounds, volume.range, volume.geometry);
+  scene.options = options_for(cfg, flagged, args);
+  return scene;
 }
 
 void check_volume_memory(const config::Config& cfg) {
@@ -93,15 +92,11 @@ void check_volume_memory(const config::Config& cfg) {
   // dims are at most 2^31 each and 2^47 vertices in all (parse_volume): no overflow here
   const std::uint64_t bytes = static_cast<std::uint64_t>(v.dims[0]) * static_cast<std::uint64_t>(v.dims[1]) *
                               static_cast<std::uint64_t>(v.dims[2]) * dtype_size(v.dtype);
-  const std::int64_t mb = cfg.global.memory_limit_mb;
-  const std::uint64_t limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(1);
-  if (bytes <= limit) return;
-  throw std::runtime_error(
-      "volume " + v.file + ": " + std::to_string(v.dims[0]) + "x" + std::to_string(v.dims[1]) + "x" +
-      std::to_string(v.dims[2]) + " values need " + format_bytes(bytes) + ", more than " +
-      (mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
-              : "the default tessera.memory_limit_mb (half of the machine's " +
-                    format_bytes(physical_memory_bytes()) + ": " + format_bytes(limit) + ")"));
+  const config::MemoryLimit limit = config::memory_limit(cfg.global);
+  if (bytes <= limit.bytes) return;
+  throw std::runtime_error("volume " + v.file + ": " + std::to_string(v.dims[0]) + "x" + std::to_string(v.dims[1]) +
+                           "x" + std::to_string(v.dims[2]) + " values need " + format_bytes(bytes) + ", more than " +
+                           limit.text);
 }
 
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,

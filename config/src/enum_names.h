@@ -2,7 +2,7 @@
 // Private: one table per enum of the schema (and one for the light kinds), name <-> value. The parsers read them (which
 // word means which value, and the allowed words in messages, in table order) and to_yaml
 // writes from them, so each name is spelled once. Image formats have their own table with
-// extension and writer (tessera/config/output_formats.h); dtype names are core's dtype_name.
+// extension and writer (core's tessera/image_format.h); dtype names are core's dtype_name.
 #include <tessera/config/config.h>
 
 #include <cstddef>
@@ -66,7 +66,7 @@ inline constexpr EnumName<ToneMap::Curve> kToneMapNames[] = {{"aces", ToneMap::C
                                                              {"reinhard", ToneMap::Curve::Reinhard},
                                                              {"clamp", ToneMap::Curve::Clamp}};
 
-/// The name of `value` in `table`: rows with .name and .value (EnumName, OutputFormat).
+/// The name of `value` in `table`: rows with .name and .value (EnumName, ImageFormatInfo).
 /// Every value of an enum has a row; "" would mean a table is missing one.
 template <class Table, class E>
 const char* name_of(const Table& table, E value) {

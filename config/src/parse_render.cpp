@@ -1,8 +1,8 @@
 // One entry of `renders:`: name, field, trigger, image, camera, output (the larger blocks,
 // transfer function, lights, background and integrator, have files of their own).
-#include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>
 #include <tessera/config/render_spec.h>
+#include <tessera/image_format.h>
 
 #include "enum_names.h"
 #include "parsers.h"
@@ -117,11 +117,11 @@ OutputSpec parse_output(const Value& v) {
   }
   if (const auto f = m.get("formats")) {
     o.formats.clear();
-    const auto formats = output_formats();
+    const auto formats = image_formats();
     for (const Value& e : f->list("a list of formats: " + detail::join_words(detail::names_of(formats), ", "), 1,
                                   formats.size())) {
       const ImageFormat fmt = e.choice(formats);
-      if (o.has_format(fmt)) e.fail(std::string(format_name(fmt)) + " given twice (allowed: each format once)");
+      if (o.has_format(fmt)) e.fail(std::string(image_format(fmt).name) + " given twice (allowed: each format once)");
       o.formats.push_back(fmt);
     }
   }

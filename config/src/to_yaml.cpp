@@ -1,5 +1,6 @@
 // The effective config as YAML: every default written out, accepted again by parse_config.
 #include <tessera/config/config.h>
+#include <tessera/image_format.h>
 
 #include "enum_names.h"
 #include "yaml_reader.h"
@@ -110,7 +111,7 @@ void write(YAML::Emitter& out, const ColorTFSpec& tf) {
   write(out, tf.points);
 }
 
-void write(YAML::Emitter& out, ImageFormat f) { write(out, format_name(f)); }
+void write(YAML::Emitter& out, ImageFormat f) { write(out, image_format(f).name); }
 
 void write(YAML::Emitter& out, const GlobalOptions& g) {
   out << YAML::BeginMap;

@@ -143,7 +143,7 @@ class Value {
   /// Any scalar, as text (a non-empty string unless allow_empty).
   std::string string(bool allow_empty = false) const;
   /// One of the words of `table` (rows with .name and .value: EnumName in enum_names.h,
-  /// OutputFormat); a wrong word's message lists them all, in table order.
+  /// ImageFormatInfo); a wrong word's message lists them all, in table order.
   template <class Table>
   auto choice(const Table& table) const;
   /// `[x, y, z]`, each inside `r`.

@@ -22,6 +22,11 @@ u64 mul(u64 a, u64 b) { return a != 0 && b > kMax / a ? kMax : a * b; }
 u64 sum(u64 a, u64 b) { return b > kMax - a ? kMax : a + b; }
 u64 nonneg(std::int64_t v) { return v > 0 ? static_cast<u64>(v) : 0; }
 
+/// A writer's scanline buffers for an image `width` wide with `channels` float channels.
+u64 scanline_bytes(const ImageFormatInfo& format, int width, u64 channels) {
+  return mul(mul(nonneg(width), channels * sizeof(float)), format.buffered_scanlines);
+}
+
 }  // namespace
 
 void MemoryEstimate::add(std::string name, std::uint64_t bytes) {
@@ -78,21 +83,25 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
   e.add("film", mul(mul(pixels, sizeof(PixelSums)), 1 + views));
   if (f.denoise) e.add("denoise buffers", mul(mul(pixels, sizeof(AuxSums)), 1 + views));
 
-  // Images: the resolved float image (RGBA + layers), the 8-bit PNG copy, OpenEXR's
-  // line-block buffers (16 scanlines, raw and compressed); the last image kept by the adapter
+  // Images: the resolved float image (RGBA + layers), the last image kept by the adapter, and
+  // each format's writer: its own copy and its scanline buffers (image_format.h: the 8-bit
+  // PNG copy, OpenEXR's 16-scanline blocks raw and compressed)
   if (f.writes) {
     const u64 layers = 4 + (f.variance ? 1 : 0) + (f.samples ? 1 : 0);
     const u64 image = mul(pixels, layers * sizeof(float));
     u64 bytes = mul(image, 1 + views + (f.keeps_last_image ? 1 : 0));
-    if (f.png) bytes = sum(bytes, mul(pixels, 4));
-    if (f.exr) bytes = sum(bytes, mul(mul(nonneg(f.width), layers * sizeof(float)), 2 * 16));
+    for (const ImageFormat format : f.formats) {
+      const ImageFormatInfo& row = image_format(format);
+      bytes = sum(bytes, sum(mul(pixels, row.copy_bytes_per_pixel), scanline_bytes(row, f.width, layers)));
+    }
     e.add("images", bytes);
     // Denoising: albedo, normal and denoised RGB beside the image, OIDN's working memory,
-    // and the EXR's three extra channels
+    // and the writers' buffers for the three denoised channels (the EXR writes them as extra
+    // channels; the PNG copy shows them in place of RGB)
     if (f.denoise) {
       u64 d = mul(mul(pixels, 9 * sizeof(float)), 1 + views + (f.keeps_last_image ? 1 : 0));
       d = sum(d, sum(std::min(mul(pixels, kDenoiserBytesPerPixel), kDenoiserMaxWorkingBytes), kDenoiserFixedBytes));
-      if (f.exr) d = sum(d, mul(mul(nonneg(f.width), 3 * sizeof(float)), 2 * 16));
+      for (const ImageFormat format : f.formats) d = sum(d, scanline_bytes(image_format(format), f.width, 3));
       e.add("denoise buffers", d);
     }
   }

@@ -3,15 +3,14 @@
 
 #include <tessera/brick_cache.h>
 #include <tessera/config/build_scene.h>
-#include <tessera/field_summary.h>
-#include <tessera/image_io.h>
+#include <tessera/config/render_memory.h>
 #include <tessera/number_text.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
-#include <thread>
+#include <utility>
 
 namespace tessera::insitu {
 namespace {
@@ -39,40 +38,22 @@ int brick_shift(const std::int64_t global_dims[3]) {
 FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding,
                      int ranks, int ranks_on_node, bool root) {
   const int node_ranks = std::max(1, ranks_on_node);
-  const RenderOptions options = config::build_render_options(spec, cfg.global);
-  RenderFootprint f;
-  f.width = spec.image.width;
-  f.height = spec.image.height;
-  f.tile = options.tile;
-  f.threads = options.threads > 0 ? options.threads
-                                  : std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / node_ranks);
-  f.variance = spec.output.variance;
-  f.samples = spec.output.samples;
-  f.denoise = spec.image.denoise;
-  f.exr = spec.output.has_format(config::ImageFormat::Exr);
-  f.png = spec.output.has_format(config::ImageFormat::Png);
+  FieldView global;  // dims only: what the footprint reads
+  for (int a = 0; a < 3; ++a) global.dims[a] = binding.placement.global_dims[a];
+  RenderFootprint f = config::render_footprint(spec, config::build_render_options(spec, cfg.global),
+                                               spec.output.formats, global, node_ranks);
+  // What the adapter adds: rank 0 writes every image and keeps the last one; the Cinema views
   f.writes = root;
   f.keeps_last_image = root;
   if (spec.output.cinema)
     f.views = static_cast<int>(spec.output.cinema->azimuths.size() * spec.output.cinema->elevations.size());
-  FieldView global;  // dims only: what majorant_edge reads
-  for (int a = 0; a < 3; ++a) f.field_dims[a] = global.dims[a] = binding.placement.global_dims[a];
-  f.macrocell_edge = majorant_edge(global, spec.integrator.desc);
-  if (spec.background.type == BackgroundType::EnvMap) {
-    const auto [w, h] = read_exr_size(spec.background.file);  // the header only
-    f.envmap_width = w;
-    f.envmap_height = h;
-  }
 
   FieldPlan plan;
   plan.base = estimate_render_memory(f);
   plan.threads = f.threads;
-  const std::int64_t mb = cfg.global.memory_limit_mb;
-  plan.limit = mb > 0 ? static_cast<std::uint64_t>(mb) << 20 : default_memory_limit_bytes(node_ranks);
-  plan.limit_text = mb > 0 ? "tessera.memory_limit_mb = " + std::to_string(mb) + " MiB"
-                           : "the default tessera.memory_limit_mb (half of the machine's " +
-                                 format_bytes(physical_memory_bytes()) + " over " + std::to_string(node_ranks) +
-                                 " rank(s) on this node: " + format_bytes(plan.limit) + ")";
+  config::MemoryLimit limit = config::memory_limit(cfg.global, node_ranks);
+  plan.limit = limit.bytes;
+  plan.limit_text = std::move(limit.text);
   plan.cache_fraction = cfg.global.brick_cache;
   if (ranks > 1) plan.replica_share = field_bytes(binding) / static_cast<std::uint64_t>(node_ranks);
   switch (cfg.global.distribution) {

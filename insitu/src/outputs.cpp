@@ -1,8 +1,8 @@
 #include "outputs.h"
 
-#include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>
 #include <tessera/atomic_output.h>
+#include <tessera/image_format.h>
 
 #include <filesystem>
 #include <stdexcept>
@@ -28,10 +28,10 @@ void ensure_directory(const std::string& dir) {
 void write_image_files(const std::string& base, const config::OutputSpec& output,
                        const Image& img, std::vector<std::string>& files) {
   ensure_directory(fs::path(base).parent_path().string());
-  for (const config::ImageFormat f : output.formats) {
-    const config::OutputFormat& format = config::output_format(f);
+  for (const ImageFormat f : output.formats) {
+    const ImageFormatInfo& format = image_format(f);
     const std::string path = base + format.extension;
-    format.write(path, img, output);
+    format.write(path, img, output.tone_map());
     files.push_back(path);
   }
 }

@@ -17,7 +17,8 @@ std::string output_base(const std::string& output_dir, const config::RenderSpec&
 
 /// Writes `img` as base + ".exr" / ".png" per spec.output.formats (PNG tone-mapped with the
 /// output's exposure and curve), creating the parent directory. Appends each path written to
-/// `files`. Throws std::runtime_error naming the path and the fault.
+/// `files`, in the order of spec.output.formats. Throws std::runtime_error naming the path and
+/// the fault.
 void write_image_files(const std::string& base, const config::OutputSpec& output,
                        const Image& img, std::vector<std::string>& files);
 

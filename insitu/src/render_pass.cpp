@@ -8,6 +8,7 @@
 #include <tessera/config/build_scene.h>
 #include <tessera/denoiser.h>
 #include <tessera/film.h>
+#include <tessera/image_format.h>
 #include <tessera/image_io.h>
 #include <tessera/memory_estimate.h>
 #include <tessera/message_text.h>
@@ -337,10 +338,12 @@ class Pass {
             const std::size_t first = m_out.result.files.size();
             write_image_files((std::filesystem::path(dir) / rel).string(), m_spec.output, img,
                               m_out.result.files);
-            // FILE column: the PNG when written (what Cinema viewers show), else the EXR
+            // FILE column: the file Cinema viewers show as it is (the PNG) when written, else
+            // the first; write_image_files appended one file per format, in formats' order
+            const std::vector<ImageFormat>& formats = m_spec.output.formats;
             std::string shown = m_out.result.files[first];
-            for (std::size_t i = first; i < m_out.result.files.size(); ++i)
-              if (m_out.result.files[i].ends_with(".png")) shown = m_out.result.files[i];
+            for (std::size_t k = 0; k < formats.size(); ++k)
+              if (image_format(formats[k]).shown_as_is) shown = m_out.result.files[first + k];
             m_render.cinema->set_row(m_call.time, view.phi, view.theta,
                                      std::filesystem::path(shown).lexically_relative(dir).string());
           }))

@@ -190,7 +190,7 @@ TEST_CASE("memory estimate: OIDN's working memory is counted per pixel up to the
     tessera::RenderFootprint f;
     f.width = w;
     f.height = h;
-    f.exr = false;  // no EXR line buffers for the extra channels
+    f.formats = {tessera::ImageFormat::Png};  // no EXR line buffers for the extra channels
     const std::uint64_t off = tessera::estimate_render_memory(f).total();
     f.denoise = true;
     const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);

@@ -19,6 +19,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 using namespace tessera::insitu::test;
 using Catch::Matchers::Contains;
@@ -184,8 +186,7 @@ TEST_CASE("memory estimate of a known configuration", "[robustness][limits]") {
   f.height = 50;
   f.tile = 10;
   f.threads = 2;
-  f.exr = true;
-  f.png = true;
+  f.formats = {tessera::ImageFormat::Exr, tessera::ImageFormat::Png};
   f.variance = true;
   f.field_dims[0] = f.field_dims[1] = f.field_dims[2] = 33;  // 2^3 cells of edge 16
   f.macrocell_edge = 16;
@@ -208,6 +209,17 @@ TEST_CASE("memory estimate of a known configuration", "[robustness][limits]") {
   for (const auto& p : e.parts) sum += p.bytes;
   CHECK(e.total() == sum);
   CHECK_THAT(e.describe(), Contains("film 312 KiB"));
+  // Each format alone: its writer's part only (none: the float image alone)
+  const auto images = [&](std::vector<tessera::ImageFormat> formats) {
+    tessera::RenderFootprint g = f;
+    g.formats = std::move(formats);
+    for (const auto& p : tessera::estimate_render_memory(g).parts)
+      if (p.name == "images") return p.bytes;
+    return std::uint64_t{0};
+  };
+  CHECK(images({tessera::ImageFormat::Png}) == 5000u * 5 * 4 + 5000u * 4);
+  CHECK(images({tessera::ImageFormat::Exr}) == 5000u * 5 * 4 + 100u * 5 * 4 * 2 * 16);
+  CHECK(images({}) == 5000u * 5 * 4);
 
   // 16384^2, EXR and PNG: about 21 GiB
   tessera::RenderFootprint big;

@@ -8,6 +8,8 @@
 /// tables. Callers add their own parts (the adapter: the MPI field replica) with add().
 /// Figures are upper estimates from the element sizes; small fixed costs (a few KiB per
 /// thread) are left out.
+#include <tessera/image_format.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -26,7 +28,9 @@ struct RenderFootprint {
   /// working memory (kDenoiserBytesPerPixel up to kDenoiserMaxWorkingBytes, and
   /// kDenoiserFixedBytes)
   bool denoise = false;
-  bool exr = true, png = true; ///< formats written (this rank writes: rank 0, or the CLI)
+  /// Formats written, no repeats (where this rank writes: rank 0, or the CLI); each adds the
+  /// buffers its row of image_format.h names
+  std::vector<ImageFormat> formats{ImageFormat::Exr, ImageFormat::Png};
   bool writes = true;          ///< this rank resolves and writes the image
   bool keeps_last_image = false;  ///< the image is kept after the write (adapter rank 0)
   int views = 0;               ///< Cinema views rendered after the main image (0 = none)

@@ -3,6 +3,7 @@
 #include <tessera/config/light_spec.h>
 #include <tessera/config/point_spec.h>
 #include <tessera/config/transfer_function_spec.h>
+#include <tessera/image_format.h>
 #include <tessera/image_io.h>
 #include <tessera/integrator.h>
 #include <tessera/scene.h>
@@ -51,8 +52,6 @@ struct CinemaSpec {
   static constexpr std::size_t kMaxViews = 4096;
 };
 
-enum class ImageFormat { Exr, Png };
-
 struct OutputSpec {
   std::string file = "{name}_{step:06d}";  ///< pattern, see output_path.h; no extension
   std::vector<ImageFormat> formats{ImageFormat::Exr, ImageFormat::Png};  ///< non-empty, no repeats
@@ -78,8 +77,5 @@ struct RenderSpec {
   IntegratorSpec integrator;
   OutputSpec output;
 };
-
-/// Lower-case names as written in configs.
-const char* format_name(ImageFormat f);      ///< "exr", "png"
 
 }  // namespace tessera::config
