@@ -52,12 +52,6 @@ struct PilotSums {
   }
 };
 
-struct KernelScene;
-struct RenderOptions;
-/// The preview's scale for a kernel scene (0 when adaptive sampling is off), on
-/// options.threads threads within options.deadline (DeadlineExceeded past it); render.cpp.
-double adaptive_preview_scale(const KernelScene& ks, const RenderOptions& options);
-
 /// Sample index of the preview's i-th sample of a pixel: far above any count a film reaches,
 /// so preview streams are never the image's.
 inline constexpr std::uint64_t kPreviewIndexBase = std::uint64_t{1} << 62;

@@ -1,15 +1,15 @@
 /// The TBB tile scheduler: render_tiles() cuts the chosen tiles into work items, runs the
 /// frame's tile kernel (tile_kernel.h, chosen once) on them in a task arena and sums the
-/// counters; adaptive_preview_scale() runs the preview kernel over block rows the same way.
+/// counters. prepare's adaptive preview (scene/adaptive_preview.cpp) runs the same way.
 #include <tessera/render.h>
 
 #include "kernel/adaptive_sampling.h"
 #include "kernel/stop_check.h"
 #include "kernels/tile_kernel.h"
+#include "kernels/workers.h"
 #include "scene/prepared_scene_impl.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
@@ -31,16 +31,6 @@ DeadlineExceeded::DeadlineExceeded(std::size_t tiles_done, std::size_t tiles_tot
       m_total(tiles_total) {}
 
 namespace {
-
-/// Worker threads for a render: options.threads (0 = the current arena's concurrency), never
-/// more than TBB will run at once (global_control max_allowed_parallelism, the hardware
-/// threads unless the caller lowered it). Asking for more would only create idle arena slots.
-int render_threads(const RenderOptions& o) {
-  const int cap = static_cast<int>(std::max<std::size_t>(
-      1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
-  const int want = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
-  return std::clamp(want, 1, cap);
-}
 
 /// A unit of parallel work: one tile, or a band of rows of one.
 struct WorkItem {
@@ -78,54 +68,7 @@ std::vector<WorkItem> plan_work(const PreparedSceneImpl& s, std::span<const int>
   return work;
 }
 
-/// A work item's bracket for a paged field's cache (enter_tile / leave_tile, brick_cache.h):
-/// lets the cache be emptied only while no worker is inside a tile. Nothing for a replicated
-/// field (null cache).
-class TileBracket {
- public:
-  explicit TileBracket(BrickCache* cache) : m_cache(cache) {
-    if (m_cache) m_cache->enter_tile();
-  }
-  ~TileBracket() {
-    if (m_cache) m_cache->leave_tile();
-  }
-  TileBracket(const TileBracket&) = delete;
-  TileBracket& operator=(const TileBracket&) = delete;
-
- private:
-  BrickCache* m_cache;
-};
-
 }  // namespace
-
-double adaptive_preview_scale(const KernelScene& s, const RenderOptions& options) {
-  if (!(s.target_error > 0.0)) return 0.0;
-  const int threads = render_threads(options);
-  const PreviewKernel preview_row = preview_kernel(s);
-  const int rows = (s.height + kAdaptiveBlock - 1) / kAdaptiveBlock;
-  const int cols = (s.width + kAdaptiveBlock - 1) / kAdaptiveBlock;
-  std::vector<double> sigma(rows, 0.0), lum(rows, 0.0);
-  std::vector<std::uint64_t> count(rows, 0);
-  StopCheck stop(options.deadline);
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    tbb::parallel_for(0, rows, [&](int by) {
-      if (stop.stop()) return;
-      TileBracket bracket(s.paged.cache);
-      preview_row(s, by, &sigma[by], &lum[by], &count[by], stop);
-    });
-  });
-  if (stop.stopped()) throw DeadlineExceeded(0, s.tile_count);
-  // Row sums added in row order: the same for any thread count.
-  double sigma_sum = 0.0, lum_sum = 0.0;
-  std::uint64_t n = 0;
-  for (int r = 0; r < rows; ++r) sigma_sum += sigma[r], lum_sum += lum[r], n += count[r];
-  if (n == 0 || !(lum_sum > 0.0)) return 0.0;  // a black image: every pixel takes the pilot
-  const double S_mean = sigma_sum / (static_cast<double>(rows) * cols);
-  const double M = lum_sum / static_cast<double>(n);
-  const double t = s.target_error;
-  return S_mean / (t * t * M * M);
-}
 
 void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film,
                   RenderStats& stats, const std::function<void(int)>& progress) {

@@ -3,7 +3,7 @@
 #include <tessera/loop_bounds.h>
 #include <tessera/number_text.h>
 
-#include "kernel/adaptive_sampling.h"
+#include "scene/adaptive_preview.h"
 #include "scene/prepared_scene_impl.h"
 #include "scene/tile_culling.h"
 
