@@ -1,8 +1,8 @@
 // MpiParallelContext, field replica: every rank's box of the field gathered into one
 // shared-memory replica per node (assemble(); parallel_context_mpi.h says how).
-#include "mpi_check.h"
-#include "mpi_datatypes.h"
-#include "parallel_context_mpi.h"
+#include "mpi/mpi_check.h"
+#include "mpi/mpi_datatypes.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include <climits>
 #include <cstring>

@@ -1,6 +1,6 @@
 // MpiParallelContext, statistics: every rank's render counters combined on rank 0.
-#include "mpi_check.h"
-#include "parallel_context_mpi.h"
+#include "mpi/mpi_check.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include <cstdint>
 #include <iterator>

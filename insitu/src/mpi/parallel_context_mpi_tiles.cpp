@@ -1,8 +1,8 @@
 // MpiParallelContext, tile scheduler: render(), with tiles handed out from a shared counter on
 // rank 0 a few at a time (MPI_Fetch_and_op), each rank rendering its grabs into its own Film.
-#include "mpi_check.h"
-#include "mpi_datatypes.h"
-#include "parallel_context_mpi.h"
+#include "mpi/mpi_check.h"
+#include "mpi/mpi_datatypes.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include <tbb/task_arena.h>
 

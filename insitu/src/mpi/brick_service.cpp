@@ -1,9 +1,9 @@
 // BrickService: serves and fetches the bricks of a demand-paged field over MPI
 // (brick_service.h says how).
-#include "brick_service.h"
+#include "mpi/brick_service.h"
 
-#include "mpi_check.h"
-#include "mpi_datatypes.h"
+#include "mpi/mpi_check.h"
+#include "mpi/mpi_datatypes.h"
 
 #include <algorithm>
 #include <stdexcept>

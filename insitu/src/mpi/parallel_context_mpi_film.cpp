@@ -1,8 +1,8 @@
 // MpiParallelContext, the film: every rank starts from rank 0's film (empty, or the samples
 // of a progressive render so far), and rank 0 receives every other rank's tile pixels.
-#include "mpi_check.h"
-#include "mpi_datatypes.h"
-#include "parallel_context_mpi.h"
+#include "mpi/mpi_check.h"
+#include "mpi/mpi_datatypes.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include <span>
 #include <stdexcept>

@@ -2,9 +2,9 @@
 // their own: construction and byte collectives (parallel_context_mpi_setup.cpp), the field
 // replica (_replica.cpp), the tile scheduler (_tiles.cpp), the film shared and gathered
 // (_film.cpp) and the statistics reduced (_stats.cpp); MPI datatypes in mpi_datatypes.h.
-#include "parallel_context_mpi.h"
+#include "mpi/parallel_context_mpi.h"
 
-#include "mpi_check.h"
+#include "mpi/mpi_check.h"
 
 namespace tessera::insitu {
 

@@ -1,8 +1,8 @@
 // MpiParallelContext, distributed mode: the global summary from per-rank partial summaries,
 // the demand-paged field (every rank keeps its own block, other bricks are fetched on first
 // touch into a bounded cache) and the serving of bricks while kernels run (docs/mpi.md).
-#include "mpi_check.h"
-#include "parallel_context_mpi.h"
+#include "mpi/mpi_check.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include <algorithm>
 #include <atomic>

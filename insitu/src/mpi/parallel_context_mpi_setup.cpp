@@ -1,8 +1,8 @@
 // MpiParallelContext: construction in two steps (the communicator, then the nodes) and the
 // byte collectives that the rank agreement uses in between (rank_agreement.h). The rest of
 // the context is in the other parallel_context_mpi*.cpp files (parallel_context_mpi.cpp lists them).
-#include "mpi_check.h"
-#include "parallel_context_mpi.h"
+#include "mpi/mpi_check.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include <tessera/message_text.h>
 

@@ -24,7 +24,7 @@
 /// (MPI_THREAD_FUNNELED suffices). Passive-target RMA on rank 0's counter relies on the MPI
 /// library progressing it while rank 0 renders; within a node Open MPI's osc/sm does this in
 /// hardware (shared-memory atomics).
-#include "brick_service.h"
+#include "mpi/brick_service.h"
 #include "parallel_context.h"
 
 #include <mpi.h>

@@ -1,6 +1,6 @@
-#include "mpi_datatypes.h"
+#include "mpi/mpi_datatypes.h"
 
-#include "mpi_check.h"
+#include "mpi/mpi_check.h"
 
 #include <type_traits>
 
