@@ -1,4 +1,4 @@
-#include "args.h"
+#include "parse_args.h"
 
 #include <tessera/scene.h>
 

@@ -1,4 +1,4 @@
-#include "render_job.h"
+#include <tessera/job/render_job.h>
 
 #include "progress_bar.h"
 

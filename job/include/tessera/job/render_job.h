@@ -1,14 +1,13 @@
 #pragma once
 // One render of the CLI: scene from the spec, flag overrides, prepare, render, write.
-#include "args.h"
-#include "output_files.h"
-#include "stats_json.h"
-
 #include <tessera/config/config.h>
 #include <tessera/config/raw_volume.h>
 #include <tessera/field_summary.h>
 #include <tessera/field_view.h>
 #include <tessera/image.h>
+#include <tessera/job/args.h>
+#include <tessera/job/output_files.h>
+#include <tessera/job/stats_json.h>
 #include <tessera/scene.h>
 
 #include <cstdint>

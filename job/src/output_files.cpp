@@ -1,4 +1,4 @@
-#include "output_files.h"
+#include <tessera/job/output_files.h>
 
 #include <tessera/config/output_formats.h>
 #include <tessera/config/output_path.h>

@@ -1,4 +1,4 @@
-#include "stats_json.h"
+#include <tessera/job/stats_json.h>
 
 #include <tessera/atomic_output.h>
 #include <tessera/number_text.h>

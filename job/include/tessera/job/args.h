@@ -1,5 +1,6 @@
 #pragma once
-// Command line of tessera-render (docs/cli.md).
+// Command line of tessera-render (docs/cli.md): what a render job takes from it (its
+// overrides of the YAML); apps/tessera_render/parse_args.h reads it from argv.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -25,12 +26,5 @@ struct Args {
   bool help = false;                 ///< -h / --help: print usage, exit 0
   bool version = false;              ///< --version
 };
-
-/// Parses argv; throws std::runtime_error with a one-line message for a bad command line.
-/// Options take their value as the next argument or after '=' (--spp=64).
-Args parse_args(int argc, const char* const* argv);
-
-/// The synopsis and option list, for --help.
-const char* usage();
 
 }  // namespace tessera::cli
