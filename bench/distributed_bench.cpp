@@ -14,8 +14,8 @@
 // scripts/run_distributed_bench.sh and scripts/run_distributed_cache_sweep.sh run the sweeps.
 #include "bench_args.h"
 #include "field_plan.h"
+#include "mpi/parallel_context_mpi.h"
 #include "mpi_bench_field.h"
-#include "parallel_context_mpi.h"
 
 #include <tessera/render.h>
 

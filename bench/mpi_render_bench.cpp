@@ -15,8 +15,8 @@
 // Per-rank rows go to FILE, one summary row per mode to FILE with _summary before .csv.
 // scripts/run_mpi_bench.sh runs it for 1, 2 and 4 ranks.
 #include "bench_args.h"
+#include "mpi/parallel_context_mpi.h"
 #include "mpi_bench_field.h"
-#include "parallel_context_mpi.h"
 
 #include <tessera/render.h>
 

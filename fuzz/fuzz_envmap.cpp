@@ -15,7 +15,7 @@
 // into DIR; scripts/fuzz.sh does this with -runs=0 before fuzzing.
 #include <tessera/image_io.h>
 
-#include "environment.h"
+#include "lights/environment.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>

@@ -1,13 +1,13 @@
 // tessera-render: render the scenes of a YAML file from a raw volume (docs/cli.md).
 // Every failure ends as one line `tessera-render: error: ...` on stderr and exit status 1.
-#include "args.h"
-#include "output_files.h"
-#include "render_job.h"
-#include "stats_json.h"
+#include "parse_args.h"
 
 #include <tessera/config/config.h>
 #include <tessera/config/raw_volume.h>
 #include <tessera/denoiser.h>
+#include <tessera/job/output_files.h>
+#include <tessera/job/render_job.h>
+#include <tessera/job/stats_json.h>
 
 #include <tessera/message_text.h>
 

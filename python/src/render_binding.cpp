@@ -1,11 +1,10 @@
 // tessera._tessera.render_array: tessera.render's C++ half. The config's render through the
-// CLI's own render job (apps/tessera_render/render_job.h: scene, memory check, time limit,
-// prepare, render), on a field view of the caller's array: no copy.
+// CLI's own render job (job/include/tessera/job/render_job.h: scene, memory check, time
+// limit, prepare, render), on a field view of the caller's array: no copy.
 #include "binding_support.h"
 
-#include "render_job.h"
-
 #include <tessera/image_io.h>
+#include <tessera/job/render_job.h>
 
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>

@@ -18,11 +18,11 @@
 #include <catch2/catch.hpp>
 
 #include "accuracy_support.h"
-#include "area_lights.h"
-#include "environment.h"
-#include "phase_hg.h"
+#include "kernel/phase_hg.h"
+#include "kernel/surface_brdf.h"
+#include "lights/area_lights.h"
+#include "lights/environment.h"
 #include "sampling/rng.h"
-#include "surface_brdf.h"
 
 #include <functional>
 #include <memory>

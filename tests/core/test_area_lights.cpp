@@ -6,7 +6,7 @@
 // seeds.
 #include <catch2/catch.hpp>
 
-#include "area_lights.h"
+#include "lights/area_lights.h"
 #include "sampling/rng.h"
 #include "test_support.h"
 

@@ -6,7 +6,7 @@
 // errors (two-sided, 6.3e-5). Fixed seeds.
 #include <catch2/catch.hpp>
 
-#include "environment.h"
+#include "lights/environment.h"
 #include "sampling/rng.h"
 #include "sampling/warp.h"
 #include "test_support.h"

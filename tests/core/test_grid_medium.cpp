@@ -3,7 +3,7 @@
 // range, gradients are exact on linear fields, and the macrocell DDA visits the right cells.
 #include <catch2/catch.hpp>
 
-#include "grid_medium.h"
+#include "kernel/grid_medium.h"
 #include "sampling/rng.h"
 #include "test_support.h"
 

@@ -6,11 +6,11 @@
 
 #include <catch2/catch.hpp>
 
-#include "kernel_scene.h"
-#include "light_set.h"
-#include "prepared_scene_impl.h"
-#include "test_support.h"
+#include "kernel/kernel_scene.h"
 #include "light_lookup.h"
+#include "lights/light_set.h"
+#include "scene/prepared_scene_impl.h"
+#include "test_support.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -4,10 +4,10 @@
 // and global mode; and along the cells the DDA reports for random rays.
 #include <catch2/catch.hpp>
 
-#include "grid_medium.h"
-#include "majorant_grid.h"
-#include "prepared_scene_impl.h"
+#include "field/majorant_grid.h"
+#include "kernel/grid_medium.h"
 #include "sampling/rng.h"
+#include "scene/prepared_scene_impl.h"
 #include "test_support.h"
 
 #include <algorithm>

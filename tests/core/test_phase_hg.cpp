@@ -6,7 +6,7 @@
 // cosine within 4 standard errors (two-sided, 6.3e-5). Fixed seeds.
 #include <catch2/catch.hpp>
 
-#include "phase_hg.h"
+#include "kernel/phase_hg.h"
 #include "sampling/rng.h"
 #include "sampling/warp.h"
 #include "test_support.h"

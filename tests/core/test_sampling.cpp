@@ -7,7 +7,7 @@
 // within 4 standard errors. Fixed seeds.
 #include <catch2/catch.hpp>
 
-#include "path_tracer.h"
+#include "kernel/path_tracer.h"
 #include "sampling/distribution.h"
 #include "sampling/rng.h"
 #include "sampling/warp.h"

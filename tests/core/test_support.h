@@ -5,8 +5,8 @@
 #include <tessera/render.h>
 #include <tessera/scene.h>
 
-#include "grid_medium.h"
-#include "majorant_grid.h"
+#include "field/majorant_grid.h"
+#include "kernel/grid_medium.h"
 
 #include <cmath>
 #include <cstdint>

@@ -5,9 +5,9 @@
 // Statistics: means within 4 standard errors (two-sided, 6.3e-5). Fixed seeds.
 #include <catch2/catch.hpp>
 
+#include "kernel/surface_brdf.h"
 #include "sampling/rng.h"
 #include "sampling/warp.h"
-#include "surface_brdf.h"
 
 #include <cmath>
 

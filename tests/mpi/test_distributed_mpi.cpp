@@ -1,4 +1,4 @@
-// Distributed mode (insitu/src/parallel_context_mpi_paged.cpp, brick_service.cpp): no replica;
+// Distributed mode (insitu/src/mpi/parallel_context_mpi_paged.cpp, brick_service.cpp): no replica;
 // each rank keeps its own block and fetches other ranks' bricks on first touch into a bounded
 // cache. Asserted: over 2, 3 and 4 ranks (real and pretend nodes, 1 and 2 threads, even,
 // uneven and 1-vertex-thick blocks, caches from 2 bricks to all of them) a render is
@@ -7,7 +7,7 @@
 // another rank's block; the global summary from per-rank parts equals the whole field's; no
 // rank allocates a replica and the cache stays at its slots; a rank that stops mid-render
 // (its deadline) makes every rank fail, none hangs.
-#include "parallel_context_mpi.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include "mpi_render_support.h"
 #include "mpi_test_support.h"

@@ -1,8 +1,8 @@
-// MpiParallelContext (insitu/src/parallel_context_mpi.cpp): assembly of strided local views
+// MpiParallelContext (insitu/src/mpi/parallel_context_mpi.cpp): assembly of strided local views
 // into one shared replica per node, dynamic tile distribution and the gather on rank 0.
 // Physics asserted: the replica is the global field exactly; a render over 1, 2, 3 or 4 ranks
 // is bit-identical (every PixelSums byte, every counter) to a one-rank core render.
-#include "parallel_context_mpi.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include "mpi_render_support.h"
 #include "mpi_test_support.h"

@@ -33,7 +33,7 @@ struct SphereLightDesc {
 /// The light kinds, one alternative each: the one central list. The kernels' light set keeps
 /// this order (every rect light, then every sphere light, whatever the order of
 /// SceneDesc::lights), so images do not depend on how a config interleaves kinds. A new kind:
-/// its description here and its alternative below; its kernel file (core/src/, see
+/// its description here and its alternative below; its kernel file (core/src/lights/, see
 /// area_lights.h); on the config side its parser case (docs/lights.md).
 using LightDesc = std::variant<RectLightDesc, SphereLightDesc>;
 

@@ -46,7 +46,7 @@ class PreparedScene {
  private:
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
-  /// The prepared data, for core's own sources (core/src/prepared_scene_impl.h).
+  /// The prepared data, for core's own sources (core/src/scene/prepared_scene_impl.h).
   friend const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
   std::unique_ptr<PreparedSceneImpl> m_impl;
 };

@@ -1,0 +1,146 @@
+#pragma once
+/// GridMedium<T>: the heterogeneous medium seen by the kernels. Works in volume-local voxel
+/// coordinates p = (x - origin) / spacing, so vertex (i,j,k) sits at p = (i,j,k) whatever the
+/// world placement; world distances t stay the ray parameter.
+#include <tessera/brick_cache.h>
+#include <tessera/field_view.h>
+#include <tessera/transfer_function.h>
+
+#include "field/majorant_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <type_traits>
+
+namespace tessera {
+
+/// The kernels' Value for a demand-paged field (brick_cache.h): the dtype is read per load.
+struct PagedValue {};
+
+/// How a GridMedium<T> reads vertices: in place for a real dtype, through the brick cache
+/// for PagedValue.
+template <class T>
+struct FieldAccessor {
+  using type = TypedFieldView<T>;
+};
+template <>
+struct FieldAccessor<PagedValue> {
+  using type = PagedFieldView;
+};
+
+/// True when T's vertex values may be NaN or infinite (a float dtype, or a paged field of
+/// any dtype: the test is exact, never true, for integer values).
+template <class T>
+inline constexpr bool kMayBeNonFinite = std::is_floating_point_v<T> || std::is_same_v<T, PagedValue>;
+
+template <class T>
+struct GridMedium {
+  typename FieldAccessor<T>::type field;
+  std::int64_t n[3];
+  double hi_index[3];              ///< n - 1 as double: the box in voxel space is [0, hi_index]
+  const TransferFunction* tf;
+  const double* majorant;          ///< per macrocell, 1 / world unit
+  std::int64_t nc[3];
+  double cell_edge;                ///< macrocell edge in voxels
+  /// Extinction clamp, 1 / world unit (kMaxOpticalThicknessPerVoxel / smallest spacing):
+  /// also catches density_scale * opacity overflowing to Inf
+  double sigma_max = INFINITY;
+
+  /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
+  double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    const double v = field.load(i, j, k);
+    if constexpr (kMayBeNonFinite<T>) {
+      if (!std::isfinite(v)) return v > 0.0 ? tf->hi : tf->lo;
+    }
+    return v;
+  }
+
+  /// Trilinear value at voxel-space point p (clamped into the box).
+  double value(const Vec3& p) const {
+    std::int64_t i0[3], i1[3];
+    double f[3];
+    for (int a = 0; a < 3; ++a) {
+      const double x = std::clamp(p[a], 0.0, hi_index[a]);
+      std::int64_t i = static_cast<std::int64_t>(x);
+      if (i > n[a] - 2) i = std::max<std::int64_t>(0, n[a] - 2);
+      i0[a] = i;
+      i1[a] = std::min(i + 1, n[a] - 1);
+      f[a] = x - static_cast<double>(i);
+      if (i1[a] == i0[a]) f[a] = 0.0;
+    }
+    const double c000 = vertex(i0[0], i0[1], i0[2]), c100 = vertex(i1[0], i0[1], i0[2]);
+    const double c010 = vertex(i0[0], i1[1], i0[2]), c110 = vertex(i1[0], i1[1], i0[2]);
+    const double c001 = vertex(i0[0], i0[1], i1[2]), c101 = vertex(i1[0], i0[1], i1[2]);
+    const double c011 = vertex(i0[0], i1[1], i1[2]), c111 = vertex(i1[0], i1[1], i1[2]);
+    const double c00 = c000 + f[0] * (c100 - c000), c10 = c010 + f[0] * (c110 - c010);
+    const double c01 = c001 + f[0] * (c101 - c001), c11 = c011 + f[0] * (c111 - c011);
+    const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
+    return c0 + f[2] * (c1 - c0);
+  }
+
+  double u(const Vec3& p) const { return tf->normalise(value(p)); }
+  double sigma_t_of_u(double uu) const {
+    return std::min(tf->density_scale * tf->opacity.eval(uu), sigma_max);
+  }
+  double sigma_t(const Vec3& p) const { return sigma_t_of_u(u(p)); }
+
+  /// Gradient of u by central differences one voxel apart (one-sided at the faces), in
+  /// units of 1 / voxel. Six field lookups.
+  Vec3 gradient_voxel(const Vec3& p) const {
+    Vec3 g(0.0);
+    for (int a = 0; a < 3; ++a) {
+      Vec3 pm = p, pp = p;
+      pm[a] = std::clamp(p[a] - 1.0, 0.0, hi_index[a]);
+      pp[a] = std::clamp(p[a] + 1.0, 0.0, hi_index[a]);
+      const double h = pp[a] - pm[a];
+      if (h > 0.0) g[a] = (u(pp) - u(pm)) / h;
+    }
+    return g;
+  }
+};
+
+/// Walks the macrocells a ray crosses between world distances t0 < t1, calling
+/// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
+/// Ray in voxel space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
+template <class T, class Fn>
+bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0,
+                         double t1, Fn&& fn) {
+  if (!(t0 < t1)) return false;
+  const double E = m.cell_edge;
+  std::int64_t c[3], step[3];
+  double t_next[3], t_delta[3];
+  const Vec3 p0 = ov + t0 * dv;
+  for (int a = 0; a < 3; ++a) {
+    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
+    if (dv[a] > 0.0) {
+      step[a] = 1;
+      t_next[a] = ((c[a] + 1) * E - ov[a]) / dv[a];
+      t_delta[a] = E / dv[a];
+    } else if (dv[a] < 0.0) {
+      step[a] = -1;
+      t_next[a] = (c[a] * E - ov[a]) / dv[a];
+      t_delta[a] = -E / dv[a];
+    } else {
+      step[a] = 0;
+      t_next[a] = INFINITY;
+      t_delta[a] = INFINITY;
+    }
+  }
+  double t = t0;
+  for (;;) {
+    const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
+    const double t_exit = std::min(t_next[a], t1);
+    if (t_exit > t) {
+      const double maj = m.majorant[(c[2] * m.nc[1] + c[1]) * m.nc[0] + c[0]];
+      if (fn(t, t_exit, maj)) return true;
+      t = t_exit;
+    }
+    if (t >= t1) return false;
+    c[a] += step[a];
+    if (c[a] < 0 || c[a] >= m.nc[a]) return false;
+    t_next[a] += t_delta[a];
+  }
+}
+
+}  // namespace tessera

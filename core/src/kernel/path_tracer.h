@@ -1,0 +1,338 @@
+#pragma once
+/// PathTracer<K>: the per-sample estimator of docs/physics.md, templated on a KernelTraits K
+/// (kernel_dispatch.h: the field's element type, the shading mode, whether an emission TF
+/// exists, the free-path strategy and the shadow estimator), so the hot loop holds no code
+/// and no branch for what the frame does not use. Reads a KernelScene and its LightSet only:
+/// it names no concrete light type. Allocates nothing, throws nothing.
+#include <tessera/loop_bounds.h>
+#include <tessera/stats.h>
+
+#include "kernel/grid_medium.h"
+#include "kernel/kernel_scene.h"
+#include "kernel/phase_hg.h"
+#include "kernel/stop_check.h"
+#include "kernel/surface_brdf.h"
+#include "kernel/tracking.h"
+#include "sampling/rng.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tessera {
+
+/// The estimator counts into RenderStats' own fields (free_flight_lookups, real_collisions,
+/// stalled_paths, ...), so a tile's counts reach the render's with RenderStats::add_counters.
+using KernelCounters = RenderStats;
+
+/// What one camera sample returns: radiance and alpha (1 once the path met the medium).
+/// With the first real collision's albedo and normal, the denoiser's features (image.denoise).
+struct SampleResult {
+  Color L{0.0};
+  double alpha = 0.0;
+  /// The denoiser's features at the camera ray's first real collision (0 if none): the
+  /// diffuse TF colour clamped to [0, 1], and the shading normal (unit, facing the camera;
+  /// 0 where the shading has no gradient normal: phase shading or a zero gradient).
+  Color albedo{0.0};
+  Vec3 normal{0.0};
+};
+
+/// Power-heuristic weight pa^2 / (pa^2 + pb^2); 0 when both are 0 or either is NaN. When a
+/// square overflows (a tiny light's pdf is huge, or infinite once its solid angle underflows)
+/// the same weight from the ratio of the two, so that inf / inf never makes a NaN sample.
+inline double power_heuristic(double pa, double pb) {
+  const double a2 = pa * pa, b2 = pb * pb;
+  const double sum = a2 + b2;
+  if (sum < INFINITY) return sum > 0.0 ? a2 / sum : 0.0;
+  if (!(sum > 0.0) || pa != pa || pb != pb) return 0.0;  // NaN
+  if (pa == pb) return 0.5;
+  if (pa > pb) {
+    const double r = pb / pa;  // 0 when pa is infinite
+    return 1.0 / (1.0 + r * r);
+  }
+  const double r = pa / pb;
+  return r * r / (1.0 + r * r);
+}
+
+template <class K>
+class PathTracer {
+ public:
+  using V = typename K::Value;
+  static constexpr Shading S = K::kShading;
+
+  /// `stop`, when given, is polled every kStopPollBounces collisions of a path; once it says
+  /// stop the path ends there (the render is then failed by its caller, never written).
+  PathTracer(const KernelScene& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
+      : m_s(s), m_m(m), m_L(s.lights), m_stop(stop) {}
+
+  SampleResult li(Ray ray, Rng& rng, KernelCounters& k) const {
+    const TransferFunction& tf = *m_s.tf;
+    SampleResult out;
+    Color beta(1.0);
+    bool from_camera = true;
+    double pdf_prev = 0.0;  // solid-angle pdf of the direction that made `ray`
+    for (int depth = 0;;) {
+      // Free flight to the next real collision (or none).
+      double t_hit = INFINITY;
+      bool stalled = false;
+      const bool hit = free_flight(ray, rng, k, &t_hit, &stalled);
+      if (stalled) break;  // a loop guard ended the path: nothing more from it
+      // Lights met before the collision, and the background if the ray escaped.
+      gather_emitters(ray, t_hit, hit, from_camera, pdf_prev, beta, out.L);
+      if (!hit) break;
+      if (from_camera) out.alpha = 1.0;
+      ++depth;
+      // A long path polls the render's deadline now and then (the render then fails)
+      if ((depth & (kStopPollBounces - 1)) == 0 && m_stop && m_stop->stop()) break;
+      ++k.real_collisions;
+      const Vec3 x = ray.o + t_hit * ray.d;
+      const Vec3 pv = to_voxel(x);
+      const double u = m_m.u(pv);
+      if constexpr (K::kEmission) out.L += beta * tf.emission.eval(u);
+      // Choose the scattering model at this point.
+      const Vec3 wo = -ray.d;
+      const Color albedo = tf.diffuse.eval(u);
+      bool surface = false;
+      Vec3 normal(0.0);
+      if constexpr (S != Shading::Phase) {
+        const Vec3 gv = m_m.gradient_voxel(pv);
+        k.gradient_lookups += 6;
+        const double gmag = glm::length(gv);
+        if (gmag > 0.0) {
+          const Vec3 gw = gv * m_s.inv_spacing;  // world-space direction of grad u
+          const double gwl = glm::length(gw);
+          if (gwl > 0.0) {
+            normal = -gw / gwl;
+            if (glm::dot(normal, wo) < 0.0) normal = -normal;
+            if constexpr (S == Shading::Brdf) {
+              surface = true;
+            } else {
+              const double p_brdf = 1.0 - std::exp(-m_s.gradient_factor * gmag);
+              surface = rng.uniform() < p_brdf;
+            }
+          }
+        }
+      }
+      if (from_camera) {
+        out.albedo = glm::clamp(albedo, Color(0.0), Color(1.0));
+        out.normal = normal;
+      }
+      const Color f0 = surface && m_s.has_specular ? tf.specular.eval(u) : Color(0.0);
+      const double rough = surface ? tf.roughness.eval(u) : 0.0;
+      const SurfaceBrdf brdf(normal, albedo, f0, rough);
+      // Next-event estimation to one light, MIS-weighted against phase/BRDF sampling.
+      if (m_L.count() > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, rng, k);
+      // Sample the continuation direction.
+      Vec3 wi;
+      double pdf_dir;
+      Color weight;
+      if (surface) {
+        const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+        if (!brdf.sample(wo, u0, u1, u2, &wi)) break;
+        pdf_dir = brdf.pdf(wo, wi);
+        if (!(pdf_dir > 0.0)) break;
+        weight = brdf.eval(wo, wi) / pdf_dir;
+      } else {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        pdf_dir = hg_sample(ray.d, m_s.phase_g, u1, u2, &wi);
+        weight = albedo;
+      }
+      beta *= weight;
+      if (is_black(beta)) break;
+      const Ray next{x, wi};
+      if (depth >= m_s.max_depth) {
+        // Last collision: the sampled direction only gathers emitters, with transmittance.
+        gather_with_transmittance(next, pdf_dir, beta, rng, k, out.L);
+        break;
+      }
+      if (depth >= m_s.rr_depth) {
+        const double q = max_component(beta);
+        if (q < 1.0) {
+          if (rng.uniform() >= q) break;
+          beta /= q;
+        }
+      }
+      ray = next;
+      pdf_prev = pdf_dir;
+      from_camera = false;
+    }
+    return out;
+  }
+
+ private:
+  const KernelScene& m_s;
+  const GridMedium<V>& m_m;
+  const LightSet m_L;
+  StopCheck* m_stop;
+
+  Vec3 to_voxel(const Vec3& x) const { return (x - m_s.origin) * m_s.inv_spacing; }
+
+  /// Ray/box clip in voxel space; returns false if the ray misses the box or it is degenerate.
+  bool clip(const Vec3& ov, const Vec3& dv, double* t0, double* t1) const {
+    double a = 0.0, b = INFINITY;
+    for (int ax = 0; ax < 3; ++ax) {
+      const double hi = m_m.hi_index[ax];
+      if (dv[ax] == 0.0) {
+        if (ov[ax] < 0.0 || ov[ax] > hi) return false;
+        continue;
+      }
+      double ta = (0.0 - ov[ax]) / dv[ax], tb = (hi - ov[ax]) / dv[ax];
+      if (ta > tb) std::swap(ta, tb);
+      a = std::max(a, ta);
+      b = std::min(b, tb);
+    }
+    *t0 = a;
+    *t1 = b;
+    return a < b;
+  }
+
+  /// Ends the path for a loop guard: counted once, *stalled set.
+  static bool stall(KernelCounters& k, bool* stalled) {
+    ++k.stalled_paths;
+    *stalled = true;
+    return true;
+  }
+
+  /// Free-flight sampling along the ray: delta tracking on the tracking loop (tracking.h),
+  /// or the biased fixed-step march, as K says. True and *t_hit on a real collision. Loop
+  /// guards: a ray the box clip leaves unbounded (zero or NaN direction), a step that does not
+  /// advance t, or a traversal over its step budget (loop_bounds.h) sets *stalled and
+  /// returns false.
+  bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit, bool* stalled) const {
+    const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
+    double t0, t1;
+    if (!clip(ov, dv, &t0, &t1) || m_s.max_majorant <= 0.0) return false;
+    if (!(t1 < INFINITY)) return !stall(k, stalled);
+    if constexpr (K::kFreePath == FreePath::Raymarch) {
+      const double h = m_s.march_step;
+      // t only grows, so if the last step advances every step does
+      if (!(t1 + h > t1)) return !stall(k, stalled);
+      const int r = march_free_flight(m_m, ov, dv, t0, t1, h, rng, t_hit, [&] { ++k.free_flight_lookups; });
+      if (r < 0) return !stall(k, stalled);
+      return r > 0;
+    } else {
+      const TrackEnd end = sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double t, double maj) {
+        ++k.free_flight_lookups;
+        if (rng.uniform() * maj < m_m.sigma_t(p)) {
+          *t_hit = t;
+          return false;  // a real collision
+        }
+        ++k.null_collisions;
+        return true;
+      });
+      if (end == TrackEnd::Stalled) return !stall(k, stalled);
+      return end == TrackEnd::Stopped;
+    }
+  }
+
+  /// Transmittance between world distances ta and tb along the ray, by K's shadow estimator
+  /// on the tracking loop. The loop guards of free_flight end the estimate at 0 (an occluded
+  /// shadow ray adds no light), counted in k.stalled_paths.
+  double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
+    const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
+    double t0, t1;
+    if (!clip(ov, dv, &t0, &t1)) return 1.0;
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (!(t0 < t1) || m_s.max_majorant <= 0.0) return 1.0;
+    if (!(t1 < INFINITY)) {
+      ++k.stalled_paths;
+      return 0.0;
+    }
+    const bool roulette = m_s.shadow_roulette;
+    double T = 1.0;
+    const TrackEnd end = sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) {
+      ++k.transmittance_lookups;
+      TransmittanceStep<K::kShadow>::apply(T, m_m.sigma_t(p), maj, roulette, rng);
+      return !(T <= 0.0);
+    });
+    if (end == TrackEnd::Stalled) {
+      ++k.stalled_paths;
+      T = 0.0;
+    }
+    return std::max(T, 0.0);
+  }
+
+  /// Emitters met along `ray` before distance t_end (all lights are transparent), plus the
+  /// infinite lights when the ray escaped, MIS-weighted against light sampling unless from
+  /// the camera (which sees the background as shown, emitting or not).
+  void gather_emitters(const Ray& ray, double t_end, bool hit, bool from_camera, double pdf_prev,
+                       const Color& beta, Color& L) const {
+    for (int i = 0; i < m_L.area_count(); ++i) {
+      const Light& l = m_L[i];
+      const double t = l.intersect(ray);
+      if (t > 0.0 && t < t_end) {
+        const double w =
+            from_camera ? 1.0 : power_heuristic(pdf_prev, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, t));
+        L += beta * l.radiance(ray.d) * w;
+      }
+    }
+    if (hit) return;
+    if (from_camera) {
+      if (m_L.background_visible()) L += beta * m_L.background(ray.d);
+      return;
+    }
+    for (int i = m_L.area_count(); i < m_L.count(); ++i) {
+      const Light& l = m_L[i];
+      L += beta * l.radiance(ray.d) * power_heuristic(pdf_prev, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, INFINITY));
+    }
+  }
+
+  /// Like gather_emitters for the last collision's sampled direction, where no further free
+  /// flight is sampled: each emitter is weighted by the transmittance up to it.
+  void gather_with_transmittance(const Ray& ray, double pdf_dir, const Color& beta, Rng& rng,
+                                 KernelCounters& k, Color& L) const {
+    if (m_L.count() == 0) return;
+    struct Hit { double t; Color Le; double pdf; };
+    Hit hits[kMaxLights];
+    int n = 0;
+    for (int i = 0; i < m_L.area_count(); ++i) {
+      const Light& l = m_L[i];
+      const double t = l.intersect(ray);
+      if (t > 0.0) hits[n++] = {t, l.radiance(ray.d), m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, t)};
+    }
+    std::sort(hits, hits + n, [](const Hit& a, const Hit& b) { return a.t < b.t; });
+    double T = 1.0, t_prev = 0.0;
+    for (int i = 0; i < n && T > 0.0; ++i) {
+      T *= transmittance(ray, t_prev, hits[i].t, rng, k);
+      t_prev = hits[i].t;
+      if (T > 0.0) L += beta * hits[i].Le * (T * power_heuristic(pdf_dir, hits[i].pdf));
+    }
+    // The infinite lights, behind everything: one transmittance estimate to infinity
+    if (m_L.area_count() < m_L.count() && T > 0.0) {
+      T *= transmittance(ray, t_prev, INFINITY, rng, k);
+      if (!(T > 0.0)) return;
+      for (int i = m_L.area_count(); i < m_L.count(); ++i) {
+        const Light& l = m_L[i];
+        L += beta * l.radiance(ray.d) *
+             (T * power_heuristic(pdf_dir, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, INFINITY)));
+      }
+    }
+  }
+
+  /// Next-event estimation to one light chosen by the light sampler.
+  Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface,
+                     const SurfaceBrdf& brdf, const Color& albedo, Rng& rng,
+                     KernelCounters& k) const {
+    const int pick = m_L.sampler().pick(rng.uniform());
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    const LightSample ls = m_L[pick].sample(x, u1, u2);
+    if (!(ls.pdf > 0.0) || is_black(ls.L)) return Color(0.0);
+    const double pdf_light = ls.pdf * m_L.sampler().pmf(pick);
+    Color f;
+    double pdf_b;
+    if (surface) {
+      f = brdf.eval(wo, ls.wi);
+      pdf_b = brdf.pdf(wo, ls.wi);
+    } else {
+      const double p = hg_eval(glm::dot(d_in, ls.wi), m_s.phase_g);
+      f = albedo * p;
+      pdf_b = p;
+    }
+    if (is_black(f)) return Color(0.0);
+    const double T = transmittance(Ray{x, ls.wi}, 0.0, ls.dist, rng, k);
+    if (T <= 0.0) return Color(0.0);
+    return f * ls.L * (T * power_heuristic(pdf_light, pdf_b) / pdf_light);
+  }
+};
+
+}  // namespace tessera

@@ -1,0 +1,102 @@
+#pragma once
+/// The one tracking loop: a walk over the macrocells a ray crosses and, in each, exponential
+/// steps against the cell's majorant, handing every tentative collision to a callback (the
+/// idea of pbrt-v4's SampleT_maj). Free-flight sampling (delta tracking) and both
+/// transmittance estimators (ratio and delta tracking) are callbacks of this loop; the
+/// estimator is a template parameter (TransmittanceStep), resolved once per frame.
+/// The biased fixed-step march (FreePath::Raymarch) is the other free-flight strategy.
+/// Allocates nothing, throws nothing.
+#include <tessera/integrator.h>
+#include <tessera/loop_bounds.h>
+
+#include "kernel/grid_medium.h"
+#include "sampling/rng.h"
+
+#include <cmath>
+
+namespace tessera {
+
+/// Unit-rate exponential sample -log(1 - u): 1 - u is exact for u = k 2^-53, so log() loses
+/// nothing against log1p(-u) here and costs about half as much (it is on every tracking step).
+inline double exp_unit(Rng& rng) { return -std::log(1.0 - rng.uniform()); }
+inline double exp_sample(Rng& rng, double rate) { return exp_unit(rng) / rate; }
+
+/// How a majorant walk ended.
+enum class TrackEnd {
+  Done,     ///< reached t1: the callback never asked to stop
+  Stopped,  ///< the callback returned false
+  Stalled,  ///< a loop guard: a step that did not advance t, or over kMaxTrackingSteps steps
+};
+
+/// Samples tentative collisions along the voxel-space ray p(t) = ov + t dv over world
+/// distances [t0, t1]: per macrocell with majorant maj > 0 (empty cells are crossed in closed
+/// form), steps t += Exp(maj) until the cell's exit, calling fn(p, t, maj) at each; fn returns
+/// false to stop the walk. One rng draw per step before fn (fn draws what it needs itself).
+template <class V, class Fn>
+TrackEnd sample_majorant_steps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0,
+                               double t1, Rng& rng, Fn&& fn) {
+  double budget = kMaxTrackingSteps;
+  bool stalled = false;
+  const bool stopped = traverse_macrocells(m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
+    if (maj <= 0.0) return false;
+    for (double t = ta;;) {
+      const double dt = exp_sample(rng, maj);
+      const double t_next = t + dt;
+      if (t_next >= tb) return false;
+      if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) {
+        stalled = true;
+        return true;
+      }
+      t = t_next;
+      if (!fn(ov + t * dv, t, maj)) return true;
+    }
+  });
+  return stalled ? TrackEnd::Stalled : (stopped ? TrackEnd::Stopped : TrackEnd::Done);
+}
+
+/// One tentative collision's update of a transmittance estimate T, per shadow estimator.
+/// Ratio tracking multiplies by the null-collision probability (with Russian roulette once
+/// T < 0.1 when `roulette`); delta tracking ends at 0 on a real collision.
+template <ShadowMode kMode>
+struct TransmittanceStep;
+
+template <>
+struct TransmittanceStep<ShadowMode::Ratio> {
+  static void apply(double& T, double sigma, double maj, bool roulette, Rng& rng) {
+    T *= 1.0 - sigma / maj;
+    if (roulette && T < 0.1) {
+      if (rng.uniform() < 0.5) T = 0.0;
+      else T *= 2.0;
+    }
+  }
+};
+
+template <>
+struct TransmittanceStep<ShadowMode::Delta> {
+  static void apply(double& T, double sigma, double maj, bool, Rng& rng) {
+    if (rng.uniform() * maj < sigma) T = 0.0;
+  }
+};
+
+/// Fixed-step march (biased): steps of h from t0 + U h, accumulating sigma h until it passes
+/// an Exp(1) threshold. Visits `on_lookup` once per field sample. Returns 1 on a collision
+/// (*t_hit set), 0 when the ray leaves [t0, t1), -1 when over kMaxMarchSteps steps.
+template <class V, class Lookup>
+int march_free_flight(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1,
+                      double h, Rng& rng, double* t_hit, Lookup&& on_lookup) {
+  const double tau = exp_unit(rng);
+  double sum = 0.0;
+  double budget = kMaxMarchSteps + 2.0;
+  for (double t = t0 + rng.uniform() * h; t < t1; t += h) {
+    if (--budget < 0.0) return -1;
+    on_lookup();
+    sum += m.sigma_t(ov + t * dv) * h;
+    if (sum >= tau) {
+      *t_hit = t;
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace tessera

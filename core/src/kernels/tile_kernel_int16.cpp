@@ -1,0 +1,6 @@
+/// The tile and preview kernels for int16 fields, every mode combination.
+#include "kernels/tile_kernel_impl.h"
+
+namespace tessera {
+TESSERA_INSTANTIATE_TILE_KERNELS(std::int16_t);
+}  // namespace tessera

@@ -1,0 +1,6 @@
+/// The tile and preview kernels for uint16 fields, every mode combination.
+#include "kernels/tile_kernel_impl.h"
+
+namespace tessera {
+TESSERA_INSTANTIATE_TILE_KERNELS(std::uint16_t);
+}  // namespace tessera

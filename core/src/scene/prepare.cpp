@@ -1,0 +1,324 @@
+#include <tessera/render.h>
+
+#include <tessera/loop_bounds.h>
+#include <tessera/number_text.h>
+
+#include "scene/adaptive_preview.h"
+#include "scene/prepared_scene_impl.h"
+#include "scene/tile_culling.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace tessera {
+namespace {
+
+void require(bool ok, const std::string& msg) {
+  if (!ok) throw std::invalid_argument(msg);
+}
+
+
+std::string num(double v) { return short_number(v); }
+std::string vec(const Vec3& v) {
+  std::string out = "[";
+  out += num(v.x);
+  out += ", ";
+  out += num(v.y);
+  out += ", ";
+  out += num(v.z);
+  out += "]";
+  return out;
+}
+
+double max_abs(const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+/// One light's checks as its kind's LightKind::validate calls them, naming the light.
+template <class Point, class Length, class Radiance>
+struct LightCheck {
+  const std::string& name;
+  const Point& point_fn;
+  const Length& length_fn;
+  const Radiance& radiance_fn;
+  void point(const char* key, const Vec3& p) const { point_fn(name, key, p); }
+  void length(const char* key, double v) const { length_fn(name, key, v); }
+  void radiance(const Color& L) const { radiance_fn(name, L); }
+};
+
+/// Every light's checks, kind by kind in LightDesc's order (the light set's order), each
+/// named "<kind> <i>" with i counted per kind in list order.
+template <std::size_t... I, class... Fn>
+void validate_lights(const std::vector<LightDesc>& lights, std::index_sequence<I...>, const Fn&... fn) {
+  const auto one_kind = [&](auto index) {
+    using Desc = std::variant_alternative_t<decltype(index)::value, LightDesc>;
+    using Kind = LightKind<Desc>;
+    std::size_t i = 0;
+    for (const LightDesc& l : lights)
+      if (const Desc* d = std::get_if<Desc>(&l)) {
+        const std::string name = std::string(Kind::kName) + " " + std::to_string(i++);
+        Kind::validate(*d, LightCheck<Fn...>{name, fn...});
+      }
+  };
+  (one_kind(std::integral_constant<std::size_t, I>{}), ...);
+}
+
+/// Positions, lengths and steps against the data (loop_bounds.h): what would make a sampling
+/// loop stall or run unboundedly, or lose every digit of precision, is refused here, naming
+/// the key and its value.
+void validate_scale(const FieldView& field, const SceneDesc& s) {
+  const VolumeGeometry& g = s.geometry;
+  const Bounds b = field_bounds(field, g);
+  const std::string dims = std::to_string(field.dims[0]) + "x" + std::to_string(field.dims[1]) + "x" +
+                           std::to_string(field.dims[2]);
+  require(is_finite(b.hi) && is_finite(b.hi - b.lo) && std::isfinite(glm::length(b.hi - b.lo)),
+          "volume spacing " + vec(g.spacing) + " with origin " + vec(g.origin) + " and dims " + dims +
+              " makes the data bounds overflow (their corner or diagonal is not finite)");
+  require(std::min({g.spacing.x, g.spacing.y, g.spacing.z}) >= kMinSpacing &&
+              std::max({g.spacing.x, g.spacing.y, g.spacing.z}) <= kMaxSpacing,
+          "volume spacing " + vec(g.spacing) + " is outside [1e-100, 1e100] on some axis");
+  const double h = std::min({g.spacing.x, g.spacing.y, g.spacing.z});
+  const double lim = kMaxCoordinateVoxels * h;
+  const std::string why = " beyond 2^40 smallest spacings (" + num(lim) +
+                          ") from 0, where a double no longer resolves a voxel";
+  const auto near = [&](const Vec3& p) { return max_abs(p) <= lim; };
+  require(near(g.origin) && near(b.hi), "volume origin " + vec(g.origin) + " puts the data (far corner " +
+                                            vec(b.hi) + ")" + why);
+  // Camera
+  const CameraDesc& c = s.camera;
+  require(is_finite(c.position), "camera.position " + vec(c.position) + " is not finite");
+  require(is_finite(c.look_at), "camera.look_at " + vec(c.look_at) + " is not finite");
+  require(near(c.position), "camera.position " + vec(c.position) + " lies" + why);
+  require(near(c.look_at), "camera.look_at " + vec(c.look_at) + " lies" + why);
+  require(!(c.aperture > lim), "camera.aperture " + num(c.aperture) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+  require(!(c.focus_distance > lim), "camera.focus_distance " + num(c.focus_distance) +
+                                         " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+  // Lights
+  const auto light_point = [&](const std::string& name, const char* key, const Vec3& p) {
+    require(is_finite(p), name + ": " + key + " " + vec(p) + " is not finite");
+    require(near(p), name + ": " + key + " " + vec(p) + " lies" + why);
+  };
+  const auto light_length = [&](const std::string& name, const char* key, double v) {
+    require(!(v > lim), name + ": " + key + " " + num(v) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+  };
+  const auto radiance = [&](const std::string& name, const Color& L) {
+    require(is_finite(L) && std::min({L.x, L.y, L.z}) >= 0.0 && max_abs(L) <= kMaxRadiance,
+            name + ": radiance (color * intensity) " + vec(L) + " must be finite, >= 0 and at most 1e30");
+  };
+  const BackgroundDesc& bg = s.background;
+  if (bg.type != BackgroundType::EnvMap) {
+    const double top = std::max({max_abs(bg.color), max_abs(bg.top), max_abs(bg.middle), max_abs(bg.bottom)});
+    const double peak = bg.type == BackgroundType::Constant ? max_abs(bg.color) : top;
+    require(std::isfinite(bg.intensity) && !(peak * bg.intensity > kMaxRadiance),
+            "background.intensity " + num(bg.intensity) + " times its color makes a radiance above 1e30");
+  }
+  validate_lights(s.lights, std::make_index_sequence<std::variant_size_v<LightDesc>>{}, light_point, light_length,
+                  radiance);
+  // Raymarch: at most kMaxMarchSteps steps across the box diagonal
+  if (s.integrator.free_path == FreePath::Raymarch) {
+    const double diag = glm::length(b.hi - b.lo) / h;  // in smallest spacings
+    const double min_step = diag / kMaxMarchSteps;
+    require(s.integrator.step >= min_step,
+            "integrator.step " + num(s.integrator.step) + " is below the minimum " + num(min_step) +
+                " for this volume (dims " + dims + "): at most 2^20 raymarch steps across the data");
+  }
+}
+
+/// The scene's checks against the field's geometry (dims, dtype); reads no value.
+void validate_scene(const FieldView& field, const SceneDesc& s) {
+  const VolumeGeometry& g = s.geometry;
+  require(is_finite(g.origin), "volume origin " + vec(g.origin) + " must be finite");
+  require(is_finite(g.spacing) && g.spacing.x > 0 && g.spacing.y > 0 && g.spacing.z > 0,
+          "volume spacing " + vec(g.spacing) + " must be finite and > 0 on every axis");
+  const TransferFunction& tf = s.tf;
+  // hi - lo must be finite too: u = (v - lo) / (hi - lo) is NaN for v near hi otherwise.
+  require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi && std::isfinite(tf.hi - tf.lo),
+          "transfer function range [" + num(tf.lo) + ", " + num(tf.hi) +
+              "] must be finite with lo < hi and a finite width hi - lo");
+  require(std::isfinite(tf.density_scale) && tf.density_scale >= 0.0,
+          "density_scale must be finite and >= 0");
+  for (int i = 0; i < tf.opacity.size(); ++i)
+    require(tf.opacity.v(i) >= 0.0 && std::isfinite(tf.opacity.v(i)),
+            "opacity value " + num(tf.opacity.v(i)) + " must be finite and >= 0");
+  const ImageDesc& im = s.image;
+  require(im.width >= 1 && im.height >= 1, "image size must be at least 1x1");
+  require(im.spp >= 1, "spp must be >= 1");
+  const IntegratorDesc& in = s.integrator;
+  require(in.max_bounces >= 1, "max_bounces must be >= 1");
+  require(in.rr_depth >= 1, "rr_depth must be >= 1");
+  require(in.phase_g > -1.0 && in.phase_g < 1.0, "phase_g must be in (-1, 1)");
+  require(in.gradient_factor >= 0.0 && std::isfinite(in.gradient_factor), "gradient_factor must be >= 0");
+  require(in.step > 0.0 && std::isfinite(in.step), "integrator.step " + num(in.step) + " must be finite and > 0");
+  require(in.macrocell >= 1, "macrocell edge must be >= 1");
+  require(s.lights.size() <= static_cast<std::size_t>(kMaxLights),
+          "at most " + std::to_string(kMaxLights) + " area lights");
+  require(s.options.tile >= 0, "tile edge must be >= 0");
+  require(s.options.threads >= 0, "threads must be >= 0");
+  validate_scale(field, s);
+}
+
+void validate(const FieldView& field, const SceneDesc& s) {
+  field.validate("field");
+  validate_scene(field, s);
+}
+
+/// The field descriptor of a paged field: global dims and dtype, dense strides, no data.
+FieldView global_descriptor(const PagedField& f) {
+  FieldView v;
+  v.dtype = f.dtype;
+  const auto size = static_cast<std::int64_t>(dtype_size(f.dtype));
+  for (int a = 0; a < 3; ++a) v.dims[a] = f.dims[a];
+  v.byte_strides[0] = size;
+  v.byte_strides[1] = size * f.dims[0];
+  v.byte_strides[2] = size * f.dims[0] * f.dims[1];
+  return v;
+}
+
+std::string dims_text(const std::int64_t d[3]) {
+  return std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" + std::to_string(d[2]);
+}
+
+/// A paged field's own checks: the cache's grid, the own block inside the global dims.
+void validate_paged(const PagedField& f) {
+  for (int a = 0; a < 3; ++a)
+    require(f.dims[a] >= 1, "paged field: global dims " + dims_text(f.dims) + " must be >= 1 on every axis");
+  require(f.cache != nullptr, "paged field: no brick cache");
+  const BrickGrid& g = f.cache->grid();
+  require(g.dtype == f.dtype && g.dims[0] == f.dims[0] && g.dims[1] == f.dims[1] && g.dims[2] == f.dims[2],
+          "paged field: the brick cache is for a " + std::string(dtype_name(g.dtype)) + " field of " +
+              dims_text(g.dims) + ", the field is " + dtype_name(f.dtype) + " " + dims_text(f.dims));
+  if (f.local.data == nullptr) return;  // no own block: every vertex through the cache
+  f.local.validate("paged field: own block");
+  require(f.local.dtype == f.dtype, "paged field: own block is " + std::string(dtype_name(f.local.dtype)) +
+                                        ", the field " + dtype_name(f.dtype));
+  for (int a = 0; a < 3; ++a)
+    require(f.offset[a] >= 0 && f.offset[a] + f.local.dims[a] <= f.dims[a],
+            "paged field: own block of " + dims_text(f.local.dims) + " at offset " + dims_text(f.offset) +
+                " is not inside the global dims " + dims_text(f.dims));
+}
+
+}  // namespace
+
+double Bounds::radius() const { return 0.5 * glm::length(hi - lo); }
+
+Bounds field_bounds(const FieldView& field, const VolumeGeometry& g) {
+  const Vec3 n(static_cast<double>(field.dims[0] - 1), static_cast<double>(field.dims[1] - 1),
+               static_cast<double>(field.dims[2] - 1));
+  return Bounds{g.origin, g.origin + n * g.spacing};
+}
+
+std::optional<std::pair<double, double>> field_range(const FieldView& field) {
+  field.validate("field");
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  dispatch_dtype(field, [&](auto view) {
+    for (std::int64_t k = 0; k < field.dims[2]; ++k)
+      for (std::int64_t j = 0; j < field.dims[1]; ++j)
+        for (std::int64_t i = 0; i < field.dims[0]; ++i) {
+          const double v = view.load(i, j, k);
+          if (std::isfinite(v)) {
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+          }
+        }
+  });
+  if (lo > hi) return std::nullopt;
+  return std::pair{lo, hi};
+}
+
+PreparedScene::PreparedScene() : m_impl(std::make_unique<PreparedSceneImpl>()) {}
+PreparedScene::~PreparedScene() = default;
+PreparedScene::PreparedScene(PreparedScene&&) noexcept = default;
+PreparedScene& PreparedScene::operator=(PreparedScene&&) noexcept = default;
+const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene) { return *scene.m_impl; }
+const SceneDesc& PreparedScene::desc() const { return m_impl->desc; }
+const std::vector<Tile>& PreparedScene::tiles() const { return m_impl->tiles; }
+Bounds PreparedScene::bounds() const { return m_impl->bounds; }
+
+const std::shared_ptr<const FieldSummary>& PreparedScene::summary() const { return m_impl->grid.summary(); }
+bool PreparedScene::summary_reused() const { return m_impl->summary_reused; }
+
+PreparedScene prepare(const FieldView& field, const SceneDesc& scene) { return prepare(field, scene, nullptr); }
+
+namespace {
+
+/// Everything prepare() derives once the field descriptor, its summary and (paged mode) the
+/// paged view are settled; the scene is validated.
+void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc& scene,
+                  std::shared_ptr<const FieldSummary> summary, const PagedFieldView* paged) {
+  p.desc = scene;
+  p.field = field;
+  p.bounds = field_bounds(field, scene.geometry);
+  p.camera = Camera(scene.camera, scene.image.width, scene.image.height);
+  p.inv_spacing = 1.0 / scene.geometry.spacing;
+  p.march_step = scene.integrator.step *
+                 std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
+  p.grid.set_summary(std::move(summary));
+  // Extinction clamp: beyond kMaxOpticalThicknessPerVoxel per smallest spacing the medium is
+  // opaque at sub-voxel scale in double precision (loop_bounds.h)
+  p.sigma_max = kMaxOpticalThicknessPerVoxel /
+                std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
+  p.grid.update(scene.tf, p.sigma_max);
+  p.env = Environment(scene.background);
+  p.lights = make_lights(scene, &p.env);
+  p.has_emission = !scene.tf.emission.is_zero();
+  p.has_specular = !scene.tf.specular.is_zero();
+  p.tiles = make_tiles(scene.image.width, scene.image.height, scene.options.tile, scene.options.order);
+  p.tile_culled = cull_tiles(p);
+  p.kernel = make_kernel_scene(p);
+  if (paged) p.kernel.paged = *paged;
+  p.kernel.adaptive_scale = adaptive_preview_scale(p.kernel, scene.options);  // renders with the above
+}
+
+}  // namespace
+
+PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> reuse) {
+  validate(field, scene);
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  // Majorants: one global cell, or macrocells of `macrocell` voxels; the field pass only
+  // when no matching summary is given
+  const int edge = majorant_edge(field, scene.integrator);
+  p.summary_reused = reuse && reuse->matches(field, edge);
+  prepare_from(p, field, scene, p.summary_reused ? std::move(reuse) : FieldSummary::build(field, edge), nullptr);
+  return ps;
+}
+
+PreparedScene prepare(const PagedField& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> summary) {
+  validate_paged(field);
+  const FieldView global = global_descriptor(field);
+  validate_scene(global, scene);
+  const int edge = majorant_edge(global, scene.integrator);
+  require(summary != nullptr, "paged field: no field summary (the combined partial summaries of every block)");
+  require(summary->edge() == edge, "paged field: the field summary has macrocell edge " +
+                                       std::to_string(summary->edge()) + ", this scene needs " +
+                                       std::to_string(edge) + " for dims " + dims_text(field.dims));
+  for (int a = 0; a < 3; ++a)
+    require(summary->cells()[a] == std::max<std::int64_t>(1, (field.dims[a] - 1 + edge - 1) / edge),
+            "paged field: the field summary's " + dims_text(summary->cells()) + " cells do not fit dims " +
+                dims_text(field.dims) + " with edge " + std::to_string(edge));
+  PagedFieldView view;
+  view.dtype = field.dtype;
+  view.local = field.local;
+  const BrickGrid& g = field.cache->grid();
+  view.shift = g.shift;
+  for (int a = 0; a < 3; ++a) {
+    view.dims[a] = field.dims[a];
+    view.bricks[a] = g.bricks[a];
+    view.lo[a] = field.local.data ? field.offset[a] : 0;
+    view.hi[a] = field.local.data ? field.offset[a] + field.local.dims[a] : 0;
+  }
+  view.cache = field.cache;
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  p.summary_reused = true;  // never a pass over the values here
+  prepare_from(p, global, scene, std::move(summary), &view);
+  return ps;
+}
+
+}  // namespace tessera

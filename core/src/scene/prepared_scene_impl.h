@@ -1,0 +1,43 @@
+#pragma once
+/// What prepare() derives from a SceneDesc and a field, and owns: read-only while rendering.
+/// The kernels read none of it directly but the KernelScene `kernel`, which points into it.
+#include <tessera/camera.h>
+#include <tessera/render.h>
+
+#include "field/majorant_grid.h"
+#include "kernel/kernel_scene.h"
+#include "lights/environment.h"
+#include "lights/light_set.h"
+
+#include <vector>
+
+namespace tessera {
+
+struct PreparedSceneImpl {
+  SceneDesc desc;
+  FieldView field;
+  Bounds bounds;
+  Camera camera;
+  MajorantGrid grid;
+  Environment env;
+  std::vector<Light> lights;   ///< every light, in LightSet order (light_set.h)
+  std::vector<Tile> tiles;
+  std::vector<std::uint8_t> tile_culled;  ///< per tile: 1 = nothing to trace (tile_culling.h)
+  Vec3 inv_spacing{1.0};
+  double march_step = 0.5;   ///< raymarch step in world units
+  double sigma_max = 0.0;    ///< extinction clamp, 1 / world unit (loop_bounds.h)
+  bool has_emission = false;
+  bool has_specular = false;
+  bool summary_reused = false;  ///< the grid's FieldSummary came from the caller
+  /// The kernels' view of all of the above (kernel_scene.h), made last by prepare().
+  KernelScene kernel;
+};
+
+/// What `scene` holds (render.cpp and the core tests; not part of the public API).
+const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
+
+/// The kernel scene of a prepared scene whose every other member is set; points into `p`
+/// (make_kernel_scene.cpp).
+KernelScene make_kernel_scene(const PreparedSceneImpl& p);
+
+}  // namespace tessera

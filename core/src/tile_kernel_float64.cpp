@@ -1,6 +1,0 @@
-/// The tile and preview kernels for float64 fields, every mode combination.
-#include "tile_kernel_impl.h"
-
-namespace tessera {
-TESSERA_INSTANTIATE_TILE_KERNELS(double);
-}  // namespace tessera

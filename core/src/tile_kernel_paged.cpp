@@ -1,6 +1,0 @@
-/// The tile and preview kernels for a demand-paged field of any dtype (brick_cache.h) fields, every mode combination.
-#include "tile_kernel_impl.h"
-
-namespace tessera {
-TESSERA_INSTANTIATE_TILE_KERNELS(PagedValue);
-}  // namespace tessera

@@ -1,6 +1,0 @@
-/// The tile and preview kernels for uint8 fields, every mode combination.
-#include "tile_kernel_impl.h"
-
-namespace tessera {
-TESSERA_INSTANTIATE_TILE_KERNELS(std::uint8_t);
-}  // namespace tessera

@@ -1,0 +1,206 @@
+// BrickService: serves and fetches the bricks of a demand-paged field over MPI
+// (brick_service.h says how).
+#include "mpi/brick_service.h"
+
+#include "mpi/mpi_check.h"
+#include "mpi/mpi_datatypes.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace tessera::insitu {
+namespace {
+
+using detail::check;
+
+/// The intersection of brick box [blo, bhi) with block `b`: false if empty.
+bool intersect(const std::int64_t blo[3], const std::int64_t bhi[3], const BlockBox& b, std::int64_t lo[3],
+               std::int64_t hi[3]) {
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max(blo[a], b.offset[a]);
+    hi[a] = std::min(bhi[a], b.offset[a] + b.dims[a]);
+    if (lo[a] >= hi[a]) return false;
+  }
+  return true;
+}
+
+/// The sub-view of `v` (the block at `origin`) holding global vertices [lo, hi).
+FieldView sub_view(const FieldView& v, const std::int64_t origin[3], const std::int64_t lo[3],
+                   const std::int64_t hi[3]) {
+  FieldView s = v;
+  const unsigned char* p = static_cast<const unsigned char*>(v.data);
+  for (int a = 0; a < 3; ++a) {
+    p += (lo[a] - origin[a]) * v.byte_strides[a];
+    s.dims[a] = hi[a] - lo[a];
+  }
+  s.data = p;
+  return s;
+}
+
+std::uint64_t box_bytes(const std::int64_t lo[3], const std::int64_t hi[3], DType t) {
+  return static_cast<std::uint64_t>((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])) * dtype_size(t);
+}
+
+}  // namespace
+
+BrickService::BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes, const FieldView& local,
+                           BrickCache& cache)
+    : m_comm(comm), m_rank(rank), m_boxes(boxes), m_local(local), m_cache(cache), m_fetches(kMaxInFlight) {}
+
+BrickService::~BrickService() {
+  // Only after an MPI error: leave nothing pending that could write into freed memory
+  for (Fetch& f : m_fetches)
+    for (MPI_Request& r : f.requests)
+      if (r != MPI_REQUEST_NULL) {
+        MPI_Cancel(&r);
+        MPI_Request_free(&r);
+      }
+  for (MPI_Request& r : m_sends)
+    if (r != MPI_REQUEST_NULL) MPI_Request_free(&r);
+}
+
+void BrickService::progress(std::chrono::microseconds wait) {
+  serve_requests();
+  complete_fetches();
+  complete_sends();
+  // Wait for workers only when nothing is in flight here (else poll MPI again soon)
+  m_taken.clear();
+  m_cache.take_wanted(m_taken, m_in_flight > 0 || !m_pending.empty() ? std::chrono::microseconds(0) : wait);
+  m_pending.insert(m_pending.end(), m_taken.begin(), m_taken.end());
+  while (!m_pending.empty() && start_fetch(m_pending.front())) m_pending.pop_front();
+}
+
+void BrickService::serve_requests() {
+  for (;;) {
+    int flag = 0;
+    MPI_Status st;
+    check(MPI_Iprobe(MPI_ANY_SOURCE, kTagRequest, m_comm, &flag, &st), "MPI_Iprobe");
+    if (!flag) return;
+    std::int64_t message[2];
+    check(MPI_Recv(message, 2, MPI_INT64_T, st.MPI_SOURCE, kTagRequest, m_comm, MPI_STATUS_IGNORE), "MPI_Recv");
+    serve(st.MPI_SOURCE, message);
+  }
+}
+
+void BrickService::serve(int source, const std::int64_t message[2]) {
+  const BrickGrid& g = m_cache.grid();
+  const std::int64_t brick = message[0], id = message[1];
+  if (brick < 0 || brick >= g.brick_count() || id < 0 || id >= kMaxInFlight)
+    throw std::runtime_error("rank " + std::to_string(source) + " asked for brick " + std::to_string(brick) +
+                             " (fetch " + std::to_string(id) + "), outside the field's " +
+                             std::to_string(g.brick_count()) + " bricks");
+  std::int64_t blo[3], bhi[3], lo[3], hi[3];
+  g.box(brick, blo, bhi);
+  const BlockBox& me = m_boxes[static_cast<std::size_t>(m_rank)];
+  if (!intersect(blo, bhi, me, lo, hi))
+    throw std::runtime_error("rank " + std::to_string(source) + " asked for brick " + std::to_string(brick) +
+                             ", which holds none of this rank's vertices");
+  const FieldView part = sub_view(m_local, me.offset, lo, hi);
+  detail::TypeList keep;  // freeing a type in use by a pending send is allowed
+  MPI_Request r = MPI_REQUEST_NULL;
+  check(MPI_Isend(part.data, 1, detail::strided_view_type(part, keep), source, kTagReply + static_cast<int>(id),
+                  m_comm, &r),
+        "MPI_Isend");
+  m_sends.push_back(r);
+  ++m_traffic.requests_served;
+  m_traffic.bytes_sent += box_bytes(lo, hi, m_local.dtype);
+}
+
+bool BrickService::start_fetch(std::int64_t brick) {
+  if (m_in_flight >= kMaxInFlight) return false;
+  unsigned char* slot = m_cache.reserve(brick);
+  if (!slot) {
+    // Every slot is taken: empty the cache once nothing is in flight and the workers rest
+    if (m_in_flight > 0 || !m_cache.try_flush()) return false;
+    slot = m_cache.reserve(brick);
+    if (!slot) return false;
+  }
+  int id = 0;
+  while (m_fetches[static_cast<std::size_t>(id)].brick >= 0) ++id;
+  Fetch& f = m_fetches[static_cast<std::size_t>(id)];
+  f.brick = brick;
+  f.slot = slot;
+  f.message[0] = brick;
+  f.message[1] = id;
+  f.requests.clear();
+
+  const BrickGrid& g = m_cache.grid();
+  const std::int64_t B = g.edge();
+  std::int64_t blo[3], bhi[3], lo[3], hi[3];
+  g.box(brick, blo, bhi);
+  detail::TypeList keep;
+  const std::int64_t slot_dims[3] = {B, B, B};
+  for (std::size_t r = 0; r < m_boxes.size(); ++r) {
+    if (!intersect(blo, bhi, m_boxes[r], lo, hi)) continue;
+    std::int64_t at[3], dims[3];
+    for (int a = 0; a < 3; ++a) {
+      at[a] = lo[a] - blo[a];
+      dims[a] = hi[a] - lo[a];
+    }
+    // This rank's own part of the slot is never read: PagedFieldView::load reads the own
+    // block in place
+    if (static_cast<int>(r) == m_rank) continue;
+    // The receive is posted before the request leaves, so the reply always has a match
+    MPI_Request rr = MPI_REQUEST_NULL, rs = MPI_REQUEST_NULL;
+    check(MPI_Irecv(slot, 1, detail::replica_box_type(g.dtype, slot_dims, at, dims, keep), static_cast<int>(r),
+                    kTagReply + id, m_comm, &rr),
+          "MPI_Irecv");
+    f.requests.push_back(rr);
+    check(MPI_Isend(f.message, 2, MPI_INT64_T, static_cast<int>(r), kTagRequest, m_comm, &rs), "MPI_Isend");
+    f.requests.push_back(rs);
+    ++m_traffic.requests_sent;
+    m_traffic.bytes_received += box_bytes(lo, hi, g.dtype);
+  }
+  if (f.requests.empty()) {  // no other owner (not asked for in practice)
+    m_cache.publish(brick);
+    f.brick = -1;
+    return true;
+  }
+  ++m_in_flight;
+  return true;
+}
+
+void BrickService::complete_fetches() {
+  if (m_in_flight == 0) return;
+  for (Fetch& f : m_fetches) {
+    if (f.brick < 0) continue;
+    int done = 0;
+    check(MPI_Testall(static_cast<int>(f.requests.size()), f.requests.data(), &done, MPI_STATUSES_IGNORE),
+          "MPI_Testall");
+    if (!done) continue;
+    m_cache.publish(f.brick);
+    f.brick = -1;
+    --m_in_flight;
+  }
+}
+
+void BrickService::complete_sends() {
+  if (m_sends.empty()) return;
+  int done = 0;
+  check(MPI_Testall(static_cast<int>(m_sends.size()), m_sends.data(), &done, MPI_STATUSES_IGNORE), "MPI_Testall");
+  if (done) m_sends.clear();
+}
+
+void BrickService::drain() {
+  // Finish this rank's own fetches first (a failed cache still gets its bricks: the data
+  // are harmless, and the owners expect their replies to be received)
+  while (!idle()) {
+    if (m_cache.failed()) m_pending.clear();  // nobody waits for them any more
+    progress(std::chrono::microseconds(0));
+  }
+  MPI_Request barrier = MPI_REQUEST_NULL;
+  check(MPI_Ibarrier(m_comm, &barrier), "MPI_Ibarrier");
+  for (int done = 0; !done;) {
+    serve_requests();
+    complete_sends();
+    check(MPI_Test(&barrier, &done, MPI_STATUS_IGNORE), "MPI_Test");
+    if (!done) std::this_thread::yield();
+  }
+  if (!m_sends.empty())
+    check(MPI_Waitall(static_cast<int>(m_sends.size()), m_sends.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
+  m_sends.clear();
+}
+
+}  // namespace tessera::insitu

@@ -1,0 +1,150 @@
+// MpiParallelContext, distributed mode: the global summary from per-rank partial summaries,
+// the demand-paged field (every rank keeps its own block, other bricks are fetched on first
+// touch into a bounded cache) and the serving of bricks while kernels run (docs/mpi.md).
+#include "mpi/mpi_check.h"
+#include "mpi/parallel_context_mpi.h"
+
+#include <algorithm>
+#include <atomic>
+#include <climits>
+#include <exception>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace tessera::insitu {
+namespace {
+
+using detail::check;
+
+/// MPI_Allreduce in place over a long array, in pieces whose count fits an int.
+template <class T>
+void allreduce_long(T* data, std::size_t n, MPI_Datatype type, MPI_Op op, MPI_Comm comm) {
+  constexpr std::size_t kPiece = std::size_t{1} << 26;
+  for (std::size_t at = 0; at < n; at += kPiece) {
+    const int count = static_cast<int>(std::min(kPiece, n - at));
+    check(MPI_Allreduce(MPI_IN_PLACE, data + at, count, type, op, comm), "MPI_Allreduce");
+  }
+}
+
+/// How long the serving thread waits for a worker's request when nothing else is to do: short
+/// enough that other ranks' requests are answered quickly, long enough not to spin.
+constexpr std::chrono::microseconds kServeWait{100};
+
+}  // namespace
+
+std::shared_ptr<const FieldSummary> MpiParallelContext::summarize(const FieldView& local, const GlobalPlacement& where,
+                                                                  int edge) {
+  if (m_size == 1) {
+    assemble(local, where);  // the checks of one rank
+    return FieldSummary::build(local, edge);
+  }
+  check_boxes(local, where);
+  FieldSummary::Parts parts = FieldSummary::partial(local, where.offset, where.global_dims, edge);
+  // Exact in any order: min / max / or / sum (field_summary.h)
+  allreduce_long(parts.lo.data(), parts.lo.size(), MPI_DOUBLE, MPI_MIN, m_comm);
+  allreduce_long(parts.hi.data(), parts.hi.size(), MPI_DOUBLE, MPI_MAX, m_comm);
+  allreduce_long(parts.flags.data(), parts.flags.size(), MPI_UINT8_T, MPI_BOR, m_comm);
+  std::uint64_t nan = parts.nan;
+  double vmin = parts.vmin, vmax = parts.vmax;
+  check(MPI_Allreduce(&nan, &parts.nan, 1, MPI_UINT64_T, MPI_SUM, m_comm), "MPI_Allreduce");
+  check(MPI_Allreduce(&vmin, &parts.vmin, 1, MPI_DOUBLE, MPI_MIN, m_comm), "MPI_Allreduce");
+  check(MPI_Allreduce(&vmax, &parts.vmax, 1, MPI_DOUBLE, MPI_MAX, m_comm), "MPI_Allreduce");
+  return FieldSummary::from_parts(std::move(parts), FieldLayout::of(local), edge);
+}
+
+PagedField MpiParallelContext::distribute(const FieldView& local, const GlobalPlacement& where, int shift,
+                                          std::size_t capacity) {
+  if (m_size == 1) throw std::logic_error("distributed mode needs more than one rank");
+  const std::vector<RankBox> boxes = check_boxes(local, where);
+  // No replica in this mode: give its memory back (collective over the node, like assemble)
+  m_service.reset();
+  free_replica();
+  m_blocks.resize(boxes.size());
+  for (std::size_t r = 0; r < boxes.size(); ++r)
+    for (int a = 0; a < 3; ++a) {
+      m_blocks[r].offset[a] = boxes[r].offset[a];
+      m_blocks[r].dims[a] = boxes[r].dims[a];
+    }
+  m_paged_local = local;
+  const BrickGrid grid = BrickGrid::make(where.global_dims, local.dtype, shift);
+  const bool same = m_cache && m_cache->capacity() == capacity && m_cache->grid().shift == grid.shift &&
+                    m_cache->grid().dtype == grid.dtype &&
+                    std::equal(grid.dims, grid.dims + 3, m_cache->grid().dims);
+  if (same) {
+    m_cache->reset();  // the values may have changed since the last render
+  } else {
+    m_cache.reset();
+    m_cache = std::make_unique<BrickCache>(grid, capacity);
+  }
+  m_service = std::make_unique<BrickService>(m_comm, m_rank, m_blocks, m_paged_local, *m_cache);
+  m_report.bricks = {};
+  m_report.cache = {};
+  m_report.cache_bytes = m_cache->allocated_bytes();
+
+  PagedField f;
+  f.dtype = local.dtype;
+  for (int a = 0; a < 3; ++a) {
+    f.dims[a] = where.global_dims[a];
+    f.offset[a] = where.offset[a];
+  }
+  f.local = local;
+  f.cache = m_cache.get();
+  return f;
+}
+
+void MpiParallelContext::end_distribution() {
+  m_service.reset();
+  m_cache.reset();
+}
+
+void MpiParallelContext::serve_during(const std::function<void()>& fn) {
+  std::exception_ptr error;
+  std::atomic<bool> done{false};
+  std::thread worker([&] {
+    try {
+      fn();
+    } catch (...) {
+      error = std::current_exception();
+    }
+    done.store(true, std::memory_order_release);
+  });
+  try {
+    while (!done.load(std::memory_order_acquire)) m_service->progress(kServeWait);
+  } catch (const std::exception& e) {
+    m_cache->fail(std::string("serving bricks failed: ") + e.what());  // wakes fn's workers
+    worker.join();
+    throw;
+  }
+  worker.join();
+  m_report.bricks = m_service->traffic();
+  m_report.cache = m_cache->stats();
+  if (error) std::rethrow_exception(error);
+}
+
+void MpiParallelContext::serve_while(const std::function<void()>& fn) {
+  if (!m_service) {
+    fn();
+    return;
+  }
+  std::exception_ptr error;
+  try {
+    serve_during(fn);
+  } catch (...) {
+    error = std::current_exception();
+  }
+  // Every rank serves until every rank's fn has returned
+  if (!error) {
+    finish_serving();
+    return;
+  }
+  m_service->drain();  // fn's error says more than the cache's failure it caused
+  std::rethrow_exception(error);
+}
+
+void MpiParallelContext::finish_serving() {
+  m_service->drain();
+  if (m_cache->failed()) throw std::runtime_error(m_cache->failure());
+}
+
+}  // namespace tessera::insitu
