@@ -6,8 +6,8 @@
 /// once per ray or collision, never per step: the free-path strategy and the shadow estimator
 /// pick one of two tracking loops (each a template, path_tracer.h), the shading mode and the
 /// emission TF what a real collision evaluates. As template parameters of the whole kernel
-/// they made 24 times the code to compile for no measured gain (docs/BENCHMARKS.md, "Kernel
-/// build cost").
+/// they made 24 times the variants to compile and measured no faster (docs/BENCHMARKS.md,
+/// "Kernel build cost").
 #include <tessera/field_view.h>
 
 #include "grid_medium.h"
