@@ -58,7 +58,6 @@ inline double power_heuristic(double pa, double pb) {
 template <class V>
 class PathTracer {
  public:
-
   /// `stop`, when given, is polled every kStopPollBounces collisions of a path; once it says
   /// stop the path ends there (the render is then failed by its caller, never written).
   PathTracer(const KernelScene& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
@@ -193,10 +192,10 @@ class PathTracer {
   }
 
   /// Free-flight sampling along the ray: delta tracking on the tracking loop (tracking.h),
-  /// or the biased fixed-step march, as the scene's free_path says. True and *t_hit on a real collision. Loop
-  /// guards: a ray the box clip leaves unbounded (zero or NaN direction), a step that does not
-  /// advance t, or a traversal over its step budget (loop_bounds.h) sets *stalled and
-  /// returns false.
+  /// or the biased fixed-step march, as the scene's free_path says (one branch per ray). True
+  /// and *t_hit on a real collision. Loop guards: a ray the box clip leaves unbounded (zero or
+  /// NaN direction), a step that does not advance t, or a traversal over its step budget
+  /// (loop_bounds.h) sets *stalled and returns false.
   bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit, bool* stalled) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
@@ -225,8 +224,9 @@ class PathTracer {
   }
 
   /// Transmittance between world distances ta and tb along the ray, by the scene's shadow
-  /// estimator on the tracking loop. The loop guards of free_flight end the estimate at 0 (an occluded
-  /// shadow ray adds no light), counted in k.stalled_paths.
+  /// estimator on the tracking loop (shadow_walk, one branch per ray). The loop guards of
+  /// free_flight end the estimate at 0 (an occluded shadow ray adds no light), counted in
+  /// k.stalled_paths.
   double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
@@ -239,8 +239,9 @@ class PathTracer {
       return 0.0;
     }
     double T = 1.0;
-    const TrackEnd end = m_s.shadow == ShadowMode::Delta ? shadow_walk<ShadowMode::Delta>(ov, dv, t0, t1, rng, k, T)
-                                                         : shadow_walk<ShadowMode::Ratio>(ov, dv, t0, t1, rng, k, T);
+    const TrackEnd end = m_s.shadow == ShadowMode::Delta
+                             ? shadow_walk<ShadowMode::Delta>(ov, dv, t0, t1, rng, k, T)
+                             : shadow_walk<ShadowMode::Ratio>(ov, dv, t0, t1, rng, k, T);
     if (end == TrackEnd::Stalled) {
       ++k.stalled_paths;
       T = 0.0;
@@ -251,8 +252,8 @@ class PathTracer {
   /// The tracking loop of one shadow estimator over voxel-space ray ov + t dv, t in [t0, t1],
   /// updating the transmittance estimate T at each tentative collision.
   template <ShadowMode kMode>
-  TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng, KernelCounters& k,
-                       double& T) const {
+  TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng,
+                       KernelCounters& k, double& T) const {
     const bool roulette = m_s.shadow_roulette;
     return sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) {
       ++k.transmittance_lookups;
