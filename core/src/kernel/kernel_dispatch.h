@@ -1,10 +1,14 @@
 #pragma once
-/// with_kernel: the one place where a frame's run-time modes become template parameters.
-/// Reads the KernelScene's field dtype (or PagedValue for a paged field), shading mode, emission flag, free-path strategy and
-/// shadow estimator once and calls fn(KernelTraits<...>{}) with the concrete combination, so
-/// kernels instantiated on K hold no branch on any of them per sample or per step.
+/// with_value: the one place where a frame's run-time variant becomes a template parameter.
+/// Reads the KernelScene's field dtype (or PagedValue for a paged field) once and calls the
+/// kernels instantiated on that Value, so the field lookups of the tracking loops hold no
+/// branch on the dtype. The other modes are read from the KernelScene where they act, each
+/// once per ray or collision, never per step: the free-path strategy and the shadow estimator
+/// pick one of two tracking loops (each a template, path_tracer.h), the shading mode and the
+/// emission TF what a real collision evaluates. As template parameters of the whole kernel
+/// they made 24 times the variants to compile and measured no faster (docs/BENCHMARKS.md,
+/// "Kernel build cost").
 #include <tessera/field_view.h>
-#include <tessera/integrator.h>
 
 #include "kernel/grid_medium.h"
 #include "kernel/kernel_scene.h"
@@ -12,47 +16,6 @@
 #include <type_traits>
 
 namespace tessera {
-
-/// The compile-time variant of one frame's kernel.
-template <class T, Shading S, bool E, FreePath F, ShadowMode Sh>
-struct KernelTraits {
-  using Value = T;                         ///< field element type
-  static constexpr Shading kShading = S;
-  static constexpr bool kEmission = E;     ///< an emission TF exists
-  static constexpr FreePath kFreePath = F;
-  static constexpr ShadowMode kShadow = Sh;
-};
-
-namespace detail {
-
-template <class T, Shading S, bool E, FreePath F, class Fn>
-decltype(auto) with_shadow(const KernelScene& ks, Fn& fn) {
-  if (ks.shadow == ShadowMode::Delta) return fn(KernelTraits<T, S, E, F, ShadowMode::Delta>{});
-  return fn(KernelTraits<T, S, E, F, ShadowMode::Ratio>{});
-}
-
-template <class T, Shading S, bool E, class Fn>
-decltype(auto) with_free_path(const KernelScene& ks, Fn& fn) {
-  if (ks.free_path == FreePath::Raymarch) return with_shadow<T, S, E, FreePath::Raymarch>(ks, fn);
-  return with_shadow<T, S, E, FreePath::Delta>(ks, fn);
-}
-
-template <class T, Shading S, class Fn>
-decltype(auto) with_emission(const KernelScene& ks, Fn& fn) {
-  if (ks.has_emission) return with_free_path<T, S, true>(ks, fn);
-  return with_free_path<T, S, false>(ks, fn);
-}
-
-template <class T, class Fn>
-decltype(auto) with_shading(const KernelScene& ks, Fn& fn) {
-  switch (ks.shading) {
-    case Shading::Phase: return with_emission<T, Shading::Phase>(ks, fn);
-    case Shading::Brdf: return with_emission<T, Shading::Brdf>(ks, fn);
-    case Shading::Hybrid: default: return with_emission<T, Shading::Hybrid>(ks, fn);
-  }
-}
-
-}  // namespace detail
 
 /// A type as a value, for with_value.
 template <class T>
@@ -67,21 +30,6 @@ decltype(auto) with_value(const KernelScene& ks, Fn&& fn) {
   if (ks.paged.cache != nullptr) return fn(TypeTag<PagedValue>{});
   return dispatch_dtype(ks.field, [&](auto view) -> decltype(auto) {
     return fn(TypeTag<typename decltype(view)::value_type>{});
-  });
-}
-
-/// Calls fn(KernelTraits<V, ...>{}) for the scene's modes, with the Value V given.
-template <class V, class Fn>
-decltype(auto) with_modes(const KernelScene& ks, Fn&& fn) {
-  return detail::with_shading<V>(ks, fn);
-}
-
-/// Calls fn(KernelTraits<...>{}) for the scene's variant and returns its result (every
-/// instantiation of fn must return the same type).
-template <class Fn>
-decltype(auto) with_kernel(const KernelScene& ks, Fn&& fn) {
-  return with_value(ks, [&](auto tag) -> decltype(auto) {
-    return detail::with_shading<typename decltype(tag)::type>(ks, fn);
   });
 }
 

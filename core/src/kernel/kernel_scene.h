@@ -43,7 +43,7 @@ struct KernelScene {
   double sigma_max = 0.0;        ///< extinction clamp, 1 / world unit (loop_bounds.h)
   double march_step = 0.5;       ///< raymarch step, world units
 
-  // Integrator (the modes are read once per frame by with_kernel, never per sample)
+  // Integrator (each mode is read once per ray or collision where it acts, never per step)
   int max_depth = 1;             ///< real collisions per path (1 for single scattering)
   int rr_depth = 3;
   Shading shading = Shading::Hybrid;

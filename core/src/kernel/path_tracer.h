@@ -1,9 +1,11 @@
 #pragma once
-/// PathTracer<K>: the per-sample estimator of docs/physics.md, templated on a KernelTraits K
-/// (kernel_dispatch.h: the field's element type, the shading mode, whether an emission TF
-/// exists, the free-path strategy and the shadow estimator), so the hot loop holds no code
-/// and no branch for what the frame does not use. Reads a KernelScene and its LightSet only:
-/// it names no concrete light type. Allocates nothing, throws nothing.
+/// PathTracer<V>: the per-sample estimator of docs/physics.md, templated on the field's Value
+/// (kernel_dispatch.h), so the field lookups hold no branch on the dtype. The frame's modes
+/// are read from the KernelScene once per ray or collision, never per tracking step: the
+/// free-path strategy and the shadow estimator each pick one of two loops compiled apart
+/// (a template on the estimator), the shading mode and the emission TF only change what a
+/// real collision evaluates. Reads a KernelScene and its LightSet only: it names no concrete
+/// light type. Allocates nothing, throws nothing.
 #include <tessera/loop_bounds.h>
 #include <tessera/stats.h>
 
@@ -53,12 +55,9 @@ inline double power_heuristic(double pa, double pb) {
   return r * r / (1.0 + r * r);
 }
 
-template <class K>
+template <class V>
 class PathTracer {
  public:
-  using V = typename K::Value;
-  static constexpr Shading S = K::kShading;
-
   /// `stop`, when given, is polled every kStopPollBounces collisions of a path; once it says
   /// stop the path ends there (the render is then failed by its caller, never written).
   PathTracer(const KernelScene& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
@@ -87,13 +86,13 @@ class PathTracer {
       const Vec3 x = ray.o + t_hit * ray.d;
       const Vec3 pv = to_voxel(x);
       const double u = m_m.u(pv);
-      if constexpr (K::kEmission) out.L += beta * tf.emission.eval(u);
+      if (m_s.has_emission) out.L += beta * tf.emission.eval(u);
       // Choose the scattering model at this point.
       const Vec3 wo = -ray.d;
       const Color albedo = tf.diffuse.eval(u);
       bool surface = false;
       Vec3 normal(0.0);
-      if constexpr (S != Shading::Phase) {
+      if (m_s.shading != Shading::Phase) {
         const Vec3 gv = m_m.gradient_voxel(pv);
         k.gradient_lookups += 6;
         const double gmag = glm::length(gv);
@@ -103,7 +102,7 @@ class PathTracer {
           if (gwl > 0.0) {
             normal = -gw / gwl;
             if (glm::dot(normal, wo) < 0.0) normal = -normal;
-            if constexpr (S == Shading::Brdf) {
+            if (m_s.shading == Shading::Brdf) {
               surface = true;
             } else {
               const double p_brdf = 1.0 - std::exp(-m_s.gradient_factor * gmag);
@@ -193,16 +192,16 @@ class PathTracer {
   }
 
   /// Free-flight sampling along the ray: delta tracking on the tracking loop (tracking.h),
-  /// or the biased fixed-step march, as K says. True and *t_hit on a real collision. Loop
-  /// guards: a ray the box clip leaves unbounded (zero or NaN direction), a step that does not
-  /// advance t, or a traversal over its step budget (loop_bounds.h) sets *stalled and
-  /// returns false.
+  /// or the biased fixed-step march, as the scene's free_path says (one branch per ray). True
+  /// and *t_hit on a real collision. Loop guards: a ray the box clip leaves unbounded (zero or
+  /// NaN direction), a step that does not advance t, or a traversal over its step budget
+  /// (loop_bounds.h) sets *stalled and returns false.
   bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit, bool* stalled) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
     if (!clip(ov, dv, &t0, &t1) || m_s.max_majorant <= 0.0) return false;
     if (!(t1 < INFINITY)) return !stall(k, stalled);
-    if constexpr (K::kFreePath == FreePath::Raymarch) {
+    if (m_s.free_path == FreePath::Raymarch) {
       const double h = m_s.march_step;
       // t only grows, so if the last step advances every step does
       if (!(t1 + h > t1)) return !stall(k, stalled);
@@ -224,9 +223,10 @@ class PathTracer {
     }
   }
 
-  /// Transmittance between world distances ta and tb along the ray, by K's shadow estimator
-  /// on the tracking loop. The loop guards of free_flight end the estimate at 0 (an occluded
-  /// shadow ray adds no light), counted in k.stalled_paths.
+  /// Transmittance between world distances ta and tb along the ray, by the scene's shadow
+  /// estimator on the tracking loop (shadow_walk, one branch per ray). The loop guards of
+  /// free_flight end the estimate at 0 (an occluded shadow ray adds no light), counted in
+  /// k.stalled_paths.
   double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
@@ -238,18 +238,28 @@ class PathTracer {
       ++k.stalled_paths;
       return 0.0;
     }
-    const bool roulette = m_s.shadow_roulette;
     double T = 1.0;
-    const TrackEnd end = sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) {
-      ++k.transmittance_lookups;
-      TransmittanceStep<K::kShadow>::apply(T, m_m.sigma_t(p), maj, roulette, rng);
-      return !(T <= 0.0);
-    });
+    const TrackEnd end = m_s.shadow == ShadowMode::Delta
+                             ? shadow_walk<ShadowMode::Delta>(ov, dv, t0, t1, rng, k, T)
+                             : shadow_walk<ShadowMode::Ratio>(ov, dv, t0, t1, rng, k, T);
     if (end == TrackEnd::Stalled) {
       ++k.stalled_paths;
       T = 0.0;
     }
     return std::max(T, 0.0);
+  }
+
+  /// The tracking loop of one shadow estimator over voxel-space ray ov + t dv, t in [t0, t1],
+  /// updating the transmittance estimate T at each tentative collision.
+  template <ShadowMode kMode>
+  TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng,
+                       KernelCounters& k, double& T) const {
+    const bool roulette = m_s.shadow_roulette;
+    return sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) {
+      ++k.transmittance_lookups;
+      TransmittanceStep<kMode>::apply(T, m_m.sigma_t(p), maj, roulette, rng);
+      return !(T <= 0.0);
+    });
   }
 
   /// Emitters met along `ray` before distance t_end (all lights are transparent), plus the

@@ -1,6 +1,6 @@
 #pragma once
 /// The per-tile kernel entry: what one worker runs for one tile (or band of rows of one),
-/// chosen once per frame for the scene's variant (with_kernel, kernel_dispatch.h). The
+/// chosen once per frame for the field's Value (with_value, kernel_dispatch.h). The
 /// scheduler (render.cpp) decides which tiles run where; the kernel reads only the
 /// KernelScene. Neither allocates, throws, logs nor locks; both are thread-safe across
 /// distinct tiles (each pixel is written by the one call that owns it).

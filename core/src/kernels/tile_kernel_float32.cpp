@@ -1,4 +1,4 @@
-/// The tile and preview kernels for float32 fields, every mode combination.
+/// The tile and preview kernels for float32 fields.
 #include "kernels/tile_kernel_impl.h"
 
 namespace tessera {

@@ -1,8 +1,7 @@
 #pragma once
-/// The per-tile kernels as templates on the frame's KernelTraits (tile_kernel.h says what
-/// they do). Included only by the tile_kernel_<value>.cpp files, each of which instantiates
-/// every mode combination for one field Value (tile_kernel_instances.h), so that the
-/// variants compile in parallel.
+/// The per-tile kernels as templates on the field's Value (tile_kernel.h says what they do).
+/// Included only by the tile_kernel_<value>.cpp files, each of which instantiates them for
+/// one Value (tile_kernel_instances.h), so that the Values compile in parallel.
 #include "kernels/tile_kernel.h"
 #include "kernels/tile_kernel_instances.h"
 
@@ -40,10 +39,10 @@ inline void add_aux(AuxSums& aux, const SampleResult& r) {
 }
 
 /// One tile's sampling: draws samples of pixels with the tile's tracer and counters.
-template <class K>
+template <class V>
 class TileSampler {
  public:
-  TileSampler(const KernelScene& s, const GridMedium<typename K::Value>& medium, bool culled, StopCheck& stop)
+  TileSampler(const KernelScene& s, const GridMedium<V>& medium, bool culled, StopCheck& stop)
       : m_s(s), m_tracer(s, medium, &stop), m_culled(culled) {}
 
   /// Sample `index` of pixel (x, y); false if its radiance is not finite. `own`: the pixel is
@@ -83,7 +82,7 @@ class TileSampler {
 
  private:
   const KernelScene& m_s;
-  const PathTracer<K> m_tracer;
+  const PathTracer<V> m_tracer;
   KernelCounters m_k;
   SampleResult m_last;
   bool m_culled;
@@ -103,8 +102,8 @@ bool for_samples(int begin, int end, StopCheck& stop, Fn&& fn) {
 }
 
 /// Uniform sampling: all spp estimates of the tile, sample-major.
-template <class K>
-void sample_uniform(TileSampler<K>& ts, const KernelScene& s, const Tile& tile,
+template <class V>
+void sample_uniform(TileSampler<V>& ts, const KernelScene& s, const Tile& tile,
                     Film& film, RenderStats& st, StopCheck& stop) {
   for (int si = 0; si < s.spp && !stop.stop(); ++si)
     for (int y = tile.y0; y < tile.y1; ++y)
@@ -119,8 +118,8 @@ void sample_uniform(TileSampler<K>& ts, const KernelScene& s, const Tile& tile,
 /// of block pixels outside it (identical values, used for the decision only, not counted in
 /// `samples`) however the tiles are split across calls or ranks: free when tiles are
 /// multiples of the block, pilot-sized otherwise.
-template <class K>
-void sample_adaptive(TileSampler<K>& ts, const KernelScene& s, const Tile& tile,
+template <class V>
+void sample_adaptive(TileSampler<V>& ts, const KernelScene& s, const Tile& tile,
                      Film& film, RenderStats& st, StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.width, height = s.height, spp = s.spp;
@@ -172,11 +171,11 @@ void sample_adaptive(TileSampler<K>& ts, const KernelScene& s, const Tile& tile,
 
 /// Render one tile (or a band of one, see plan_work in render.cpp): all its samples before
 /// the next one. `culled`: the tile's culling verdict.
-template <class K>
+template <class V>
 void render_tile(const KernelScene& s, const Tile& tile, bool culled, Film& film, RenderStats& st,
                  StopCheck& stop) {
-  const GridMedium<typename K::Value> medium = make_medium<typename K::Value>(s);
-  TileSampler<K> ts(s, medium, culled, stop);
+  const GridMedium<V> medium = make_medium<V>(s);
+  TileSampler<V> ts(s, medium, culled, stop);
   if (s.target_error > 0.0) sample_adaptive(ts, s, tile, film, st, stop);
   else sample_uniform(ts, s, tile, film, st, stop);
   ts.flush(st);
@@ -184,14 +183,14 @@ void render_tile(const KernelScene& s, const Tile& tile, bool culled, Film& film
 
 /// The adaptive-sampling preview (adaptive_sampling.h) of one block row: per block, sigma of
 /// the luminance of `pilot` samples of its middle pixel, and those samples' luminance sum.
-template <class K>
+template <class V>
 void preview_row(const KernelScene& s, int by, double* sigma_sum,
                  double* lum_sum, std::uint64_t* count, StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.width, height = s.height;
   const int pilot = adaptive_pilot(s.spp);
-  const GridMedium<typename K::Value> medium = make_medium<typename K::Value>(s);
-  TileSampler<K> ts(s, medium, false, stop);
+  const GridMedium<V> medium = make_medium<V>(s);
+  TileSampler<V> ts(s, medium, false, stop);
   const int y = std::min(by * B + B / 2, height - 1);
   for (int bx = 0; bx * B < width; ++bx) {
     const int x = std::min(bx * B + B / 2, width - 1);
@@ -210,13 +209,13 @@ void preview_row(const KernelScene& s, int by, double* sigma_sum,
 }  // namespace
 
 template <class V>
-TileKernel tile_kernel_for(const KernelScene& ks) {
-  return with_modes<V>(ks, [](auto k) -> TileKernel { return &render_tile<decltype(k)>; });
+TileKernel tile_kernel_for() {
+  return &render_tile<V>;
 }
 
 template <class V>
-PreviewKernel preview_kernel_for(const KernelScene& ks) {
-  return with_modes<V>(ks, [](auto k) -> PreviewKernel { return &preview_row<decltype(k)>; });
+PreviewKernel preview_kernel_for() {
+  return &preview_row<V>;
 }
 
 }  // namespace tessera

@@ -1,7 +1,7 @@
 #pragma once
-/// The kernels of one field Value (a dtype's C++ type, or PagedValue) for the frame's modes,
-/// each Value's set compiled in its own translation unit (tile_kernel_<value>.cpp) so that
-/// they build in parallel. tile_kernel() / preview_kernel() (tile_kernel.cpp) pick the Value.
+/// The kernels of one field Value (a dtype's C++ type, or PagedValue), each Value's compiled in
+/// its own translation unit (tile_kernel_<value>.cpp) so that they build in parallel.
+/// tile_kernel() / preview_kernel() (tile_kernel.cpp) pick the Value.
 #include "kernel/grid_medium.h"
 #include "kernels/tile_kernel.h"
 
@@ -10,26 +10,26 @@
 namespace tessera {
 
 template <class V>
-TileKernel tile_kernel_for(const KernelScene& ks);
+TileKernel tile_kernel_for();
 template <class V>
-PreviewKernel preview_kernel_for(const KernelScene& ks);
+PreviewKernel preview_kernel_for();
 
 /// Instantiates both for V (in tile_kernel_<value>.cpp, after including tile_kernel_impl.h).
-#define TESSERA_INSTANTIATE_TILE_KERNELS(V)                                  \
-  template TileKernel tile_kernel_for<V>(const KernelScene& ks);             \
-  template PreviewKernel preview_kernel_for<V>(const KernelScene& ks)
+#define TESSERA_INSTANTIATE_TILE_KERNELS(V) \
+  template TileKernel tile_kernel_for<V>();  \
+  template PreviewKernel preview_kernel_for<V>()
 
-extern template TileKernel tile_kernel_for<std::uint8_t>(const KernelScene&);
-extern template TileKernel tile_kernel_for<std::int16_t>(const KernelScene&);
-extern template TileKernel tile_kernel_for<std::uint16_t>(const KernelScene&);
-extern template TileKernel tile_kernel_for<float>(const KernelScene&);
-extern template TileKernel tile_kernel_for<double>(const KernelScene&);
-extern template TileKernel tile_kernel_for<PagedValue>(const KernelScene&);
-extern template PreviewKernel preview_kernel_for<std::uint8_t>(const KernelScene&);
-extern template PreviewKernel preview_kernel_for<std::int16_t>(const KernelScene&);
-extern template PreviewKernel preview_kernel_for<std::uint16_t>(const KernelScene&);
-extern template PreviewKernel preview_kernel_for<float>(const KernelScene&);
-extern template PreviewKernel preview_kernel_for<double>(const KernelScene&);
-extern template PreviewKernel preview_kernel_for<PagedValue>(const KernelScene&);
+extern template TileKernel tile_kernel_for<std::uint8_t>();
+extern template TileKernel tile_kernel_for<std::int16_t>();
+extern template TileKernel tile_kernel_for<std::uint16_t>();
+extern template TileKernel tile_kernel_for<float>();
+extern template TileKernel tile_kernel_for<double>();
+extern template TileKernel tile_kernel_for<PagedValue>();
+extern template PreviewKernel preview_kernel_for<std::uint8_t>();
+extern template PreviewKernel preview_kernel_for<std::int16_t>();
+extern template PreviewKernel preview_kernel_for<std::uint16_t>();
+extern template PreviewKernel preview_kernel_for<float>();
+extern template PreviewKernel preview_kernel_for<double>();
+extern template PreviewKernel preview_kernel_for<PagedValue>();
 
 }  // namespace tessera

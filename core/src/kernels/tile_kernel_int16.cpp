@@ -1,4 +1,4 @@
-/// The tile and preview kernels for int16 fields, every mode combination.
+/// The tile and preview kernels for int16 fields.
 #include "kernels/tile_kernel_impl.h"
 
 namespace tessera {

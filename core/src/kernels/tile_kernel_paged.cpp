@@ -1,4 +1,4 @@
-/// The tile and preview kernels for a demand-paged field of any dtype (brick_cache.h) fields, every mode combination.
+/// The tile and preview kernels for a demand-paged field of any dtype (brick_cache.h).
 #include "kernels/tile_kernel_impl.h"
 
 namespace tessera {
