@@ -13,6 +13,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -202,4 +203,37 @@ TEST_CASE("budget: the log line says the plan, what a pixel got and the account"
   CHECK_THAT(log, Contains("render 'main' step 1 (t=0): 24x24, 6 spp") &&
                       Contains("(budget 0.5: 6 of 32 spp planned, 6 a pixel on average, 0.00385 s in the account, "
                                "the run at 0.115x so far)"));
+}
+
+TEST_CASE("budget extremes on the real clock: the smallest and the largest budget, steps of microseconds",
+          "[insitu][budget][robustness]") {
+  tessera_test::ScopedEnv no_fake_clock("TESSERA_TEST_CLOCK", std::nullopt);
+  TempDir dir;
+  // 1e-300: the first call learns at min_spp, every later one is skipped; nothing divides by
+  // the budget or by a simulation time of microseconds
+  const Run tiny = run(dir, "tiny", main_render(8, 2), "  budget: 1e-300\n", 40);
+  CHECK(tiny.results[0].planned_spp == 2);
+  for (std::size_t c = 1; c < tiny.results.size(); ++c) {
+    INFO("call " << c);
+    CHECK(tiny.results[c].budget_skipped);
+    CHECK(tiny.results[c].status == TESSERA_OK);
+  }
+  CHECK(std::isfinite(tiny.results.back().budget_balance));
+  CHECK(tiny.results.back().budget_balance < 0.0);
+  CHECK(std::isfinite(tiny.results.back().budget_ratio));
+  // 1e6: whatever the calls cost, full spp after the first
+  const Run huge = run(dir, "huge", main_render(8, 2), "  budget: 1000000\n", 10);
+  CHECK(huge.results[0].planned_spp == 2);
+  for (std::size_t c = 1; c < huge.results.size(); ++c) CHECK(huge.results[c].planned_spp == 8);
+  // Steps of microseconds with a plain budget: some renders, never one with zero samples
+  const Run fast = run(dir, "fast", main_render(8, 1), "  budget: 0.5\n", 200);
+  int rendered = 0;
+  for (const RenderResult& res : fast.results) {
+    CHECK(res.status == TESSERA_OK);
+    CHECK((res.budget_skipped ? res.planned_spp == 0 : res.planned_spp >= 1));
+    if (!res.budget_skipped) CHECK(res.stats.samples >= static_cast<std::uint64_t>(kSize) * kSize);
+    rendered += !res.budget_skipped;
+  }
+  CHECK(rendered >= 1);
+  CHECK(std::isfinite(fast.results.back().budget_balance));
 }
