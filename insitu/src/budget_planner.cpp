@@ -52,9 +52,14 @@ double BudgetPlanner::plan(double simulation_seconds, std::span<const unsigned c
   if (!any) return 1.0;
   if (learning) return m_balance >= 0.0 ? kLearnPlan : 0.0;
 
-  // Credit carried forward: at most what this call could spend at full spp
-  m_balance = std::min(m_balance, overhead + per_share);
-  m_allowance = m_balance;
+  // Credit carried forward: at most what this call could spend at full spp (which it gets,
+  // without the rounding of (balance - overhead) / per_share)
+  const double full = overhead + per_share;
+  if (m_balance >= full) {
+    m_balance = full;
+    m_allowance = m_balance;
+    return 1.0;
+  }
 
   // The share the balance pays for (renders that cost nothing per sample: all or nothing)
   const double left = m_balance - overhead;

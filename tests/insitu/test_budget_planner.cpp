@@ -172,6 +172,15 @@ TEST_CASE("a render firing for the first time learns when the account allows, no
   CHECK(planned_spp(kLearnPlan, limits[1]) == 3);
 }
 
+TEST_CASE("an account that pays for full spp gives full spp, whatever the rounding of the costs", "[insitu][budget]") {
+  // Costs whose sum and difference round: (overhead + per_share - overhead) / per_share < 1
+  const std::vector<BudgetLimits> limits{{8, 1}, {7, 1}};
+  const std::vector<FakeCost> cost{{0.1, 0.0001 / 3}, {0.3, 0.0007 / 9}};
+  BudgetPlanner p(1e6, limits);
+  call(p, limits, cost, 0.0);
+  for (int c = 0; c < 50; ++c) CHECK(call(p, limits, cost, 1e-6 * (c + 1)) == std::vector<int>{8, 7});
+}
+
 TEST_CASE("one share for every render of a call: cheap and costly renders keep the same fraction of spp",
           "[insitu][budget]") {
   // Costs and times that are binary fractions: every figure below is exact
