@@ -100,36 +100,37 @@ TEST_CASE("every rank renders with rank 0's plan, whatever its own clock says", 
   Watchdog watchdog;
   EnvVar no_fake_clock("TESSERA_TEST_CLOCK", std::nullopt);
   SharedTempDir dir("tessera_budget_");
-  const std::string cfg = write_config(dir, budget_config(dir.file("out"), "  threads: 1\n  budget: 4\n", 64, 1));
+  const std::string cfg = write_config(dir, budget_config(dir.file("out"), "  threads: 1\n  budget: 1\n", 64, 1));
   Published pub;
   Adapter a;
   a.set_quiet(true);
   REQUIRE(all_ranks(a.open(cfg, MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
-  const auto run = [&](std::int64_t step) {
+  const auto run = [&](std::int64_t step, bool others_sleep, double seconds) {
+    // The sleeping ranks simulate; the others wait for them inside execute (the adapter's time)
+    if ((world_rank() != 0) == others_sleep)
+      std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
     const tessera_status s = a.execute(step, 0.1 * static_cast<double>(step), pub.grid, {&pub.field, 1});
     REQUIRE(all_ranks(s == TESSERA_OK && a.last_results().size() == 1));
     return a.last_results()[0];
   };
 
-  // The first call learns: min_spp everywhere
-  CHECK(run(0).planned_spp == 1);
+  // The first call learns: min_spp everywhere. Rank 0 waits 1 s for the others in it: its
+  // account is 1 s in debt, theirs hardly
+  CHECK(run(0, true, 1.0).planned_spp == 1);
 
-  // Rank 0 simulates nothing, the others 0.3 s: rank 0, in debt, skips; so do the others,
-  // although their own account (budget 4: 1.2 s to spend) would have rendered
-  if (world_rank() != 0) std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  const RenderResult skipped = run(1);
+  // The others simulate 0.5 s (their own accounts could pay for a render); rank 0, in debt,
+  // skips, and so does every rank
+  const RenderResult skipped = run(1, true, 0.5);
   CHECK(skipped.planned_spp == 0);
   CHECK(skipped.budget_skipped);
   CHECK(skipped.files.empty());
   CHECK(all_ranks(skipped.planned_spp == rank0_value(skipped.planned_spp)));
 
-  // Rank 0 simulates 0.6 s (2.4 s to spend), the others nothing (and they waited inside the
-  // adapter for rank 0, so their own accounts are in debt): every rank renders rank 0's plan
-  if (world_rank() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(600));
-  const RenderResult rendered = run(2);
+  // Rank 0 simulates 2 s: its debt (1.5 s) paid, it plans full spp, and every rank renders it
+  const RenderResult rendered = run(2, false, 2.0);
   INFO("planned " << rendered.planned_spp << " on rank " << world_rank());
   CHECK(all_ranks(rendered.planned_spp == rank0_value(rendered.planned_spp)));
-  CHECK(rank0_value(rendered.planned_spp) > 1);
+  CHECK(rank0_value(rendered.planned_spp) == 64);
   CHECK(rendered.status == TESSERA_OK);
   CHECK_FALSE(rendered.budget_skipped);
   // Rank 0's stats are summed over ranks: had a rank traced another spp for its tiles, the
