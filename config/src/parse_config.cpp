@@ -66,6 +66,11 @@ Config parse_root(const detail::Document& doc) {
   std::unordered_map<std::string, SourceMark> name_marks;  // name -> where first used
   for (const Value& r : renders) {
     RenderSpec spec = detail::parse_render(r);
+    // With a budget the EXR shows the samples each pixel got, unless the render says otherwise
+    if (c.global.budget > 0.0 && spec.output.has_format(ImageFormat::Exr)) {
+      const auto out = r.map().get("output");
+      if (!out || !out->map().get("samples")) spec.output.samples = true;
+    }
     const Value name = *r.map().get("name");
     const auto [it, fresh] = name_marks.emplace(spec.name, name.mark());
     if (!fresh) {
@@ -84,7 +89,7 @@ namespace detail {
 
 GlobalOptions parse_global(const Value& v) {
   const Map m = v.map_with_keys({"output_dir", "on_error", "threads", "render_final_step", "max_failures",
-                                 "time_limit", "memory_limit_mb", "distribution", "brick_cache"});
+                                 "time_limit", "memory_limit_mb", "distribution", "brick_cache", "budget"});
   GlobalOptions g;
   if (const auto d = m.get("output_dir")) {
     g.output_dir = d->string();
@@ -105,6 +110,7 @@ GlobalOptions parse_global(const Value& v) {
                                    GlobalOptions::kMaxMemoryLimitMb);
   g.distribution = m.choice_or("distribution", g.distribution, kDistributionNames);
   g.brick_cache = m.number_or("brick_cache", g.brick_cache, Range{0.0, 1.0, true, false});
+  g.budget = m.number_or("budget", g.budget, Range{0.0, GlobalOptions::kMaxBudget, true, false});
   return g;
 }
 

@@ -34,15 +34,21 @@ bool valid_name(const std::string& s) {
   });
 }
 
-ImageDesc parse_image(const Value& v) {
-  const Map m = v.map_with_keys({"width", "height", "spp", "target_error", "denoise"});
-  ImageDesc d;
+/// `image:` into r.image and r.min_spp (which must not pass spp).
+void parse_image(const Value& v, RenderSpec& r) {
+  const Map m = v.map_with_keys({"width", "height", "spp", "min_spp", "target_error", "denoise"});
+  ImageDesc& d = r.image;
   d.width = static_cast<int>(m.integer_or("width", d.width, 1, kMaxImageEdge));
   d.height = static_cast<int>(m.integer_or("height", d.height, 1, kMaxImageEdge));
   d.spp = static_cast<int>(m.integer_or("spp", d.spp, 1, ImageDesc::kMaxSpp));
   d.target_error = m.number_or("target_error", d.target_error, Range::at_least(0.0));
   d.denoise = m.boolean_or("denoise", d.denoise);
-  return d;
+  if (const auto lo = m.get("min_spp")) {
+    r.min_spp = static_cast<int>(lo->integer(1, ImageDesc::kMaxSpp));
+    if (r.min_spp > d.spp)
+      lo->fail("image.min_spp " + std::to_string(r.min_spp) + " is more than image.spp " + std::to_string(d.spp) +
+               " (allowed: 1 <= min_spp <= spp; with a budget spp is the most a pixel gets, min_spp the fewest)");
+  }
 }
 
 }  // namespace
@@ -168,7 +174,7 @@ RenderSpec parse_render(const Value& v) {
     }
   }
   if (const auto t = m.get("trigger")) r.trigger = parse_trigger(*t);
-  if (const auto i = m.get("image")) r.image = parse_image(*i);
+  if (const auto i = m.get("image")) parse_image(*i, r);
   r.camera = parse_camera(m.require("camera", "a mapping with at least position"));
   r.transfer_function = parse_transfer_function(
       m.require("transfer_function", "a mapping with at least opacity"));

@@ -42,7 +42,7 @@ void write(YAML::Emitter& out, ImageFormat f);
 void write(YAML::Emitter& out, const GlobalOptions& g);
 void write(YAML::Emitter& out, const VolumeSpec& v);
 void write(YAML::Emitter& out, const TriggerSpec& t);
-void write(YAML::Emitter& out, const ImageDesc& image);
+void write_image(YAML::Emitter& out, const RenderSpec& r);
 void write(YAML::Emitter& out, const CameraSpec& c);
 void write(YAML::Emitter& out, const TransferFunctionSpec& tf);
 void write(YAML::Emitter& out, const LightSpec& l);
@@ -124,6 +124,7 @@ void write(YAML::Emitter& out, const GlobalOptions& g) {
   field(out, "memory_limit_mb", g.memory_limit_mb);
   field(out, "distribution", name_of(detail::kDistributionNames, g.distribution));
   field(out, "brick_cache", g.brick_cache);
+  if (g.budget > 0.0) field(out, "budget", g.budget);  // no budget: the key left out
   out << YAML::EndMap;
 }
 
@@ -155,11 +156,14 @@ void write(YAML::Emitter& out, const TriggerSpec& t) {
   out << YAML::EndMap;
 }
 
-void write(YAML::Emitter& out, const ImageDesc& image) {
+/// `image:`: the core ImageDesc and the render's min_spp.
+void write_image(YAML::Emitter& out, const RenderSpec& r) {
+  const ImageDesc& image = r.image;
   out << YAML::Flow << YAML::BeginMap;
   field(out, "width", image.width);
   field(out, "height", image.height);
   field(out, "spp", image.spp);
+  field(out, "min_spp", r.min_spp);
   field(out, "target_error", image.target_error);
   field(out, "denoise", image.denoise);
   out << YAML::EndMap;
@@ -283,7 +287,8 @@ void write(YAML::Emitter& out, const RenderSpec& r) {
   field(out, "name", r.name);
   if (!r.field.empty()) field(out, "field", r.field);
   if (r.trigger) field(out, "trigger", *r.trigger);
-  field(out, "image", r.image);
+  key(out, "image");
+  write_image(out, r);
   field(out, "camera", r.camera);
   field(out, "transfer_function", r.transfer_function);
   // Lights: a block list of one-line maps, `[]` when there are none

@@ -44,6 +44,10 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
         break;
       }
       effective = config::to_yaml(m_config);
+      // tessera.budget (and the fake clock of tests, TESSERA_TEST_CLOCK, whose value the
+      // ranks compare below)
+      m_budget.reset();
+      if (m_config.global.budget > 0.0) m_budget.emplace(m_config);
     } catch (const std::exception& e) {
       ok = false;
       fault = e.what();
@@ -158,13 +162,15 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     }
     if (!any) return TESSERA_OK;  // no communication: identical configs decide alike
     const bool root = m_ctx->rank() == 0;
+    const auto call_start = std::chrono::steady_clock::now();
 
-    // Ranks agree on the step, the renders that fire and the grid, before any other collective
-    const CallView view{final_step ? CallKind::Final : CallKind::Execute,
-                        step,
-                        {reinterpret_cast<const unsigned char*>(m_decisions.data()), m_decisions.size()},
-                        m_config.renders, grid};
-    if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view)) {
+    // Ranks agree on the step, the renders that fire and the grid, before any other
+    // collective; with a budget every rank adopts rank 0's plan for the call in the same step
+    const std::span<const unsigned char> fired{reinterpret_cast<const unsigned char*>(m_decisions.data()),
+                                               m_decisions.size()};
+    double plan = m_budget ? m_budget->plan(step, std::max(0.0, m_sim_seconds), fired) : 1.0;
+    const CallView view{final_step ? CallKind::Final : CallKind::Execute, step, fired, m_config.renders, grid, plan};
+    if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view, kAgreementWarnSeconds, &plan)) {
       if (root) log_line(d->message);
       if (d->rank_closed) m_broken = d->message;
       m_error = std::move(d->message);
@@ -178,6 +184,8 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     m_call.fields = fields;
     m_call.nfields = nfields;
     m_call.simulation_seconds = std::max(0.0, m_sim_seconds);
+    m_call.budget_plan = plan;
+    m_call.budget = m_budget ? &*m_budget : nullptr;
     m_call.ranges.clear();
     m_call.assembled_key.reset();
     tessera_status status = TESSERA_OK;
@@ -188,10 +196,16 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
         if (m_decisions[i] == Decision::Fire && !skipped) skipped = m_renders[i].spec;
         continue;
       }
+      const auto pass_start = std::chrono::steady_clock::now();
       PassOutcome out = run_render(*m_ctx, m_config, m_renders[i], m_call, m_summaries,
                                    m_decisions[i] == Decision::WhenTrigger, m_quiet);
       if (!out.fired) continue;
-      if (out.result.status == TESSERA_OK) {
+      if (m_budget)
+        m_budget->record(i, out.result,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count());
+      if (out.result.budget_skipped) {
+        // neither a success nor a failure for on_error
+      } else if (out.result.status == TESSERA_OK) {
         m_policy.record_success(i);
       } else {
         if (out.report_here) log_line(out.result.error);
@@ -205,6 +219,9 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
       }
       m_results.push_back(std::move(out.result));
     }
+    if (m_budget)
+      m_budget->end_call(std::chrono::duration<double>(std::chrono::steady_clock::now() - call_start).count(),
+                         m_results);
     if (m_policy.blocked() && root) log_line(m_policy.blocked_message());
     if (status == TESSERA_OK && skipped) {
       status = TESSERA_ERROR_DISABLED;
@@ -290,6 +307,7 @@ void Adapter::Impl::teardown() noexcept {
   m_renders.clear();
   m_decisions.clear();
   m_call = CallData{};
+  m_budget.reset();
   try {
     m_ctx.reset();
   } catch (...) {

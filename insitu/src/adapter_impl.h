@@ -5,6 +5,7 @@
 #include "call_gate.h"
 #include "error_policy.h"
 #include "parallel_context.h"
+#include "render_budget.h"
 #include "render_pass.h"
 #include "summary_cache.h"
 
@@ -14,6 +15,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +71,8 @@ struct Adapter::Impl {
   /// the first call has no simulation time to compare with.
   std::chrono::steady_clock::time_point m_sim_since{};
   double m_sim_seconds = 0.0;
+  /// tessera.budget: the account and the planner (render_budget.h); empty without a budget.
+  std::optional<RenderBudget> m_budget;
 };
 
 }  // namespace tessera::insitu

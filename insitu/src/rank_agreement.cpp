@@ -136,6 +136,7 @@ struct CallRecord {
   std::uint64_t origin_bits[3];
   std::uint64_t spacing_bits[3];
   std::int64_t global_dims[3];
+  std::uint64_t plan_bits;  ///< the render-budget plan (a double): rank 0's is adopted, not compared
 };
 static_assert(std::is_trivially_copyable_v<CallRecord>);
 
@@ -153,6 +154,7 @@ CallRecord call_record(const CallView& call) {
     h = fnv1a64(std::string_view(&byte, 1), h);
   }
   rec.fired_hash = h;
+  rec.plan_bits = std::bit_cast<std::uint64_t>(call.plan);
   if (call.grid) {
     rec.has_grid = 1;
     for (int a = 0; a < 3; ++a) {
@@ -299,8 +301,10 @@ std::string waiting_message(int rank, const CallView& call, double waited) {
          "--timeout)";
 }
 
-std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call, double warn_after) {
+std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call, double warn_after,
+                                          double* rank0_plan) {
   const int n = ctx.size();
+  if (rank0_plan) *rank0_plan = call.plan;
   if (n == 1) return std::nullopt;
   const CallRecord mine = call_record(call);
   std::vector<CallRecord> all(static_cast<std::size_t>(n));
@@ -308,6 +312,7 @@ std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& 
   ctx.allgather_waiting(&mine, sizeof mine, all.data(), warn_after,
                         [&](double waited) { log_line(waiting_message(rank, call, waited)); });
   const CallRecord& ref = all[0];
+  if (rank0_plan) *rank0_plan = std::bit_cast<double>(ref.plan_bits);
 
   // A rank that closes while another executes: nothing else in the records compares
   bool closed = false;

@@ -13,7 +13,9 @@
 ///     differing line.
 ///   at each execute call where a render fires (agree_on_call), before any other collective:
 ///     the kind of call (execute or execute_final), the step, which renders fire, and the
-///     global grid (origin, spacing, global_dims, doubles compared bit for bit).
+///     global grid (origin, spacing, global_dims, doubles compared bit for bit). The same
+///     record carries rank 0's render-budget plan (render_budget.h) to every rank: not
+///     compared, adopted.
 ///   at close (agree_on_call with CallKind::Close): the same record, so that a rank still in
 ///     an execute call that fires meets the other ranks' close (and the reverse) and every
 ///     rank involved reports it instead of one of them waiting forever.
@@ -41,7 +43,8 @@ namespace tessera::insitu {
 
 /// Every environment variable the library reads (add new ones here): their raw values must
 /// be the same on every rank.
-inline constexpr std::array<const char*, 1> kEnvironmentKnobs = {"TESSERA_MPI_RANKS_PER_NODE"};
+inline constexpr std::array<const char*, 2> kEnvironmentKnobs = {"TESSERA_MPI_RANKS_PER_NODE",
+                                                                  "TESSERA_TEST_CLOCK"};
 
 /// A rank that has waited this long (seconds) in agree_on_call for the others says so on
 /// stderr, and again each time the wait doubles (it keeps waiting: see agree_on_call).
@@ -78,6 +81,9 @@ struct CallView {
   /// The config's renders, for names in the message (same size as fired).
   std::span<const config::RenderSpec> renders;
   const tessera_grid* grid = nullptr;  ///< may be NULL (the bind phase reports it)
+  /// This rank's render-budget plan for the call (budget_planner.h; 1 without a budget).
+  /// Not compared: every rank renders with rank 0's (agree_on_call's `rank0_plan`).
+  double plan = 1.0;
 };
 
 /// Collective (one allgather of a fixed-size record). Returns the disagreement (status
@@ -91,8 +97,11 @@ struct CallView {
 /// would complete an abandoned collective and go on alone); after warn_after seconds, and each
 /// time the wait doubles, this rank logs waiting_message() (one line on stderr), so that the
 /// hang is visible and names the call.
+/// rank0_plan (may be NULL): receives rank 0's call.plan, bit for bit (this rank's own with
+/// one rank), when the ranks agree.
 std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call,
-                                          double warn_after = kAgreementWarnSeconds);
+                                          double warn_after = kAgreementWarnSeconds,
+                                          double* rank0_plan = nullptr);
 
 /// The line a rank logs while it waits in agree_on_call (exposed for tests).
 std::string waiting_message(int rank, const CallView& call, double waited);

@@ -42,7 +42,8 @@ class Pass {
   Pass(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call,
        SummaryCache& summaries)
       : m_ctx(ctx), m_cfg(cfg), m_render(render), m_spec(*render.spec), m_call(call), m_summaries(summaries),
-        m_start(Clock::now()) {
+        m_start(Clock::now()),
+        m_spp(planned_spp(call.budget_plan, BudgetLimits{render.spec->image.spp, render.spec->min_spp})) {
     // tessera.time_limit: one deadline for the whole run, every Cinema view included
     if (cfg.global.time_limit > 0.0)
       m_deadline = m_start + std::chrono::duration_cast<Clock::duration>(
@@ -50,11 +51,16 @@ class Pass {
     m_out.result.name = m_spec.name;
     m_out.result.step = call.step;
     m_out.result.time = call.time;
+    m_out.result.planned_spp = m_spp;
+    m_out.result.budget = cfg.global.budget;
   }
 
   PassOutcome run(bool check_when, bool quiet) {
     const bool root = m_ctx.rank() == 0;
     m_out.fired = true;
+    // The render budget cannot give this render min_spp: skipped before any work (a `when`
+    // render once its trigger has fired)
+    if (m_spp == 0 && !check_when) return skipped();
 
     // Bind: descriptors -> zero-copy view of this rank's real vertices
     if (!phase(TESSERA_ERROR_DATA, [&] {
@@ -94,6 +100,7 @@ class Pass {
       }
       if (!(range.first <= range.second)) range = {0.0, 0.0};  // no finite value anywhere
     }
+    if (m_spp == 0) return skipped();
 
     // Memory and distribution: the render's own allocations (replica or brick cache, film,
     // images, envmap), estimated before any of them is made; after the `when` decision, so a
@@ -142,6 +149,7 @@ class Pass {
           scene.options = config::build_render_options(m_spec, m_cfg.global);
           scene.options.frame = static_cast<std::uint64_t>(m_call.step);
           scene.options.deadline = m_deadline;
+          scene.image.spp = m_spp;  // the render budget's plan (image.spp without one)
           if (m_spec.output.cinema)
             views = cinema_views(*m_spec.output.cinema, scene.camera, m_binding.global_bounds);
         }))
@@ -166,6 +174,9 @@ class Pass {
 
     RenderResult& r = m_out.result;
     r.samples_per_second = r.render_seconds > 0.0 ? r.stats.samples / r.render_seconds : 0.0;
+    r.actual_spp = static_cast<double>(r.stats.samples) /
+                   (static_cast<double>(m_spec.image.width) * m_spec.image.height * static_cast<double>(1 + views.size()));
+    m_render.budget_skips = 0;
     r.simulation_seconds = m_call.simulation_seconds;
     r.cost_ratio = r.simulation_seconds > 0.0 ? r.render_seconds / r.simulation_seconds : 0.0;
     if (root && !quiet) log_line(summary());
@@ -354,13 +365,42 @@ class Pass {
     });
   }
 
+  /// A render the budget skipped: no work, no files; a warning on rank 0 naming the budget,
+  /// logged the 1st, 2nd, 4th, 8th, ... time in a row (a budget far too small for a render
+  /// that fires every step must not flood the log).
+  PassOutcome skipped() {
+    RenderResult& r = m_out.result;
+    r.budget_skipped = true;
+    r.simulation_seconds = m_call.simulation_seconds;
+    const int n = ++m_render.budget_skips;
+    if (m_ctx.rank() != 0) return std::move(m_out);
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "skipped: the render budget (tessera.budget = %g, rendering at most %gx the simulation's time) "
+                  "cannot pay for image.min_spp = %d now (%.3g s in the account, the run at %.3gx so far)",
+                  m_cfg.global.budget, m_cfg.global.budget, m_spec.min_spp,
+                  m_call.budget ? m_call.budget->allowance() : 0.0, m_call.budget ? m_call.budget->ratio() : 0.0);
+    r.warnings.emplace_back(buf);
+    if ((n & (n - 1)) == 0)
+      log_line("warning: render '" + r.name + "' at step " + std::to_string(r.step) + ": " + r.warnings.back() +
+               (n > 1 ? " (" + std::to_string(n) + " calls in a row)" : std::string()));
+    return std::move(m_out);
+  }
+
   std::string summary() const {
     const RenderResult& r = m_out.result;
     char buf[256];
     std::snprintf(buf, sizeof buf, "render '%s' step %lld (t=%g): %dx%d, %d spp, %.3f s, %.3g samples/s",
                   r.name.c_str(), static_cast<long long>(r.step), r.time, m_spec.image.width,
-                  m_spec.image.height, m_spec.image.spp, r.render_seconds, r.samples_per_second);
+                  m_spec.image.height, m_spp, r.render_seconds, r.samples_per_second);
     std::string line = buf;
+    // The render budget: the plan, what a pixel got, the account the plan had to spend
+    if (m_call.budget) {
+      std::snprintf(buf, sizeof buf, " (budget %g: %d of %d spp planned, %.3g a pixel on average, %.3g s in the account, the run at %.3gx so far)",
+                    m_cfg.global.budget, m_spp, m_spec.image.spp, r.actual_spp, m_call.budget->allowance(),
+                    m_call.budget->ratio());
+      line += buf;
+    }
     if (m_spec.image.denoise) {
       std::snprintf(buf, sizeof buf, ", denoised in %.3f s", r.denoise_seconds);
       line += buf;
@@ -390,6 +430,7 @@ class Pass {
   PassOutcome m_out;
   Clock::time_point m_start;  ///< when this render began (its time limit counts from here)
   Clock::time_point m_deadline = Clock::time_point::max();  ///< tessera.time_limit; max = none
+  int m_spp;  ///< samples per pixel: the budget's plan, image.spp without one; 0 = skipped
 };
 
 }  // namespace

@@ -12,6 +12,7 @@
 /// for a render that does not fire.
 #include "cinema.h"
 #include "parallel_context.h"
+#include "render_budget.h"
 #include "summary_cache.h"
 #include "triggers.h"
 
@@ -37,6 +38,7 @@ struct RenderState {
   std::optional<Image> last_image;          ///< rank 0: the last image rendered
   std::unique_ptr<CinemaDatabase> cinema;   ///< rank 0, created at first use
   int logged_mode = -1;                     ///< the field mode last logged (0 replicated, 1 distributed)
+  int budget_skips = 0;                     ///< calls in a row the render budget skipped it
 };
 
 /// What one execute call derives from its descriptors, shared by its renders. Everything is
@@ -49,6 +51,12 @@ struct CallData {
   std::int64_t nfields = 0;
   /// The simulation's wall time since the last call that rendered (0 in the first call), this rank.
   double simulation_seconds = 0.0;
+  /// tessera.budget: the plan every rank renders with (rank 0's, budget_planner.h); 1 (each
+  /// render's spp) without a budget.
+  double budget_plan = 1.0;
+  /// tessera.budget: this rank's account, for the log line (rank 0's is the one that plans);
+  /// nullptr without a budget.
+  const RenderBudget* budget = nullptr;
   /// Global finite min/max per field, computed at most once per call.
   std::vector<std::pair<std::string, std::pair<double, double>>> ranges;
   /// The last assembled field (valid until the next assemble).

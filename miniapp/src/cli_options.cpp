@@ -1,7 +1,10 @@
 #include "cli_options.h"
 
+#include "busy_work.h"
+
 #include <charconv>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
@@ -17,13 +20,15 @@
 namespace heat {
 namespace {
 
-std::int64_t parse_int(std::string_view flag, const char* text, std::int64_t min) {
+std::int64_t parse_int(std::string_view flag, const char* text, std::int64_t min,
+                       std::int64_t max = std::numeric_limits<std::int64_t>::max()) {
   const std::string_view s(text);
   std::int64_t v = 0;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || end != s.data() + s.size() || v < min)
-    throw std::invalid_argument(std::string(flag) + " needs an integer >= " + std::to_string(min) + ", got '" +
-                                std::string(s) + "'");
+  if (ec != std::errc() || end != s.data() + s.size() || v < min || v > max)
+    throw std::invalid_argument(std::string(flag) + " needs an integer >= " + std::to_string(min) +
+                                (max < std::numeric_limits<std::int64_t>::max() ? " and <= " + std::to_string(max) : "") +
+                                ", got '" + std::string(s) + "'");
   return v;
 }
 
@@ -31,11 +36,13 @@ std::int64_t parse_int(std::string_view flag, const char* text, std::int64_t min
 
 std::string usage() {
   return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]\n"
+         "                    [--work-ms N]\n"
          "  --config FILE     Tessera YAML config (default: the project's configs/heat.yaml)\n"
          "  --steps N         time steps after the initial state (default 100)\n"
          "  --grid NX NY NZ   global grid vertices, each >= 3 (default 64 64 64)\n"
          "  --output-dir DIR  write images under DIR instead of the config's output_dir\n"
-         "  --dump FILE       at the end, write the global field to FILE (raw float32, i fastest)\n";
+         "  --dump FILE       at the end, write the global field to FILE (raw float32, i fastest)\n"
+         "  --work-ms N       add N ms of computation to each step (0..60000, default 0): a slower simulation\n";
 }
 
 Options parse_options(int argc, const char* const* argv) {
@@ -60,6 +67,9 @@ Options parse_options(int argc, const char* const* argv) {
       need(1);
       o.output_dir = argv[++i];
       if (o.output_dir->empty()) throw std::invalid_argument("--output-dir needs a non-empty directory");
+    } else if (a == "--work-ms") {
+      need(1);
+      o.work_ms = parse_int(a, argv[++i], 0, kMaxWorkMs);
     } else if (a == "--dump") {
       need(1);
       o.dump = argv[++i];

@@ -1,6 +1,7 @@
 #pragma once
 /// Command line of tessera-heat (docs/miniapp.md):
 ///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
+///                [--work-ms N]
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -14,6 +15,7 @@ struct Options {
   std::array<std::int64_t, 3> grid{64, 64, 64}; ///< global vertices, each >= 3
   std::optional<std::string> output_dir;        ///< overrides the config's tessera.output_dir
   std::optional<std::string> dump;              ///< raw float32 file of the final global field
+  std::int64_t work_ms = 0;                     ///< computation added to each step, [0, kMaxWorkMs]
   bool help = false;
 };
 

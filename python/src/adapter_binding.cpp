@@ -118,7 +118,13 @@ class PyAdapter {
       d["simulation_seconds"] = r.simulation_seconds;
       d["cost_ratio"] = r.cost_ratio;
       d["warnings"] = nb::cast(r.warnings);
-      const Image* img = r.status == TESSERA_OK ? m_adapter.last_image(r.name) : nullptr;
+      d["planned_spp"] = r.planned_spp;
+      d["actual_spp"] = r.actual_spp;
+      d["budget_skipped"] = r.budget_skipped;
+      d["budget_balance"] = r.budget_balance;
+      d["budget_ratio"] = r.budget_ratio;
+      // (a render the budget skipped has no image of this step)
+      const Image* img = r.status == TESSERA_OK && !r.budget_skipped ? m_adapter.last_image(r.name) : nullptr;
       if (img) {
         const std::size_t shape[3] = {static_cast<std::size_t>(img->height), static_cast<std::size_t>(img->width), 4};
         nb::ndarray<nb::numpy, const float, nb::ndim<3>> view(img->rgba.data(), 3, shape, nb::handle());

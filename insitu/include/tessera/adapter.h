@@ -92,6 +92,30 @@ struct RenderResult {
   /// Also logged on rank 0 as "tessera: warning: render 'NAME' at step N: ...", quiet or not.
   /// A warning never changes `status`.
   std::vector<std::string> warnings;
+
+  // The samples a render got, and the render budget (`tessera.budget`; docs/insitu.md,
+  // "Controlling the cost")
+  /// Samples per pixel this render was given: image.spp without a budget; with one, the
+  /// plan every rank rendered with (rank 0's), in [image.min_spp, image.spp], or 0 when the
+  /// budget skipped the render. The most a pixel got: target_error may stop pixels earlier.
+  int planned_spp = 0;
+  /// The samples a pixel got on average: stats.samples / (width x height x views, Cinema
+  /// views included). Rank 0 (its stats are summed over ranks); per pixel in the EXR's
+  /// `samples` channel (on by default with a budget).
+  double actual_spp = 0.0;
+  /// tessera.budget, the fraction of the simulation's time rendering may take; 0: no budget.
+  double budget = 0.0;
+  /// With a budget: the budget could not give this render image.min_spp, so it was not
+  /// rendered (status TESSERA_OK, no files, a warning in `warnings` naming the budget).
+  bool budget_skipped = false;
+  /// With a budget (0 without): the account after this call, in seconds: > 0 time under
+  /// budget carried forward, < 0 time over it that later renders pay back. The account that
+  /// plans is rank 0's; other ranks show their own measure.
+  double budget_balance = 0.0;
+  /// With a budget (0 without): the run so far, seconds inside execute() in calls that
+  /// rendered / the simulation's seconds, to compare with tessera.budget (the first render
+  /// of each entry, which measures its cost, may put it over for a while).
+  double budget_ratio = 0.0;
 };
 
 class Adapter {

@@ -45,7 +45,13 @@ struct GlobalOptions {
   /// the global field's bytes, in (0, 1] (and always within memory_limit_mb). The default
   /// keeps a rank under half of what a replica costs; 1 lets the cache hold every brick.
   double brick_cache = kDefaultBrickCache;
+  /// Adapter: the render budget, the most of the simulation's wall time that rendering may
+  /// take over the run (0.25 = a quarter), in (0, kMaxBudget]; 0 = no budget (the key left
+  /// out; `budget: 0` is refused). With a budget each render's samples per pixel are planned
+  /// between its `image.min_spp` and `image.spp` (docs/insitu.md, "Controlling the cost").
+  double budget = 0.0;
 
+  static constexpr double kMaxBudget = 1e6;
   static constexpr double kMaxTimeLimit = 31536000.0;            ///< one year, in seconds
   static constexpr std::int64_t kMaxMemoryLimitMb = std::int64_t(1) << 40;
   static constexpr double kDefaultBrickCache = 0.4;

@@ -70,6 +70,9 @@ struct RenderSpec {
   std::string field;                       ///< adapter: published field name; "" = not given
   std::optional<TriggerSpec> trigger;      ///< adapter only; absent = every step
   ImageDesc image;                         ///< width, height in [1, 16384], spp >= 1
+  /// `image.min_spp`, adapter with tessera.budget: the fewest samples per pixel worth an
+  /// image, in [1, image.spp]; a render the budget cannot give that many is skipped. Default 1.
+  int min_spp = 1;
   CameraSpec camera;
   TransferFunctionSpec transfer_function;  ///< required (opacity required inside)
   std::vector<LightSpec> lights;
