@@ -3,6 +3,7 @@
 // and 4 ranks (and with every rank on its own pretend node), and a bad field on one rank
 // gives every rank an error status without a hang.
 #include "mpi_test_support.h"
+#include "published_block.h"
 
 #include <tessera/adapter.h>
 #include <tessera/image_io.h>
@@ -56,29 +57,14 @@ std::array<int, 3> procs_for(int n) {
   }
 }
 
-/// This rank's block as the simulation holds it: float32, one ghost layer on every side.
-struct Published {
+/// This rank's block as the simulation holds it, described in `f` and `g`.
+struct Published : PublishedBlock {
   Published(const Box& box, tessera_field& f, tessera_grid& g,
             const std::array<std::int64_t, 3>& global = kGlobal)
-      : local(box, tessera::DType::Float32, Layout::COrder, blobs(global)) {
-    const tessera::FieldView real = local.view();
-    f = tessera_field{};
-    f.name = "density";
-    f.dtype = TESSERA_FLOAT32;
-    for (int a = 0; a < 3; ++a) {
-      f.dims[a] = box.dims[a] + 2;
-      f.byte_strides[a] = real.byte_strides[a];
-      f.ghosts_lo[a] = f.ghosts_hi[a] = 1;
-      g.origin[a] = -0.5;
-      g.spacing[a] = 1.0 / (global[a] - 1);
-      g.global_dims[a] = global[a];
-      g.offset[a] = box.offset[a];
-    }
-    // data: element (0,0,0) of the array, ghosts included
-    f.data = static_cast<const unsigned char*>(real.data) - real.byte_strides[0] - real.byte_strides[1] -
-             real.byte_strides[2];
+      : PublishedBlock(box, global) {
+    f = field;
+    g = grid;
   }
-  LocalArray local;
 };
 
 /// Runs step 3 of the config on the first n ranks; returns the status every rank got (agreed).

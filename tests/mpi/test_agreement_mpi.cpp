@@ -6,6 +6,7 @@
 // regression that hangs kills the job (and fails the CTest entry) instead of waiting for the
 // CTest timeout.
 #include "mpi_test_support.h"
+#include "published_block.h"
 #include "rank_agreement.h"
 
 #include <tessera/tessera.h>
@@ -53,41 +54,13 @@ std::string config_text(const std::string& out, const std::string& trigger = "{e
   return yaml;
 }
 
-/// This rank's block of the global field (float32, one ghost layer), as the simulation holds it.
-struct Published {
-  Published() : local(block_of(kGlobal, procs(), world_rank()), tessera::DType::Float32, Layout::COrder, blobs(kGlobal)) {
-    const Box box = block_of(kGlobal, procs(), world_rank());
-    const tessera::FieldView real = local.view();
-    field.name = "density";
-    field.dtype = TESSERA_FLOAT32;
-    for (int a = 0; a < 3; ++a) {
-      field.dims[a] = box.dims[a] + 2;
-      field.byte_strides[a] = real.byte_strides[a];
-      field.ghosts_lo[a] = field.ghosts_hi[a] = 1;
-      grid.origin[a] = -0.5;
-      grid.spacing[a] = 1.0 / static_cast<double>(kGlobal[a] - 1);
-      grid.global_dims[a] = kGlobal[a];
-      grid.offset[a] = box.offset[a];
-    }
-    field.data = static_cast<const unsigned char*>(real.data) - real.byte_strides[0] - real.byte_strides[1] -
-                 real.byte_strides[2];
-  }
-  static std::array<int, 3> procs() { return {1, world_size(), 1}; }
-  LocalArray local;
-  tessera_field field{};
-  tessera_grid grid{};
+/// This rank's block of the global field (float32, one ghost layer).
+struct Published : PublishedBlock {
+  Published() : PublishedBlock(block_of(kGlobal, {1, world_size(), 1}, world_rank()), kGlobal) {}
 };
 
 int last_rank() { return world_size() - 1; }
 bool odd_one_out() { return world_rank() == last_rank(); }
-
-/// Writes this rank's config (rank r: cfg_r.yaml) and returns its path.
-std::string write_config(const SharedTempDir& dir, const std::string& text) {
-  const std::string path = dir.file("cfg_" + std::to_string(world_rank()) + ".yaml");
-  std::ofstream(path) << text;
-  MPI_Barrier(MPI_COMM_WORLD);
-  return path;
-}
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
@@ -111,7 +84,7 @@ TEST_CASE("a trigger that differs on one rank fails tessera_open on every rank",
   if (world_size() < 2) return;
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
-  const std::string cfg = write_config(dir, config_text(dir.file("out"), odd_one_out() ? "{every: 2}" : "{every: 1}"));
+  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), odd_one_out() ? "{every: 2}" : "{every: 1}"));
   const auto t0 = std::chrono::steady_clock::now();
   tessera_adapter* a = nullptr;
   const tessera_status s = tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a);
@@ -130,7 +103,7 @@ TEST_CASE("an environment knob set on one rank only fails tessera_open on every 
   if (world_size() < 2) return;
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
-  const std::string cfg = write_config(dir, config_text(dir.file("out")));
+  const std::string cfg = write_rank_config(dir, config_text(dir.file("out")));
   const char* kKnob = "TESSERA_MPI_RANKS_PER_NODE";
   const char* saved = std::getenv(kKnob);
   const std::string restore = saved ? saved : "";
@@ -170,7 +143,7 @@ TEST_CASE("a grid that differs on one rank fails the firing call on every rank",
   if (world_size() < 2) return;
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
-  const std::string cfg = write_config(dir, config_text(dir.file("out")));
+  const std::string cfg = write_rank_config(dir, config_text(dir.file("out")));
   const std::string who = "rank " + std::to_string(last_rank());
 
   struct Case {
@@ -217,7 +190,7 @@ TEST_CASE("a step that differs on one rank fails the firing call on every rank",
   if (world_size() < 2) return;
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
-  const std::string cfg = write_config(dir, config_text(dir.file("out")));
+  const std::string cfg = write_rank_config(dir, config_text(dir.file("out")));
   Published pub;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
@@ -242,7 +215,7 @@ TEST_CASE("a final-step flag on one rank fails the call on every rank", "[mpi][a
 
   SECTION("a render fires on one rank only") {
     const std::string cfg =
-        write_config(dir, config_text(out, "{every: 1}", "late\n    trigger: {at: [1000]}", "  render_final_step: true\n"));
+        write_rank_config(dir, config_text(out, "{every: 1}", "late\n    trigger: {at: [1000]}", "  render_final_step: true\n"));
     tessera_adapter* a = nullptr;
     REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
     const tessera_status s = odd_one_out() ? tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1)
@@ -257,7 +230,7 @@ TEST_CASE("a final-step flag on one rank fails the call on every rank", "[mpi][a
   }
   SECTION("a `when` render is forced on one rank and waits for its trigger on the others") {
     const std::string cfg =
-        write_config(dir, config_text(out, "{when: {above: 1000}}", "", "  render_final_step: true\n"));
+        write_rank_config(dir, config_text(out, "{when: {above: 1000}}", "", "  render_final_step: true\n"));
     tessera_adapter* a = nullptr;
     REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
     const tessera_status s = odd_one_out() ? tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1)
@@ -276,7 +249,7 @@ TEST_CASE("a final-step flag on one rank fails the call on every rank", "[mpi][a
 TEST_CASE("ranks that agree render, and calls where nothing fires stay local", "[mpi][agreement]") {
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
-  const std::string cfg = write_config(dir, config_text(dir.file("out"), "{every: 2}"));
+  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), "{every: 2}"));
   Published pub;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
@@ -304,7 +277,7 @@ TEST_CASE("execute_final on one rank while the others execute fails the call on 
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
   // Every render fires at every step: forcing them changes nothing but the kind of call
-  const std::string cfg = write_config(dir, config_text(dir.file("out"), "{every: 1}", "", "  render_final_step: true\n"));
+  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), "{every: 1}", "", "  render_final_step: true\n"));
   Published pub;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
@@ -332,7 +305,7 @@ TEST_CASE("a final call that renders on rank 0 while the others fire nothing and
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
   // Nothing fires at step 3 unless forced by the final call (render_final_step)
-  const std::string cfg = write_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
+  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
   Published pub;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
@@ -373,7 +346,7 @@ TEST_CASE("a final call on rank 0 while the others go on to a firing step fails 
   if (world_size() < 2) return;
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
-  const std::string cfg = write_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
+  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
   Published pub;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));

@@ -6,6 +6,7 @@
 // regression that hangs (a rank skipping while another renders) kills the job.
 #include "budget_planner.h"
 #include "mpi_test_support.h"
+#include "published_block.h"
 #include "scoped_env.h"
 
 #include <tessera/adapter.h>
@@ -53,37 +54,9 @@ std::string budget_config(const std::string& out, const std::string& global, int
 }
 
 /// This rank's block of the global field (float32, one ghost layer).
-struct Published {
-  Published() : local(block_of(kGlobal, procs(), world_rank()), tessera::DType::Float32, Layout::COrder, blobs(kGlobal)) {
-    const Box box = block_of(kGlobal, procs(), world_rank());
-    const tessera::FieldView real = local.view();
-    field.name = "density";
-    field.dtype = TESSERA_FLOAT32;
-    for (int a = 0; a < 3; ++a) {
-      field.dims[a] = box.dims[a] + 2;
-      field.byte_strides[a] = real.byte_strides[a];
-      field.ghosts_lo[a] = field.ghosts_hi[a] = 1;
-      grid.origin[a] = -0.5;
-      grid.spacing[a] = 1.0 / static_cast<double>(kGlobal[a] - 1);
-      grid.global_dims[a] = kGlobal[a];
-      grid.offset[a] = box.offset[a];
-    }
-    field.data = static_cast<const unsigned char*>(real.data) - real.byte_strides[0] - real.byte_strides[1] -
-                 real.byte_strides[2];
-  }
-  static std::array<int, 3> procs() { return {1, world_size(), 1}; }
-  LocalArray local;
-  tessera_field field{};
-  tessera_grid grid{};
+struct Published : PublishedBlock {
+  Published() : PublishedBlock(block_of(kGlobal, {1, world_size(), 1}, world_rank()), kGlobal) {}
 };
-
-/// Writes this rank's config (rank r: cfg_r.yaml) and returns its path.
-std::string write_config(const SharedTempDir& dir, const std::string& text) {
-  const std::string path = dir.file("cfg_" + std::to_string(world_rank()) + ".yaml");
-  std::ofstream(path) << text;
-  MPI_Barrier(MPI_COMM_WORLD);
-  return path;
-}
 
 /// `value` on every rank, as rank 0 has it (so each rank can compare its own).
 int rank0_value(int value) {
@@ -100,7 +73,7 @@ TEST_CASE("every rank renders with rank 0's plan, whatever its own clock says", 
   Watchdog watchdog;
   EnvVar no_fake_clock("TESSERA_TEST_CLOCK", std::nullopt);
   SharedTempDir dir("tessera_budget_");
-  const std::string cfg = write_config(dir, budget_config(dir.file("out"), "  threads: 1\n  budget: 1\n", 64, 1));
+  const std::string cfg = write_rank_config(dir, budget_config(dir.file("out"), "  threads: 1\n  budget: 1\n", 64, 1));
   Published pub;
   Adapter a;
   a.set_quiet(true);
@@ -152,7 +125,7 @@ TEST_CASE("under the fake clock the plans are a BudgetPlanner's over the samples
   EnvVar fake_clock("TESSERA_TEST_CLOCK", "0.05,2e-6");
   SharedTempDir dir("tessera_budget_fake_");
   const std::string cfg =
-      write_config(dir, budget_config(dir.file("out"), "  threads: 2\n  budget: 0.02\n", 32, 4, true));
+      write_rank_config(dir, budget_config(dir.file("out"), "  threads: 2\n  budget: 0.02\n", 32, 4, true));
   Published pub;
   Adapter a;
   a.set_quiet(true);
@@ -206,7 +179,7 @@ TEST_CASE("ranks that disagree on the budget, min_spp or the fake clock fail tes
   const std::string last = "rank " + std::to_string(world_size() - 1);
   SharedTempDir dir("tessera_budget_open_");
   const auto open_error = [&](const std::string& text) {
-    const std::string cfg = write_config(dir, text);
+    const std::string cfg = write_rank_config(dir, text);
     Adapter a;
     const tessera_status s = a.open(cfg, MPI_Comm_c2f(MPI_COMM_WORLD));
     return s == TESSERA_ERROR_CONFIG ? a.last_error() : std::string("opened (status ") + std::to_string(s) + ")";
