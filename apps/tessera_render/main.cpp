@@ -20,6 +20,9 @@
 #include <vector>
 
 namespace tessera::cli {
+
+using namespace tessera::job;  // the render job this program runs
+
 namespace {
 
 /// The renders the command line asks for, in config order.

@@ -4,6 +4,8 @@
 
 namespace tessera::cli {
 
+using job::Args;
+
 /// Parses argv; throws std::runtime_error with a one-line message for a bad command line.
 /// Options take their value as the next argument or after '=' (--spp=64).
 Args parse_args(int argc, const char* const* argv);

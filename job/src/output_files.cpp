@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-namespace tessera::cli {
+namespace tessera::job {
 namespace fs = std::filesystem;
 
 namespace {
@@ -66,4 +66,4 @@ void write_outputs(const std::vector<OutputTarget>& targets, const Image& image,
   }
 }
 
-}  // namespace tessera::cli
+}  // namespace tessera::job

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
-namespace tessera::cli {
+namespace tessera::job {
 
 ProgressBar::ProgressBar(std::string label, int total, bool enabled)
     : m_label(std::move(label)),
@@ -54,4 +54,4 @@ void ProgressBar::draw(int done, bool force) {
   std::fflush(stderr);
 }
 
-}  // namespace tessera::cli
+}  // namespace tessera::job

@@ -5,7 +5,7 @@
 #include <mutex>
 #include <string>
 
-namespace tessera::cli {
+namespace tessera::job {
 
 class ProgressBar {
  public:
@@ -34,4 +34,4 @@ class ProgressBar {
   bool m_drawn = false;
 };
 
-}  // namespace tessera::cli
+}  // namespace tessera::job

@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace tessera::cli {
+namespace tessera::job {
 
 VolumeInfo describe_volume(const config::RawVolume& volume, const config::VolumeSpec& spec,
                            const IntegratorDesc& first_integrator) {
@@ -171,4 +171,4 @@ RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& 
   return RenderedImage{std::move(rec), std::move(image)};
 }
 
-}  // namespace tessera::cli
+}  // namespace tessera::job

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-namespace tessera::cli {
+namespace tessera::job {
 namespace {
 
 std::string quote(const std::string& s) {
@@ -117,4 +117,4 @@ void write_stats_json(const std::string& path, const std::vector<RenderRecord>& 
   }
 }
 
-}  // namespace tessera::cli
+}  // namespace tessera::job

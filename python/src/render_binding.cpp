@@ -74,16 +74,16 @@ nb::tuple render_array(const std::string& source, bool is_text, const std::strin
     view.byte_strides[a] = byte_strides[a];
   }
 
-  cli::RenderedImage rendered;
+  job::RenderedImage rendered;
   std::uintptr_t seen = 0;
   {
     nb::gil_scoped_release unlocked;
-    cli::VolumeInfo info;
+    job::VolumeInfo info;
     try {
       for (int a = 0; a < 3; ++a)
         if (!(geometry.spacing[a] > 0.0) || !std::isfinite(geometry.spacing[a]) || !std::isfinite(geometry.origin[a]))
           throw std::invalid_argument("spacing must be finite and > 0 and origin finite on each axis");
-      info = cli::describe_field(view, geometry, spec.integrator.desc);
+      info = job::describe_field(view, geometry, spec.integrator.desc);
     } catch (const std::bad_alloc&) {
       throw;
     } catch (const std::exception& e) {
@@ -91,9 +91,9 @@ nb::tuple render_array(const std::string& source, bool is_text, const std::strin
     }
     seen = reinterpret_cast<std::uintptr_t>(info.view.data);
     try {
-      cli::Args args;
+      job::Args args;
       args.step = step;  // the random numbers of this step, as the adapter and tessera-render --step
-      rendered = cli::render_image(cfg, spec, info, args, {}, false);
+      rendered = job::render_image(cfg, spec, info, args, {}, false);
     } catch (const std::bad_alloc&) {
       throw;
     } catch (const std::exception& e) {

@@ -34,7 +34,8 @@ struct SphereLightDesc {
 /// this order (every rect light, then every sphere light, whatever the order of
 /// SceneDesc::lights), so images do not depend on how a config interleaves kinds. A new kind:
 /// its description here and its alternative below; its kernel file (core/src/lights/, see
-/// area_lights.h); on the config side its parser case (docs/lights.md).
+/// area_lights.h); on the config side its spec alternative, its table row and its parse,
+/// resolve and write-back overloads (docs/lights.md lists every file).
 using LightDesc = std::variant<RectLightDesc, SphereLightDesc>;
 
 enum class BackgroundType { Constant, Gradient, EnvMap };

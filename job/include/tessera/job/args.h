@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-namespace tessera::cli {
+namespace tessera::job {
 
 struct Args {
   std::string scene;                 ///< SCENE.yaml
@@ -27,4 +27,4 @@ struct Args {
   bool version = false;              ///< --version
 };
 
-}  // namespace tessera::cli
+}  // namespace tessera::job

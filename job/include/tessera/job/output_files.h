@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace tessera::cli {
+namespace tessera::job {
 
 struct OutputTarget {
   std::string path;
@@ -30,4 +30,4 @@ std::vector<OutputTarget> output_targets(const config::GlobalOptions& global,
 void write_outputs(const std::vector<OutputTarget>& targets, const Image& image,
                    const config::OutputSpec& output);
 
-}  // namespace tessera::cli
+}  // namespace tessera::job

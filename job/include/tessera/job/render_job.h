@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-namespace tessera::cli {
+namespace tessera::job {
 
 /// What every render needs to know about the volume, computed once.
 struct VolumeInfo {
@@ -70,4 +70,4 @@ RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& 
                            VolumeInfo& volume, const Args& args,
                            const std::vector<OutputTarget>& targets, bool show_progress);
 
-}  // namespace tessera::cli
+}  // namespace tessera::job

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace tessera::cli {
+namespace tessera::job {
 
 /// What one render did, for the statistics file.
 struct RenderRecord {
@@ -28,4 +28,4 @@ std::string stats_json(const std::vector<RenderRecord>& records);
 /// complete), creating its directory; throws naming the path.
 void write_stats_json(const std::string& path, const std::vector<RenderRecord>& records);
 
-}  // namespace tessera::cli
+}  // namespace tessera::job
