@@ -27,8 +27,10 @@ void parse_args(int argc, char** argv, BenchArgs& a, Extra&& extra) {
     };
     if (s == "--csv") a.csv = next();
     else if (s == "--grid") a.grid = std::atoi(next());
-    else if (s == "--image") { a.width = std::atoi(next()); a.height = std::atoi(next()); }
-    else if (s == "--spp") a.spp = std::atoi(next());
+    else if (s == "--image") {
+      a.width = std::atoi(next());
+      a.height = std::atoi(next());
+    } else if (s == "--spp") a.spp = std::atoi(next());
     else if (s == "--reps") a.reps = std::atoi(next());
     else if (s == "--threads") a.threads = std::atoi(next());
     else if (!extra(s, next)) {

@@ -62,7 +62,10 @@ Args parse(int argc, char** argv) {
     else return false;
     return true;
   });
-  if (a.mode != "replicated" && a.mode != "distributed") { std::fprintf(stderr, "--mode replicated|distributed\n"); std::exit(2); }
+  if (a.mode != "replicated" && a.mode != "distributed") {
+    std::fprintf(stderr, "--mode replicated|distributed\n");
+    std::exit(2);
+  }
   return a;
 }
 
@@ -136,8 +139,11 @@ int main(int argc, char** argv) {
       const auto& r = ctx.report();
       const double mine[6] = {std::chrono::duration<double>(t2 - t1).count(),
                               std::chrono::duration<double>(t2 - t0).count(),
-                              static_cast<double>(r.assemble_bytes + r.render_bytes + r.bricks.bytes_received + 16 * r.bricks.requests_sent),
-                              static_cast<double>(r.cache.fetched), static_cast<double>(r.cache.flushes), mine_held};
+                              static_cast<double>(r.assemble_bytes + r.render_bytes + r.bricks.bytes_received +
+                                                  16 * r.bricks.requests_sent),
+                              static_cast<double>(r.cache.fetched),
+                              static_cast<double>(r.cache.flushes),
+                              mine_held};
       double mx[6], sum[6];
       MPI_Reduce(mine, mx, 6, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
       MPI_Reduce(mine, sum, 6, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);

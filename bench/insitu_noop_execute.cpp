@@ -97,10 +97,8 @@ int main(int argc, char** argv) {
   csv << "api,trigger,renders,calls,ns_per_call\n";
   std::printf("%-4s %-32s %8s %10s %12s\n", "api", "trigger", "renders", "calls", "ns/call");
   for (const Row& r : rows) {
-    std::printf("%-4s %-32s %8d %10lld %12.2f\n", r.api.c_str(), r.trigger.c_str(), r.renders,
-                r.calls, r.ns_per_call);
-    csv << r.api << ",\"" << r.trigger << "\"," << r.renders << "," << r.calls << ","
-        << r.ns_per_call << "\n";
+    std::printf("%-4s %-32s %8d %10lld %12.2f\n", r.api.c_str(), r.trigger.c_str(), r.renders, r.calls, r.ns_per_call);
+    csv << r.api << ",\"" << r.trigger << "\"," << r.renders << "," << r.calls << "," << r.ns_per_call << "\n";
   }
   std::printf("wrote %s\n", csv_path.c_str());
   std::error_code ec;

@@ -123,19 +123,22 @@ int main(int argc, char** argv) {
 
     std::ofstream csv, summary;
     if (rank == 0) {
-      csv = open_csv(a.csv, "ranks,nodes,mode,rep,rank,render_s,render_cpu_s,tiles,grabs,assemble_s,assemble_bytes,render_bytes,replica_bytes_node");
-      summary = open_csv(summary_path(a.csv),
-                         "ranks,nodes,mode,threads_per_rank,image,spp,grid,reps,render_wall_s,render_mean_s,imbalance_max_over_mean,"
-                         "render_cpu_max_s,render_cpu_mean_s,imbalance_cpu,"
-                         "bytes_moved_per_render,replica_bytes_per_node,replica_bytes_total");
-      std::printf("mpi_render_bench: %d rank(s), %d node(s), %d thread(s)/rank, %dx%d %d spp, grid %d^3, %d reps\n", size,
-                  ctx.node_count(), a.threads, a.width, a.height, a.spp, a.grid, a.reps);
+      csv = open_csv(a.csv, "ranks,nodes,mode,rep,rank,render_s,render_cpu_s,tiles,grabs,assemble_s,assemble_bytes,"
+                            "render_bytes,replica_bytes_node");
+      summary = open_csv(
+          summary_path(a.csv),
+          "ranks,nodes,mode,threads_per_rank,image,spp,grid,reps,render_wall_s,render_mean_s,imbalance_max_over_mean,"
+          "render_cpu_max_s,render_cpu_mean_s,imbalance_cpu,"
+          "bytes_moved_per_render,replica_bytes_per_node,replica_bytes_total");
+      std::printf("mpi_render_bench: %d rank(s), %d node(s), %d thread(s)/rank, %dx%d %d spp, grid %d^3, %d reps\n",
+                  size, ctx.node_count(), a.threads, a.width, a.height, a.spp, a.grid, a.reps);
     }
 
     for (const char* mode : {"dynamic", "static"}) {
       double sum_wall = 0.0, sum_mean = 0.0, sum_imb = 0.0, sum_bytes = 0.0, replica_node = 0.0, replica_total = 0.0;
       double sum_cpu_max = 0.0, sum_cpu_mean = 0.0, sum_cpu_imb = 0.0;
-      std::vector<double> per_rank(static_cast<std::size_t>(size), 0.0), per_rank_cpu(per_rank), per_rank_tiles(per_rank);
+      std::vector<double> per_rank(static_cast<std::size_t>(size), 0.0), per_rank_cpu(per_rank),
+          per_rank_tiles(per_rank);
       for (int rep = -1; rep < a.reps; ++rep) {  // rep -1: warm-up, not recorded
         Sample s{};
         MPI_Barrier(MPI_COMM_WORLD);
@@ -187,8 +190,8 @@ int main(int argc, char** argv) {
             replica_total += x.replica_bytes;
           }
           csv << size << "," << ctx.node_count() << "," << mode << "," << rep << "," << r << "," << x.render_s << ","
-              << x.render_cpu_s << "," << x.tiles << "," << x.grabs << "," << x.assemble_s << "," << x.assemble_bytes << "," << x.render_bytes << ","
-              << x.replica_bytes << "\n";
+              << x.render_cpu_s << "," << x.tiles << "," << x.grabs << "," << x.assemble_s << "," << x.assemble_bytes
+              << "," << x.render_bytes << "," << x.replica_bytes << "\n";
         }
         sum_wall += max;
         sum_mean += mean;
@@ -210,10 +213,10 @@ int main(int argc, char** argv) {
           std::printf(" %.3f/%.3f (%.0f)", per_rank[u], per_rank_cpu[u], per_rank_tiles[u]);
         }
         std::printf("\n");
-        summary << size << "," << ctx.node_count() << "," << mode << "," << a.threads << "," << a.width << "x" << a.height
-                << "," << a.spp << "," << a.grid << "," << a.reps << "," << sum_wall / r << "," << sum_mean / r << ","
-                << sum_imb / r << "," << sum_cpu_max / r << "," << sum_cpu_mean / r << "," << sum_cpu_imb / r << ","
-                << sum_bytes / r << "," << replica_node << "," << replica_total << "\n";
+        summary << size << "," << ctx.node_count() << "," << mode << "," << a.threads << "," << a.width << "x"
+                << a.height << "," << a.spp << "," << a.grid << "," << a.reps << "," << sum_wall / r << ","
+                << sum_mean / r << "," << sum_imb / r << "," << sum_cpu_max / r << "," << sum_cpu_mean / r << ","
+                << sum_cpu_imb / r << "," << sum_bytes / r << "," << replica_node << "," << replica_total << "\n";
       }
     }
   }

@@ -84,7 +84,8 @@ struct Row {
 int main(int argc, char** argv) {
   const Args a = parse(argc, argv);
   const std::vector<float> data = tessera_test::blobby_field(a.grid, a.grid, a.grid);
-  const tessera::FieldView whole = tessera::FieldView::contiguous(data.data(), tessera::DType::Float32, a.grid, a.grid, a.grid);
+  const tessera::FieldView whole =
+      tessera::FieldView::contiguous(data.data(), tessera::DType::Float32, a.grid, a.grid, a.grid);
   const tessera::SceneDesc scene = blobs_scene(a);
   const int edge = tessera::majorant_edge(whole, scene.integrator);
   const auto summary = tessera::FieldSummary::build(whole, edge);
@@ -151,15 +152,17 @@ int main(int argc, char** argv) {
   std::printf("%d^3 float32, %dx%d, %d spp, %d thread(s), bricks of %lld^3 (%zu), best of %d\n", a.grid, a.width,
               a.height, a.spp, a.threads, static_cast<long long>(grid.edge()), all, a.reps);
   std::ofstream csv(a.csv);
-  csv << "mode,grid,width,height,spp,threads,brick_edge,bricks,capacity,seconds,ratio_to_plain,misses,flushes,fetched,identical\n";
+  csv << "mode,grid,width,height,spp,threads,brick_edge,bricks,capacity,seconds,ratio_to_plain,misses,flushes,fetched,"
+         "identical\n";
   for (const Row& r : rows) {
     std::printf("  %-36s %8.3f s  x%.3f  misses %llu  flushes %llu  fetched %llu  %s\n", r.mode.c_str(), r.seconds,
                 r.seconds / rows[0].seconds, static_cast<unsigned long long>(r.cache.misses),
                 static_cast<unsigned long long>(r.cache.flushes), static_cast<unsigned long long>(r.cache.fetched),
                 r.same ? "identical" : "DIFFERENT");
-    csv << '"' << r.mode << "\"," << a.grid << ',' << a.width << ',' << a.height << ',' << a.spp << ',' << a.threads << ','
-        << grid.edge() << ',' << all << ',' << r.capacity << ',' << r.seconds << ',' << r.seconds / rows[0].seconds << ','
-        << r.cache.misses << ',' << r.cache.flushes << ',' << r.cache.fetched << ',' << (r.same ? 1 : 0) << '\n';
+    csv << '"' << r.mode << "\"," << a.grid << ',' << a.width << ',' << a.height << ',' << a.spp << ',' << a.threads
+        << ',' << grid.edge() << ',' << all << ',' << r.capacity << ',' << r.seconds << ','
+        << r.seconds / rows[0].seconds << ',' << r.cache.misses << ',' << r.cache.flushes << ',' << r.cache.fetched
+        << ',' << (r.same ? 1 : 0) << '\n';
   }
   return 0;
 }

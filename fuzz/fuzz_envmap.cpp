@@ -21,8 +21,8 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
-#include <ImfTiledOutputFile.h>
 #include <ImfTileDescriptionAttribute.h>
+#include <ImfTiledOutputFile.h>
 #include <half.h>
 #include <unistd.h>
 
@@ -56,8 +56,7 @@ const std::string& temp_path() {
 }
 
 /// A small image in `compression`, half or float channels, scanline or 4x4 tiles.
-void write_seed(const std::string& path, Imf::Compression compression, Imf::PixelType type,
-                bool tiled, bool alpha) {
+void write_seed(const std::string& path, Imf::Compression compression, Imf::PixelType type, bool tiled, bool alpha) {
   const int w = 6, h = 3;
   Imf::Header header(w, h);
   header.compression() = compression;
@@ -72,8 +71,7 @@ void write_seed(const std::string& path, Imf::Compression compression, Imf::Pixe
   }
   Imf::FrameBuffer fb;
   for (int c = 0; c < nc; ++c) {
-    char* base = type == Imf::HALF ? reinterpret_cast<char*>(hv.data() + c)
-                                   : reinterpret_cast<char*>(f.data() + c);
+    char* base = type == Imf::HALF ? reinterpret_cast<char*>(hv.data() + c) : reinterpret_cast<char*>(f.data() + c);
     const std::size_t elem = type == Imf::HALF ? sizeof(half) : sizeof(float);
     fb.insert(names[c], Imf::Slice(type, base, elem * 4, elem * 4 * w));
   }
@@ -90,9 +88,8 @@ void write_seed(const std::string& path, Imf::Compression compression, Imf::Pixe
 }
 
 void write_seeds(const std::string& dir) {
-  const Imf::Compression kinds[] = {Imf::NO_COMPRESSION, Imf::RLE_COMPRESSION,
-                                    Imf::ZIPS_COMPRESSION, Imf::ZIP_COMPRESSION,
-                                    Imf::PIZ_COMPRESSION, Imf::PXR24_COMPRESSION,
+  const Imf::Compression kinds[] = {Imf::NO_COMPRESSION,  Imf::RLE_COMPRESSION, Imf::ZIPS_COMPRESSION,
+                                    Imf::ZIP_COMPRESSION, Imf::PIZ_COMPRESSION, Imf::PXR24_COMPRESSION,
                                     Imf::B44_COMPRESSION, Imf::B44A_COMPRESSION};
   int n = 0;
   for (const Imf::Compression k : kinds) {
@@ -149,14 +146,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   // The image read is one the header checks allow and the file could hold
   const std::int64_t w = img->width, h = img->height;
-  if (w < 1 || h < 1 || w > tessera::kMaxExrEdge || h > tessera::kMaxExrEdge ||
-      w * h > tessera::kMaxExrPixels)
+  if (w < 1 || h < 1 || w > tessera::kMaxExrEdge || h > tessera::kMaxExrEdge || w * h > tessera::kMaxExrPixels)
     finding("contract", "image size " + std::to_string(w) + "x" + std::to_string(h));
   if (img->rgba.size() != static_cast<std::size_t>(w * h * 4))
     finding("contract", "rgba has " + std::to_string(img->rgba.size()) + " floats");
   if (double(w) * double(h) * 6.0 > tessera::kMaxExrCompression * double(size))
-    finding("contract", "a " + std::to_string(size) + "-byte file gave " + std::to_string(w) +
-                            "x" + std::to_string(h) + " pixels");
+    finding("contract",
+            "a " + std::to_string(size) + "-byte file gave " + std::to_string(w) + "x" + std::to_string(h) + " pixels");
   check_environment(img);
   return 0;
 }

@@ -39,6 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const std::exception& e) {
     finding("to_yaml output does not parse again", std::string(e.what()) + "\n--- yaml ---\n" + first);
   }
-  if (first != second) finding("to_yaml is not a fixed point", "\n--- first ---\n" + first + "\n--- second ---\n" + second);
+  if (first != second)
+    finding("to_yaml is not a fixed point", "\n--- first ---\n" + first + "\n--- second ---\n" + second);
   return 0;
 }

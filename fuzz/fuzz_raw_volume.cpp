@@ -69,8 +69,8 @@ void render_volume(const tessera::config::RawVolume& vol, std::uint8_t knob) {
   const tessera::Bounds b = tessera::field_bounds(view, s.geometry);
   s.camera.look_at = b.center();
   s.camera.position = b.center() + tessera::Vec3(1.0, 0.7, -2.0) * (b.radius() + 1.0) * 2.0;
-  s.lights.push_back(tessera::RectLightDesc{b.center() + tessera::Vec3(0.0, b.radius() + 1.0, 0.0), b.center(), 1.0, 1.0,
-                           tessera::Color(2.0)});
+  s.lights.push_back(tessera::RectLightDesc{b.center() + tessera::Vec3(0.0, b.radius() + 1.0, 0.0), b.center(), 1.0,
+                                            1.0, tessera::Color(2.0)});
   s.background.color = tessera::Color(0.3);
   s.integrator.shading = (knob & 32) ? tessera::Shading::Hybrid : tessera::Shading::Phase;
   s.integrator.scattering = (knob & 64) ? tessera::Scattering::Multiple : tessera::Scattering::Single;

@@ -35,8 +35,8 @@ std::vector<const config::RenderSpec*> select_renders(const config::Config& cfg,
   if (const auto* r = cfg.find_render(*args.render)) return {r};
   std::string names;
   for (const auto& r : cfg.renders) names += (names.empty() ? "" : ", ") + r.name;
-  throw std::runtime_error("--render " + *args.render + ": no such render in " + cfg.path +
-                           " (renders: " + names + ")");
+  throw std::runtime_error("--render " + *args.render + ": no such render in " + cfg.path + " (renders: " + names +
+                           ")");
 }
 
 int run(int argc, const char* const* argv) {
@@ -54,7 +54,7 @@ int run(int argc, const char* const* argv) {
   const config::Config cfg = config::load_config(args.scene);
   if (!cfg.volume) {
     throw std::runtime_error(args.scene + ": no volume: block (tessera-render needs one: file, "
-                             "dims, dtype, ...)");
+                                          "dims, dtype, ...)");
   }
   const auto renders = select_renders(cfg, args);
   const bool several = renders.size() > 1;
@@ -73,7 +73,8 @@ int run(int argc, const char* const* argv) {
 
   check_volume_memory(cfg);  // before a byte of the file is read
   const config::RawVolume volume = config::load_raw_volume(*cfg.volume);
-  VolumeInfo info = describe_volume(volume, *cfg.volume, renders.empty() ? IntegratorDesc{} : renders.front()->integrator.desc);
+  VolumeInfo info =
+      describe_volume(volume, *cfg.volume, renders.empty() ? IntegratorDesc{} : renders.front()->integrator.desc);
   if (args.check) {  // --check: scene, selection, output paths and volume are valid
     for (const std::string& w : info.warnings) std::fprintf(stderr, "tessera-render: warning: %s\n", w.c_str());
     if (!args.quiet) std::printf("%s: ok (%zu render%s)\n", args.scene.c_str(), renders.size(), several ? "s" : "");
@@ -87,8 +88,8 @@ int run(int argc, const char* const* argv) {
     RenderRecord rec = run_render(cfg, *renders[i], info, args, targets[i], show_progress);
     if (!args.quiet) {
       const double secs = rec.stats.wall_seconds;
-      std::printf("%s: %dx%d, %d spp, %.3f s (%.3g samples/s) ->", rec.name.c_str(), rec.width,
-                  rec.height, rec.spp, secs, secs > 0 ? double(rec.stats.samples) / secs : 0.0);
+      std::printf("%s: %dx%d, %d spp, %.3f s (%.3g samples/s) ->", rec.name.c_str(), rec.width, rec.height, rec.spp,
+                  secs, secs > 0 ? double(rec.stats.samples) / secs : 0.0);
       for (const auto& o : rec.outputs) std::printf(" %s", o.c_str());
       std::printf("\n");
       std::fflush(stdout);

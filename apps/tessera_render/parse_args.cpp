@@ -22,8 +22,8 @@ T to_number(const std::string& flag, const std::string& text, T lo, T hi) {
   T v{};
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (ec != std::errc() || end != text.data() + text.size() || text.empty() || v < lo || v > hi) {
-    throw std::runtime_error(flag + ": \"" + shown(text) + "\" is not an integer in [" +
-                             std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    throw std::runtime_error(flag + ": \"" + shown(text) + "\" is not an integer in [" + std::to_string(lo) + ", " +
+                             std::to_string(hi) + "]");
   }
   return v;
 }
@@ -95,16 +95,25 @@ Args parse_args(int argc, const char* const* argv) {
       if (inline_value) throw std::runtime_error(arg + " takes no value");
     };
 
-    if (arg == "-h" || arg == "--help") { no_value(); a.help = true; }
-    else if (arg == "--version") { no_value(); a.version = true; }
-    else if (arg == "--render") a.render = value();
+    if (arg == "-h" || arg == "--help") {
+      no_value();
+      a.help = true;
+    } else if (arg == "--version") {
+      no_value();
+      a.version = true;
+    } else if (arg == "--render") a.render = value();
     else if (arg == "-o" || arg == "--output") a.output = value();
     else if (arg == "--spp") a.spp = to_number<int>(arg, value(), 1, ImageDesc::kMaxSpp);
     else if (arg == "--width") a.width = to_number<int>(arg, value(), 1, ImageDesc::kMaxEdge);
     else if (arg == "--height") a.height = to_number<int>(arg, value(), 1, ImageDesc::kMaxEdge);
-    else if (arg == "--tile") { a.tile = to_number<int>(arg, value(), 0, ImageDesc::kMaxEdge); tile_given = true; }
-    else if (arg == "--scanline") { no_value(); scanline = true; a.tile = 0; }
-    else if (arg == "--threads") a.threads = to_number<int>(arg, value(), 0, 65536);
+    else if (arg == "--tile") {
+      a.tile = to_number<int>(arg, value(), 0, ImageDesc::kMaxEdge);
+      tile_given = true;
+    } else if (arg == "--scanline") {
+      no_value();
+      scanline = true;
+      a.tile = 0;
+    } else if (arg == "--threads") a.threads = to_number<int>(arg, value(), 0, 65536);
     else if (arg == "--seed")
       a.seed = to_number<std::uint64_t>(arg, value(), 0, std::numeric_limits<std::uint64_t>::max());
     else if (arg == "--step")
@@ -112,22 +121,30 @@ Args parse_args(int argc, const char* const* argv) {
                                        std::numeric_limits<std::int64_t>::max());
     else if (arg == "--stats") a.stats = value();
     else if (arg == "--time-limit") a.time_limit = to_seconds(arg, value());
-    else if (arg == "--progress") { no_value(); a.progress = true; }
-    else if (arg == "--quiet" || arg == "-q") { no_value(); a.quiet = true; }
-    else if (arg == "--check") { no_value(); a.check = true; }
-    else if (arg == "--denoise" || arg == "--no-denoise") {
+    else if (arg == "--progress") {
       no_value();
-      if (a.denoise && *a.denoise != (arg == "--denoise")) throw std::runtime_error("--denoise and --no-denoise exclude each other");
+      a.progress = true;
+    } else if (arg == "--quiet" || arg == "-q") {
+      no_value();
+      a.quiet = true;
+    } else if (arg == "--check") {
+      no_value();
+      a.check = true;
+    } else if (arg == "--denoise" || arg == "--no-denoise") {
+      no_value();
+      if (a.denoise && *a.denoise != (arg == "--denoise"))
+        throw std::runtime_error("--denoise and --no-denoise exclude each other");
       a.denoise = arg == "--denoise";
-    }
-    else if (arg.size() > 1 && arg[0] == '-') throw std::runtime_error("unknown option " + shown(arg) + " (see --help)");
+    } else if (arg.size() > 1 && arg[0] == '-')
+      throw std::runtime_error("unknown option " + shown(arg) + " (see --help)");
     else if (a.scene.empty()) a.scene = arg;
     else throw std::runtime_error("unexpected argument \"" + shown(arg) + "\" (one SCENE.yaml only)");
   }
   if (a.help || a.version) return a;
   if (tile_given && scanline) throw std::runtime_error("--tile and --scanline exclude each other");
   if (a.progress && a.quiet) throw std::runtime_error("--progress and --quiet exclude each other");
-  if (a.scene.empty()) throw std::runtime_error("no scene file given (usage: tessera-render SCENE.yaml [options], see --help)");
+  if (a.scene.empty())
+    throw std::runtime_error("no scene file given (usage: tessera-render SCENE.yaml [options], see --help)");
   for (const auto* s : {&a.render, &a.output, &a.stats})
     if (*s && (*s)->empty()) throw std::runtime_error("empty value for an option");
   return a;

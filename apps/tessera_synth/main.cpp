@@ -23,10 +23,10 @@
 #include <limits>
 #include <new>
 #include <random>
-#include <type_traits>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -116,7 +116,8 @@ Args parse(int argc, char** argv) {
       a.out = s;
     }
   }
-  if (a.out.empty()) throw std::runtime_error("no output file given (usage: tessera-synth OUT.raw [options]; --help lists them)");
+  if (a.out.empty())
+    throw std::runtime_error("no output file given (usage: tessera-synth OUT.raw [options]; --help lists them)");
   const char* axis = "xyz";
   for (int k = 0; k < 3; ++k)
     if (a.dims[k] < 1 || a.dims[k] > 4096)
@@ -124,8 +125,7 @@ Args parse(int argc, char** argv) {
                                " is outside [1, 4096]");
   if (a.kind != "blobs" && a.kind != "sphere" && a.kind != "linear")
     throw std::runtime_error("unknown kind '" + a.kind + "' (allowed: " + kKinds + ")");
-  if (a.dtype != "float32" && a.dtype != "float64" && a.dtype != "uint8" && a.dtype != "int16" &&
-      a.dtype != "uint16")
+  if (a.dtype != "float32" && a.dtype != "float64" && a.dtype != "uint8" && a.dtype != "int16" && a.dtype != "uint16")
     throw std::runtime_error("unknown dtype '" + a.dtype + "' (allowed: " + kDtypes + ")");
   return a;
 }
@@ -144,8 +144,8 @@ void write_as(const Args& a, const std::vector<double>& v, double scale) {
   std::error_code ec;
   if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   if (ec) throw std::runtime_error("cannot create the folder " + parent.string() + ": " + ec.message());
-  tessera::write_file_atomically(
-      a.out, std::string_view(reinterpret_cast<const char*>(out.data()), out.size() * sizeof(T)));
+  tessera::write_file_atomically(a.out,
+                                 std::string_view(reinterpret_cast<const char*>(out.data()), out.size() * sizeof(T)));
 }
 
 }  // namespace
@@ -160,7 +160,9 @@ int main(int argc, char** argv) try {
   std::vector<double> v(static_cast<std::size_t>(nx * ny * nz));
   std::mt19937 rng(a.seed);
   std::uniform_real_distribution<double> U(0.2, 0.8);
-  struct Blob { double x, y, z, r, w; };
+  struct Blob {
+    double x, y, z, r, w;
+  };
   std::vector<Blob> blobs;
   for (int b = 0; b < 7; ++b) blobs.push_back({U(rng), U(rng), U(rng), 0.05 + 0.1 * U(rng), 0.5 + U(rng) * 0.6});
   for (std::int64_t k = 0; k < nz; ++k)
@@ -193,11 +195,12 @@ int main(int argc, char** argv) try {
   else if (a.dtype == "int16") write_as<std::int16_t>(a, v, a.kind == "linear" ? 1.0 : 4095.0);
   else if (a.dtype == "uint16") write_as<std::uint16_t>(a, v, a.kind == "linear" ? 1.0 : 65535.0);
   else throw std::runtime_error("unknown dtype '" + a.dtype + "' (allowed: " + kDtypes + ")");
-  std::printf("wrote %s: %lld x %lld x %lld %s (%s)\n", a.out.c_str(), (long long)nx, (long long)ny,
-              (long long)nz, a.dtype.c_str(), a.kind.c_str());
+  std::printf("wrote %s: %lld x %lld x %lld %s (%s)\n", a.out.c_str(), (long long)nx, (long long)ny, (long long)nz,
+              a.dtype.c_str(), a.kind.c_str());
   return 0;
 } catch (const std::bad_alloc&) {
-  std::fprintf(stderr, "tessera-synth: error: out of memory (it holds 8 bytes per voxel plus the output; try smaller --dims)\n");
+  std::fprintf(
+      stderr, "tessera-synth: error: out of memory (it holds 8 bytes per voxel plus the output; try smaller --dims)\n");
   return 1;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "tessera-synth: error: %s\n", e.what());

@@ -33,8 +33,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // ---------------------------------------------------------------------------------------------
 void furnace(const std::string& dir) {
   std::printf("\n== White furnace: albedo 1, background L = 0.6, 16 x 16 pixels ==\n");
-  std::printf("%8s %6s %6s %10s %10s %7s %9s %5s %9s %8s %8s\n", "tau", "g", "spp", "mean", "se", "|z|",
-              "chi2", "dof", "crit", "coll/smp", "seconds");
+  std::printf("%8s %6s %6s %10s %10s %7s %9s %5s %9s %8s %8s\n", "tau", "g", "spp", "mean", "se", "|z|", "chi2", "dof",
+              "crit", "coll/smp", "seconds");
   std::ofstream csv(dir + "/accuracy_furnace.csv");
   csv << "tau,g,spp,mean,se,abs_z,chi2,dof,chi2_critical,max_abs_z,z_critical,collisions_per_sample,seconds\n";
   const std::vector<float> field = constant_field(5, 5, 5, 1.0f);
@@ -55,9 +55,8 @@ void furnace(const std::string& dir) {
       const double cps = static_cast<double>(st.real_collisions) / st.samples;
       std::printf("%8.2f %6.2f %6d %10.6f %10.2e %7.2f %9.1f %5d %9.1f %8.1f %8.2f\n", tau, g, spp, m.mean, m.se,
                   m.z(kL), t.chi2, t.dof, t.chi2_crit, cps, secs);
-      csv << tau << "," << g << "," << spp << "," << m.mean << "," << m.se << "," << m.z(kL) << "," << t.chi2
-          << "," << t.dof << "," << t.chi2_crit << "," << t.max_abs_z << "," << t.z_crit << "," << cps << ","
-          << secs << "\n";
+      csv << tau << "," << g << "," << spp << "," << m.mean << "," << m.se << "," << m.z(kL) << "," << t.chi2 << ","
+          << t.dof << "," << t.chi2_crit << "," << t.max_abs_z << "," << t.z_crit << "," << cps << "," << secs << "\n";
     }
   }
 }
@@ -174,8 +173,7 @@ void raymarch(const std::string& dir) {
       ly.push_back(std::log(bias));
     }
   }
-  if (lx.size() >= 2)
-    std::printf("fitted order (points with bias > 4 se): %.3f\n", least_squares_slope(lx, ly));
+  if (lx.size() >= 2) std::printf("fitted order (points with bias > 4 se): %.3f\n", least_squares_slope(lx, ly));
 
   // (3) Radiance: a single-scattering cloud lit by a rect light, march vs delta tracking.
   std::printf("(3) renderer, radiance: single scattering, albedo 0.9, rect light; march - delta\n");

@@ -76,12 +76,11 @@ int main(int argc, char** argv) try {
     return 2;
   }
   const tessera::Image ref = tessera::read_exr(files[0]);
-  if (header)
-    std::printf("image,rmse_rgb,rmse_lum,rel_rmse_lum,mean_lum_ref,ref_var_lum,relmse_lum,ref_relvar_lum\n");
+  if (header) std::printf("image,rmse_rgb,rmse_lum,rel_rmse_lum,mean_lum_ref,ref_var_lum,relmse_lum,ref_relvar_lum\n");
   for (std::size_t k = 1; k < files.size(); ++k) {
     const Error e = compare(ref, tessera::read_exr(files[k]));
-    std::printf("%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", files[k].c_str(), e.rmse_rgb, e.rmse_lum,
-                e.rel_rmse_lum, e.mean_lum_ref, e.ref_var_lum, e.relmse_lum, e.ref_relvar_lum);
+    std::printf("%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", files[k].c_str(), e.rmse_rgb, e.rmse_lum, e.rel_rmse_lum,
+                e.mean_lum_ref, e.ref_var_lum, e.relmse_lum, e.ref_relvar_lum);
   }
   return 0;
 } catch (const std::exception& e) {

@@ -57,7 +57,8 @@ struct Resolver {
 
   Vec3 point(const std::string& key, const Vec3& p) const {
     if (!is_finite(p))
-      fail(key + " is not finite after resolving (" + vec_text(p) + "; an orbit distance times the data radius overflows)");
+      fail(key + " is not finite after resolving (" + vec_text(p) +
+           "; an orbit distance times the data radius overflows)");
     if (std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) > lim)
       fail(key + " " + vec_text(p) + " lies beyond 2^40 smallest spacings (" + format_number(lim) +
            ") from 0, where a double no longer resolves a voxel");
@@ -65,7 +66,8 @@ struct Resolver {
   }
   double length(const std::string& key, double v) const {
     if (!std::isfinite(v))
-      fail(key + " is not finite after resolving (" + format_number(v) + "; relative size times the data radius overflows)");
+      fail(key + " is not finite after resolving (" + format_number(v) +
+           "; relative size times the data radius overflows)");
     if (v > lim)
       fail(key + " " + format_number(v) + " is larger than 2^40 smallest spacings (" + format_number(lim) + ")");
     return v;
@@ -76,7 +78,8 @@ struct Resolver {
     if (p.kind != PointSpec::Kind::Orbit || b.radius() > 0.0) return;
     fail(key + ": an orbit" + (p.orbit.fit ? std::string(" with distance: fit") : std::string()) +
          " is measured in the data's bounding-sphere radius, but the data's bounds are the single point " +
-         vec_text(b.lo) + " (a volume of one vertex, dims 1x1x1), so there is nothing to frame (allowed: "
+         vec_text(b.lo) +
+         " (a volume of one vertex, dims 1x1x1), so there is nothing to frame (allowed: "
          "data with 2 or more vertices along some axis, or an absolute position [x, y, z])");
   }
   [[noreturn]] void fail(const std::string& what) const {
@@ -92,9 +95,7 @@ struct LightFrame {
   const Vec3& up;
   std::string key;
 
-  Vec3 point(const char* name, const PointSpec& p) const {
-    return res.point(key + name, resolve_point(p, bounds, up));
-  }
+  Vec3 point(const char* name, const PointSpec& p) const { return res.point(key + name, resolve_point(p, bounds, up)); }
   double length(const char* name, const LengthSpec& l) const {
     return res.length(key + name, l.resolve(bounds.radius()));
   }
@@ -138,8 +139,7 @@ std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, do
   return {lo, hi};
 }
 
-TransferFunction build_transfer_function(const TransferFunctionSpec& spec,
-                                         std::pair<double, double> auto_range) {
+TransferFunction build_transfer_function(const TransferFunctionSpec& spec, std::pair<double, double> auto_range) {
   TransferFunction tf;
   std::tie(tf.lo, tf.hi) = resolve_range(spec.range, auto_range);
   tf.density_scale = spec.density_scale;
@@ -156,14 +156,13 @@ std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg) {
   return std::make_shared<const Image>(read_exr(bg.file));
 }
 
-SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
-                      std::pair<double, double> auto_range, const VolumeGeometry& geom) {
+SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
+                      const VolumeGeometry& geom) {
   return build_scene(spec, data_bounds, auto_range, geom, load_envmap(spec.background));
 }
 
-SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
-                      std::pair<double, double> auto_range, const VolumeGeometry& geom,
-                      std::shared_ptr<const Image> envmap) {
+SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
+                      const VolumeGeometry& geom, std::shared_ptr<const Image> envmap) {
   SceneDesc s;
   s.geometry = geom;
   // The data bounds first: every relative point and size is resolved against them
@@ -181,8 +180,7 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
   const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
   const double fit_radii = fit_distance(spec.camera.fov, spec.image.width, spec.image.height);
   res.orbit_extent("camera.position", spec.camera.position, data_bounds);
-  s.camera.position =
-      res.point("camera.position", resolve_point(spec.camera.position, data_bounds, up, fit_radii));
+  s.camera.position = res.point("camera.position", resolve_point(spec.camera.position, data_bounds, up, fit_radii));
   s.camera.look_at = res.point("camera.look_at", resolve_point(spec.camera.look_at, data_bounds, up));
   s.camera.up = up;
   s.camera.fov_deg = spec.camera.fov;

@@ -6,8 +6,7 @@
 namespace tessera::config {
 namespace {
 
-std::string compose(const std::string& file, SourceMark mark, const std::string& key_path,
-                    const std::string& message) {
+std::string compose(const std::string& file, SourceMark mark, const std::string& key_path, const std::string& message) {
   std::string s = shown_path(file);  // a long or odd file name stays short and visible
   if (mark.line > 0) {
     s.append(":").append(std::to_string(mark.line));
@@ -21,8 +20,7 @@ std::string compose(const std::string& file, SourceMark mark, const std::string&
 
 }  // namespace
 
-ConfigError::ConfigError(std::string file, SourceMark mark, std::string key_path,
-                         std::string message)
+ConfigError::ConfigError(std::string file, SourceMark mark, std::string key_path, std::string message)
     : std::runtime_error(compose(file, mark, key_path, message)),
       m_file(std::move(file)),
       m_mark(mark),

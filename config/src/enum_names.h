@@ -22,20 +22,17 @@ struct EnumName {
 
 inline constexpr EnumName<OnError> kOnErrorNames[] = {
     {"warn", OnError::Warn}, {"disable", OnError::Disable}, {"abort", OnError::Abort}};
-inline const EnumName<DType> kDTypeNames[] = {
-    {dtype_name(DType::UInt8), DType::UInt8},     {dtype_name(DType::Int16), DType::Int16},
-    {dtype_name(DType::UInt16), DType::UInt16},   {dtype_name(DType::Float32), DType::Float32},
-    {dtype_name(DType::Float64), DType::Float64}};
+inline const EnumName<DType> kDTypeNames[] = {{dtype_name(DType::UInt8), DType::UInt8},
+                                              {dtype_name(DType::Int16), DType::Int16},
+                                              {dtype_name(DType::UInt16), DType::UInt16},
+                                              {dtype_name(DType::Float32), DType::Float32},
+                                              {dtype_name(DType::Float64), DType::Float64}};
 inline constexpr EnumName<Distribution> kDistributionNames[] = {
-    {"replicated", Distribution::Replicated},
-    {"distributed", Distribution::Distributed},
-    {"auto", Distribution::Auto}};
-inline constexpr EnumName<ByteOrder> kByteOrderNames[] = {{"little", ByteOrder::Little},
-                                                          {"big", ByteOrder::Big}};
+    {"replicated", Distribution::Replicated}, {"distributed", Distribution::Distributed}, {"auto", Distribution::Auto}};
+inline constexpr EnumName<ByteOrder> kByteOrderNames[] = {{"little", ByteOrder::Little}, {"big", ByteOrder::Big}};
 /// The `type:` word of each light kind, one row per alternative of LightSpec in its order; a
 /// row's value is that kind's spec with its defaults, which parse_light fills in.
-inline constexpr EnumName<LightSpec> kLightTypeNames[] = {{"rect", RectLightSpec{}},
-                                                          {"sphere", SphereLightSpec{}}};
+inline constexpr EnumName<LightSpec> kLightTypeNames[] = {{"rect", RectLightSpec{}}, {"sphere", SphereLightSpec{}}};
 static_assert(
     [] {
       std::size_t i = 0;
@@ -47,24 +44,18 @@ static_assert(
 /// The `type:` word of the kind `light` holds.
 inline const char* light_type_name(const LightSpec& light) { return kLightTypeNames[light.index()].name; }
 inline constexpr EnumName<BackgroundType> kBackgroundTypeNames[] = {
-    {"constant", BackgroundType::Constant},
-    {"gradient", BackgroundType::Gradient},
-    {"envmap", BackgroundType::EnvMap}};
+    {"constant", BackgroundType::Constant}, {"gradient", BackgroundType::Gradient}, {"envmap", BackgroundType::EnvMap}};
 inline constexpr EnumName<Scattering> kScatteringNames[] = {{"single", Scattering::Single},
                                                             {"multiple", Scattering::Multiple}};
 inline constexpr EnumName<Shading> kShadingNames[] = {
     {"phase", Shading::Phase}, {"brdf", Shading::Brdf}, {"hybrid", Shading::Hybrid}};
-inline constexpr EnumName<FreePath> kFreePathNames[] = {{"delta", FreePath::Delta},
-                                                        {"raymarch", FreePath::Raymarch}};
+inline constexpr EnumName<FreePath> kFreePathNames[] = {{"delta", FreePath::Delta}, {"raymarch", FreePath::Raymarch}};
 inline constexpr EnumName<MajorantMode> kMajorantNames[] = {{"grid", MajorantMode::Grid},
                                                             {"global", MajorantMode::Global}};
-inline constexpr EnumName<ShadowMode> kShadowNames[] = {{"ratio", ShadowMode::Ratio},
-                                                        {"delta", ShadowMode::Delta}};
-inline constexpr EnumName<TileOrder> kTileOrderNames[] = {{"row", TileOrder::RowMajor},
-                                                          {"morton", TileOrder::Morton}};
-inline constexpr EnumName<ToneMap::Curve> kToneMapNames[] = {{"aces", ToneMap::Curve::Aces},
-                                                             {"reinhard", ToneMap::Curve::Reinhard},
-                                                             {"clamp", ToneMap::Curve::Clamp}};
+inline constexpr EnumName<ShadowMode> kShadowNames[] = {{"ratio", ShadowMode::Ratio}, {"delta", ShadowMode::Delta}};
+inline constexpr EnumName<TileOrder> kTileOrderNames[] = {{"row", TileOrder::RowMajor}, {"morton", TileOrder::Morton}};
+inline constexpr EnumName<ToneMap::Curve> kToneMapNames[] = {
+    {"aces", ToneMap::Curve::Aces}, {"reinhard", ToneMap::Curve::Reinhard}, {"clamp", ToneMap::Curve::Clamp}};
 
 /// The name of `value` in `table`: rows with .name and .value (EnumName, ImageFormatInfo).
 /// Every value of an enum has a row; "" would mean a table is missing one.

@@ -22,12 +22,10 @@ struct Spec {
 };
 
 [[noreturn]] void bad(const std::string& pattern, const std::string& what) {
-  throw std::invalid_argument("bad output pattern \"" + detail::cut_for_message(pattern) +
-                              "\": " + what);
+  throw std::invalid_argument("bad output pattern \"" + detail::cut_for_message(pattern) + "\": " + what);
 }
 
-Spec parse_spec(const std::string& pattern, std::string_view placeholder, Field field,
-                std::string_view s) {
+Spec parse_spec(const std::string& pattern, std::string_view placeholder, Field field, std::string_view s) {
   Spec spec;
   std::size_t i = 0;
   const auto digits = [&](int& out) {
@@ -61,7 +59,8 @@ Spec parse_spec(const std::string& pattern, std::string_view placeholder, Field 
       break;
     case Field::Time:
       if (spec.type != 0 && spec.type != 'f' && spec.type != 'e' && spec.type != 'g')
-        bad(pattern, "{" + std::string(placeholder) + "} is a number (allowed: [0][width][.precision][f|e|g], e.g. {time:.3f})");
+        bad(pattern,
+            "{" + std::string(placeholder) + "} is a number (allowed: [0][width][.precision][f|e|g], e.g. {time:.3f})");
       break;
     case Field::Name:
       if (spec.zero || spec.precision >= 0 || (spec.type != 0 && spec.type != 's'))
@@ -93,8 +92,8 @@ std::string format_time(double t, const Spec& spec) {
 }
 
 /// Walks the pattern; with `out` set, writes the result there.
-void expand(const std::string& pattern, const std::string& name, std::int64_t step, double time,
-            int rank, std::string* out) {
+void expand(const std::string& pattern, const std::string& name, std::int64_t step, double time, int rank,
+            std::string* out) {
   for (std::size_t i = 0; i < pattern.size(); ++i) {
     const char c = pattern[i];
     if (c == '}') {
@@ -126,7 +125,8 @@ void expand(const std::string& pattern, const std::string& name, std::int64_t st
     else if (key == "step") field = Field::Step;
     else if (key == "time") field = Field::Time;
     else if (key == "rank") field = Field::Rank;
-    else bad(pattern, "unknown placeholder {" + detail::cut_for_message(key) + "} (allowed: {name} {step} {time} {rank})");
+    else
+      bad(pattern, "unknown placeholder {" + detail::cut_for_message(key) + "} (allowed: {name} {step} {time} {rank})");
     const Spec spec = parse_spec(pattern, inner, field, spec_text);
     if (out) {
       switch (field) {
@@ -163,7 +163,8 @@ void require_inside(const std::string& pattern, const std::string& name) {
     if (slash == std::string::npos) {
       if (part.empty()) fault("gives an empty file name", "a file name, e.g. \"{name}\"");
       if (part.front() == '.')
-        fault("gives a hidden file name (starting with '.')", "a file name that does not start with '.', e.g. \"{name}\"");
+        fault("gives a hidden file name (starting with '.')",
+              "a file name that does not start with '.', e.g. \"{name}\"");
       break;
     }
     start = slash + 1;
@@ -179,9 +180,8 @@ void validate_output_pattern(const std::string& pattern) {
   for (std::size_t i = 0; i < pattern.size(); ++i) {
     const auto c = static_cast<unsigned char>(pattern[i]);
     if (c < 0x20 || c == 0x7f) {
-      bad(pattern, "control character " + detail::cut_for_message(std::string(1, pattern[i])) +
-                       " at position " + std::to_string(i + 1) +
-                       " (allowed: printable characters)");
+      bad(pattern, "control character " + detail::cut_for_message(std::string(1, pattern[i])) + " at position " +
+                       std::to_string(i + 1) + " (allowed: printable characters)");
     }
   }
   if (pattern.back() == '/') {
@@ -197,8 +197,8 @@ void validate_output_pattern(const std::string& pattern) {
   require_inside(pattern, sample);
 }
 
-std::string format_output_path(const std::string& pattern, const std::string& name,
-                               std::int64_t step, double time, int rank) {
+std::string format_output_path(const std::string& pattern, const std::string& name, std::int64_t step, double time,
+                               int rank) {
   validate_output_pattern(pattern);
   std::string out;
   expand(pattern, name, step, time, rank, &out);

@@ -42,8 +42,8 @@ SourceMark from_yaml(const YAML::Mark& m) {
 }
 
 std::string too_large(std::uint64_t bytes) {
-  return "config is " + std::to_string(bytes) + " bytes (allowed: at most " +
-         std::to_string(detail::kMaxConfigBytes) + " bytes, 4 MiB)";
+  return "config is " + std::to_string(bytes) + " bytes (allowed: at most " + std::to_string(detail::kMaxConfigBytes) +
+         " bytes, 4 MiB)";
 }
 
 Config parse_root(const detail::Document& doc) {
@@ -74,9 +74,8 @@ Config parse_root(const detail::Document& doc) {
     const Value name = *r.map().get("name");
     const auto [it, fresh] = name_marks.emplace(spec.name, name.mark());
     if (!fresh) {
-      name.fail("duplicate render name \"" + detail::cut_for_message(spec.name) +
-                "\" (first used at line " + std::to_string(it->second.line) +
-                "; allowed: a name used once)");
+      name.fail("duplicate render name \"" + detail::cut_for_message(spec.name) + "\" (first used at line " +
+                std::to_string(it->second.line) + "; allowed: a name used once)");
     }
     c.renders.push_back(std::move(spec));
   }
@@ -88,8 +87,8 @@ Config parse_root(const detail::Document& doc) {
 namespace detail {
 
 GlobalOptions parse_global(const Value& v) {
-  const Map m = v.map_with_keys({"output_dir", "on_error", "threads", "render_final_step", "max_failures",
-                                 "time_limit", "memory_limit_mb", "distribution", "brick_cache", "budget"});
+  const Map m = v.map_with_keys({"output_dir", "on_error", "threads", "render_final_step", "max_failures", "time_limit",
+                                 "memory_limit_mb", "distribution", "brick_cache", "budget"});
   GlobalOptions g;
   if (const auto d = m.get("output_dir")) {
     g.output_dir = d->string();
@@ -102,12 +101,9 @@ GlobalOptions parse_global(const Value& v) {
   g.on_error = m.choice_or("on_error", g.on_error, kOnErrorNames);
   g.threads = static_cast<int>(m.integer_or("threads", g.threads, 0, 65536));
   g.render_final_step = m.boolean_or("render_final_step", g.render_final_step);
-  g.max_failures = static_cast<int>(
-      m.integer_or("max_failures", g.max_failures, 1, std::numeric_limits<int>::max()));
-  g.time_limit = m.number_or("time_limit", g.time_limit,
-                             Range::closed(0.0, GlobalOptions::kMaxTimeLimit));
-  g.memory_limit_mb = m.integer_or("memory_limit_mb", g.memory_limit_mb, 0,
-                                   GlobalOptions::kMaxMemoryLimitMb);
+  g.max_failures = static_cast<int>(m.integer_or("max_failures", g.max_failures, 1, std::numeric_limits<int>::max()));
+  g.time_limit = m.number_or("time_limit", g.time_limit, Range::closed(0.0, GlobalOptions::kMaxTimeLimit));
+  g.memory_limit_mb = m.integer_or("memory_limit_mb", g.memory_limit_mb, 0, GlobalOptions::kMaxMemoryLimitMb);
   g.distribution = m.choice_or("distribution", g.distribution, kDistributionNames);
   g.brick_cache = m.number_or("brick_cache", g.brick_cache, Range{0.0, 1.0, true, false});
   g.budget = m.number_or("budget", g.budget, Range{0.0, GlobalOptions::kMaxBudget, true, false});
@@ -139,12 +135,13 @@ VolumeSpec parse_volume(const Value& v) {
     const auto max_abs = [](const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); };
     if (!(max_abs(s.origin) <= lim) || !(max_abs(far) <= lim)) {
       const std::string why = "puts the data (far corner [" + format_number(far.x) + ", " + format_number(far.y) +
-                              ", " + format_number(far.z) + "]) beyond 2^40 smallest spacings (" +
-                              format_number(lim) + ") from 0, where a double no longer resolves a voxel";
+                              ", " + format_number(far.z) + "]) beyond 2^40 smallest spacings (" + format_number(lim) +
+                              ") from 0, where a double no longer resolves a voxel";
       const auto o = m.get("origin"), sp = m.get("spacing");
       if (o && !(max_abs(s.origin) <= lim)) o->fail(why);
-      (sp ? *sp : *m.get("dims")).fail("with dims " + std::to_string(s.dims[0]) + "x" + std::to_string(s.dims[1]) +
-                                      "x" + std::to_string(s.dims[2]) + " " + why);
+      (sp ? *sp : *m.get("dims"))
+          .fail("with dims " + std::to_string(s.dims[0]) + "x" + std::to_string(s.dims[1]) + "x" +
+                std::to_string(s.dims[2]) + " " + why);
     }
   }
   s.byte_order = m.choice_or("byte_order", s.byte_order, kByteOrderNames);
@@ -164,11 +161,12 @@ std::string resolve_existing_file(const Value& v) {
   const std::string shown = shown_path(p.string());
   if (ec) v.fail("cannot resolve " + v.describe() + ": " + ec.message());
   // Only regular files: a FIFO would block the reader, /dev/zero would never end
-  struct stat st{};
+  struct stat st {};
   if (::stat(p.c_str(), &st) != 0) {
     const int err = errno;
     if (err == ENOENT || err == ENOTDIR) {
-      v.fail("file not found: " + shown + " (allowed: an existing file, relative names are "
+      v.fail("file not found: " + shown +
+             " (allowed: an existing file, relative names are "
              "relative to the YAML file's directory)");
     }
     v.fail("cannot access " + shown + ": " + std::strerror(err));
@@ -202,8 +200,9 @@ Config parse_config(const std::string& yaml_text, const std::string& file_name_f
     }
     if (const auto tag = detail::first_explicit_tag(tree)) {
       throw ConfigError(doc.file, tag->mark, "",
-                        "YAML tag " + tag->tag + " is not supported (allowed: untagged values; "
-                        "quote a value that starts with '!')");
+                        "YAML tag " + tag->tag +
+                            " is not supported (allowed: untagged values; "
+                            "quote a value that starts with '!')");
     }
     return parse_root(doc);
   } catch (const YAML::DeepRecursion& e) {

@@ -9,9 +9,9 @@
 namespace tessera::config::detail {
 
 IntegratorSpec parse_integrator(const Value& v) {
-  const Map m = v.map_with_keys({"scattering", "max_bounces", "rr_depth", "shading", "gradient_factor",
-                                 "phase_g", "free_path", "majorant", "macrocell", "step", "shadow",
-                                 "shadow_roulette", "culling", "seed", "tile", "tile_order"});
+  const Map m = v.map_with_keys({"scattering", "max_bounces", "rr_depth", "shading", "gradient_factor", "phase_g",
+                                 "free_path", "majorant", "macrocell", "step", "shadow", "shadow_roulette", "culling",
+                                 "seed", "tile", "tile_order"});
   IntegratorSpec s;
   IntegratorDesc& d = s.desc;
   d.scattering = m.choice_or("scattering", d.scattering, kScatteringNames);

@@ -23,7 +23,7 @@ bool reads_as_number(const std::string& text) {
   std::strtod(text.c_str(), &end);
   return end != text.c_str();
 }
-}
+}  // namespace
 
 std::string point_allowed() { return "[x, y, z], center or " + braced(kPointKeys); }
 
@@ -48,9 +48,8 @@ PointSpec parse_point(const Value& v, bool allow_fit) {
   OrbitSpec s;
   s.azimuth = om.number_or("azimuth", 0.0);
   s.elevation = om.number_or("elevation", 0.0, Range::closed(-90.0, 90.0));
-  const char* distance_allowed = allow_fit
-                                     ? "a number >= 0, in bounding-sphere radii of the data, or fit"
-                                     : "a number >= 0, in bounding-sphere radii of the data";
+  const char* distance_allowed = allow_fit ? "a number >= 0, in bounding-sphere radii of the data, or fit"
+                                           : "a number >= 0, in bounding-sphere radii of the data";
   const Value d = om.require("distance", distance_allowed);
   if (d.is_word("fit")) {
     if (!allow_fit)
@@ -67,8 +66,8 @@ PointSpec parse_point(const Value& v, bool allow_fit) {
 LengthSpec parse_length(const Value& v, bool strictly_positive) {
   const Range r = strictly_positive ? Range::above(0.0) : Range::at_least(0.0);
   if (v.is_scalar()) return LengthSpec::world(v.number(r));
-  const Map m = v.map("a number in world units or " + length_map_allowed() +
-                      " (r times the data's bounding-sphere radius)");
+  const Map m =
+      v.map("a number in world units or " + length_map_allowed() + " (r times the data's bounding-sphere radius)");
   m.allow(kLengthKeys);
   return LengthSpec::relative_to_radius(
       m.require("relative", "a multiple of the data's bounding-sphere radius").number(r));

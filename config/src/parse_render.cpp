@@ -29,8 +29,7 @@ constexpr std::size_t kMaxRenderName = 128;
 
 bool valid_name(const std::string& s) {
   return !s.empty() && s.size() <= kMaxRenderName && std::all_of(s.begin(), s.end(), [](char c) {
-    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
-           c == '_' || c == '-';
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
   });
 }
 
@@ -78,8 +77,7 @@ TriggerSpec parse_trigger(const Value& v) {
     t.kind = TriggerSpec::Kind::At;
     const ValueList steps = a->list("a list of steps (integers >= 0)", 1);
     t.at.reserve(steps.size());
-    for (const Value& s : steps)
-      t.at.push_back(s.integer(0, std::numeric_limits<std::int64_t>::max()));
+    for (const Value& s : steps) t.at.push_back(s.integer(0, std::numeric_limits<std::int64_t>::max()));
   } else {
     const Value w = *m.get("when");
     const Map wm = w.map(when_allowed);
@@ -124,8 +122,8 @@ OutputSpec parse_output(const Value& v) {
   if (const auto f = m.get("formats")) {
     o.formats.clear();
     const auto formats = image_formats();
-    for (const Value& e : f->list("a list of formats: " + detail::join_words(detail::names_of(formats), ", "), 1,
-                                  formats.size())) {
+    for (const Value& e :
+         f->list("a list of formats: " + detail::join_words(detail::names_of(formats), ", "), 1, formats.size())) {
       const ImageFormat fmt = e.choice(formats);
       if (o.has_format(fmt)) e.fail(std::string(image_format(fmt).name) + " given twice (allowed: each format once)");
       o.formats.push_back(fmt);
@@ -143,7 +141,8 @@ OutputSpec parse_output(const Value& v) {
     if (const auto a = cm.get("elevation"))
       for (const Value& e : a->list("a list of angles in degrees", 1))
         cs.elevations.push_back(e.number(Range::closed(-90.0, 90.0)));
-    const std::size_t views = std::max<std::size_t>(1, cs.azimuths.size()) * std::max<std::size_t>(1, cs.elevations.size());
+    const std::size_t views =
+        std::max<std::size_t>(1, cs.azimuths.size()) * std::max<std::size_t>(1, cs.elevations.size());
     if (views > CinemaSpec::kMaxViews)
       c->fail(std::to_string(cs.azimuths.size()) + " azimuths x " + std::to_string(cs.elevations.size()) +
               " elevations make " + std::to_string(views) + " views (allowed: at most " +
@@ -165,19 +164,17 @@ RenderSpec parse_render(const Value& v) {
   }
   if (const auto f = m.get("field")) {
     r.field = f->string();
-    const bool printable = std::all_of(r.field.begin(), r.field.end(), [](char c) {
-      return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
-    });
+    const bool printable = std::all_of(r.field.begin(), r.field.end(),
+                                       [](char c) { return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f; });
     if (!printable || r.field.size() > kMaxFieldName) {
-      f->fail(f->describe() + " is not a field name (allowed: 1 to " +
-              std::to_string(kMaxFieldName) + " printable characters)");
+      f->fail(f->describe() + " is not a field name (allowed: 1 to " + std::to_string(kMaxFieldName) +
+              " printable characters)");
     }
   }
   if (const auto t = m.get("trigger")) r.trigger = parse_trigger(*t);
   if (const auto i = m.get("image")) parse_image(*i, r);
   r.camera = parse_camera(m.require("camera", "a mapping with at least position"));
-  r.transfer_function = parse_transfer_function(
-      m.require("transfer_function", "a mapping with at least opacity"));
+  r.transfer_function = parse_transfer_function(m.require("transfer_function", "a mapping with at least opacity"));
   if (const auto l = m.get("lights")) {
     std::vector<std::string> shapes;
     for (const std::string& type : detail::names_of(detail::kLightTypeNames))

@@ -13,14 +13,13 @@ const Range kU = Range::closed(0.0, 1.0);
 /// Throws unless u >= the previous point's u.
 void check_order(const Value& u_value, double u, const auto& points) {
   if (!points.empty() && u < points.back().u) {
-    u_value.fail(format_number(u) + " is less than the previous u " +
-                 format_number(points.back().u) + " (allowed: u in [0, 1], non-decreasing)");
+    u_value.fail(format_number(u) + " is less than the previous u " + format_number(points.back().u) +
+                 " (allowed: u in [0, 1], non-decreasing)");
   }
 }
 
 std::vector<ScalarPoint> parse_scalar_points(const Value& v, const Range& values) {
-  const std::string allowed = "[[u, value], ...], u in [0, 1] non-decreasing, value in " +
-                              values.describe();
+  const std::string allowed = "[[u, value], ...], u in [0, 1] non-decreasing, value in " + values.describe();
   std::vector<ScalarPoint> out;
   for (const Value& p : v.list(allowed, 1, kMaxTfPoints)) {
     const auto uv = p.list("[u, value]", 2, 2);
@@ -42,7 +41,8 @@ ColorTFSpec parse_color_points(const Value& v, const Range& components) {
     return ColorTFSpec{name, {}};
   }
   const std::string allowed = "[[u, [r, g, b]], ...] with u in [0, 1] non-decreasing and "
-                              "components in " + components.describe() + ", or a colormap: " + cmaps;
+                              "components in " +
+                              components.describe() + ", or a colormap: " + cmaps;
   ColorTFSpec s;
   for (const Value& p : v.list(allowed, 1, kMaxTfPoints)) {
     const auto uc = p.list("[u, [r, g, b]]", 2, 2);
@@ -68,15 +68,13 @@ RangeSpec parse_range(const Value& v) {
 }  // namespace
 
 TransferFunctionSpec parse_transfer_function(const Value& v) {
-  const Map m = v.map_with_keys({"range", "density_scale", "opacity", "diffuse", "specular", "roughness",
-                                 "emission"});
+  const Map m = v.map_with_keys({"range", "density_scale", "opacity", "diffuse", "specular", "roughness", "emission"});
   TransferFunctionSpec tf;
   tf.range.automatic = true;
   if (const auto r = m.get("range")) tf.range = parse_range(*r);
   tf.density_scale = m.number_or("density_scale", tf.density_scale, Range::at_least(0.0));
-  tf.opacity = parse_scalar_points(
-      m.require("opacity", "[[u, value], ...], u in [0, 1] non-decreasing, value >= 0"),
-      Range::at_least(0.0));
+  tf.opacity = parse_scalar_points(m.require("opacity", "[[u, value], ...], u in [0, 1] non-decreasing, value >= 0"),
+                                   Range::at_least(0.0));
   if (const auto d = m.get("diffuse")) tf.diffuse = parse_color_points(*d, kU);
   if (const auto s = m.get("specular")) tf.specular = parse_color_points(*s, kU);
   if (const auto r = m.get("roughness")) tf.roughness = parse_scalar_points(*r, kU);

@@ -22,9 +22,7 @@ void swap_bytes(std::vector<std::byte>& bytes, std::size_t element_size) {
 
 }  // namespace
 
-FieldView RawVolume::view() const {
-  return FieldView::contiguous(bytes.data(), dtype, dims[0], dims[1], dims[2]);
-}
+FieldView RawVolume::view() const { return FieldView::contiguous(bytes.data(), dtype, dims[0], dims[1], dims[2]); }
 
 RawVolume load_raw_volume(const VolumeSpec& spec) {
   RawVolume v;
@@ -39,8 +37,8 @@ RawVolume load_raw_volume(const VolumeSpec& spec) {
       throw std::runtime_error("volume " + spec.file + ": dims[" + std::to_string(a) + "] is " +
                                std::to_string(spec.dims[a]) + " (allowed: >= 1)");
   if (spec.header_bytes < 0)
-    throw std::runtime_error("volume " + spec.file + ": header_bytes is " +
-                             std::to_string(spec.header_bytes) + " (allowed: >= 0)");
+    throw std::runtime_error("volume " + spec.file + ": header_bytes is " + std::to_string(spec.header_bytes) +
+                             " (allowed: >= 0)");
   std::uintmax_t payload = elem, expected = 0;
   bool overflow = false;
   for (int a = 0; a < 3; ++a) overflow |= __builtin_mul_overflow(payload, std::uintmax_t(spec.dims[a]), &payload);
@@ -60,12 +58,11 @@ RawVolume load_raw_volume(const VolumeSpec& spec) {
   }
   const std::uintmax_t actual = file->size();
   if (actual != expected) {
-    throw std::runtime_error(
-        "volume " + spec.file + ": file is " + std::to_string(actual) + " bytes, expected " +
-        std::to_string(expected) + " (header_bytes " + std::to_string(spec.header_bytes) + " + " +
-        std::to_string(spec.dims[0]) + "x" + std::to_string(spec.dims[1]) + "x" +
-        std::to_string(spec.dims[2]) + " " + dtype_name(spec.dtype) + " values of " +
-        std::to_string(elem) + " bytes)");
+    throw std::runtime_error("volume " + spec.file + ": file is " + std::to_string(actual) + " bytes, expected " +
+                             std::to_string(expected) + " (header_bytes " + std::to_string(spec.header_bytes) + " + " +
+                             std::to_string(spec.dims[0]) + "x" + std::to_string(spec.dims[1]) + "x" +
+                             std::to_string(spec.dims[2]) + " " + dtype_name(spec.dtype) + " values of " +
+                             std::to_string(elem) + " bytes)");
   }
 
   v.bytes.resize(static_cast<std::size_t>(payload));

@@ -30,8 +30,8 @@ double fit_distance(double fov_deg, int width, int height) {
   if (!(fov_deg > 0.0 && fov_deg < 180.0))
     throw std::invalid_argument("distance: fit: fov " + format_number(fov_deg) + " is outside (0, 180) degrees");
   if (width < 1 || height < 1)
-    throw std::invalid_argument("distance: fit: image size " + std::to_string(width) + "x" +
-                                std::to_string(height) + " must be at least 1x1");
+    throw std::invalid_argument("distance: fit: image size " + std::to_string(width) + "x" + std::to_string(height) +
+                                " must be at least 1x1");
   // The camera's image plane spans tan(fov/2) vertically and aspect times that horizontally
   const double tan_v = std::tan(0.5 * fov_deg * kPi / 180.0);
   const double tan_h = tan_v * static_cast<double>(width) / height;
@@ -41,8 +41,7 @@ double fit_distance(double fov_deg, int width, int height) {
 }
 
 Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up) {
-  if (p.is_fit())
-    throw std::logic_error("resolve_point: an orbit with distance: fit needs the camera's fit distance");
+  if (p.is_fit()) throw std::logic_error("resolve_point: an orbit with distance: fit needs the camera's fit distance");
   return resolve_point(p, data_bounds, up, 1.0);
 }
 

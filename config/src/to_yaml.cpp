@@ -223,9 +223,7 @@ void write(YAML::Emitter& out, const BackgroundSpec& b) {
   out << YAML::BeginMap;
   field(out, "type", name_of(detail::kBackgroundTypeNames, b.type));
   switch (b.type) {
-    case BackgroundType::Constant:
-      field(out, "color", b.color);
-      break;
+    case BackgroundType::Constant: field(out, "color", b.color); break;
     case BackgroundType::Gradient:
       field(out, "top", b.top);
       field(out, "middle", b.middle);

@@ -43,13 +43,14 @@ class ContentFinder final : public YAML::EventHandler {
   void OnDocumentEnd() override {}
   void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
   void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
-  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                const std::string&) override { note(m); }
-  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                       YAML::EmitterStyle::value) override { note(m); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t, const std::string&) override { note(m); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    note(m);
+  }
   void OnSequenceEnd() override {}
-  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                  YAML::EmitterStyle::value) override { note(m); }
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    note(m);
+  }
   void OnMapEnd() override {}
 
  private:
@@ -62,8 +63,7 @@ class ContentFinder final : public YAML::EventHandler {
 bool has_document_marker(const std::string& text) {
   for (std::size_t i = 0; i + 3 <= text.size();) {
     if (text.compare(i, 3, "---") == 0 || text.compare(i, 3, "...") == 0) {
-      if (i + 3 == text.size() || std::string_view(" \t\r\n").find(text[i + 3]) != std::string_view::npos)
-        return true;
+      if (i + 3 == text.size() || std::string_view(" \t\r\n").find(text[i + 3]) != std::string_view::npos) return true;
     }
     const std::size_t nl = text.find('\n', i);
     if (nl == std::string::npos) break;
@@ -106,9 +106,7 @@ std::optional<ExplicitTag> first_explicit_tag(const YamlTree& tree) {
   return ExplicitTag{tree.first_tag_mark(), "'" + cut_for_message(shown) + "'"};
 }
 
-std::string cut_for_message(std::string_view s, std::size_t max) {
-  return shown_text(s, false, max);
-}
+std::string cut_for_message(std::string_view s, std::size_t max) { return shown_text(s, false, max); }
 
 bool Range::contains(double v) const {
   const bool lo_ok = lo_open ? v > lo : v >= lo;
@@ -119,8 +117,7 @@ bool Range::contains(double v) const {
 std::string Range::describe() const {
   const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
   if (has_lo && has_hi) {
-    return std::string(lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) +
-           (hi_open ? ")" : "]");
+    return std::string(lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) + (hi_open ? ")" : "]");
   }
   if (has_lo) return std::string(lo_open ? "(> " : "(>= ") + format_number(lo) + ")";
   if (has_hi) return std::string(hi_open ? "(< " : "(<= ") + format_number(hi) + ")";
@@ -156,8 +153,7 @@ std::string mapping_with_keys(std::initializer_list<std::string_view> keys, std:
 // ---------------------------------------------------------------------------------------------
 // Value
 
-Value::Value(const Document* doc, SourceMark anchor)
-    : Value(doc, doc->tree->root(), nullptr, {}, -1, anchor, false) {}
+Value::Value(const Document* doc, SourceMark anchor) : Value(doc, doc->tree->root(), nullptr, {}, -1, anchor, false) {}
 
 Value::Value(const Document* doc, YamlTree::Id id, Base base, std::string_view key, std::int64_t index,
              SourceMark anchor, bool anchor_is_key)
@@ -184,9 +180,7 @@ SourceMark Value::mark() const {
   return m;
 }
 
-void Value::fail(const std::string& message) const {
-  throw ConfigError(m_doc->file, mark(), path(), message);
-}
+void Value::fail(const std::string& message) const { throw ConfigError(m_doc->file, mark(), path(), message); }
 
 void Value::wrong_type(const std::string& allowed) const {
   fail(describe() + " is not allowed here (allowed: " + allowed + ")");
@@ -211,9 +205,8 @@ std::string Value::describe() const {
 }
 
 double Value::number(const Range& r) const {
-  const std::string allowed = std::isfinite(r.lo) || std::isfinite(r.hi)
-                                  ? "a number in " + r.describe()
-                                  : std::string("a finite number");
+  const std::string allowed =
+      std::isfinite(r.lo) || std::isfinite(r.hi) ? "a number in " + r.describe() : std::string("a finite number");
   if (!is_scalar() || !plain()) wrong_type(allowed);
   const auto v = parse_double(text());
   if (!v) fail(describe() + " is not a number (allowed: " + allowed + ")");
@@ -295,8 +288,7 @@ ValueList Value::list(const std::string& allowed, std::size_t min_size, std::siz
     else if (max_size == std::numeric_limits<std::size_t>::max())
       count = ", at least " + std::to_string(min_size) + " elements";
     else count = ", " + std::to_string(min_size) + " to " + std::to_string(max_size) + " elements";
-    fail("list has " + std::to_string(n) + " element" + (n == 1 ? "" : "s") + " (allowed: " +
-         allowed + count + ")");
+    fail("list has " + std::to_string(n) + " element" + (n == 1 ? "" : "s") + " (allowed: " + allowed + count + ")");
   }
   return ValueList(*this);
 }
@@ -328,7 +320,8 @@ Map Value::map(const std::string& allowed) const {
   for (std::size_t i = 0; i < n; ++i) {
     visit(1);
     const YamlTree::Id k = t.key(m_id, i);
-    if (t.kind(k) != YamlTree::Kind::Scalar) throw ConfigError(m_doc->file, t.mark(k), path(), "a key must be a plain word");
+    if (t.kind(k) != YamlTree::Kind::Scalar)
+      throw ConfigError(m_doc->file, t.mark(k), path(), "a key must be a plain word");
     order[i] = static_cast<std::uint32_t>(i);
   }
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -355,7 +348,9 @@ Map Value::map(const std::string& allowed) const {
 // ValueList
 
 ValueList::ValueList(const Value& list)
-    : m_list(list), m_base(std::make_shared<const std::string>(list.path())), m_size(list.m_doc->tree->size(list.m_id)) {}
+    : m_list(list),
+      m_base(std::make_shared<const std::string>(list.path())),
+      m_size(list.m_doc->tree->size(list.m_id)) {}
 
 Value ValueList::operator[](std::size_t i) const {
   return m_list.element(m_list.m_doc->tree->element(m_list.m_id, i), m_base, i);
@@ -422,10 +417,8 @@ std::optional<Value> Map::get(std::string_view k) const {
 
 Value Map::require(std::string_view key, const std::string& what) const {
   if (auto v = get(key)) return *v;
-  const std::string path =
-      m_self.path().empty() ? std::string(key) : m_self.path() + "." + std::string(key);
-  throw ConfigError(m_self.doc().file, m_self.mark(), path,
-                    "missing required key (allowed: " + what + ")");
+  const std::string path = m_self.path().empty() ? std::string(key) : m_self.path() + "." + std::string(key);
+  throw ConfigError(m_self.doc().file, m_self.mark(), path, "missing required key (allowed: " + what + ")");
 }
 
 double Map::number_or(std::string_view key, double fallback, const Range& r) const {
@@ -433,8 +426,7 @@ double Map::number_or(std::string_view key, double fallback, const Range& r) con
   return v ? v->number(r) : fallback;
 }
 
-std::int64_t Map::integer_or(std::string_view key, std::int64_t fallback, std::int64_t lo,
-                             std::int64_t hi) const {
+std::int64_t Map::integer_or(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi) const {
   const auto v = get(key);
   return v ? v->integer(lo, hi) : fallback;
 }

@@ -167,8 +167,8 @@ class Value {
   friend class Map;
   friend class ValueList;
   using Base = std::shared_ptr<const std::string>;
-  Value(const Document* doc, YamlTree::Id id, Base base, std::string_view key, std::int64_t index,
-        SourceMark anchor, bool anchor_is_key);
+  Value(const Document* doc, YamlTree::Id id, Base base, std::string_view key, std::int64_t index, SourceMark anchor,
+        bool anchor_is_key);
   YamlTree::Kind kind() const { return m_doc->tree->kind(m_id); }
   bool plain() const { return m_doc->tree->plain(m_id); }
   /// The value of mapping key `key` (at `key_mark`), element `index` of a list; `base` is
@@ -181,9 +181,9 @@ class Value {
   Vec3 triple(const char* shape, const Range& r) const;
   const Document* m_doc;
   YamlTree::Id m_id;
-  Base m_base;              ///< the parent's path; null for the root
-  std::string_view m_key;   ///< the key that leads here (in the tree's text), or
-  std::int64_t m_index;     ///< the list index that does (-1: none)
+  Base m_base;             ///< the parent's path; null for the root
+  std::string_view m_key;  ///< the key that leads here (in the tree's text), or
+  std::int64_t m_index;    ///< the list index that does (-1: none)
   SourceMark m_anchor;
   bool m_anchor_is_key;
 };
@@ -237,8 +237,7 @@ class Map {
 
   /// Optional-key helpers: the value if present, else `fallback`.
   double number_or(std::string_view key, double fallback, const Range& r = Range::any()) const;
-  std::int64_t integer_or(std::string_view key, std::int64_t fallback, std::int64_t lo,
-                          std::int64_t hi) const;
+  std::int64_t integer_or(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi) const;
   bool boolean_or(std::string_view key, bool fallback) const;
   Vec3 vec3_or(std::string_view key, const Vec3& fallback, const Range& r = Range::any()) const;
   Color color_or(std::string_view key, const Color& fallback, const Range& r) const;
@@ -259,8 +258,7 @@ class Map {
 };
 
 /// "a, b or c" from a list of words (`sep` between all but the last two).
-std::string join_words(const std::vector<std::string>& words, const char* last_sep = " or ",
-                       const char* sep = ", ");
+std::string join_words(const std::vector<std::string>& words, const char* last_sep = " or ", const char* sep = ", ");
 
 template <class Table>
 auto Value::choice(const Table& table) const {

@@ -27,8 +27,7 @@ class YamlTreeBuilder final : public YAML::EventHandler {
     // yaml-cpp refuses an alias to an undefined anchor before calling this
     if (anchor < m_anchors.size() && !m_open.empty()) m_pending.push_back(m_anchors[anchor]);
   }
-  void OnScalar(const YAML::Mark& m, const std::string& tag, YAML::anchor_t anchor,
-                const std::string& value) override {
+  void OnScalar(const YAML::Mark& m, const std::string& tag, YAML::anchor_t anchor, const std::string& value) override {
     note_tag(m, tag);
     YamlTree::Node& n = add(m, YamlTree::Kind::Scalar, anchor);
     n.plain = tag == "?";
@@ -64,8 +63,8 @@ class YamlTreeBuilder final : public YAML::EventHandler {
   void count(const YAML::Mark& m) {
     if (++m_count <= m_max_nodes) return;
     throw ConfigError(m_file, SourceMark{m.line + 1, m.column + 1}, "",
-                      "the config has more than " + std::to_string(m_max_nodes) +
-                          " YAML nodes (allowed: at most " + std::to_string(m_max_nodes) +
+                      "the config has more than " + std::to_string(m_max_nodes) + " YAML nodes (allowed: at most " +
+                          std::to_string(m_max_nodes) +
                           " list elements, keys, values and aliases, which bounds the memory of "
                           "loading it)");
   }

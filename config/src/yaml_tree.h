@@ -32,7 +32,9 @@ class YamlTree {
   /// A plain (unquoted, untagged) scalar: the only kind that may be a number or a boolean.
   bool plain(Id n) const { return m_nodes[n].plain; }
   /// 1-based position; line 0 when the node has none (an empty document).
-  SourceMark mark(Id n) const { return SourceMark{static_cast<int>(m_nodes[n].line), static_cast<int>(m_nodes[n].column)}; }
+  SourceMark mark(Id n) const {
+    return SourceMark{static_cast<int>(m_nodes[n].line), static_cast<int>(m_nodes[n].column)};
+  }
   std::string_view scalar(Id n) const;
   /// Elements of a list, entries of a mapping; 0 otherwise.
   std::size_t size(Id n) const;

@@ -50,8 +50,8 @@ tessera_status Adapter::execute(std::int64_t step, double time, const tessera_gr
   if (inside.refusal() != CallGate::Refusal::None)
     return refuse(m_impl.get(), inside.refusal(), final_step ? "execute (final step)" : "execute");
   clear_refusal(m_impl.get());
-  const tessera_status s = m_impl->execute(step, time, &grid, fields.data(),
-                                           static_cast<std::int64_t>(fields.size()), final_step);
+  const tessera_status s =
+      m_impl->execute(step, time, &grid, fields.data(), static_cast<std::int64_t>(fields.size()), final_step);
   if (s != TESSERA_OK && m_impl->abort_mode()) throw AdapterError(s, m_impl->m_error);
   return s;
 }
@@ -66,7 +66,7 @@ tessera_status Adapter::field_unchanged(const std::string& field_name) noexcept 
 
 tessera_status Adapter::close() noexcept {
   if (!m_impl) return TESSERA_OK;  // moved from
-  m_impl->m_gate.begin_close();  // waits for a call inside; refuses new ones meanwhile
+  m_impl->m_gate.begin_close();    // waits for a call inside; refuses new ones meanwhile
   clear_refusal(m_impl.get());
   const bool was_open = m_impl->m_ctx != nullptr;
   const tessera_status s = m_impl->close();

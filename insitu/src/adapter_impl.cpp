@@ -12,8 +12,8 @@
 
 namespace tessera::insitu {
 
-tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
-                                   const char* output_dir, const std::string* yaml_text) noexcept {
+tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f, const char* output_dir,
+                                   const std::string* yaml_text) noexcept {
   close();  // an adapter open before: closed as close() does (collectively)
   try {
     // Communicator: duplicated only; the nodes are set up once the ranks agree (below)
@@ -38,8 +38,8 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
         try {
           require_denoiser();
         } catch (const DenoiserUnavailable& e) {
-          throw std::runtime_error(shown_path(m_config.path) + ": renders[" + std::to_string(i) + "].image.denoise (render '" +
-                                   m_config.renders[i].name + "'): " + e.what());
+          throw std::runtime_error(shown_path(m_config.path) + ": renders[" + std::to_string(i) +
+                                   "].image.denoise (render '" + m_config.renders[i].name + "'): " + e.what());
         }
         break;
       }
@@ -76,16 +76,14 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
       teardown();
       return TESSERA_ERROR_CONFIG;
     }
-    m_policy = ErrorPolicy(m_config.global.on_error, m_config.global.max_failures,
-                           m_config.renders.size());
+    m_policy = ErrorPolicy(m_config.global.on_error, m_config.global.max_failures, m_config.renders.size());
 
     // Output directory and the effective config, written by rank 0
     try {
       if (m_ctx->rank() == 0) {
         ensure_directory(m_config.global.output_dir);
         write_text_atomic(
-            (std::filesystem::path(m_config.global.output_dir) / "tessera_effective_config.yaml").string(),
-            effective);
+            (std::filesystem::path(m_config.global.output_dir) / "tessera_effective_config.yaml").string(), effective);
       }
     } catch (const std::exception& e) {
       ok = false;
@@ -118,8 +116,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f,
 }
 
 tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tessera_grid* grid,
-                                      const tessera_field* fields, std::int64_t nfields,
-                                      bool final_step) noexcept {
+                                      const tessera_field* fields, std::int64_t nfields, bool final_step) noexcept {
   // The simulation's time since the last call, added on entry; on every return the clock
   // restarts, and a call in which a render fired starts the sum afresh
   if (m_sim_seconds >= 0.0)
@@ -225,8 +222,8 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     if (m_policy.blocked() && root) log_line(m_policy.blocked_message());
     if (status == TESSERA_OK && skipped) {
       status = TESSERA_ERROR_DISABLED;
-      m_error = "render '" + skipped->name + "' is disabled after " +
-                std::to_string(m_policy.max_failures()) + " consecutive failures (on_error: disable)";
+      m_error = "render '" + skipped->name + "' is disabled after " + std::to_string(m_policy.max_failures()) +
+                " consecutive failures (on_error: disable)";
     }
     // The descriptors are only valid during this call
     m_call.grid = nullptr;

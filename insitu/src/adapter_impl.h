@@ -28,9 +28,8 @@ struct Adapter::Impl {
   tessera_status open(const char* yaml_path, int mpi_comm_f, const char* output_dir,
                       const std::string* yaml_text = nullptr) noexcept;
   /// fields/nfields as the C API receives them; checked only if a render fires.
-  tessera_status execute(std::int64_t step, double time, const tessera_grid* grid,
-                         const tessera_field* fields, std::int64_t nfields,
-                         bool final_step) noexcept;
+  tessera_status execute(std::int64_t step, double time, const tessera_grid* grid, const tessera_field* fields,
+                         std::int64_t nfields, bool final_step) noexcept;
   /// Collective with MPI: the ranks agree that every one of them is closing (one allgather
   /// of the call record, rank_agreement.h), so a rank still inside an execute call that
   /// fires is told so, and so is this one: TESSERA_ERROR_CONFIG with m_error saying which

@@ -69,8 +69,8 @@ void set_open_error(const char* message, const char* function = nullptr) noexcep
 }
 
 /// tessera_open and tessera_open_with_output_dir (output_dir: nullptr or "" = the config's).
-tessera_status open_adapter(const char* function, const char* yaml_path, int mpi_comm_f,
-                            const char* output_dir, tessera_adapter** out) noexcept {
+tessera_status open_adapter(const char* function, const char* yaml_path, int mpi_comm_f, const char* output_dir,
+                            tessera_adapter** out) noexcept {
   if (out) *out = nullptr;
   if (!out) {
     set_open_error("out is NULL", function);
@@ -111,7 +111,8 @@ tessera_adapter::Impl* open_impl(tessera_adapter* a, const char* function, tesse
   switch (state_of(a)) {
     case HandleState::Open: *status = TESSERA_OK; return a->impl.get();
     case HandleState::Closed: set_open_error(kClosedMessage, function); return nullptr;
-    case HandleState::Unknown: default: set_open_error(kUnknownMessage, function); return nullptr;
+    case HandleState::Unknown:
+    default: set_open_error(kUnknownMessage, function); return nullptr;
   }
 }
 
@@ -151,25 +152,21 @@ tessera_status tessera_open(const char* yaml_path, int mpi_comm_f, tessera_adapt
   return open_adapter("tessera_open", yaml_path, mpi_comm_f, nullptr, out);
 }
 
-tessera_status tessera_open_with_output_dir(const char* yaml_path, int mpi_comm_f,
-                                            const char* output_dir, tessera_adapter** out) {
+tessera_status tessera_open_with_output_dir(const char* yaml_path, int mpi_comm_f, const char* output_dir,
+                                            tessera_adapter** out) {
   return open_adapter("tessera_open_with_output_dir", yaml_path, mpi_comm_f, output_dir, out);
 }
 
-tessera_status tessera_execute(tessera_adapter* adapter, int64_t step, double time,
-                               const tessera_grid* grid, const tessera_field* fields,
-                               int nfields) {
-  return guarded(adapter, "tessera_execute", [&](tessera_adapter::Impl& impl) {
-    return impl.execute(step, time, grid, fields, nfields, false);
-  });
+tessera_status tessera_execute(tessera_adapter* adapter, int64_t step, double time, const tessera_grid* grid,
+                               const tessera_field* fields, int nfields) {
+  return guarded(adapter, "tessera_execute",
+                 [&](tessera_adapter::Impl& impl) { return impl.execute(step, time, grid, fields, nfields, false); });
 }
 
-tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, double time,
-                                     const tessera_grid* grid, const tessera_field* fields,
-                                     int nfields) {
-  return guarded(adapter, "tessera_execute_final", [&](tessera_adapter::Impl& impl) {
-    return impl.execute(step, time, grid, fields, nfields, true);
-  });
+tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, double time, const tessera_grid* grid,
+                                     const tessera_field* fields, int nfields) {
+  return guarded(adapter, "tessera_execute_final",
+                 [&](tessera_adapter::Impl& impl) { return impl.execute(step, time, grid, fields, nfields, true); });
 }
 
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name) {
@@ -219,7 +216,8 @@ const char* tessera_last_error(const tessera_adapter* adapter) {
       std::lock_guard<std::mutex> lock(g_handles_mutex);
       return adapter->close_error.empty() ? kClosedMessage : adapter->close_error.c_str();
     }
-    case HandleState::Unknown: default: return kUnknownMessage;
+    case HandleState::Unknown:
+    default: return kUnknownMessage;
   }
   if (const std::string* refused = tessera::insitu::refusal_for(adapter)) return refused->c_str();
   // A copy made inside the gate: no other thread writes it, and it outlives tessera_close

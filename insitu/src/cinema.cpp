@@ -65,18 +65,16 @@ std::vector<CinemaView> cinema_views(const config::CinemaSpec& spec, const Camer
       v.theta = theta;
       v.camera = main;
       v.camera.look_at = centre;
-      v.camera.position =
-          centre + distance * config::orbit_direction(config::OrbitSpec{phi, theta, 1.0}, main.up);
+      v.camera.position = centre + distance * config::orbit_direction(config::OrbitSpec{phi, theta, 1.0}, main.up);
       v.camera.up = config::orbit_direction(config::OrbitSpec{phi, theta + 90.0, 1.0}, main.up);
       views.push_back(v);
     }
   return views;
 }
 
-std::string cinema_file_base(const config::RenderSpec& spec, std::int64_t step, double time,
-                             const CinemaView& view) {
-  return config::format_output_path(spec.output.file, spec.name, step, time, 0) + "_phi_" +
-         format_number(view.phi) + "_theta_" + format_number(view.theta);
+std::string cinema_file_base(const config::RenderSpec& spec, std::int64_t step, double time, const CinemaView& view) {
+  return config::format_output_path(spec.output.file, spec.name, step, time, 0) + "_phi_" + format_number(view.phi) +
+         "_theta_" + format_number(view.theta);
 }
 
 void CinemaDatabase::load_existing() {
@@ -112,8 +110,7 @@ void CinemaDatabase::set_row(double time, double phi, double theta, const std::s
 void CinemaDatabase::write() const {
   std::string text = std::string(kHeader) + "\n";
   for (const Row& r : m_rows)
-    text += csv_field(r.time) + "," + csv_field(r.phi) + "," + csv_field(r.theta) + "," +
-            csv_field(r.file) + "\n";
+    text += csv_field(r.time) + "," + csv_field(r.phi) + "," + csv_field(r.theta) + "," + csv_field(r.file) + "\n";
   write_text_atomic((std::filesystem::path(m_dir) / "data.csv").string(), text);
 }
 

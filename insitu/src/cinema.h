@@ -25,13 +25,11 @@ struct CinemaView {
 /// the direction of (phi, theta + 90): perpendicular to the view, and the render's `up`
 /// projected onto the image plane wherever that is defined, so that the poles (theta = +-90)
 /// render too. An empty azimuth or elevation list stands for [0]. Throws std::invalid_argument if the render's camera sits at the centre.
-std::vector<CinemaView> cinema_views(const config::CinemaSpec& spec, const CameraDesc& main,
-                                     const Bounds& data_bounds);
+std::vector<CinemaView> cinema_views(const config::CinemaSpec& spec, const CameraDesc& main, const Bounds& data_bounds);
 
 /// The image file name of one view, relative to the database directory, without extension:
 /// the render's output pattern followed by _phi_<phi>_theta_<theta>.
-std::string cinema_file_base(const config::RenderSpec& spec, std::int64_t step, double time,
-                             const CinemaView& view);
+std::string cinema_file_base(const config::RenderSpec& spec, std::int64_t step, double time, const CinemaView& view);
 
 /// data.csv of one database. Rows persist across timesteps (and across runs: an existing
 /// data.csv with the same columns is read back first); a row for a FILE already listed

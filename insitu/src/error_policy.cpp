@@ -13,8 +13,7 @@ bool ErrorPolicy::record_failure(std::size_t r, tessera_status status, const std
       if (++m_disabled == m_consecutive.size()) {
         m_blocked = true;
         m_blocked_status = TESSERA_ERROR_DISABLED;
-        m_blocked_message = "rendering disabled: every render failed " +
-                            std::to_string(m_max_failures) +
+        m_blocked_message = "rendering disabled: every render failed " + std::to_string(m_max_failures) +
                             " times in a row (on_error: disable); last: " + message;
       }
       return true;

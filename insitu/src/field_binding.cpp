@@ -22,9 +22,7 @@ static_assert(static_cast<int>(DType::UInt16) == TESSERA_UINT16, "tessera_dtype 
 static_assert(static_cast<int>(DType::Float32) == TESSERA_FLOAT32, "tessera_dtype and DType differ");
 static_assert(static_cast<int>(DType::Float64) == TESSERA_FLOAT64, "tessera_dtype and DType differ");
 
-std::string field_label(const tessera_field& f) {
-  return std::string("field '") + (f.name ? f.name : "(null)") + "'";
-}
+std::string field_label(const tessera_field& f) { return std::string("field '") + (f.name ? f.name : "(null)") + "'"; }
 
 /// A double, short ("1e+308", "0.5"): never std::to_string's 300 digits or "0.000000".
 std::string num(double v) { return short_number(v); }
@@ -48,11 +46,10 @@ void check_extent(const std::string& label, const tessera_field& f, std::size_t 
   const __int128 base = static_cast<__int128>(reinterpret_cast<std::uintptr_t>(f.data));
   const __int128 kI64 = static_cast<__int128>(INT64_MAX);
   if (hi - lo > kI64 || base + lo < 0 || base + hi > static_cast<__int128>(UINTPTR_MAX))
-    fail(label, "byte strides reach outside the address space (array of " + triple(f.dims) +
-                    " with strides " + std::to_string(f.byte_strides[0]) + ", " +
-                    std::to_string(f.byte_strides[1]) + ", " + std::to_string(f.byte_strides[2]) +
-                    " from " + std::to_string(static_cast<unsigned long long>(
-                                   reinterpret_cast<std::uintptr_t>(f.data))) + ")");
+    fail(label, "byte strides reach outside the address space (array of " + triple(f.dims) + " with strides " +
+                    std::to_string(f.byte_strides[0]) + ", " + std::to_string(f.byte_strides[1]) + ", " +
+                    std::to_string(f.byte_strides[2]) + " from " +
+                    std::to_string(static_cast<unsigned long long>(reinterpret_cast<std::uintptr_t>(f.data))) + ")");
 }
 
 void check_grid(const std::string& label, const tessera_grid& g, const std::int64_t real[3]) {
@@ -64,16 +61,13 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
     if (g.spacing[a] < kMinSpacing || g.spacing[a] > kMaxSpacing)
       fail(label, "grid spacing" + ax + " = " + num(g.spacing[a]) + " is outside [1e-100, 1e100]");
     if (g.global_dims[a] < 1)
-      fail(label, "grid global_dims" + ax + " = " + std::to_string(g.global_dims[a]) +
-                      ", must be >= 1");
-    if (g.offset[a] < 0)
-      fail(label, "grid offset" + ax + " = " + std::to_string(g.offset[a]) + ", must be >= 0");
+      fail(label, "grid global_dims" + ax + " = " + std::to_string(g.global_dims[a]) + ", must be >= 1");
+    if (g.offset[a] < 0) fail(label, "grid offset" + ax + " = " + std::to_string(g.offset[a]) + ", must be >= 0");
     if (real[a] > g.global_dims[a] - g.offset[a])
-      fail(label, "does not fit the grid along " + std::string(1, kAxis[a]) + ": " +
-                      std::to_string(real[a]) + " real vertices at offset " +
-                      std::to_string(g.offset[a]) + " reach past global_dims " +
-                      std::to_string(g.global_dims[a]) + " (real dims " + triple(real) +
-                      ", global dims " + triple(g.global_dims) + ")");
+      fail(label, "does not fit the grid along " + std::string(1, kAxis[a]) + ": " + std::to_string(real[a]) +
+                      " real vertices at offset " + std::to_string(g.offset[a]) + " reach past global_dims " +
+                      std::to_string(g.global_dims[a]) + " (real dims " + triple(real) + ", global dims " +
+                      triple(g.global_dims) + ")");
   }
   // The data's corners within 2^40 smallest spacings of 0 (loop_bounds.h), as the CLI's
   // volume.origin: past that a double no longer resolves a voxel, and every camera or light
@@ -84,8 +78,8 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
     const double far = g.origin[a] + static_cast<double>(g.global_dims[a] - 1) * g.spacing[a];
     if (!(std::fabs(g.origin[a]) <= lim && std::fabs(far) <= lim))
       fail(label, "grid origin [" + num(g.origin[0]) + ", " + num(g.origin[1]) + ", " + num(g.origin[2]) +
-                      "] with spacing [" + num(g.spacing[0]) + ", " + num(g.spacing[1]) + ", " +
-                      num(g.spacing[2]) + "] puts the data (far corner along " + kAxis[a] + " at " + num(far) +
+                      "] with spacing [" + num(g.spacing[0]) + ", " + num(g.spacing[1]) + ", " + num(g.spacing[2]) +
+                      "] puts the data (far corner along " + kAxis[a] + " at " + num(far) +
                       ") beyond 2^40 smallest spacings (" + num(lim) +
                       ") from 0, where a double no longer resolves a voxel");
   }
@@ -93,20 +87,17 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
 
 }  // namespace
 
-int find_field(std::span<const tessera_field> fields, const std::string& field_name,
-               const std::string& render_name) {
+int find_field(std::span<const tessera_field> fields, const std::string& field_name, const std::string& render_name) {
   for (std::size_t i = 0; i < fields.size(); ++i) {
-    if (!fields[i].name)
-      throw std::invalid_argument("fields[" + std::to_string(i) + "]: name is null");
+    if (!fields[i].name) throw std::invalid_argument("fields[" + std::to_string(i) + "]: name is null");
     for (std::size_t j = 0; j < i; ++j)
       if (std::strcmp(fields[j].name, fields[i].name) == 0)
-        throw std::invalid_argument(field_label(fields[i]) + ": published twice (fields[" +
-                                    std::to_string(j) + "] and fields[" + std::to_string(i) + "])");
+        throw std::invalid_argument(field_label(fields[i]) + ": published twice (fields[" + std::to_string(j) +
+                                    "] and fields[" + std::to_string(i) + "])");
   }
   if (field_name.empty()) {
     if (fields.size() == 1) return 0;
-    throw std::invalid_argument("render '" + render_name + "' names no field and " +
-                                std::to_string(fields.size()) +
+    throw std::invalid_argument("render '" + render_name + "' names no field and " + std::to_string(fields.size()) +
                                 " fields are published (give `field:` in the config)");
   }
   for (std::size_t i = 0; i < fields.size(); ++i)
@@ -114,8 +105,7 @@ int find_field(std::span<const tessera_field> fields, const std::string& field_n
   std::string names;
   for (const auto& f : fields) names += (names.empty() ? "" : ", ") + std::string(f.name);
   throw std::invalid_argument("field '" + field_name + "' (render '" + render_name +
-                              "') is unknown: published fields are " +
-                              (names.empty() ? std::string("none") : names));
+                              "') is unknown: published fields are " + (names.empty() ? std::string("none") : names));
 }
 
 FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
@@ -133,17 +123,15 @@ FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
       fail(label, "zero-size array: dims[" + std::to_string(a) + "] (" + kAxis[a] + ") = 0, " +
                       "each extent must be >= 1 (dims " + triple(f.dims) + ")");
     if (f.dims[a] < 0)
-      fail(label, "dims[" + std::to_string(a) + "] (" + kAxis[a] + ") = " +
-                      std::to_string(f.dims[a]) + ", must be >= 1");
+      fail(label,
+           "dims[" + std::to_string(a) + "] (" + kAxis[a] + ") = " + std::to_string(f.dims[a]) + ", must be >= 1");
   }
   if (!f.data) fail(label, "data pointer is null (dims " + triple(f.dims) + ")");
   for (int a = 0; a < 3; ++a) {
-    if (f.ghosts_lo[a] < 0 || f.ghosts_hi[a] < 0)
-      fail(label, "negative ghost width along " + std::string(1, kAxis[a]));
+    if (f.ghosts_lo[a] < 0 || f.ghosts_hi[a] < 0) fail(label, "negative ghost width along " + std::string(1, kAxis[a]));
     if (f.ghosts_lo[a] >= f.dims[a] || f.ghosts_hi[a] >= f.dims[a] - f.ghosts_lo[a])
-      fail(label, "ghost layers along " + std::string(1, kAxis[a]) + " (" +
-                      std::to_string(f.ghosts_lo[a]) + " + " + std::to_string(f.ghosts_hi[a]) +
-                      ") leave no real vertex of dims " + std::to_string(f.dims[a]));
+      fail(label, "ghost layers along " + std::string(1, kAxis[a]) + " (" + std::to_string(f.ghosts_lo[a]) + " + " +
+                      std::to_string(f.ghosts_hi[a]) + ") leave no real vertex of dims " + std::to_string(f.dims[a]));
   }
   FieldView full;
   full.data = f.data;
@@ -153,7 +141,7 @@ FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
     full.byte_strides[a] = f.byte_strides[a];
   }
   check_extent(label, f, dtype_size(dtype));  // first: validate() assumes no overflow
-  full.validate(label);                        // zero or overlapping strides
+  full.validate(label);                       // zero or overlapping strides
 
   // Real region and its place in the grid
   FieldBinding b;
@@ -175,10 +163,9 @@ void require_whole_grid(const tessera_field& field, const FieldBinding& b) {
   for (int a = 0; a < 3; ++a)
     if (b.placement.offset[a] != 0 || b.local.dims[a] != b.placement.global_dims[a])
       fail(field_label(field),
-           "a single rank must hold the whole grid, but its real vertices " + triple(b.local.dims) +
-               " at offset (" + std::to_string(b.placement.offset[0]) + ", " +
-               std::to_string(b.placement.offset[1]) + ", " + std::to_string(b.placement.offset[2]) +
-               ") do not cover global_dims " + triple(b.placement.global_dims));
+           "a single rank must hold the whole grid, but its real vertices " + triple(b.local.dims) + " at offset (" +
+               std::to_string(b.placement.offset[0]) + ", " + std::to_string(b.placement.offset[1]) + ", " +
+               std::to_string(b.placement.offset[2]) + ") do not cover global_dims " + triple(b.placement.global_dims));
 }
 
 }  // namespace tessera::insitu

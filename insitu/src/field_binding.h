@@ -26,8 +26,7 @@ struct FieldBinding {
 
 /// Index of the field the render uses: `field_name`, or the only published field when the
 /// render names none. Also rejects null or duplicate names among `fields`.
-int find_field(std::span<const tessera_field> fields, const std::string& field_name,
-               const std::string& render_name);
+int find_field(std::span<const tessera_field> fields, const std::string& field_name, const std::string& render_name);
 
 /// Validates `field` and `grid` together: dtype in range, data non-null, dims >= 1, ghost
 /// widths >= 0 and < dims, strides non-zero, non-overlapping and within the address space,

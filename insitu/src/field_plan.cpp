@@ -35,8 +35,8 @@ int brick_shift(const std::int64_t global_dims[3]) {
   return shift;
 }
 
-FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding,
-                     int ranks, int ranks_on_node, bool root) {
+FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding, int ranks,
+                     int ranks_on_node, bool root) {
   const int node_ranks = std::max(1, ranks_on_node);
   FieldView global;  // dims only: what the footprint reads
   for (int a = 0; a < 3; ++a) global.dims[a] = binding.placement.global_dims[a];
@@ -89,8 +89,8 @@ void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift) {
   for (int s = kMaxBrickShift; shift <= 0 && s > plan.shift; --s) {
     const BrickGrid g = BrickGrid::make(dims, dtype, s);
     const std::uint64_t all = static_cast<std::uint64_t>(g.brick_count()) * g.slot_bytes();
-    if (all <= cap_for(g) && plan.base.total() + BrickCache::bytes_for(g, static_cast<std::size_t>(g.brick_count())) <=
-                                 plan.limit) {
+    if (all <= cap_for(g) &&
+        plan.base.total() + BrickCache::bytes_for(g, static_cast<std::size_t>(g.brick_count())) <= plan.limit) {
       plan.shift = s;
       break;
     }
@@ -101,8 +101,8 @@ void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift) {
   e.add("brick directory", BrickCache::bytes_for(grid, 0));
   const std::uint64_t used = e.total();
   const std::uint64_t budget = used < plan.limit ? std::min(plan.limit - used, cap_for(grid)) : 0;
-  plan.capacity = static_cast<std::size_t>(
-      std::min<std::uint64_t>(budget / slot, static_cast<std::uint64_t>(grid.brick_count())));
+  plan.capacity =
+      static_cast<std::size_t>(std::min<std::uint64_t>(budget / slot, static_cast<std::uint64_t>(grid.brick_count())));
   if (plan.capacity < 1) {
     e.add("brick cache (one brick)", slot);
     over_limit(e, plan);
@@ -123,17 +123,20 @@ std::string small_cache_warning(const BrickGrid& grid, std::size_t capacity, int
          " x " + std::to_string(std::max(1, threads)) + " thread(s) x " + std::to_string(crossing) +
          " bricks along x + y + z) that the paths being traced can cross: bricks are fetched again and "
          "again and the render can be tens to hundreds of times slower than replicated; raise "
-         "tessera.brick_cache (now " + fraction_text + ") or tessera.memory_limit_mb, or use "
+         "tessera.brick_cache (now " +
+         fraction_text +
+         ") or tessera.memory_limit_mb, or use "
          "distribution: replicated";
 }
 
 std::string describe_plan(const FieldPlan& plan, config::Distribution asked) {
-  const char* how = asked == config::Distribution::Auto ? "auto" : asked == config::Distribution::Distributed
-                                                                     ? "distributed"
-                                                                     : "replicated";
+  const char* how = asked == config::Distribution::Auto          ? "auto"
+                    : asked == config::Distribution::Distributed ? "distributed"
+                                                                 : "replicated";
   std::string line = std::string("distribution ") + how + " -> " + (plan.distributed ? "distributed" : "replicated");
   if (asked == config::Distribution::Auto)
-    line += " (replica share " + format_bytes(plan.replica_share) + " per rank against half of " + plan.limit_text + ")";
+    line +=
+        " (replica share " + format_bytes(plan.replica_share) + " per rank against half of " + plan.limit_text + ")";
   if (plan.distributed) {
     char buf[128];
     std::snprintf(buf, sizeof buf, "; bricks of %d^3 vertices, cache of %zu bricks", 1 << plan.shift, plan.capacity);

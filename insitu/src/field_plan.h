@@ -26,15 +26,15 @@ namespace tessera::insitu {
 inline constexpr double kCacheFieldFraction = config::GlobalOptions::kDefaultBrickCache;
 
 struct FieldPlan {
-  bool distributed = false;   ///< this rank's answer (combine across ranks for `auto`)
-  int shift = 0;              ///< distributed: bricks of 2^shift vertices per edge
-  std::size_t capacity = 0;   ///< distributed: cache slots
-  std::uint64_t replica_share = 0;  ///< bytes of this rank's share of a node replica
-  std::uint64_t limit = 0;          ///< the memory limit in bytes
+  bool distributed = false;                     ///< this rank's answer (combine across ranks for `auto`)
+  int shift = 0;                                ///< distributed: bricks of 2^shift vertices per edge
+  std::size_t capacity = 0;                     ///< distributed: cache slots
+  std::uint64_t replica_share = 0;              ///< bytes of this rank's share of a node replica
+  std::uint64_t limit = 0;                      ///< the memory limit in bytes
   double cache_fraction = kCacheFieldFraction;  ///< tessera.brick_cache: the cache's cap, of the field
-  std::string limit_text;           ///< how the limit was set, for messages
-  MemoryEstimate base;        ///< the render's own allocations without the field's
-  int threads = 1;            ///< rendering threads on this rank (paths in flight at once)
+  std::string limit_text;                       ///< how the limit was set, for messages
+  MemoryEstimate base;                          ///< the render's own allocations without the field's
+  int threads = 1;                              ///< rendering threads on this rank (paths in flight at once)
   /// Distributed: a warning when the cache is too small for the bricks the paths in flight
   /// cross (small_cache_warning); "" otherwise.
   std::string cache_warning;
@@ -58,8 +58,8 @@ inline constexpr int kMaxBrickShift = 5;  ///< bricks of at most 32^3 vertices
 
 /// The plan for `spec` on this rank (ranks: the communicator's size). Throws
 /// std::runtime_error naming the estimate and the limit when even the chosen mode does not fit.
-FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding,
-                     int ranks, int ranks_on_node, bool root);
+FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding, int ranks,
+                     int ranks_on_node, bool root);
 
 /// Sets plan.shift / capacity for distributed mode and checks the limit (throws like
 /// plan_field); after the ranks have agreed on distributed for `auto`. The cache holds at most

@@ -1,7 +1,7 @@
 #include "outputs.h"
 
-#include <tessera/config/output_path.h>
 #include <tessera/atomic_output.h>
+#include <tessera/config/output_path.h>
 #include <tessera/image_format.h>
 
 #include <filesystem>
@@ -10,8 +10,8 @@
 namespace tessera::insitu {
 namespace fs = std::filesystem;
 
-std::string output_base(const std::string& output_dir, const config::RenderSpec& spec,
-                        std::int64_t step, double time, int rank) {
+std::string output_base(const std::string& output_dir, const config::RenderSpec& spec, std::int64_t step, double time,
+                        int rank) {
   const std::string rel = config::format_output_path(spec.output.file, spec.name, step, time, rank);
   return (fs::path(output_dir) / rel).string();
 }
@@ -21,12 +21,12 @@ void ensure_directory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir))
-    throw std::runtime_error("cannot create directory '" + dir + "': " +
-                             (ec ? ec.message() : std::string("not a directory")));
+    throw std::runtime_error("cannot create directory '" + dir +
+                             "': " + (ec ? ec.message() : std::string("not a directory")));
 }
 
-void write_image_files(const std::string& base, const config::OutputSpec& output,
-                       const Image& img, std::vector<std::string>& files) {
+void write_image_files(const std::string& base, const config::OutputSpec& output, const Image& img,
+                       std::vector<std::string>& files) {
   ensure_directory(fs::path(base).parent_path().string());
   for (const ImageFormat f : output.formats) {
     const ImageFormatInfo& format = image_format(f);

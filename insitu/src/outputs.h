@@ -12,15 +12,15 @@
 namespace tessera::insitu {
 
 /// output_dir / format_output_path(output.file, name, step, time, rank), without extension.
-std::string output_base(const std::string& output_dir, const config::RenderSpec& spec,
-                        std::int64_t step, double time, int rank);
+std::string output_base(const std::string& output_dir, const config::RenderSpec& spec, std::int64_t step, double time,
+                        int rank);
 
 /// Writes `img` as base + ".exr" / ".png" per spec.output.formats (PNG tone-mapped with the
 /// output's exposure and curve), creating the parent directory. Appends each path written to
 /// `files`, in the order of spec.output.formats. Throws std::runtime_error naming the path and
 /// the fault.
-void write_image_files(const std::string& base, const config::OutputSpec& output,
-                       const Image& img, std::vector<std::string>& files);
+void write_image_files(const std::string& base, const config::OutputSpec& output, const Image& img,
+                       std::vector<std::string>& files);
 
 /// Writes `text` to `path` through AtomicOutputFile (every byte checked, nothing under `path`
 /// unless complete), creating the parent directory. Throws like the above.

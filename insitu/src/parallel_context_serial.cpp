@@ -16,9 +16,7 @@ class SerialContext final : public ParallelContext {
   bool agree(bool ok) override { return ok; }
   bool any(bool flag) override { return flag; }
   int min(int value) override { return value; }
-  std::pair<double, double> range(double local_min, double local_max) override {
-    return {local_min, local_max};
-  }
+  std::pair<double, double> range(double local_min, double local_max) override { return {local_min, local_max}; }
   void allgather(const void* mine, std::size_t bytes, void* all) override {
     if (bytes > 0) std::memcpy(all, mine, bytes);
   }
@@ -27,13 +25,12 @@ class SerialContext final : public ParallelContext {
   FieldView assemble(const FieldView& local, const GlobalPlacement& where) override {
     for (int a = 0; a < 3; ++a)
       if (where.offset[a] != 0 || local.dims[a] != where.global_dims[a])
-        throw LayoutError(
-            "one rank must hold the whole grid: real vertices " + std::to_string(local.dims[0]) +
-            "x" + std::to_string(local.dims[1]) + "x" + std::to_string(local.dims[2]) +
-            " at offset (" + std::to_string(where.offset[0]) + ", " +
-            std::to_string(where.offset[1]) + ", " + std::to_string(where.offset[2]) +
-            ") do not cover global_dims " + std::to_string(where.global_dims[0]) + "x" +
-            std::to_string(where.global_dims[1]) + "x" + std::to_string(where.global_dims[2]));
+        throw LayoutError("one rank must hold the whole grid: real vertices " + std::to_string(local.dims[0]) + "x" +
+                          std::to_string(local.dims[1]) + "x" + std::to_string(local.dims[2]) + " at offset (" +
+                          std::to_string(where.offset[0]) + ", " + std::to_string(where.offset[1]) + ", " +
+                          std::to_string(where.offset[2]) + ") do not cover global_dims " +
+                          std::to_string(where.global_dims[0]) + "x" + std::to_string(where.global_dims[1]) + "x" +
+                          std::to_string(where.global_dims[2]));
     return local;
   }
 
@@ -60,7 +57,8 @@ class SerialContext final : public ParallelContext {
 std::unique_ptr<ParallelContext> ParallelContext::create(int comm_f) {
   if (comm_f != -1)
     throw std::invalid_argument("Tessera was built without MPI: pass -1 as the communicator "
-                                "(got " + std::to_string(comm_f) + ")");
+                                "(got " +
+                                std::to_string(comm_f) + ")");
   return std::make_unique<SerialContext>();
 }
 

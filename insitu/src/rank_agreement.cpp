@@ -59,7 +59,7 @@ struct OpenRecord {
   std::uint64_t knob_set[kKnobs];      ///< 1 if the variable is set (even to "")
   std::uint64_t knob_hash[kKnobs][2];  ///< of the whole raw value
   std::uint64_t knob_bytes[kKnobs];
-  char knob_text[kKnobs][kKnobText];   ///< its first bytes, NUL-padded
+  char knob_text[kKnobs][kKnobText];  ///< its first bytes, NUL-padded
 };
 static_assert(std::is_trivially_copyable_v<OpenRecord>);
 
@@ -131,7 +131,7 @@ struct CallRecord {
   std::int64_t step;
   std::uint64_t fired_bits[kFiredWords];        ///< fires or may fire
   std::uint64_t conditional_bits[kFiredWords];  ///< fires if its `when` trigger does
-  std::uint64_t fired_hash;  ///< over every render's flag (configs of any size)
+  std::uint64_t fired_hash;                     ///< over every render's flag (configs of any size)
   std::uint64_t has_grid;
   std::uint64_t origin_bits[3];
   std::uint64_t spacing_bits[3];
@@ -273,16 +273,14 @@ std::optional<Disagreement> agree_on_open(ParallelContext& ctx, const std::strin
     ctx.broadcast(ref, 0);
     ctx.broadcast(theirs, config_rank);
     std::string where = first_difference(theirs, ref);
-    if (where.empty())
-      where = "the first " + std::to_string(kMaxConfigDiffBytes) + " bytes agree; they differ after";
-    else
-      where = "first difference at " + where;
+    if (where.empty()) where = "the first " + std::to_string(kMaxConfigDiffBytes) + " bytes agree; they differ after";
+    else where = "first difference at " + where;
     d.message = "ranks disagree on the config: " + rank_name(config_rank) +
                 "'s effective config differs from rank 0's (" + where + ")";
   }
   if (knob_rank >= 0) {
-    const std::string msg = std::string(kEnvironmentKnobs[knob]) + " is " + knob_value(all[knob_rank], knob) +
-                            " on " + rank_name(knob_rank) + " but " + knob_value(all[0], knob) +
+    const std::string msg = std::string(kEnvironmentKnobs[knob]) + " is " + knob_value(all[knob_rank], knob) + " on " +
+                            rank_name(knob_rank) + " but " + knob_value(all[0], knob) +
                             " on rank 0 (environment variables the library reads must be the same on every rank)";
     d.message += d.message.empty() ? "ranks disagree on the environment: " + msg : "; and " + msg;
   }
@@ -296,7 +294,8 @@ std::string waiting_message(int rank, const CallView& call, double waited) {
   rec.kind = static_cast<std::uint64_t>(call.kind);
   rec.step = call.step;
   return rank_name(rank) + " has waited " + seconds + " s for the other ranks in the agreement of its call (it " +
-         call_name(rec) + "): a rank that skipped this call, stopped calling the adapter without closing it, or is "
+         call_name(rec) +
+         "): a rank that skipped this call, stopped calling the adapter without closing it, or is "
          "stuck leaves it waiting until that rank comes (no deadline; bound the job with the launcher, e.g. mpiexec "
          "--timeout)";
 }
@@ -338,7 +337,8 @@ std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& 
     if (all[r].step != ref.step)
       return Disagreement{TESSERA_ERROR_DATA, "ranks disagree on the step: " + rank_name(r) + " is at step " +
                                                   std::to_string(all[r].step) + ", rank 0 at step " +
-                                                  std::to_string(ref.step) + " (every rank must call execute "
+                                                  std::to_string(ref.step) +
+                                                  " (every rank must call execute "
                                                   "with the same sequence of steps)"};
   for (int r = 1; r < n; ++r)
     if (!same_fired(all[r], ref))
@@ -353,8 +353,8 @@ std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& 
   if (grids)
     for (int r = 1; r < n; ++r)
       if (std::string diff = grid_difference(all[r], ref, r); !diff.empty())
-        return Disagreement{TESSERA_ERROR_DATA, "ranks disagree on the grid at step " + std::to_string(ref.step) +
-                                                    ": " + diff};
+        return Disagreement{TESSERA_ERROR_DATA,
+                            "ranks disagree on the grid at step " + std::to_string(ref.step) + ": " + diff};
   return std::nullopt;
 }
 

@@ -43,8 +43,7 @@ namespace tessera::insitu {
 
 /// Every environment variable the library reads (add new ones here): their raw values must
 /// be the same on every rank.
-inline constexpr std::array<const char*, 2> kEnvironmentKnobs = {"TESSERA_MPI_RANKS_PER_NODE",
-                                                                  "TESSERA_TEST_CLOCK"};
+inline constexpr std::array<const char*, 2> kEnvironmentKnobs = {"TESSERA_MPI_RANKS_PER_NODE", "TESSERA_TEST_CLOCK"};
 
 /// A rank that has waited this long (seconds) in agree_on_call for the others says so on
 /// stderr, and again each time the wait doubles (it keeps waiting: see agree_on_call).
@@ -100,8 +99,7 @@ struct CallView {
 /// rank0_plan (may be NULL): receives rank 0's call.plan, bit for bit (this rank's own with
 /// one rank), when the ranks agree.
 std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call,
-                                          double warn_after = kAgreementWarnSeconds,
-                                          double* rank0_plan = nullptr);
+                                          double warn_after = kAgreementWarnSeconds, double* rank0_plan = nullptr);
 
 /// The line a rank logs while it waits in agree_on_call (exposed for tests).
 std::string waiting_message(int rank, const CallView& call, double waited);

@@ -18,8 +18,7 @@ namespace {
 std::optional<double> seconds_in(std::string_view s) {
   double v = 0.0;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (s.empty() || ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v) || v < 0.0)
-    return std::nullopt;
+  if (s.empty() || ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v) || v < 0.0) return std::nullopt;
   return v;
 }
 
@@ -77,8 +76,7 @@ void RenderBudget::record(std::size_t i, const RenderResult& result, double pass
     m_planner.measured(i, result.planned_spp, seconds, 0.0);
     return;
   }
-  m_planner.measured(i, result.planned_spp, result.render_seconds,
-                     std::max(0.0, pass_seconds - result.render_seconds));
+  m_planner.measured(i, result.planned_spp, result.render_seconds, std::max(0.0, pass_seconds - result.render_seconds));
 }
 
 void RenderBudget::end_call(double measured_call_seconds, std::span<RenderResult> results) {

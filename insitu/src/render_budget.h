@@ -73,8 +73,8 @@ class RenderBudget {
   BudgetPlanner m_planner;
   std::optional<TestClock> m_clock;
   std::optional<std::int64_t> m_last_step;  ///< fake clock: the step of the last plan
-  double m_credited = 0.0;  ///< real clock: of the adapter's simulation seconds, those planned with already
-  double m_fake_call_seconds = 0.0;         ///< fake clock: this call's renders so far
+  double m_credited = 0.0;           ///< real clock: of the adapter's simulation seconds, those planned with already
+  double m_fake_call_seconds = 0.0;  ///< fake clock: this call's renders so far
 };
 
 }  // namespace tessera::insitu

@@ -39,15 +39,19 @@ std::pair<double, double> global_range(ParallelContext& ctx, const FieldView& lo
 /// The phases of one render on this rank.
 class Pass {
  public:
-  Pass(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call,
-       SummaryCache& summaries)
-      : m_ctx(ctx), m_cfg(cfg), m_render(render), m_spec(*render.spec), m_call(call), m_summaries(summaries),
+  Pass(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call, SummaryCache& summaries)
+      : m_ctx(ctx),
+        m_cfg(cfg),
+        m_render(render),
+        m_spec(*render.spec),
+        m_call(call),
+        m_summaries(summaries),
         m_start(Clock::now()),
         m_spp(planned_spp(call.budget_plan, BudgetLimits{render.spec->image.spp, render.spec->min_spp})) {
     // tessera.time_limit: one deadline for the whole run, every Cinema view included
     if (cfg.global.time_limit > 0.0)
-      m_deadline = m_start + std::chrono::duration_cast<Clock::duration>(
-                                 std::chrono::duration<double>(cfg.global.time_limit));
+      m_deadline =
+          m_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(cfg.global.time_limit));
     m_out.result.name = m_spec.name;
     m_out.result.step = call.step;
     m_out.result.time = call.time;
@@ -65,12 +69,11 @@ class Pass {
     // Bind: descriptors -> zero-copy view of this rank's real vertices
     if (!phase(TESSERA_ERROR_DATA, [&] {
           if (m_call.nfields < 0 || (m_call.nfields > 0 && !m_call.fields))
-            throw std::invalid_argument("field list is invalid (fields = " +
-                                        std::string(m_call.fields ? "non-null" : "NULL") +
-                                        ", nfields = " + std::to_string(m_call.nfields) + ")");
+            throw std::invalid_argument(
+                "field list is invalid (fields = " + std::string(m_call.fields ? "non-null" : "NULL") +
+                ", nfields = " + std::to_string(m_call.nfields) + ")");
           if (!m_call.grid) throw std::invalid_argument("grid descriptor is NULL");
-          const std::span<const tessera_field> fields(m_call.fields,
-                                                      static_cast<std::size_t>(m_call.nfields));
+          const std::span<const tessera_field> fields(m_call.fields, static_cast<std::size_t>(m_call.nfields));
           const tessera_field& f = fields[find_field(fields, m_spec.field, m_spec.name)];
           m_binding = bind_field(f, *m_call.grid);
           if (m_ctx.size() == 1) require_whole_grid(f, m_binding);
@@ -105,9 +108,8 @@ class Pass {
     // Memory and distribution: the render's own allocations (replica or brick cache, film,
     // images, envmap), estimated before any of them is made; after the `when` decision, so a
     // render that does not fire is not refused. `auto` is decided on every rank, then agreed.
-    if (!phase(TESSERA_ERROR_RENDER, [&] {
-          m_plan = plan_field(m_cfg, m_spec, m_binding, m_ctx.size(), m_ctx.ranks_on_node(), root);
-        }))
+    if (!phase(TESSERA_ERROR_RENDER,
+               [&] { m_plan = plan_field(m_cfg, m_spec, m_binding, m_ctx.size(), m_ctx.ranks_on_node(), root); }))
       return std::move(m_out);
     if (m_cfg.global.distribution == config::Distribution::Auto && m_ctx.size() > 1)
       m_plan.distributed = m_ctx.any(m_plan.distributed);
@@ -150,8 +152,7 @@ class Pass {
           scene.options.frame = static_cast<std::uint64_t>(m_call.step);
           scene.options.deadline = m_deadline;
           scene.image.spp = m_spp;  // the render budget's plan (image.spp without one)
-          if (m_spec.output.cinema)
-            views = cinema_views(*m_spec.output.cinema, scene.camera, m_binding.global_bounds);
+          if (m_spec.output.cinema) views = cinema_views(*m_spec.output.cinema, scene.camera, m_binding.global_bounds);
         }))
       return std::move(m_out);
     if (!phase(TESSERA_ERROR_RENDER, [&] { prepared = prepare_scene(scene); })) return std::move(m_out);
@@ -163,8 +164,8 @@ class Pass {
     if (!resolve_image(film, img)) return std::move(m_out);
     if (!phase(TESSERA_ERROR_IO, [&] {
           if (!root) return;
-          write_image_files(output_base(m_cfg.global.output_dir, m_spec, m_call.step, m_call.time, 0),
-                            m_spec.output, img, m_out.result.files);
+          write_image_files(output_base(m_cfg.global.output_dir, m_spec, m_call.step, m_call.time, 0), m_spec.output,
+                            img, m_out.result.files);
           m_render.last_image = std::move(img);
         }))
       return std::move(m_out);
@@ -174,8 +175,8 @@ class Pass {
 
     RenderResult& r = m_out.result;
     r.samples_per_second = r.render_seconds > 0.0 ? r.stats.samples / r.render_seconds : 0.0;
-    r.actual_spp = static_cast<double>(r.stats.samples) /
-                   (static_cast<double>(m_spec.image.width) * m_spec.image.height * static_cast<double>(1 + views.size()));
+    r.actual_spp = static_cast<double>(r.stats.samples) / (static_cast<double>(m_spec.image.width) *
+                                                           m_spec.image.height * static_cast<double>(1 + views.size()));
     m_render.budget_skips = 0;
     r.simulation_seconds = m_call.simulation_seconds;
     r.cost_ratio = r.simulation_seconds > 0.0 ? r.render_seconds / r.simulation_seconds : 0.0;
@@ -183,7 +184,8 @@ class Pass {
     // Warnings about the image (rank 0 holds the stats summed over ranks): never a failure
     if (root) {
       r.warnings = render_warnings(prepared, r.stats);
-      if (m_plan.distributed && !m_plan.cache_warning.empty()) r.warnings.insert(r.warnings.begin(), m_plan.cache_warning);
+      if (m_plan.distributed && !m_plan.cache_warning.empty())
+        r.warnings.insert(r.warnings.begin(), m_plan.cache_warning);
       for (const std::string& w : r.warnings)
         log_line("warning: render '" + r.name + "' at step " + std::to_string(r.step) + ": " + w);
     }
@@ -224,12 +226,9 @@ class Pass {
     // A long output_dir is quoted short (each time), and nothing prints raw
     fault = message_quoting(std::move(fault), m_cfg.global.output_dir);
     std::string where = "render '" + m_spec.name + "' at step " + std::to_string(m_call.step) + ": ";
-    if (ok)
-      m_out.result.error = where + "failed on another rank";
-    else if (m_ctx.size() > 1)
-      m_out.result.error = where + "rank " + std::to_string(m_ctx.rank()) + ": " + fault;
-    else
-      m_out.result.error = where + fault;
+    if (ok) m_out.result.error = where + "failed on another rank";
+    else if (m_ctx.size() > 1) m_out.result.error = where + "rank " + std::to_string(m_ctx.rank()) + ": " + fault;
+    else m_out.result.error = where + fault;
     return false;
   }
 
@@ -328,8 +327,7 @@ class Pass {
 
   bool run_cinema(const SceneDesc& scene, const std::vector<CinemaView>& views) {
     const bool root = m_ctx.rank() == 0;
-    const std::string dir =
-        (std::filesystem::path(m_cfg.global.output_dir) / (m_spec.name + ".cdb")).string();
+    const std::string dir = (std::filesystem::path(m_cfg.global.output_dir) / (m_spec.name + ".cdb")).string();
     if (root && !m_render.cinema) m_render.cinema = std::make_unique<CinemaDatabase>(dir);
     for (const CinemaView& view : views) {
       PreparedScene prepared;
@@ -347,8 +345,7 @@ class Pass {
             if (!root) return;
             const std::string rel = cinema_file_base(m_spec, m_call.step, m_call.time, view);
             const std::size_t first = m_out.result.files.size();
-            write_image_files((std::filesystem::path(dir) / rel).string(), m_spec.output, img,
-                              m_out.result.files);
+            write_image_files((std::filesystem::path(dir) / rel).string(), m_spec.output, img, m_out.result.files);
             // FILE column: the file Cinema viewers show as it is (the PNG) when written, else
             // the first; write_image_files appended one file per format, in formats' order
             const std::vector<ImageFormat>& formats = m_spec.output.formats;
@@ -391,14 +388,16 @@ class Pass {
     const RenderResult& r = m_out.result;
     char buf[256];
     std::snprintf(buf, sizeof buf, "render '%s' step %lld (t=%g): %dx%d, %d spp, %.3f s, %.3g samples/s",
-                  r.name.c_str(), static_cast<long long>(r.step), r.time, m_spec.image.width,
-                  m_spec.image.height, m_spp, r.render_seconds, r.samples_per_second);
+                  r.name.c_str(), static_cast<long long>(r.step), r.time, m_spec.image.width, m_spec.image.height,
+                  m_spp, r.render_seconds, r.samples_per_second);
     std::string line = buf;
     // The render budget: the plan, what a pixel got, the account the plan had to spend
     if (m_call.budget) {
-      std::snprintf(buf, sizeof buf, " (budget %g: %d of %d spp planned, %.3g a pixel on average, %.3g s in the account, the run at %.3gx so far)",
-                    m_cfg.global.budget, m_spp, m_spec.image.spp, r.actual_spp, m_call.budget->allowance(),
-                    m_call.budget->ratio());
+      std::snprintf(
+          buf, sizeof buf,
+          " (budget %g: %d of %d spp planned, %.3g a pixel on average, %.3g s in the account, the run at %.3gx so far)",
+          m_cfg.global.budget, m_spp, m_spec.image.spp, r.actual_spp, m_call.budget->allowance(),
+          m_call.budget->ratio());
       line += buf;
     }
     if (m_spec.image.denoise) {
@@ -424,8 +423,8 @@ class Pass {
   CallData& m_call;
   SummaryCache& m_summaries;
   FieldBinding m_binding;
-  FieldPlan m_plan;        ///< replicated or distributed, and the cache's size
-  PagedField m_paged;      ///< distributed mode: this rank's block and the brick cache
+  FieldPlan m_plan;          ///< replicated or distributed, and the cache's size
+  PagedField m_paged;        ///< distributed mode: this rank's block and the brick cache
   std::string m_field_name;  ///< the simulation's name of the bound field
   PassOutcome m_out;
   Clock::time_point m_start;  ///< when this render began (its time limit counts from here)
@@ -435,8 +434,8 @@ class Pass {
 
 }  // namespace
 
-PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderState& render,
-                       CallData& call, SummaryCache& summaries, bool check_when, bool quiet) noexcept {
+PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call,
+                       SummaryCache& summaries, bool check_when, bool quiet) noexcept {
   // Only agree() itself (e.g. a broken communicator) or memory exhaustion gets here
   PassOutcome out;
   out.fired = true;
@@ -449,8 +448,7 @@ PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderSt
       return Pass(ctx, cfg, render, call, summaries).run(check_when, quiet);
     } catch (const std::exception& e) {
       out.result.name = render.spec->name;
-      out.result.error = "render '" + render.spec->name + "' at step " +
-                         std::to_string(call.step) + ": " + e.what();
+      out.result.error = "render '" + render.spec->name + "' at step " + std::to_string(call.step) + ": " + e.what();
     }
   } catch (...) {
     // No memory left even for the message: the status alone tells

@@ -35,10 +35,10 @@ struct RenderState {
   explicit RenderState(const config::RenderSpec& s) : spec(&s), trigger(s.trigger) {}
   const config::RenderSpec* spec;
   Trigger trigger;
-  std::optional<Image> last_image;          ///< rank 0: the last image rendered
-  std::unique_ptr<CinemaDatabase> cinema;   ///< rank 0, created at first use
-  int logged_mode = -1;                     ///< the field mode last logged (0 replicated, 1 distributed)
-  int budget_skips = 0;                     ///< calls in a row the render budget skipped it
+  std::optional<Image> last_image;         ///< rank 0: the last image rendered
+  std::unique_ptr<CinemaDatabase> cinema;  ///< rank 0, created at first use
+  int logged_mode = -1;                    ///< the field mode last logged (0 replicated, 1 distributed)
+  int budget_skips = 0;                    ///< calls in a row the render budget skipped it
 };
 
 /// What one execute call derives from its descriptors, shared by its renders. Everything is
@@ -65,8 +65,8 @@ struct CallData {
 };
 
 struct PassOutcome {
-  bool fired = false;          ///< false: a `when` trigger evaluated and did not fire
-  bool report_here = false;    ///< this rank logs the failure (rank 0, or a failure only here)
+  bool fired = false;        ///< false: a `when` trigger evaluated and did not fire
+  bool report_here = false;  ///< this rank logs the failure (rank 0, or a failure only here)
   RenderResult result;
 };
 
@@ -74,7 +74,7 @@ struct PassOutcome {
 /// `summaries`: the adapter's field summaries (summary_cache.h), used and updated; the call
 /// must have begun with summaries.begin_call(). Never throws: failures come back in the
 /// result (status + message naming render and step).
-PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderState& render,
-                       CallData& call, SummaryCache& summaries, bool check_when, bool quiet) noexcept;
+PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderState& render, CallData& call,
+                       SummaryCache& summaries, bool check_when, bool quiet) noexcept;
 
 }  // namespace tessera::insitu

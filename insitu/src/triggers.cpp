@@ -29,7 +29,8 @@ bool Trigger::fires_on_step(std::int64_t step) const {
     case Kind::Always: return true;
     case Kind::Every: return step % m_every == 0;
     case Kind::At: return std::binary_search(m_at.begin(), m_at.end(), step);
-    case Kind::When: default: return false;
+    case Kind::When:
+    default: return false;
   }
 }
 

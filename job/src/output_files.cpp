@@ -24,16 +24,13 @@ std::optional<ImageFormat> format_of_extension(const fs::path& p) {
 
 }  // namespace
 
-std::vector<OutputTarget> output_targets(const config::GlobalOptions& global,
-                                         const config::RenderSpec& spec,
-                                         const std::optional<std::string>& out_flag, bool several,
-                                         std::int64_t step) {
+std::vector<OutputTarget> output_targets(const config::GlobalOptions& global, const config::RenderSpec& spec,
+                                         const std::optional<std::string>& out_flag, bool several, std::int64_t step) {
   std::vector<OutputTarget> targets;
   if (!out_flag) {
-    const fs::path stem = fs::path(global.output_dir) /
-                          config::format_output_path(spec.output.file, spec.name, step, 0.0, 0);
-    for (const ImageFormat f : spec.output.formats)
-      targets.push_back({stem.string() + image_format(f).extension, f});
+    const fs::path stem =
+        fs::path(global.output_dir) / config::format_output_path(spec.output.file, spec.name, step, 0.0, 0);
+    for (const ImageFormat f : spec.output.formats) targets.push_back({stem.string() + image_format(f).extension, f});
     return targets;
   }
 
@@ -48,13 +45,11 @@ std::vector<OutputTarget> output_targets(const config::GlobalOptions& global,
     return targets;
   }
   if (several) out += "_" + spec.name;
-  for (const ImageFormat f : spec.output.formats)
-    targets.push_back({out.string() + image_format(f).extension, f});
+  for (const ImageFormat f : spec.output.formats) targets.push_back({out.string() + image_format(f).extension, f});
   return targets;
 }
 
-void write_outputs(const std::vector<OutputTarget>& targets, const Image& image,
-                   const config::OutputSpec& output) {
+void write_outputs(const std::vector<OutputTarget>& targets, const Image& image, const config::OutputSpec& output) {
   for (const OutputTarget& t : targets) {
     const fs::path p(t.path);
     if (p.has_parent_path()) {

@@ -49,8 +49,8 @@ void ProgressBar::draw(int done, bool force) {
   for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '=' : (i == filled ? '>' : ' ');
   bar[kWidth] = '\0';
   const double secs = std::chrono::duration<double>(now - m_start).count();
-  std::fprintf(stderr, "\r%s [%s] %3d%% %d/%d tiles %.1fs", m_label.c_str(), bar,
-               static_cast<int>(frac * 100.0), std::min(done, m_total), m_total, secs);
+  std::fprintf(stderr, "\r%s [%s] %3d%% %d/%d tiles %.1fs", m_label.c_str(), bar, static_cast<int>(frac * 100.0),
+               std::min(done, m_total), m_total, secs);
   std::fflush(stderr);
 }
 

@@ -2,13 +2,13 @@
 
 #include "progress_bar.h"
 
+#include <tessera/axis_order_check.h>
 #include <tessera/config/build_scene.h>
 #include <tessera/config/render_memory.h>
 #include <tessera/denoiser.h>
 #include <tessera/film.h>
 #include <tessera/memory_estimate.h>
 #include <tessera/render.h>
-#include <tessera/axis_order_check.h>
 #include <tessera/scene_warnings.h>
 
 #include <chrono>
@@ -63,8 +63,8 @@ RenderOptions options_for(const config::Config& cfg, const config::RenderSpec& f
 
 /// The render's estimated allocations against the memory limit, before any of them is made
 /// (the envmap's header is read, not its pixels); writes the formats of `targets`.
-void check_memory(const config::Config& cfg, const config::RenderSpec& spec, const VolumeInfo& volume,
-                  const Args& args, const std::vector<OutputTarget>& targets) {
+void check_memory(const config::Config& cfg, const config::RenderSpec& spec, const VolumeInfo& volume, const Args& args,
+                  const std::vector<OutputTarget>& targets) {
   const config::RenderSpec flagged = with_flags(spec, args);
   std::vector<ImageFormat> formats;
   for (const OutputTarget& t : targets) formats.push_back(t.format);
@@ -78,8 +78,8 @@ void check_memory(const config::Config& cfg, const config::RenderSpec& spec, con
 
 }  // namespace
 
-SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
-                    const VolumeInfo& volume, const Args& args) {
+SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec, const VolumeInfo& volume,
+                    const Args& args) {
   // The flags first: `distance: fit` frames the camera for the image's aspect ratio
   const config::RenderSpec flagged = with_flags(spec, args);
   SceneDesc scene = config::build_scene(flagged, volume.bounds, volume.range, volume.geometry);
@@ -99,8 +99,7 @@ void check_volume_memory(const config::Config& cfg) {
                            limit.text);
 }
 
-RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
-                        VolumeInfo& volume, const Args& args,
+RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec, VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress) {
   RenderedImage r = render_image(cfg, spec, volume, args, targets, show_progress);
   write_outputs(targets, r.image, spec.output);
@@ -108,9 +107,8 @@ RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spe
   return std::move(r.record);
 }
 
-RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& spec,
-                           VolumeInfo& volume, const Args& args,
-                           const std::vector<OutputTarget>& targets, bool show_progress) {
+RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& spec, VolumeInfo& volume,
+                           const Args& args, const std::vector<OutputTarget>& targets, bool show_progress) {
   using Clock = std::chrono::steady_clock;
   // Limits: the memory estimate before any allocation (the envmap included), then the clock
   check_memory(cfg, spec, volume, args, targets);
@@ -118,7 +116,8 @@ RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& 
   const double time_limit = args.time_limit.value_or(cfg.global.time_limit);
   SceneDesc scene = scene_for(cfg, spec, volume, args);
   if (time_limit > 0.0)
-    scene.options.deadline = t_begin + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(time_limit));
+    scene.options.deadline =
+        t_begin + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(time_limit));
   const auto time_limit_passed = [&](const DeadlineExceeded& e) {
     char buf[256];
     std::snprintf(buf, sizeof buf, "render '%s' passed %s = %g s after %.2f s (%zu/%zu tiles done); no image written",

@@ -26,16 +26,18 @@ std::int64_t parse_int(std::string_view flag, const char* text, std::int64_t min
   std::int64_t v = 0;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc() || end != s.data() + s.size() || v < min || v > max)
-    throw std::invalid_argument(std::string(flag) + " needs an integer >= " + std::to_string(min) +
-                                (max < std::numeric_limits<std::int64_t>::max() ? " and <= " + std::to_string(max) : "") +
-                                ", got '" + std::string(s) + "'");
+    throw std::invalid_argument(
+        std::string(flag) + " needs an integer >= " + std::to_string(min) +
+        (max < std::numeric_limits<std::int64_t>::max() ? " and <= " + std::to_string(max) : "") + ", got '" +
+        std::string(s) + "'");
   return v;
 }
 
 }  // namespace
 
 std::string usage() {
-  return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]\n"
+  return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump "
+         "FILE]\n"
          "                    [--work-ms N]\n"
          "  --config FILE     Tessera YAML config (default: the project's configs/heat.yaml)\n"
          "  --steps N         time steps after the initial state (default 100)\n"
@@ -50,7 +52,8 @@ Options parse_options(int argc, const char* const* argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string_view a = argv[i];
     const auto need = [&](int n) {
-      if (i + n >= argc) throw std::invalid_argument(std::string(a) + " needs " + std::to_string(n) + " value" + (n > 1 ? "s" : ""));
+      if (i + n >= argc)
+        throw std::invalid_argument(std::string(a) + " needs " + std::to_string(n) + " value" + (n > 1 ? "s" : ""));
     };
     if (a == "--help" || a == "-h") {
       o.help = true;

@@ -10,12 +10,12 @@
 namespace heat {
 
 struct Options {
-  std::string config;                           ///< "" = default_config_path()
-  std::int64_t steps = 100;                     ///< time steps after the initial state, >= 0
-  std::array<std::int64_t, 3> grid{64, 64, 64}; ///< global vertices, each >= 3
-  std::optional<std::string> output_dir;        ///< overrides the config's tessera.output_dir
-  std::optional<std::string> dump;              ///< raw float32 file of the final global field
-  std::int64_t work_ms = 0;                     ///< computation added to each step, [0, kMaxWorkMs]
+  std::string config;                            ///< "" = default_config_path()
+  std::int64_t steps = 100;                      ///< time steps after the initial state, >= 0
+  std::array<std::int64_t, 3> grid{64, 64, 64};  ///< global vertices, each >= 3
+  std::optional<std::string> output_dir;         ///< overrides the config's tessera.output_dir
+  std::optional<std::string> dump;               ///< raw float32 file of the final global field
+  std::int64_t work_ms = 0;                      ///< computation added to each step, [0, kMaxWorkMs]
   bool help = false;
 };
 

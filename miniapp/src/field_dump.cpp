@@ -57,8 +57,8 @@ void dump_field(const CartDecomposition& decomp, const HeatSolver& solver, const
   // Write: every result checked (the status's count too: a short write is a failure)
   std::string fault;
   MPI_File file;
-  int rc = MPI_File_open(decomp.comm(), tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_EXCL | MPI_MODE_WRONLY,
-                         MPI_INFO_NULL, &file);
+  int rc = MPI_File_open(decomp.comm(), tmp.c_str(), MPI_MODE_CREATE | MPI_MODE_EXCL | MPI_MODE_WRONLY, MPI_INFO_NULL,
+                         &file);
   const bool opened = rc == MPI_SUCCESS;
   if (!opened) fault = mpi_error(rc);
   if (opened) {
@@ -66,8 +66,7 @@ void dump_field(const CartDecomposition& decomp, const HeatSolver& solver, const
     MPI_Status status;
     if (rc == MPI_SUCCESS) rc = MPI_File_write_all(file, block.data(), count, MPI_FLOAT, &status);
     int written = 0;
-    if (rc != MPI_SUCCESS)
-      fault = mpi_error(rc);
+    if (rc != MPI_SUCCESS) fault = mpi_error(rc);
     else if (MPI_Get_count(&status, MPI_FLOAT, &written) != MPI_SUCCESS || written != count)
       fault = "short write: " + std::to_string(written) + " of " + std::to_string(count) + " values";
     rc = MPI_File_close(&file);

@@ -37,10 +37,8 @@ void HaloExchange::exchange(double* field) const {
   for (int a = 0; a < 3; ++a) {
     const int lo = m_decomp.neighbor(a, -1), hi = m_decomp.neighbor(a, +1);
     // Last owned layer up, low ghost layer filled from below; then the reverse.
-    MPI_Sendrecv(field, 1, m_face[a][1], hi, 2 * a, field, 1, m_face[a][2], lo, 2 * a, comm,
-                 MPI_STATUS_IGNORE);
-    MPI_Sendrecv(field, 1, m_face[a][0], lo, 2 * a + 1, field, 1, m_face[a][3], hi, 2 * a + 1, comm,
-                 MPI_STATUS_IGNORE);
+    MPI_Sendrecv(field, 1, m_face[a][1], hi, 2 * a, field, 1, m_face[a][2], lo, 2 * a, comm, MPI_STATUS_IGNORE);
+    MPI_Sendrecv(field, 1, m_face[a][0], lo, 2 * a + 1, field, 1, m_face[a][3], hi, 2 * a + 1, comm, MPI_STATUS_IGNORE);
   }
 }
 

@@ -88,8 +88,7 @@ void HeatSolver::step(double dt) {
           continue;
         }
         const double T = m_T[c];
-        const double lap = cx * (m_T[c - 1] - 2.0 * T + m_T[c + 1]) +
-                           cy * (m_T[c - sy] - 2.0 * T + m_T[c + sy]) +
+        const double lap = cx * (m_T[c - 1] - 2.0 * T + m_T[c + 1]) + cy * (m_T[c - sy] - 2.0 * T + m_T[c + sy]) +
                            cz * (m_T[c - sz] - 2.0 * T + m_T[c + sz]);
         m_next[c] = T + dt * lap;
       }

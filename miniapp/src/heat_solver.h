@@ -24,10 +24,10 @@
 namespace heat {
 
 struct HeatParams {
-  double alpha = 0.01;          ///< diffusivity, domain units^2 / s
-  double boundary_value = 300.0;///< wall temperature, K
-  double initial_value = 300.0; ///< interior temperature at t = 0, K
-  double safety = 0.9;          ///< stable_dt() = safety * stability limit, in (0, 1]
+  double alpha = 0.01;            ///< diffusivity, domain units^2 / s
+  double boundary_value = 300.0;  ///< wall temperature, K
+  double initial_value = 300.0;   ///< interior temperature at t = 0, K
+  double safety = 0.9;            ///< stable_dt() = safety * stability limit, in (0, 1]
   std::vector<HeatSource> sources;
 };
 
@@ -67,7 +67,7 @@ class HeatSolver {
   const CartDecomposition& m_decomp;
   HeatParams m_params;
   HaloExchange m_halo;
-  Index3 m_dims{};                 ///< local array extent, ghosts included
+  Index3 m_dims{};  ///< local array extent, ghosts included
   std::array<double, 3> m_h{};
   double m_stable_dt = 0.0;
   double m_time = 0.0;

@@ -14,13 +14,13 @@ namespace heat {
 
 struct HeatSource {
   std::array<double, 3> centre{0.5, 0.5, 0.5};  ///< centre of the orbit
-  double radius = 0.0;         ///< orbit radius (0: fixed)
-  double period = 1.0;         ///< orbit period T_s, s (!= 0; negative: clockwise)
-  double phase = 0.0;          ///< orbit phase, radians
-  double amplitude = 0.0;      ///< A_s, K / s
-  double pulse = 0.0;          ///< p_s in [0, 1]: relative pulsation of the amplitude
-  double pulse_period = 1.0;   ///< P_s, s (> 0)
-  double sigma = 0.05;         ///< width, domain units (> 0)
+  double radius = 0.0;                          ///< orbit radius (0: fixed)
+  double period = 1.0;                          ///< orbit period T_s, s (!= 0; negative: clockwise)
+  double phase = 0.0;                           ///< orbit phase, radians
+  double amplitude = 0.0;                       ///< A_s, K / s
+  double pulse = 0.0;                           ///< p_s in [0, 1]: relative pulsation of the amplitude
+  double pulse_period = 1.0;                    ///< P_s, s (> 0)
+  double sigma = 0.05;                          ///< width, domain units (> 0)
 };
 
 /// Where a source is at time t, and its amplitude then.

@@ -25,9 +25,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// Everything rank 0 prints goes through here (one line, flushed).
 void say(int rank, const std::string& line, FILE* to = stdout) {
@@ -84,8 +82,7 @@ int run(int argc, char** argv) {
                 std::to_string(decomp->procs()[2]) + "), dt = " + std::to_string(dt) + " s, " +
                 std::to_string(opt.steps) + " steps" +
                 (opt.work_ms > 0 ? " (+" + std::to_string(opt.work_ms) + " ms of work each)" : std::string()) +
-                ", config " + config +
-                (opt.output_dir ? ", output dir " + *opt.output_dir : std::string()));
+                ", config " + config + (opt.output_dir ? ", output dir " + *opt.output_dir : std::string()));
 
   // Adapter: open collectively over the world communicator; --output-dir replaces the config's
   tessera::insitu::Adapter adapter;
@@ -147,7 +144,8 @@ int run(int argc, char** argv) {
     try {
       status = adapter.execute(step, solver->time(), grid, {&field, 1}, step == opt.steps);
     } catch (const tessera::insitu::AdapterError& e) {  // on_error: abort
-      say(rank, "tessera-heat: step " + std::to_string(step) + ": " + e.what() + " (on_error: abort; stopping)", stderr);
+      say(rank, "tessera-heat: step " + std::to_string(step) + ": " + e.what() + " (on_error: abort; stopping)",
+          stderr);
       return 1;
     }
     const double r = seconds_since(t0);
@@ -160,8 +158,9 @@ int run(int argc, char** argv) {
     rendered_once = rendered_once || !adapter.last_results().empty();
     if (status != TESSERA_OK) {
       ++failures;
-      say(rank, "tessera-heat: step " + std::to_string(step) + ": " + adapter.last_error() +
-                    " (the simulation goes on)", stderr);
+      say(rank,
+          "tessera-heat: step " + std::to_string(step) + ": " + adapter.last_error() + " (the simulation goes on)",
+          stderr);
     }
     // Progress: temperature range and the slowest rank's seconds so far
     if (step % report_every == 0 || step == opt.steps) {
@@ -170,7 +169,8 @@ int run(int argc, char** argv) {
       MPI_Reduce(range, global, 2, MPI_DOUBLE, MPI_MIN, 0, MPI_COMM_WORLD);
       const double sim = slowest(sim_seconds), ren = slowest(render_seconds);
       char line[256];
-      std::snprintf(line, sizeof line, "step %6lld  t = %.4f s  T in [%.2f, %.2f] K  simulation %.2f s  rendering %.2f s",
+      std::snprintf(line, sizeof line,
+                    "step %6lld  t = %.4f s  T in [%.2f, %.2f] K  simulation %.2f s  rendering %.2f s",
                     static_cast<long long>(step), solver->time(), global[0], -global[1], sim, ren);
       say(rank, line);
     }
@@ -198,8 +198,7 @@ int run(int argc, char** argv) {
                   budget, ren_after / sim_after);
   else if (sim > 0.0 && budget > 0.0)
     std::snprintf(cost, sizeof cost, " (%.3gx the simulation; budget %g)", ren / sim, budget);
-  else if (sim > 0.0)
-    std::snprintf(cost, sizeof cost, " (%.3gx the simulation)", ren / sim);
+  else if (sim > 0.0) std::snprintf(cost, sizeof cost, " (%.3gx the simulation)", ren / sim);
   char skips[64] = "";
   if (budget > 0.0) std::snprintf(skips, sizeof skips, ", %d skipped by the budget", skipped);
   std::snprintf(line, sizeof line,

@@ -32,8 +32,8 @@ using FieldTuple = std::tuple<std::string, std::uintptr_t, int, Int3, Int3, Int3
 class PyAdapter {
  public:
   /// Validates the config here first (a ConfigError with its key path), then opens.
-  PyAdapter(const std::string& source, bool is_text, const std::string& name, int comm_f,
-            const std::string& output_dir, bool quiet) {
+  PyAdapter(const std::string& source, bool is_text, const std::string& name, int comm_f, const std::string& output_dir,
+            bool quiet) {
     if (!is_text) require_no_nul(source, "config");
     require_no_nul(output_dir, "output_dir");
     load_config_source(source, is_text, name);
@@ -50,8 +50,8 @@ class PyAdapter {
   }
 
   /// Returns the status; with `on_error: abort` a failure raises instead.
-  int execute(std::int64_t step, double time, Double3 origin, Double3 spacing, Int3 global_dims,
-              Int3 offset, const std::vector<FieldTuple>& fields, bool final_step) {
+  int execute(std::int64_t step, double time, Double3 origin, Double3 spacing, Int3 global_dims, Int3 offset,
+              const std::vector<FieldTuple>& fields, bool final_step) {
     tessera_grid grid{};
     for (int a = 0; a < 3; ++a) {
       grid.origin[a] = origin[a];
@@ -153,12 +153,10 @@ class PyAdapter {
 
 void register_adapter(nb::module_& m) {
   nb::class_<PyAdapter>(m, "Adapter")
-      .def(nb::init<const std::string&, bool, const std::string&, int, const std::string&, bool>(),
-           nb::arg("source"), nb::arg("is_text"), nb::arg("name"), nb::arg("comm_f"), nb::arg("output_dir"),
-           nb::arg("quiet"))
-      .def("execute", &PyAdapter::execute, nb::arg("step"), nb::arg("time"), nb::arg("origin"),
-           nb::arg("spacing"), nb::arg("global_dims"), nb::arg("offset"), nb::arg("fields"),
-           nb::arg("final_step"))
+      .def(nb::init<const std::string&, bool, const std::string&, int, const std::string&, bool>(), nb::arg("source"),
+           nb::arg("is_text"), nb::arg("name"), nb::arg("comm_f"), nb::arg("output_dir"), nb::arg("quiet"))
+      .def("execute", &PyAdapter::execute, nb::arg("step"), nb::arg("time"), nb::arg("origin"), nb::arg("spacing"),
+           nb::arg("global_dims"), nb::arg("offset"), nb::arg("fields"), nb::arg("final_step"))
       .def("close", &PyAdapter::close)
       .def("last_error", &PyAdapter::last_error)
       .def("is_open", &PyAdapter::is_open)

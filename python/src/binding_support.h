@@ -24,8 +24,8 @@ enum class ErrorKind { Config, Data, Render, Output, Disabled };
 struct PyError : std::exception {
   ErrorKind kind = ErrorKind::Render;
   std::string message;
-  std::string file;      ///< Config only: the file (or "config dict")
-  int line = 0;          ///< Config only, 0 = unknown
+  std::string file;  ///< Config only: the file (or "config dict")
+  int line = 0;      ///< Config only, 0 = unknown
   int column = 0;
   std::string key_path;  ///< Config only: renders[0].camera.fov
   const char* what() const noexcept override { return message.c_str(); }

@@ -54,14 +54,14 @@ void require_no_nul(const std::string& text, const char* what) {
 }
 
 void register_errors(nb::module_& m) {
-  m.def("_set_error_types", [](nb::object config, nb::object data, nb::object render, nb::object output,
-                               nb::object disabled) {
-    const nb::object types[5] = {config, data, render, output, disabled};
-    for (int i = 0; i < 5; ++i) {
-      Py_XDECREF(g_error_types[i]);
-      g_error_types[i] = types[i].inc_ref().ptr();
-    }
-  });
+  m.def("_set_error_types",
+        [](nb::object config, nb::object data, nb::object render, nb::object output, nb::object disabled) {
+          const nb::object types[5] = {config, data, render, output, disabled};
+          for (int i = 0; i < 5; ++i) {
+            Py_XDECREF(g_error_types[i]);
+            g_error_types[i] = types[i].inc_ref().ptr();
+          }
+        });
   nb::register_exception_translator([](const std::exception_ptr& p, void*) {
     try {
       std::rethrow_exception(p);
@@ -72,9 +72,8 @@ void register_errors(nb::module_& m) {
         return;
       }
       nb::handle type(type_ptr);
-      nb::object exc = e.kind == ErrorKind::Config
-                           ? type(e.message, e.file, e.line, e.column, e.key_path)
-                           : type(e.message);
+      nb::object exc =
+          e.kind == ErrorKind::Config ? type(e.message, e.file, e.line, e.column, e.key_path) : type(e.message);
       PyErr_SetObject(type_ptr, exc.ptr());
     }
   });

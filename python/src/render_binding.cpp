@@ -51,10 +51,9 @@ nb::object to_numpy(std::vector<float>&& rgba, int width, int height) {
 }
 
 /// Returns (image, warnings, address of the first vertex the renderer read).
-nb::tuple render_array(const std::string& source, bool is_text, const std::string& name,
-                       const std::string& render_name, std::int64_t render_index, std::uintptr_t data,
-                       int dtype, Int3 dims, Int3 byte_strides, std::optional<Double3> spacing,
-                       std::optional<Double3> origin, std::int64_t step) {
+nb::tuple render_array(const std::string& source, bool is_text, const std::string& name, const std::string& render_name,
+                       std::int64_t render_index, std::uintptr_t data, int dtype, Int3 dims, Int3 byte_strides,
+                       std::optional<Double3> spacing, std::optional<Double3> origin, std::int64_t step) {
   if (!is_text) require_no_nul(source, "config");
   require_no_nul(render_name, "render");
   const config::Config cfg = load_config_source(source, is_text, name);
@@ -121,9 +120,9 @@ nb::object read_exr_rgba(const std::string& path) {
 
 void register_render(nb::module_& m) {
   m.def("_read_exr", &read_exr_rgba, nb::arg("path"));
-  m.def("render_array", &render_array, nb::arg("source"), nb::arg("is_text"), nb::arg("name"),
-        nb::arg("render_name"), nb::arg("render_index"), nb::arg("data"), nb::arg("dtype"), nb::arg("dims"),
-        nb::arg("byte_strides"), nb::arg("spacing").none(), nb::arg("origin").none(), nb::arg("step"));
+  m.def("render_array", &render_array, nb::arg("source"), nb::arg("is_text"), nb::arg("name"), nb::arg("render_name"),
+        nb::arg("render_index"), nb::arg("data"), nb::arg("dtype"), nb::arg("dims"), nb::arg("byte_strides"),
+        nb::arg("spacing").none(), nb::arg("origin").none(), nb::arg("step"));
 }
 
 }  // namespace tessera::python

@@ -60,8 +60,7 @@ inline double chi2_critical(int k, double alpha) {
 /// Pearson chi-square of observed counts against expected probabilities. Bins with an
 /// expected count under 5 are merged into the following bin (a leftover tail into the last
 /// bin kept). *dof = bins kept - 1.
-inline double chi_square(const std::vector<double>& observed, const std::vector<double>& prob,
-                         double total, int* dof) {
+inline double chi_square(const std::vector<double>& observed, const std::vector<double>& prob, double total, int* dof) {
   std::vector<double> o, e;
   double oa = 0.0, ea = 0.0;
   for (std::size_t i = 0; i < observed.size(); ++i) {
@@ -137,41 +136,40 @@ inline double mse_vs_reference(const PixelMoments& m, const PixelMoments& ref, d
 /// Result of a per-pixel test; ok() applies the rule of the file comment.
 struct PixelTest {
   int pixels = 0;
-  int dof = 0;                   ///< pixels with a non-zero variance (the others must match exactly)
+  int dof = 0;  ///< pixels with a non-zero variance (the others must match exactly)
   double alpha = 1e-4;
   double chi2 = 0.0, chi2_crit = 0.0;
   double max_abs_z = 0.0, z_crit = 0.0;
-  int worst = -1;                ///< pixel index of max |z|
-  double mean_diff = 0.0;        ///< image mean of (measured - expected)
-  double mean_diff_se = 0.0;     ///< its standard error
+  int worst = -1;             ///< pixel index of max |z|
+  double mean_diff = 0.0;     ///< image mean of (measured - expected)
+  double mean_diff_se = 0.0;  ///< its standard error
   double mean_expected = 0.0;
   /// Binomial tests only (compare_binomial): pixels where one outcome is rare are pooled, per
   /// rare outcome, into a Poisson test of the total count: observed, expected and two-sided
   /// p-value; [0] rare events (value), [1] rare non-events (0).
   int rare_pixels = 0;
   double rare_observed[2] = {0, 0}, rare_expected[2] = {0, 0}, rare_p[2] = {1, 1};
-  bool ok() const {
-    return chi2 < chi2_crit && max_abs_z < z_crit && rare_p[0] >= alpha && rare_p[1] >= alpha;
+  bool ok() const { return chi2 < chi2_crit && max_abs_z < z_crit && rare_p[0] >= alpha && rare_p[1] >= alpha; }
+  double mean_z() const {
+    return mean_diff_se > 0.0 ? std::fabs(mean_diff) / mean_diff_se : (mean_diff == 0.0 ? 0.0 : INFINITY);
   }
-  double mean_z() const { return mean_diff_se > 0.0 ? std::fabs(mean_diff) / mean_diff_se : (mean_diff == 0.0 ? 0.0 : INFINITY); }
   std::string describe() const {
     std::ostringstream s;
     s << pixels << " pixels: chi2 " << chi2 << " on " << dof << " dof (critical " << chi2_crit << "), max |z| "
-      << max_abs_z << " at pixel " << worst << " (critical " << z_crit << "), image mean diff "
-      << mean_diff << " +- " << mean_diff_se << " (expected mean " << mean_expected << ")";
+      << max_abs_z << " at pixel " << worst << " (critical " << z_crit << "), image mean diff " << mean_diff << " +- "
+      << mean_diff_se << " (expected mean " << mean_expected << ")";
     if (rare_pixels > 0)
       s << "; " << rare_pixels << " pixels pooled: rare events " << rare_observed[0] << " (expected "
-        << rare_expected[0] << ", p " << rare_p[0] << "), rare non-events " << rare_observed[1]
-        << " (expected " << rare_expected[1] << ", p " << rare_p[1] << ")";
+        << rare_expected[0] << ", p " << rare_p[0] << "), rare non-events " << rare_observed[1] << " (expected "
+        << rare_expected[1] << ", p " << rare_p[1] << ")";
     return s.str();
   }
 };
 
 /// z-scores (a - b) / sqrt(va + vb) per pixel, combined as described above. A pixel with zero
 /// variance contributes z = 0 if a == b up to 1e-12 relative, else z = infinity.
-inline PixelTest combine_z(const std::vector<double>& a, const std::vector<double>& va,
-                           const std::vector<double>& b, const std::vector<double>& vb,
-                           double alpha = 1e-4) {
+inline PixelTest combine_z(const std::vector<double>& a, const std::vector<double>& va, const std::vector<double>& b,
+                           const std::vector<double>& vb, double alpha = 1e-4) {
   PixelTest t;
   t.alpha = alpha;
   t.pixels = static_cast<int>(a.size());
@@ -208,8 +206,7 @@ inline PixelTest combine_z(const std::vector<double>& a, const std::vector<doubl
 /// per-sample variance of each pixel (e.g. Bernoulli T(1-T)); without it the film's own
 /// sample variance is used.
 inline PixelTest compare_to_expected(const tessera::Film& film, const std::vector<double>& expected,
-                                     const std::vector<double>* sample_var = nullptr,
-                                     double alpha = 1e-4) {
+                                     const std::vector<double>* sample_var = nullptr, double alpha = 1e-4) {
   const PixelMoments m = pixel_moments(film);
   std::vector<double> v = m.var_mean;
   if (sample_var)
@@ -308,8 +305,8 @@ inline bool bit_identical(const tessera::Film& a, const tessera::Film& b) {
   if (a.pixels().size() != b.pixels().size()) return false;
   for (std::size_t i = 0; i < a.pixels().size(); ++i) {
     const tessera::PixelSums &p = a.pixels()[i], &q = b.pixels()[i];
-    if (p.r != q.r || p.g != q.g || p.b != q.b || p.a != q.a || p.lum != q.lum ||
-        p.lum2 != q.lum2 || p.n != q.n || p.drawn != q.drawn)
+    if (p.r != q.r || p.g != q.g || p.b != q.b || p.a != q.a || p.lum != q.lum || p.lum2 != q.lum2 || p.n != q.n ||
+        p.drawn != q.drawn)
       return false;
   }
   return true;

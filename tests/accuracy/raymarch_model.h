@@ -19,10 +19,10 @@
 namespace tessera_acc {
 
 struct TrilinearField {
-  std::vector<float> v;      ///< C order, i fastest
+  std::vector<float> v;  ///< C order, i fastest
   int n[3];
   Vec3 origin, spacing;
-  double scale;              ///< sigma_t = scale * value
+  double scale;  ///< sigma_t = scale * value
 
   double value(const Vec3& x) const {
     double f[3];
@@ -35,8 +35,7 @@ struct TrilinearField {
       f[a] = p - i;
     }
     auto at = [&](int di, int dj, int dk) {
-      return static_cast<double>(
-          v[(static_cast<std::size_t>(i0[2] + dk) * n[1] + (i0[1] + dj)) * n[0] + (i0[0] + di)]);
+      return static_cast<double>(v[(static_cast<std::size_t>(i0[2] + dk) * n[1] + (i0[1] + dj)) * n[0] + (i0[0] + di)]);
     };
     double r = 0.0;
     for (int c = 0; c < 8; ++c) {
@@ -85,7 +84,7 @@ inline double raymarch_transmittance(const TrilinearField& m, const Ray& r, doub
   };
   double e = 0.0;
   for (int k = 0; k < mpts; ++k) {
-    e += f * std::exp(-S(f * (k + 0.5) / mpts));                    // xi in [0, f): K + 1 terms
+    e += f * std::exp(-S(f * (k + 0.5) / mpts));                      // xi in [0, f): K + 1 terms
     e += (1.0 - f) * std::exp(-S(f + (1.0 - f) * (k + 0.5) / mpts));  // xi in [f, 1): K terms
   }
   return e / mpts;
@@ -105,9 +104,8 @@ inline TrilinearField raymarch_field(int n, double scale) {
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const double x = i * m.spacing.x, y = j * m.spacing.y, z = k * m.spacing.z;
-        m.v[(static_cast<std::size_t>(k) * n + j) * n + i] =
-            static_cast<float>(0.55 + 0.2 * std::sin(3.1 * x + 0.4) * std::cos(2.3 * y - 0.3) +
-                               0.1 * std::cos(4.0 * z + 1.0));
+        m.v[(static_cast<std::size_t>(k) * n + j) * n + i] = static_cast<float>(
+            0.55 + 0.2 * std::sin(3.1 * x + 0.4) * std::cos(2.3 * y - 0.3) + 0.1 * std::cos(4.0 * z + 1.0));
       }
   return m;
 }

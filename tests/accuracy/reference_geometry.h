@@ -111,8 +111,7 @@ template <class F>
 double pixel_average_lens(const RefCamera& cam, int px, int py, int n, F&& f) {
   static const RSequence seq(4);
   double s = 0.0;
-  for (int k = 0; k < n; ++k)
-    s += f(cam.ray(px + seq.at(k, 0), py + seq.at(k, 1), seq.at(k, 2), seq.at(k, 3)));
+  for (int k = 0; k < n; ++k) s += f(cam.ray(px + seq.at(k, 0), py + seq.at(k, 1), seq.at(k, 2), seq.at(k, 3)));
   return s / n;
 }
 
@@ -186,12 +185,9 @@ inline tessera::SceneDesc unit_box_scene(double sigma, double albedo) {
 /// sigma (albedo 0) in front of a constant background of radiance 1 and nothing else, so each
 /// pixel's escape count is Binomial(n, T_pix), T_pix = E[exp(-sigma chord)] over the pixel
 /// (and lens). Returns the per-pixel test of the film against T_pix.
-inline PixelTest absorbing_box_test(const FieldView& view, const tessera::SceneDesc& s, const Vec3& lo,
-                                    const Vec3& hi, double sigma, int m = 64,
-                                    tessera::RenderStats* stats = nullptr) {
-  const std::vector<double> T = expected_image(s, m, [&](const Ray& r) {
-    return std::exp(-sigma * chord(r, lo, hi));
-  });
+inline PixelTest absorbing_box_test(const FieldView& view, const tessera::SceneDesc& s, const Vec3& lo, const Vec3& hi,
+                                    double sigma, int m = 64, tessera::RenderStats* stats = nullptr) {
+  const std::vector<double> T = expected_image(s, m, [&](const Ray& r) { return std::exp(-sigma * chord(r, lo, hi)); });
   const tessera::Film film = render(view, s, stats);
   if (!all_finite(film)) {
     PixelTest bad;

@@ -18,8 +18,7 @@
 
 using namespace tessera_acc;
 
-TEST_CASE("1e5 accumulated 1-spp frames: film mean within 1e-6 of the exact sample mean",
-          "[accuracy][accumulation]") {
+TEST_CASE("1e5 accumulated 1-spp frames: film mean within 1e-6 of the exact sample mean", "[accuracy][accumulation]") {
   constexpr int kFrames = 100000, kN = 9;
   const std::vector<float> field = cloud_field(kN, kN, kN);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, kN, kN, kN);
@@ -85,9 +84,8 @@ TEST_CASE("1e5 accumulated 1-spp frames: film mean within 1e-6 of the exact samp
     const double exact_r = static_cast<double>(r[i].sum / n), exact_lum = static_cast<double>(lum[i].sum / n);
     const double rel_r = std::fabs(p.r / kFrames - exact_r) / exact_r;
     const double rel_lum = std::fabs(p.lum / kFrames - exact_lum) / exact_lum;
-    INFO("pixel " << i << ": mean red " << p.r / kFrames << " (exact " << exact_r << ", relative "
-                  << rel_r << "), luminance relative " << rel_lum << ", samples in [" << r[i].min
-                  << ", " << r[i].max << "]");
+    INFO("pixel " << i << ": mean red " << p.r / kFrames << " (exact " << exact_r << ", relative " << rel_r
+                  << "), luminance relative " << rel_lum << ", samples in [" << r[i].min << ", " << r[i].max << "]");
     CHECK(rel_r < 1e-6);
     CHECK(rel_lum < 1e-6);
     CHECK(p.r == r[i].naive);

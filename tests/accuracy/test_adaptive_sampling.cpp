@@ -39,9 +39,8 @@ void check(const Case& c, int spp, double target) {
   s.camera.fov_deg = 20.0;
   s.image = {32, 32, spp, target};
   s.options.seed = 1300;
-  const std::vector<double> T = expected_image(s, 8, [&](const Ray& r) {
-    return std::exp(-c.sigma * chord(r, Vec3(0.0), Vec3(1.0)));
-  });
+  const std::vector<double> T =
+      expected_image(s, 8, [&](const Ray& r) { return std::exp(-c.sigma * chord(r, Vec3(0.0), Vec3(1.0))); });
   std::vector<double> P(T.size());  // probability of a sample of value 1
   for (std::size_t i = 0; i < T.size(); ++i) P[i] = c.emissive ? 1.0 - T[i] : T[i];
   tessera::RenderStats st;
@@ -60,10 +59,10 @@ void check(const Case& c, int spp, double target) {
   std::uint64_t lo = ~0ull, hi = 0;
   for (const tessera::PixelSums& p : film.pixels()) lo = std::min(lo, p.n), hi = std::max(hi, p.n);
   const double rel_rmse = std::sqrt(sq / static_cast<double>(P.size())) / (expected / static_cast<double>(P.size()));
-  INFO("counts " << lo << ".." << hi << ", relative RMSE " << rel_rmse << "; " << c.name << ", target_error " << target << ": " << static_cast<double>(st.samples) / n
-              << " samples per pixel, image mean " << (expected + diff) / n << " vs expected "
-              << expected / n << " (" << diff / std::sqrt(var) << " standard errors, relative "
-              << diff / expected << ")");
+  INFO("counts " << lo << ".." << hi << ", relative RMSE " << rel_rmse << "; " << c.name << ", target_error " << target
+                 << ": " << static_cast<double>(st.samples) / n << " samples per pixel, image mean "
+                 << (expected + diff) / n << " vs expected " << expected / n << " (" << diff / std::sqrt(var)
+                 << " standard errors, relative " << diff / expected << ")");
   CHECK(std::fabs(diff) < 4.0 * std::sqrt(var));
   if (target > 0.0) {  // the counts adapt: they differ between pixels, all below spp
     CHECK(lo < hi);

@@ -16,8 +16,7 @@
 
 using namespace tessera_acc;
 
-TEST_CASE("RMSE against a 4096-spp reference falls as N^-1/2 from 4 to 1024 spp",
-          "[accuracy][convergence]") {
+TEST_CASE("RMSE against a 4096-spp reference falls as N^-1/2 from 4 to 1024 spp", "[accuracy][convergence]") {
   constexpr int kN = 17;
   const std::vector<float> field = cloud_field(kN, kN, kN);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, kN, kN, kN);

@@ -33,9 +33,8 @@ TEST_CASE("emission-only homogeneous box: L = Le (1 - T) per pixel", "[accuracy]
   for (const auto sc : {tessera::Scattering::Single, tessera::Scattering::Multiple}) {
     SECTION(sc == tessera::Scattering::Single ? "single scattering" : "multiple scattering") {
       s.integrator.scattering = sc;
-      const std::vector<double> T = expected_image(s, 64, [&](const Ray& r) {
-        return std::exp(-kSigma * chord(r, Vec3(0.0), Vec3(1.0)));
-      });
+      const std::vector<double> T =
+          expected_image(s, 64, [&](const Ray& r) { return std::exp(-kSigma * chord(r, Vec3(0.0), Vec3(1.0))); });
       std::vector<double> p_collide(T.size());
       for (std::size_t i = 0; i < T.size(); ++i) p_collide[i] = 1.0 - T[i];
       const tessera::Film film = render(view, s);
@@ -50,8 +49,7 @@ TEST_CASE("emission-only homogeneous box: L = Le (1 - T) per pixel", "[accuracy]
   }
 }
 
-TEST_CASE("emission-only heterogeneous box: integral of sigma_t Le T along each ray",
-          "[accuracy][emission]") {
+TEST_CASE("emission-only heterogeneous box: integral of sigma_t Le T along each ray", "[accuracy][emission]") {
   // v = (x + 2y + 3z) / 6 on the unit box (9^3 vertices): trilinear interpolation reproduces a
   // linear field, so u(t) is linear along every ray.
   constexpr int n = 9;

@@ -76,8 +76,7 @@ TEST_CASE("delta and ratio tracking of shadow rays: equal expected images", "[ac
   check_equal_expectation(ratio, ratio_nr, "ratio with vs without roulette");
 }
 
-TEST_CASE("delta and ratio tracking behind a thick absorber with a loose majorant",
-          "[accuracy][consistency]") {
+TEST_CASE("delta and ratio tracking behind a thick absorber with a loose majorant", "[accuracy][consistency]") {
   // Shadow rays from a thin scattering layer (y > 0.5) cross an absorbing layer (y < 0.5,
   // optical depth 2) to a rect light below; one hot vertex sets the global majorant to twice
   // the absorber's extinction, so ratio tracking halves its estimate per event and most shadow

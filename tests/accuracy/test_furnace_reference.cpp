@@ -38,9 +38,8 @@ void check(double tau, double g, int size, int spp, double alpha = 1e-4) {
   const std::vector<double> expected(static_cast<std::size_t>(size) * size, kL);
   const PixelTest t = compare_to_expected(film, expected, nullptr, alpha);
   const ImageMean m = image_mean(film);
-  INFO("tau " << tau << ", g " << g << ": " << t.describe() << "; image mean " << m.mean << " +- "
-              << m.se << ", real collisions per sample "
-              << static_cast<double>(st.real_collisions) / st.samples);
+  INFO("tau " << tau << ", g " << g << ": " << t.describe() << "; image mean " << m.mean << " +- " << m.se
+              << ", real collisions per sample " << static_cast<double>(st.real_collisions) / st.samples);
   CHECK(st.real_collisions > 0);
   CHECK(st.discarded_samples == 0);
   CHECK(t.ok());

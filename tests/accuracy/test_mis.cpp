@@ -67,8 +67,8 @@ void check_furnace(const tessera::SceneDesc& s, const std::vector<float>& field,
   const tessera::Film film = render(view, s, &st);
   const PixelTest t = compare_to_expected(film, std::vector<double>(film.pixels().size(), kL));
   const ImageMean m = image_mean(film);
-  INFO(what << ": " << t.describe() << "; image mean " << m.mean << " +- " << m.se
-            << ", real collisions per sample " << static_cast<double>(st.real_collisions) / st.samples);
+  INFO(what << ": " << t.describe() << "; image mean " << m.mean << " +- " << m.se << ", real collisions per sample "
+            << static_cast<double>(st.real_collisions) / st.samples);
   CHECK(st.real_collisions > st.samples);  // multiple scattering happens
   CHECK(t.ok());
   CHECK(m.z(kL) < 4.0);
@@ -92,8 +92,7 @@ TEST_CASE("MIS: a room of 24 rect lights keeps a white furnace at L", "[accuracy
   }
 }
 
-TEST_CASE("MIS: black lights change only the selection probability of the background",
-          "[accuracy][mis]") {
+TEST_CASE("MIS: black lights change only the selection probability of the background", "[accuracy][mis]") {
   const std::vector<float> field = cloud_field(kN, kN, kN);
   tessera::SceneDesc s = cloud_scene();
   s.background.color = Color(kL);

@@ -56,9 +56,8 @@ TEST_CASE("ray march: renderer equals the deterministic model per pixel, and del
       s.integrator.free_path = tessera::FreePath::Raymarch;
       s.integrator.step = step;
       const double h = step / (kN - 1);
-      const std::vector<double> model = expected_image(s, 2, [&](const Ray& r) {
-        return raymarch_transmittance(m, r, h, 32);
-      });
+      const std::vector<double> model =
+          expected_image(s, 2, [&](const Ray& r) { return raymarch_transmittance(m, r, h, 32); });
       tessera::RenderStats st;
       const tessera::Film film = render(view, s, &st);
       const PixelTest t = compare_binomial(film, model, 1.0);

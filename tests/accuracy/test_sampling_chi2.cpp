@@ -68,8 +68,8 @@ struct SphereBins {
     const Vec3 l = frame.to_local(w);
     const double mu = std::clamp(l.z, -1.0, 1.0);
     if (mu < mu_edges.front()) return below();
-    const int im = std::min(n_mu() - 1, static_cast<int>(std::upper_bound(mu_edges.begin(), mu_edges.end(), mu) -
-                                                      mu_edges.begin()) - 1);
+    const int im = std::min(
+        n_mu() - 1, static_cast<int>(std::upper_bound(mu_edges.begin(), mu_edges.end(), mu) - mu_edges.begin()) - 1);
     double phi = std::atan2(l.y, l.x);
     if (phi < 0.0) phi += 2.0 * kPi;
     const int ip = std::min(n_phi - 1, static_cast<int>(phi / (2.0 * kPi) * n_phi));
@@ -81,8 +81,8 @@ struct SphereBins {
   }
   /// Integral of pdf over mu in [mu0, mu1], phi in [phi0, phi1]: m x m midpoint rule in
   /// (theta, phi) with the weight sin(theta) (exact for the envmap's pdf ~ 1 / sin(theta)).
-  double cell(const std::function<double(const Vec3&)>& pdf, double mu0, double mu1, double phi0,
-              double phi1, int m) const {
+  double cell(const std::function<double(const Vec3&)>& pdf, double mu0, double mu1, double phi0, double phi1,
+              int m) const {
     double s = 0.0;
     const double th0 = std::acos(std::clamp(mu1, -1.0, 1.0)), th1 = std::acos(std::clamp(mu0, -1.0, 1.0));
     const double dt = (th1 - th0) / m, dp = (phi1 - phi0) / m;
@@ -120,16 +120,16 @@ struct Chi2Result {
   double failed_fraction = 0.0;
   std::string describe() const {
     std::ostringstream s;
-    s << "chi2 " << chi2 << " on " << dof << " dof (critical " << crit << "), integral of pdf "
-      << pdf_integral << ", failed fraction " << failed_fraction << ", worst pdf mismatch " << worst_pdf;
+    s << "chi2 " << chi2 << " on " << dof << " dof (critical " << crit << "), integral of pdf " << pdf_integral
+      << ", failed fraction " << failed_fraction << ", worst pdf mismatch " << worst_pdf;
     return s.str();
   }
 };
 
 /// `draw(rng, &w, &pdf)` returns false on a failed sample.
 Chi2Result run_chi2(const SphereBins& bins, const std::function<double(const Vec3&)>& pdf,
-                    const std::function<bool(tessera::Rng&, Vec3*, double*)>& draw, int samples,
-                    std::uint64_t seed, int sub) {
+                    const std::function<bool(tessera::Rng&, Vec3*, double*)>& draw, int samples, std::uint64_t seed,
+                    int sub) {
   std::vector<double> counts(bins.count(), 0.0);
   tessera::Rng rng(seed, 0, 0, 0);
   Chi2Result r;
@@ -157,8 +157,7 @@ Chi2Result run_chi2(const SphereBins& bins, const std::function<double(const Vec
 
 }  // namespace
 
-TEST_CASE("HG sampling: histogram of directions equals hg_eval, g from -0.9 to 0.95",
-          "[accuracy][chi2]") {
+TEST_CASE("HG sampling: histogram of directions equals hg_eval, g from -0.9 to 0.95", "[accuracy][chi2]") {
   tessera::Rng pick(11, 0, 0, 0);
   for (const double g : {-0.9, -0.5, 0.0, 0.3, 0.7, 0.95}) {
     const Vec3 d_in = glm::normalize(Vec3(pick.uniform() - 0.5, pick.uniform() - 0.5, pick.uniform() - 0.5));
@@ -174,8 +173,7 @@ TEST_CASE("HG sampling: histogram of directions equals hg_eval, g from -0.9 to 0
     const SphereBins about_other(Vec3(1.0, 2.0, 3.0), SphereBins::uniform(-1.0, 24), 32);
     for (const SphereBins* b : {&about_lobe, &about_other}) {
       const Chi2Result r = run_chi2(*b, pdf, draw, 1000000, 100 + static_cast<int>(g * 100), 16);
-      INFO("g " << g << (b == &about_lobe ? ", bins about the lobe: " : ", bins about (1,2,3): ")
-                << r.describe());
+      INFO("g " << g << (b == &about_lobe ? ", bins about the lobe: " : ", bins about (1,2,3): ") << r.describe());
       CHECK(r.chi2 < r.crit);
       CHECK(r.pdf_integral == Approx(1.0).epsilon(2e-3));
       CHECK(r.worst_pdf < 1e-9);
@@ -224,8 +222,7 @@ TEST_CASE("GGX + Lambert BRDF sampling: histogram of wi equals SurfaceBrdf::pdf"
   }
 }
 
-TEST_CASE("rect light sampling: histogram of directions equals the solid-angle pdf",
-          "[accuracy][chi2]") {
+TEST_CASE("rect light sampling: histogram of directions equals the solid-angle pdf", "[accuracy][chi2]") {
   const tessera::RectLightDesc d{Vec3(0.3, -0.2, 1.0), Vec3(0.1, 0.4, -1.0), 1.2, 0.5, Color(1.0)};
   const tessera::RectLight light(d);
   const Vec3 n = glm::normalize(d.target - d.position);
@@ -298,8 +295,7 @@ TEST_CASE("sphere light sampling: histogram of directions equals the cone pdf", 
   }
 }
 
-TEST_CASE("envmap importance sampling: histogram of directions equals Environment::pdf",
-          "[accuracy][chi2]") {
+TEST_CASE("envmap importance sampling: histogram of directions equals Environment::pdf", "[accuracy][chi2]") {
   // 16 x 8 texels: a smooth gradient, a bright texel, a black band (never sampled) and a
   // black texel at the bottom pole row.
   constexpr int W = 16, H = 8;

@@ -51,17 +51,15 @@ TEST_CASE("single-scattering slab formula: thin limit and the E_n closed form fo
   // Backward half for g = 0 against the exponential-integral form.
   static const GaussLegendre gl(200);
   for (const double tau : {0.1, 1.0, 3.0}) {
-    const double quad = 0.5 * gl.integrate(0.0, 1.0, [&](double mu) {
-      return -mu * std::expm1(-tau * (1.0 + mu) / mu) / (1.0 + mu);
-    });
+    const double quad =
+        0.5 * gl.integrate(0.0, 1.0, [&](double mu) { return -mu * std::expm1(-tau * (1.0 + mu) / mu) / (1.0 + mu); });
     const double closed = 0.5 * (1.0 - std::log(2.0) - std::exp(-tau) * (E2(tau) - E1(tau)) - E1(2.0 * tau));
     INFO("tau " << tau);
     CHECK(quad == Approx(closed).epsilon(1e-10));
   }
 }
 
-TEST_CASE("single scattering of a constant background in a thin slab, per pixel",
-          "[accuracy][single_scattering]") {
+TEST_CASE("single scattering of a constant background in a thin slab, per pixel", "[accuracy][single_scattering]") {
   constexpr double kAlbedo = 0.8, kL = 1.0;
   const std::vector<float> field = constant_field(2, 2, 2, 1.0f);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, 2, 2, 2);
@@ -85,8 +83,8 @@ TEST_CASE("single scattering of a constant background in a thin slab, per pixel"
         const PixelTest t = compare_to_expected(film, expected);
         const ImageMean m = image_mean(film);
         const double no_exit_T = kAlbedo * kL * (1.0 - std::exp(-tau));
-        INFO("reference " << ref << ", image mean " << m.mean << " +- " << m.se
-                          << ", without exit transmittance " << no_exit_T << "; " << t.describe());
+        INFO("reference " << ref << ", image mean " << m.mean << " +- " << m.se << ", without exit transmittance "
+                          << no_exit_T << "; " << t.describe());
         CHECK(t.ok());
         CHECK(m.z(ref) < 4.0);
         CHECK(std::fabs(no_exit_T - ref) > 6.0 * m.se);

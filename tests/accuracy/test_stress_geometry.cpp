@@ -67,7 +67,8 @@ TEST_CASE("one or two vertices along an axis", "[accuracy][stress]") {
     tessera::RenderStats st;
     const tessera::Film film = render(view, s, &st);
     bool all_background = true;
-    for (const tessera::PixelSums& p : film.pixels()) all_background = all_background && p.r == static_cast<double>(p.n);
+    for (const tessera::PixelSums& p : film.pixels())
+      all_background = all_background && p.r == static_cast<double>(p.n);
     CHECK(all_background);
     CHECK(st.free_flight_lookups == 0);
   }
@@ -111,7 +112,8 @@ TEST_CASE("spacing 1e-6 and 1e6, origin 1e7: the unit image within noise", "[acc
     s.integrator.scattering = tessera::Scattering::Multiple;
     s.integrator.max_bounces = 6;
     s.camera = camera(place(Vec3(1.5, 1.1, -1.6)), place(Vec3(0.5, 0.5, 0.5)), Vec3(0, 1, 0), 35.0);
-    s.lights.push_back(tessera::RectLightDesc{place(Vec3(0.5, 1.8, 0.5)), place(Vec3(0.5, 0.0, 0.5)), 0.8 * scale, 0.8 * scale, Color(4.0)});
+    s.lights.push_back(tessera::RectLightDesc{place(Vec3(0.5, 1.8, 0.5)), place(Vec3(0.5, 0.0, 0.5)), 0.8 * scale,
+                                              0.8 * scale, Color(4.0)});
     s.lights.push_back(tessera::SphereLightDesc{place(Vec3(-0.8, 0.4, 0.3)), 0.25 * scale, Color(3.0)});
     s.background.color = Color(0.2);
     s.image = {16, 16, 64, 0.0};
@@ -141,8 +143,7 @@ TEST_CASE("spacing 1e-6 and 1e6, origin 1e7: the unit image within noise", "[acc
   }
 }
 
-TEST_CASE("camera inside, on a face, along an axis, fov extremes, huge aperture",
-          "[accuracy][stress]") {
+TEST_CASE("camera inside, on a face, along an axis, fov extremes, huge aperture", "[accuracy][stress]") {
   const UnitBox box;
   const Vec3 lo(0.0), hi(1.0);
   SECTION("inside the volume, looking exactly along +z") {
@@ -163,7 +164,8 @@ TEST_CASE("camera inside, on a face, along an axis, fov extremes, huge aperture"
     tessera::RenderStats st;
     const tessera::Film film = render(box.view, s, &st);
     bool all_background = true;
-    for (const tessera::PixelSums& p : film.pixels()) all_background = all_background && p.r == static_cast<double>(p.n);
+    for (const tessera::PixelSums& p : film.pixels())
+      all_background = all_background && p.r == static_cast<double>(p.n);
     CHECK(all_background);
     CHECK(st.real_collisions == 0);
   }
@@ -190,8 +192,7 @@ TEST_CASE("camera inside, on a face, along an axis, fov extremes, huge aperture"
   }
 }
 
-TEST_CASE("lights inside an absorbing volume: Le T(0, t_light) + L_bg T(0, exit) per pixel",
-          "[accuracy][stress]") {
+TEST_CASE("lights inside an absorbing volume: Le T(0, t_light) + L_bg T(0, exit) per pixel", "[accuracy][stress]") {
   const UnitBox box;
   const double sigma = 1.2;
   tessera::SceneDesc s = absorbing(sigma, camera(Vec3(1.9, 1.3, -1.6), Vec3(0.5, 0.5, 0.5), Vec3(0, 1, 0), 38.0), 512);

@@ -47,8 +47,8 @@ FieldView view_of(const std::vector<T>& f, tessera::DType dt) {
 
 }  // namespace
 
-TEMPLATE_TEST_CASE("NaN and +-Inf vertices render as lo / hi substitutes, bit for bit",
-                   "[accuracy][stress]", float, double) {
+TEMPLATE_TEST_CASE("NaN and +-Inf vertices render as lo / hi substitutes, bit for bit", "[accuracy][stress]", float,
+                   double) {
   const tessera::DType dt = std::is_same_v<TestType, float> ? tessera::DType::Float32 : tessera::DType::Float64;
   const std::vector<float> base = cloud_field(kN, kN, kN);
   std::vector<TestType> bad(base.begin(), base.end()), subst(base.begin(), base.end());
@@ -56,8 +56,8 @@ TEMPLATE_TEST_CASE("NaN and +-Inf vertices render as lo / hi substitutes, bit fo
   std::uint64_t nans = 0;
   for (std::size_t i = 0; i < bad.size(); i += 7) {
     switch ((i / 7) % 3) {
-      case 0: bad[i] = nan, subst[i] = 0, ++nans; break;     // lo = 0
-      case 1: bad[i] = inf, subst[i] = 1; break;             // hi = 1
+      case 0: bad[i] = nan, subst[i] = 0, ++nans; break;  // lo = 0
+      case 1: bad[i] = inf, subst[i] = 1; break;          // hi = 1
       default: bad[i] = -inf, subst[i] = 0; break;
     }
   }

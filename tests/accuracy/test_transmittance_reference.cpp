@@ -45,9 +45,8 @@ void check_case(const Case& c, double sigma) {
   s.options.seed = 101;
 
   const Vec3 lo(0.0), hi(1.0);
-  const std::vector<double> T = expected_image(s, 64, [&](const Ray& r) {
-    return std::exp(-sigma * chord(r, lo, hi));
-  }, 1 << 15);
+  const std::vector<double> T = expected_image(
+      s, 64, [&](const Ray& r) { return std::exp(-sigma * chord(r, lo, hi)); }, 1 << 15);
   tessera::RenderStats st;
   const tessera::Film film = render(view, s, &st);
   const PixelTest t = compare_binomial(film, T, 1.0);
@@ -66,8 +65,7 @@ void check_case(const Case& c, double sigma) {
 
 }  // namespace
 
-TEST_CASE("transmittance per pixel through an absorbing box: pinhole and thin lens",
-          "[accuracy][transmittance]") {
+TEST_CASE("transmittance per pixel through an absorbing box: pinhole and thin lens", "[accuracy][transmittance]") {
   tessera::CameraDesc oblique;
   oblique.position = Vec3(2.1, 1.6, -1.7);
   oblique.look_at = Vec3(0.5, 0.45, 0.55);
@@ -110,9 +108,8 @@ TEST_CASE("transmittance per pixel: thick and thin boxes", "[accuracy][transmitt
       s.camera = c.cam;
       s.image = {16, 16, 512, 0.0};
       s.options.seed = 102;
-      const std::vector<double> T = expected_image(s, 64, [&](const Ray& r) {
-        return std::exp(-sigma * chord(r, Vec3(0.0), Vec3(1.0)));
-      });
+      const std::vector<double> T =
+          expected_image(s, 64, [&](const Ray& r) { return std::exp(-sigma * chord(r, Vec3(0.0), Vec3(1.0))); });
       const PixelTest t = compare_binomial(render(view, s), T, 1.0);
       INFO(t.describe());
       CHECK(t.ok());

@@ -39,11 +39,10 @@ std::string slurp(const fs::path& p) {
 
 /// Runs tessera-render with `args` inside `dir`, capturing stdout and stderr.
 Run run_cli(const TempDir& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.path().string() + "' && '" TESSERA_RENDER_EXE "' " + args +
-                          " > cli.out 2> cli.err";
+  const std::string cmd =
+      "cd '" + dir.path().string() + "' && '" TESSERA_RENDER_EXE "' " + args + " > cli.out 2> cli.err";
   const int raw = std::system(cmd.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir.path() / "cli.out"),
-          slurp(dir.path() / "cli.err")};
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir.path() / "cli.out"), slurp(dir.path() / "cli.err")};
 }
 
 /// A 12^3 float32 Gaussian blob (values 300..400) and a scene with two renders.
@@ -107,11 +106,10 @@ TEST_CASE("tessera-render writes every render's outputs and statistics", "[cli]"
   CHECK(img.height == 16);
 
   const std::string json = slurp(dir.path() / "stats/run.json");
-  for (const char* key : {"wall_seconds", "samples", "samples_per_second", "density_lookups",
-                          "free_flight_lookups", "transmittance_lookups", "real_collisions",
-                          "null_collisions", "nan_voxels_seen", "discarded_samples", "tiles_total",
-                          "tiles_skipped", "threads", "lookups_per_real_collision", "renders",
-                          "stalled_paths", "warnings"})
+  for (const char* key : {"wall_seconds", "samples", "samples_per_second", "density_lookups", "free_flight_lookups",
+                          "transmittance_lookups", "real_collisions", "null_collisions", "nan_voxels_seen",
+                          "discarded_samples", "tiles_total", "tiles_skipped", "threads", "lookups_per_real_collision",
+                          "renders", "stalled_paths", "warnings"})
     CHECK_THAT(json, Contains(std::string("\"") + key + "\":"));
   // Totals: 24*16*2 + 16*16*1 samples
   CHECK_THAT(json, Contains("\"samples\": 1024,"));

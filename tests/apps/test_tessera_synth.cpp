@@ -40,11 +40,10 @@ std::string slurp(const fs::path& p) {
 
 /// Runs tessera-synth with `args` inside `dir`, capturing stdout and stderr.
 Run run_synth(const TempDir& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.path().string() + "' && timeout 60 '" TESSERA_SYNTH_EXE "' " +
-                          args + " > synth.out 2> synth.err";
+  const std::string cmd =
+      "cd '" + dir.path().string() + "' && timeout 60 '" TESSERA_SYNTH_EXE "' " + args + " > synth.out 2> synth.err";
   const int raw = std::system(cmd.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir.path() / "synth.out"),
-          slurp(dir.path() / "synth.err")};
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir.path() / "synth.out"), slurp(dir.path() / "synth.err")};
 }
 
 /// The values of a raw file of T, widened to double.
@@ -70,9 +69,8 @@ TEST_CASE("tessera-synth --help and -h print every option and kind and exit 0", 
     CHECK(r.status == 0);
     CHECK(r.err.empty());
     CHECK_THAT(r.out, StartsWith("usage: tessera-synth OUT.raw"));
-    for (const char* word : {"--dims", "--dtype", "--kind", "--seed", "--help", "blobs", "sphere",
-                             "linear", "float32", "float64", "uint8", "int16", "uint16",
-                             "[0, 1]", "[0, 255]", "[0, 4095]", "[0, 65535]"})
+    for (const char* word : {"--dims", "--dtype", "--kind", "--seed", "--help", "blobs", "sphere", "linear", "float32",
+                             "float64", "uint8", "int16", "uint16", "[0, 1]", "[0, 255]", "[0, 4095]", "[0, 65535]"})
       CHECK_THAT(r.out, Contains(word));
   }
   CHECK_FALSE(fs::exists(dir.path() / "out.raw"));  // --help writes nothing
@@ -155,7 +153,7 @@ TEST_CASE("tessera-synth: each kind and dtype has the documented size and value 
         const auto [lo, hi] = minmax(v);
         CHECK(lo >= 0.0);
         CHECK(hi <= s.max);
-        CHECK(hi > 0.5 * s.max);  // not blank: something near the top of the range
+        CHECK(hi > 0.5 * s.max);   // not blank: something near the top of the range
         CHECK(lo < 0.05 * s.max);  // and the corners are (near) empty
       }
   }

@@ -23,7 +23,7 @@ std::size_t count_lights(const std::vector<LightDesc>& lights) {
 /// The n-th light of kind D in `lights` (counted in list order), const or not as `lights`;
 /// throws std::out_of_range.
 template <class D, class List>
-  requires std::is_same_v<std::remove_const_t<List>, std::vector<LightDesc>>
+requires std::is_same_v<std::remove_const_t<List>, std::vector<LightDesc>>
 auto& nth_light(List& lights, std::size_t n) {
   std::size_t seen = 0;
   for (auto& l : lights)

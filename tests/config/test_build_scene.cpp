@@ -1,6 +1,6 @@
 // From specs to core scenes: orbit and centre points, relative lengths, TF range, lights.
-#include "test_support.h"
 #include "light_lookup.h"
+#include "test_support.h"
 
 #include <tessera/config/build_scene.h>
 #include <tessera/config/colormaps.h>
@@ -49,8 +49,7 @@ TEST_CASE("orbit directions about up = +z: reference +x, azimuth toward +y", "[c
   CHECK(near(orbit_direction({0, 90, 1}, z), Vec3(0, 0, 1)));
   CHECK(near(orbit_direction({0, -90, 1}, z), Vec3(0, 0, -1)));
   CHECK(near(orbit_direction({30, 20, 1}, z),
-             Vec3(std::cos(deg(20)) * std::cos(deg(30)), std::cos(deg(20)) * std::sin(deg(30)),
-                  std::sin(deg(20)))));
+             Vec3(std::cos(deg(20)) * std::cos(deg(30)), std::cos(deg(20)) * std::sin(deg(30)), std::sin(deg(20)))));
   // Length of up does not matter
   CHECK(near(orbit_direction({30, 20, 1}, Vec3(0, 0, 7)), orbit_direction({30, 20, 1}, z)));
 }
@@ -70,7 +69,7 @@ TEST_CASE("orbit directions about other up vectors", "[config][orbit]") {
   CHECK(near(d0, Vec3(0, 0, 1)));
   for (double az : {0.0, 45.0, 123.0, 300.0}) {
     const Vec3 d = orbit_direction({az, 0, 1}, up);
-    CHECK(std::abs(glm::dot(d, up)) < kEps);   // elevation 0: in the plane normal to up
+    CHECK(std::abs(glm::dot(d, up)) < kEps);  // elevation 0: in the plane normal to up
     CHECK(std::abs(glm::length(d) - 1.0) < kEps);
   }
   CHECK(std::abs(glm::dot(orbit_direction({77, 30, 1}, up), up) - std::sin(deg(30))) < kEps);
@@ -190,8 +189,8 @@ TEST_CASE("range: auto of a constant field stays non-empty for huge values", "[c
   // [v - 0.5, v + 0.5] == [v, v] in rounding, which prepare() refuses.
   RangeSpec automatic;
   automatic.automatic = true;
-  for (const double v : {5.5e306, -5.5e306, 1e12, std::numeric_limits<double>::max(),
-                         -std::numeric_limits<double>::max()}) {
+  for (const double v :
+       {5.5e306, -5.5e306, 1e12, std::numeric_limits<double>::max(), -std::numeric_limits<double>::max()}) {
     const auto [lo, hi] = resolve_range(automatic, {v, v});
     INFO("value " << v << ": [" << lo << ", " << hi << "]");
     CHECK(std::isfinite(lo));

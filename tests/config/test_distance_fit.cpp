@@ -55,8 +55,7 @@ TEST_CASE("fit_distance is 1 / sin(half the smaller field of view)", "[config][f
   // Wide images: the vertical fov is the smaller one, so the width does not matter
   CHECK(fit_distance(35.0, 400, 100) == Approx(fit_distance(35.0, 64, 64)).epsilon(1e-14));
   // Tall 1:4: the horizontal half-angle is atan(tan(17.5 deg) / 4)
-  CHECK(fit_distance(35.0, 100, 400) ==
-        Approx(1.0 / std::sin(std::atan(std::tan(deg(17.5)) / 4.0))).epsilon(1e-14));
+  CHECK(fit_distance(35.0, 100, 400) == Approx(1.0 / std::sin(std::atan(std::tan(deg(17.5)) / 4.0))).epsilon(1e-14));
   CHECK(fit_distance(35.0, 100, 400) > fit_distance(35.0, 64, 64));
   CHECK_THROWS(fit_distance(0.0, 10, 10));
   CHECK_THROWS(fit_distance(180.0, 10, 10));
@@ -70,8 +69,8 @@ TEST_CASE("distance: fit frames the data at odd angles, fovs and aspect ratios",
   const double R = b.radius();
   const std::vector<double> fovs{1.0, 7.5, 35.0, 90.0, 150.0, 170.0};
   const std::vector<std::pair<int, int>> sizes{{400, 100}, {100, 400}, {64, 64}, {300, 200}, {7, 1000}};
-  const std::vector<std::pair<double, double>> angles{
-      {0.0, 0.0}, {37.0, -23.0}, {123.0, 89.5}, {-71.0, -89.9}, {250.0, 60.0}, {359.0, 1e-3}};
+  const std::vector<std::pair<double, double>> angles{{0.0, 0.0},     {37.0, -23.0}, {123.0, 89.5},
+                                                      {-71.0, -89.9}, {250.0, 60.0}, {359.0, 1e-3}};
   const std::vector<Vec3> ups{Vec3(0, 0, 1), Vec3(0, 1, 0), Vec3(1, 2, -3)};
   std::mt19937_64 rng(13);
   std::normal_distribution<double> gauss;
@@ -83,8 +82,8 @@ TEST_CASE("distance: fit frames the data at odd angles, fovs and aspect ratios",
     for (const auto& [w, h] : sizes)
       for (const auto& [az, el] : angles)
         for (const Vec3& up : ups) {
-          INFO("fov " << fov << ", " << w << "x" << h << ", azimuth " << az << ", elevation " << el
-                      << ", up " << up.x << " " << up.y << " " << up.z);
+          INFO("fov " << fov << ", " << w << "x" << h << ", azimuth " << az << ", elevation " << el << ", up " << up.x
+                      << " " << up.y << " " << up.z);
           const SceneDesc s = build(fit_scene(az, el, fov, w, h, up), b);
           REQUIRE(s.camera.look_at == c);
           const Camera cam(s.camera, w, h);
@@ -105,8 +104,8 @@ TEST_CASE("distance: fit frames the data at odd angles, fovs and aspect ratios",
           bool sphere_inside = true;
           for (const Vec3& d : sphere_points) {
             double px = -1.0, py = -1.0;
-            sphere_inside = sphere_inside && cam.project(c + R * d, &px, &py) && px >= -sx &&
-                            px <= w + sx && py >= -sy && py <= h + sy;
+            sphere_inside = sphere_inside && cam.project(c + R * d, &px, &py) && px >= -sx && px <= w + sx &&
+                            py >= -sy && py <= h + sy;
           }
           CHECK(sphere_inside);
 
@@ -199,7 +198,8 @@ TEST_CASE("distance: fit is parsed for camera.position only and round-trips as a
   - name: a
     camera: {position: {orbit: {azimuth: 0, elevation: 0, distance: -1}}}
     transfer_function: {opacity: [[0, 1]]}
-)"), Contains("out of range"));
+)"),
+             Contains("out of range"));
 }
 
 TEST_CASE("a volume framed with distance: fit renders whole, with an empty border", "[config][fit]") {
@@ -259,8 +259,8 @@ TEST_CASE("tessera-render --width/--height re-frame a distance: fit camera", "[c
             "    camera: {position: {orbit: {azimuth: 37, elevation: 23, distance: fit}}, fov: 35}\n"
             "    transfer_function: {range: [0, 2], density_scale: 1000, opacity: [[0, 1], [1, 1]]}\n"
             "    background: {type: constant, color: [0, 0, 0]}\n    output: {file: a, formats: [exr]}\n");
-  const std::string cmd = "cd '" + dir.path().string() + "' && '" TESSERA_RENDER_EXE
-                          "' scene.yaml --quiet --width 60 --height 160 -o tall.exr";
+  const std::string cmd = "cd '" + dir.path().string() +
+                          "' && '" TESSERA_RENDER_EXE "' scene.yaml --quiet --width 60 --height 160 -o tall.exr";
   REQUIRE(std::system(cmd.c_str()) == 0);
   const Image img = read_exr(dir.file("tall.exr"));
   REQUIRE(img.width == 60);

@@ -79,8 +79,7 @@ TEST_CASE("every enum name round-trips through the parser and to_yaml", "[config
   env.rgba.assign(4 * 2 * 4, 1.0f);
   write_exr((dir.path() / "env.exr").string(), env);
   check_round_trip(
-      "background", "type", cfg::kBackgroundTypeNames,
-      [](const Config& c) { return c.renders[0].background.type; },
+      "background", "type", cfg::kBackgroundTypeNames, [](const Config& c) { return c.renders[0].background.type; },
       [](const std::string& type) { return std::string(type == "envmap" ? ", file: env.exr" : ""); },
       dir.path().string());
 }
@@ -97,7 +96,8 @@ TEST_CASE("volume enums and light types round-trip", "[config][enum_names]") {
                                  ", byte_order: " + order.name + "}\n" +
                                  "renders:\n  - name: r\n    camera: {position: [3, 0, 0]}\n"
                                  "    transfer_function: {opacity: [[0, 1]]}\n"
-                                 "    lights: [{type: " + light.name + ", position: [0, 0, 3]}]\n";
+                                 "    lights: [{type: " +
+                                 light.name + ", position: [0, 0, 3]}]\n";
         const Config c = parse_config(yaml, "scene.yaml", dir.path().string());
         REQUIRE(c.volume);
         CHECK(c.volume->dtype == dtype.value);
@@ -126,7 +126,8 @@ TEST_CASE("volume enums and light types round-trip", "[config][enum_names]") {
 TEST_CASE("output formats: the parser reads core's format table", "[config][output_formats]") {
   for (const ImageFormatInfo& row : image_formats()) {
     INFO(row.name);
-    const Config c = parse_config(config_with("output", "formats", std::string("[") + row.name + "]"), "scene.yaml", "");
+    const Config c =
+        parse_config(config_with("output", "formats", std::string("[") + row.name + "]"), "scene.yaml", "");
     REQUIRE(c.renders[0].output.formats.size() == 1);
     CHECK(c.renders[0].output.formats[0] == row.value);
     CHECK(parse_config(to_yaml(c), "again.yaml", "").renders[0].output.formats == c.renders[0].output.formats);

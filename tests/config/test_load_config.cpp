@@ -96,7 +96,7 @@ TEST_CASE("a full config loads with the values written", "[config]") {
   CHECK(l2.target.kind == PointSpec::Kind::Center);  // default
   CHECK(l2.width.relative);
   CHECK(l2.height.value == 0.5);
-  CHECK(l2.intensity == 1.0);                        // default
+  CHECK(l2.intensity == 1.0);  // default
   const auto& l3 = std::get<SphereLightSpec>(r.lights[3]);
   CHECK(l3.position.kind == PointSpec::Kind::Center);
   CHECK(l3.radius.relative);
@@ -272,5 +272,6 @@ TEST_CASE("image.denoise must be a boolean", "[config]") {
   const std::string e = test::config_error("renders:\n  - name: a\n    camera: {position: [0, 0, 5]}\n"
                                            "    transfer_function: {opacity: [[0, 1]]}\n"
                                            "    image: {denoise: 3}\n");
-  CHECK_THAT(e, Contains("scene.yaml:5:13: renders[0].image.denoise: 3 is not a boolean") && Contains("(allowed: true or false)"));
+  CHECK_THAT(e, Contains("scene.yaml:5:13: renders[0].image.denoise: 3 is not a boolean") &&
+                    Contains("(allowed: true or false)"));
 }

@@ -22,7 +22,7 @@ TEST_CASE("time formats like fmt", "[config][output_path]") {
   CHECK(format_output_path("{time:.3f}", "a", 0, 1.23456, 0) == "1.235");
   CHECK(format_output_path("{time:08.2f}", "a", 0, 3.14159, 0) == "00003.14");
   CHECK(format_output_path("{time:.2e}", "a", 0, 12345.0, 0) == "1.23e+04");
-  CHECK(format_output_path("{time}", "a", 0, 0.1, 0) == "0.1");       // shortest exact
+  CHECK(format_output_path("{time}", "a", 0, 0.1, 0) == "0.1");  // shortest exact
   CHECK(format_output_path("{time}", "a", 0, 2.0, 0) == "2");
   CHECK(format_output_path("t{time:g}", "a", 0, 0.5, 0) == "t0.5");
 }

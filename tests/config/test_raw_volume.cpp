@@ -12,8 +12,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-VolumeSpec spec_for(const std::string& file, DType t, std::int64_t nx, std::int64_t ny,
-                    std::int64_t nz) {
+VolumeSpec spec_for(const std::string& file, DType t, std::int64_t nx, std::int64_t ny, std::int64_t nz) {
   VolumeSpec s;
   s.file = file;
   s.dtype = t;
@@ -41,8 +40,7 @@ TEST_CASE("a size mismatch names the file and both sizes", "[config][raw_volume]
   VolumeSpec with_header = spec_for(f, DType::UInt8, 2, 2, 2);
   with_header.header_bytes = 8;
   CHECK_THROWS_WITH(load_raw_volume(with_header), Contains("expected 16"));
-  CHECK_THROWS_WITH(load_raw_volume(spec_for(dir.file("none.raw"), DType::UInt8, 1, 1, 1)),
-                    Contains("none.raw"));
+  CHECK_THROWS_WITH(load_raw_volume(spec_for(dir.file("none.raw"), DType::UInt8, 1, 1, 1)), Contains("none.raw"));
 }
 
 TEST_CASE("little-endian data loads as is, with the header skipped", "[config][raw_volume]") {
@@ -94,8 +92,7 @@ TEST_CASE("big-endian data is byte-swapped for every dtype", "[config][raw_volum
   CHECK(typed<std::uint8_t>(load_raw_volume(s).view()).load(0, 1, 0) == 200);
 }
 
-TEST_CASE("dims < 1, a negative header and byte counts past 64 bits are rejected",
-          "[config][raw_volume]") {
+TEST_CASE("dims < 1, a negative header and byte counts past 64 bits are rejected", "[config][raw_volume]") {
   // Found by fuzz/fuzz_raw_volume: unchecked, the byte count wrapped around, so dims (-1, -1, 1)
   // matched a 4-byte file and (2^62, 4, 1) uint8 an empty one (a view of 2^64 vertices over
   // no memory).

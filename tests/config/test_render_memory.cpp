@@ -68,8 +68,8 @@ TEST_CASE("memory_limit: tessera.memory_limit_mb, or the default for a process o
   const std::string machine = format_bytes(physical_memory_bytes());
   const MemoryLimit cli = memory_limit(global);
   CHECK(cli.bytes == default_memory_limit_bytes(1));
-  CHECK(cli.text == "the default tessera.memory_limit_mb (half of the machine's " + machine + ": " +
-                        format_bytes(cli.bytes) + ")");
+  CHECK(cli.text ==
+        "the default tessera.memory_limit_mb (half of the machine's " + machine + ": " + format_bytes(cli.bytes) + ")");
   const MemoryLimit rank = memory_limit(global, 4);
   CHECK(rank.bytes == default_memory_limit_bytes(4));
   CHECK(rank.text == "the default tessera.memory_limit_mb (half of the machine's " + machine +

@@ -43,13 +43,12 @@ TEST_CASE("to_yaml writes every default", "[config][to_yaml]") {
                                 "m.yaml", "");
   const std::string text = to_yaml(a);
   INFO(text);
-  for (const char* key : {"output_dir:", "on_error: warn", "max_failures: 3", "width: 512", "fov: 30",
-                          "up: [0, 0, 1]", "look_at: center", "range: auto", "scattering: single",
-                          "tile: 8", "tile_order: row", "formats: [exr, png]", "tonemap: aces",
-                          "background:", "lights: []"})
+  for (const char* key : {"output_dir:", "on_error: warn", "max_failures: 3", "width: 512", "fov: 30", "up: [0, 0, 1]",
+                          "look_at: center", "range: auto", "scattering: single", "tile: 8", "tile_order: row",
+                          "formats: [exr, png]", "tonemap: aces", "background:", "lights: []"})
     CHECK(text.find(key) != std::string::npos);
   const Config b = parse_config(text, "m2.yaml", "");
-  CHECK(b.renders[0].name == "null");  // quoted: stays a string
+  CHECK(b.renders[0].name == "null");                                // quoted: stays a string
   CHECK(b.renders[0].camera.position.xyz.z == 0.30000000000000004);  // exact doubles
   CHECK(to_yaml(b) == text);
 }

@@ -16,8 +16,7 @@ std::string with_camera(const std::string& camera_lines) {
   return "renders:\n"
          "  - name: a\n"
          "    camera:\n" +
-         camera_lines +
-         "    transfer_function: {opacity: [[0, 1]]}\n";
+         camera_lines + "    transfer_function: {opacity: [[0, 1]]}\n";
 }
 
 /// A render with a valid camera (lines 1-3); `rest` starts on line 4 indented 4 spaces.
@@ -122,8 +121,7 @@ TEST_CASE("missing required keys are reported at the enclosing block", "[config]
   CHECK_THAT(config_error(with_camera("      fov: 30\n")),
              StartsWith("scene.yaml:3:5: renders[0].camera.position: missing required key (allowed: "
                         "[x, y, z], center or {orbit:"));
-  CHECK_THAT(config_error("tessera:\n  threads: 1\n"),
-             StartsWith("scene.yaml:1:1: renders: missing required key"));
+  CHECK_THAT(config_error("tessera:\n  threads: 1\n"), StartsWith("scene.yaml:1:1: renders: missing required key"));
   CHECK_THAT(config_error("renders:\n  - camera: {position: [0, 0, 5]}\n"
                           "    transfer_function: {opacity: [[0, 1]]}\n"),
              StartsWith("scene.yaml:2:5: renders[0].name: missing required key"));
@@ -134,8 +132,7 @@ TEST_CASE("missing required keys are reported at the enclosing block", "[config]
                                       "      - {position: [0, 0, 1]}\n")),
              StartsWith("scene.yaml:6:9: renders[0].lights[0].type: missing required key (allowed: "
                         "rect or sphere)"));
-  CHECK_THAT(config_error("renders: []\n"),
-             StartsWith("scene.yaml:1:1: renders: list has 0 elements"));
+  CHECK_THAT(config_error("renders: []\n"), StartsWith("scene.yaml:1:1: renders: list has 0 elements"));
 }
 
 TEST_CASE("a bad colormap name lists the colormaps", "[config][errors]") {
@@ -225,9 +222,9 @@ TEST_CASE("volume block: required keys and existing file", "[config][errors]") {
                               "  - name: a\n"
                               "    camera: {position: [0, 0, 5]}\n"
                               "    transfer_function: {opacity: [[0, 1]]}\n";
-  CHECK_THAT(config_error("volume:\n  file: missing.raw\n  dims: [2, 2, 2]\n  dtype: uint8\n" + renders,
-                          "/nonexistent-dir"),
-             StartsWith("scene.yaml:2:3: volume.file: file not found: /nonexistent-dir/missing.raw"));
+  CHECK_THAT(
+      config_error("volume:\n  file: missing.raw\n  dims: [2, 2, 2]\n  dtype: uint8\n" + renders, "/nonexistent-dir"),
+      StartsWith("scene.yaml:2:3: volume.file: file not found: /nonexistent-dir/missing.raw"));
   CHECK_THAT(config_error("volume:\n  dims: [2, 2, 2]\n" + renders),
              StartsWith("scene.yaml:1:1: volume.file: missing required key"));
 
@@ -240,7 +237,9 @@ TEST_CASE("volume block: required keys and existing file", "[config][errors]") {
              StartsWith("scene.yaml:4:3: volume.dtype: int32 is not allowed (allowed: uint8, int16, "
                         "uint16, float32 or float64)"));
   CHECK_THAT(config_error("volume:\n  file: v.raw\n  dims: [2, 2, 2]\n  dtype: uint8\n"
-                          "  spacing: [1, 0, 1]\n" + renders, base),
+                          "  spacing: [1, 0, 1]\n" +
+                              renders,
+                          base),
              StartsWith("scene.yaml:5:16: volume.spacing[1]: 0 is out of range [1e-100, 1e+100]"));
   CHECK(config_error("volume:\n  file: v.raw\n  dims: [2, 2, 2]\n  dtype: uint8\n" + renders, base).empty());
 }

@@ -61,8 +61,7 @@ TEST_CASE("rect light sampling: pdf consistent, solid angle exact", "[area_light
   CHECK(std::fabs(mean - omega) < 4.0 * se);
 }
 
-TEST_CASE("sphere light: outward-facing hit only, uniform cone sampling with a consistent pdf",
-          "[area_lights]") {
+TEST_CASE("sphere light: outward-facing hit only, uniform cone sampling with a consistent pdf", "[area_lights]") {
   const SphereLight l({Vec3(0.0, 0.0, 5.0), 1.5, Color(2.0)});
   CHECK(l.intersect_front(Ray{Vec3(0.0), Vec3(0.0, 0.0, 1.0)}) == Approx(3.5));
   CHECK(l.intersect_front(Ray{Vec3(0.0), Vec3(0.0, 0.0, -1.0)}) < 0.0);

@@ -16,8 +16,7 @@ using tessera::Vec3;
 
 namespace {
 double angle_deg(const Vec3& a, const Vec3& b) {
-  return std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)) * 180.0 /
-         tessera::kPi;
+  return std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)) * 180.0 / tessera::kPi;
 }
 }  // namespace
 

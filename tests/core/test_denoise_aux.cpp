@@ -111,8 +111,7 @@ TEST_CASE("denoise aux buffers hold the first collision's albedo and normal", "[
     // normal are recorded: the mean albedo is alpha times the constant diffuse colour, and
     // the mean normal (unit vectors, or 0) is no longer than alpha.
     const double a = img.rgba[4 * i + 3];
-    for (int c = 0; c < 3; ++c)
-      CHECK(img.albedo[3 * i + c] == Approx(a * diffuse[c]).margin(1e-6));
+    for (int c = 0; c < 3; ++c) CHECK(img.albedo[3 * i + c] == Approx(a * diffuse[c]).margin(1e-6));
     const Vec3 nrm(img.normal[3 * i], img.normal[3 * i + 1], img.normal[3 * i + 2]);
     CHECK(glm::length(nrm) <= a + 1e-6);
     if (a == 0.0) {
@@ -195,8 +194,7 @@ TEST_CASE("memory estimate: OIDN's working memory is counted per pixel up to the
     f.denoise = true;
     const std::uint64_t pixels = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
     // Less the film's aux sums and the three float layers: OIDN's part
-    return tessera::estimate_render_memory(f).total() - off -
-           pixels * (sizeof(tessera::AuxSums) + 9 * sizeof(float));
+    return tessera::estimate_render_memory(f).total() - off - pixels * (sizeof(tessera::AuxSums) + 9 * sizeof(float));
   };
   // Below the cap: per pixel, plus the fixed cost
   CHECK(oidn_part(1024, 1024) == 1024u * 1024u * tessera::kDenoiserBytesPerPixel + tessera::kDenoiserFixedBytes);

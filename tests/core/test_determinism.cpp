@@ -63,8 +63,7 @@ struct Rendered {
   tessera::RenderStats stats;
 };
 
-Rendered render_with(const FieldView& view, tessera::SceneDesc s, int threads, int tile,
-                     tessera::TileOrder order) {
+Rendered render_with(const FieldView& view, tessera::SceneDesc s, int threads, int tile, tessera::TileOrder order) {
   s.options.threads = threads;
   s.options.tile = tile;
   s.options.order = order;
@@ -80,21 +79,20 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
 }
 
 bool same_image(const tessera::Image& a, const tessera::Image& b) {
-  return a.width == b.width && a.height == b.height && same_bits(a.rgba, b.rgba) &&
-         same_bits(a.variance, b.variance) && same_bits(a.samples, b.samples);
+  return a.width == b.width && a.height == b.height && same_bits(a.rgba, b.rgba) && same_bits(a.variance, b.variance) &&
+         same_bits(a.samples, b.samples);
 }
 
 bool same_counters(const tessera::RenderStats& a, const tessera::RenderStats& b) {
   return a.samples == b.samples && a.free_flight_lookups == b.free_flight_lookups &&
-         a.transmittance_lookups == b.transmittance_lookups &&
-         a.gradient_lookups == b.gradient_lookups && a.real_collisions == b.real_collisions &&
-         a.null_collisions == b.null_collisions && a.discarded_samples == b.discarded_samples;
+         a.transmittance_lookups == b.transmittance_lookups && a.gradient_lookups == b.gradient_lookups &&
+         a.real_collisions == b.real_collisions && a.null_collisions == b.null_collisions &&
+         a.discarded_samples == b.discarded_samples;
 }
 
 }  // namespace
 
-TEST_CASE("bit-identical images for any thread count, tile edge and tile order",
-          "[determinism][render]") {
+TEST_CASE("bit-identical images for any thread count, tile edge and tile order", "[determinism][render]") {
   const std::vector<float> field = tessera_test::blobby_field(NX, NY, NZ);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, NX, NY, NZ);
   for (const auto sc : {tessera::Scattering::Single, tessera::Scattering::Multiple}) {
@@ -147,8 +145,7 @@ TEST_CASE("render_tiles over two halves in reverse order equals render()", "[det
   }
 }
 
-TEST_CASE("successive renders continue the sample sequence: 2 x spp equals one 2*spp render",
-          "[determinism][render]") {
+TEST_CASE("successive renders continue the sample sequence: 2 x spp equals one 2*spp render", "[determinism][render]") {
   const std::vector<float> field = tessera_test::blobby_field(NX, NY, NZ);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, NX, NY, NZ);
   tessera::SceneDesc s = busy_scene(tessera::Scattering::Multiple);
@@ -175,10 +172,8 @@ TEST_CASE("seed and frame select different random streams", "[determinism][rende
   other_frame.options.frame += 1;
   tessera::SceneDesc other_seed = s;
   other_seed.options.seed += 1;
-  CHECK_FALSE(same_bits(render_with(view, other_frame, 2, 8, tessera::TileOrder::RowMajor).image.rgba,
-                        ref.image.rgba));
-  CHECK_FALSE(same_bits(render_with(view, other_seed, 2, 8, tessera::TileOrder::RowMajor).image.rgba,
-                        ref.image.rgba));
+  CHECK_FALSE(same_bits(render_with(view, other_frame, 2, 8, tessera::TileOrder::RowMajor).image.rgba, ref.image.rgba));
+  CHECK_FALSE(same_bits(render_with(view, other_seed, 2, 8, tessera::TileOrder::RowMajor).image.rgba, ref.image.rgba));
 }
 
 TEST_CASE("adaptive sampling: bit-identical for any thread count, tile edge, order and split",

@@ -97,8 +97,7 @@ TEST_CASE("envmap: texel mapping, row 0 at the up pole", "[environment]") {
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 8; ++x) {
       const Color want = Color(img->px(x, y)[0], img->px(x, y)[1], img->px(x, y)[2]) * 0.5;
-      for (const double fx : {0.05, 0.5, 0.95})
-        ok = ok && e.eval(texel_direction(d.up, x, y, 8, 4, fx, 0.5)) == want;
+      for (const double fx : {0.05, 0.5, 0.95}) ok = ok && e.eval(texel_direction(d.up, x, y, 8, 4, fx, 0.5)) == want;
     }
   CHECK(ok);
   const Color pole = Color(img->px(0, 0)[0], img->px(0, 0)[1], img->px(0, 0)[2]) * 0.5;
@@ -106,8 +105,7 @@ TEST_CASE("envmap: texel mapping, row 0 at the up pole", "[environment]") {
   CHECK(e.eval(Vec3(0.0, 1.0, 0.0)) == pole);
 }
 
-TEST_CASE("envmap importance sampling: pdf integrates to 1, matches sample(), unbiased",
-          "[environment]") {
+TEST_CASE("envmap importance sampling: pdf integrates to 1, matches sample(), unbiased", "[environment]") {
   constexpr int W = 8, H = 4;
   const auto img = random_envmap(W, H, 2);
   BackgroundDesc d;
@@ -174,8 +172,8 @@ TEST_CASE("envmap importance sampling: pdf integrates to 1, matches sample(), un
   const double chi2 = tessera_test::chi_square(counts, prob, kSamples - failed, &dof);
   const double mean = sum / kSamples;
   const double se = std::sqrt(std::fmax(0.0, sum2 / kSamples - mean * mean) / kSamples);
-  INFO("chi2 " << chi2 << " dof " << dof << ", estimate " << mean << " +- " << se << " vs "
-               << lum_integral << ", failed " << failed);
+  INFO("chi2 " << chi2 << " dof " << dof << ", estimate " << mean << " +- " << se << " vs " << lum_integral
+               << ", failed " << failed);
   CHECK(failed == 0);
   // sample() divides by sin(theta) of the sampled angle, pdf() by that of acos(d.n), which
   // loses digits within ~1e-5 rad of the poles: agreement to 1e-6 relative.

@@ -129,8 +129,8 @@ void check_against_brute_force(std::uint64_t seed) {
       for (const int edge : {1, 3, 8, static_cast<int>(max_dim), 1 << 30}) {
         const FieldSummary s(view, edge);
         INFO("dtype " << tessera::dtype_name(dt) << " dims " << view.dims[0] << "x" << view.dims[1] << "x"
-                      << view.dims[2] << " strides " << view.byte_strides[0] << "," << view.byte_strides[1]
-                      << "," << view.byte_strides[2] << " edge " << edge);
+                      << view.dims[2] << " strides " << view.byte_strides[0] << "," << view.byte_strides[1] << ","
+                      << view.byte_strides[2] << " edge " << edge);
         REQUIRE(mismatches(s, brute_force(view, edge)) == 0);
       }
   }
@@ -260,8 +260,7 @@ TEST_CASE("FieldSummary: a block's partial leaves the cells it does not touch em
   CHECK_THROWS_WITH(FieldSummary::from_parts(std::move(bad), {}, 4), Catch::Contains("for 4 cells"));
 }
 
-TEST_CASE("FieldSummary: every cell range equals a brute-force scan of its vertex block",
-          "[field_summary]") {
+TEST_CASE("FieldSummary: every cell range equals a brute-force scan of its vertex block", "[field_summary]") {
   check_against_brute_force<float>(101);
   check_against_brute_force<double>(102);
   check_against_brute_force<std::uint8_t>(103);
@@ -269,8 +268,7 @@ TEST_CASE("FieldSummary: every cell range equals a brute-force scan of its verte
   check_against_brute_force<std::uint16_t>(105);
 }
 
-TEST_CASE("FieldSummary: bit-identical for any thread count, layout and edge recorded",
-          "[field_summary]") {
+TEST_CASE("FieldSummary: bit-identical for any thread count, layout and edge recorded", "[field_summary]") {
   tessera::Rng rng(7, 0, 0, 0);
   const std::vector<float> data = random_values<float>(rng, 37 * 29 * 70);
   const FieldView view = FieldView::contiguous(data.data(), DType::Float32, 37, 29, 70);
@@ -282,8 +280,7 @@ TEST_CASE("FieldSummary: bit-identical for any thread count, layout and edge rec
     }
     many = FieldSummary::build(view, edge);
     REQUIRE(one->cell_count() == many->cell_count());
-    CHECK(std::memcmp(one->ranges().data(), many->ranges().data(),
-                      one->ranges().size() * sizeof(CellRange)) == 0);
+    CHECK(std::memcmp(one->ranges().data(), many->ranges().data(), one->ranges().size() * sizeof(CellRange)) == 0);
     CHECK(one->nan_vertices() == many->nan_vertices());
     CHECK(same_bits(one->value_min(), many->value_min()));
     CHECK(mismatches(*many, brute_force(view, edge)) == 0);

@@ -126,8 +126,8 @@ struct Rec {
 
 }  // namespace
 
-TEMPLATE_TEST_CASE("FieldView layouts sample exactly like a contiguous copy, without copying",
-                   "[field_view]", std::uint8_t, std::int16_t, std::uint16_t, float, double) {
+TEMPLATE_TEST_CASE("FieldView layouts sample exactly like a contiguous copy, without copying", "[field_view]",
+                   std::uint8_t, std::int16_t, std::uint16_t, float, double) {
   using T = TestType;
   const DType dt = dtype_of<T>();
   const std::int64_t es = sizeof(T);
@@ -163,8 +163,7 @@ TEMPLATE_TEST_CASE("FieldView layouts sample exactly like a contiguous copy, wit
     auto bidx = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return (i * BY + j) * BZ + k; };
     for (std::int64_t i = 0; i < NX; ++i)
       for (std::int64_t j = 0; j < NY; ++j)
-        for (std::int64_t k = 0; k < NZ; ++k)
-          big[bidx(i + ox, j + oy, k + oz)] = ref[ref_index(i, j, k)];
+        for (std::int64_t k = 0; k < NZ; ++k) big[bidx(i + ox, j + oy, k + oz)] = ref[ref_index(i, j, k)];
     FieldView v;
     v.data = &big[bidx(ox, oy, oz)];
     v.dtype = dt;
@@ -180,13 +179,10 @@ TEMPLATE_TEST_CASE("FieldView layouts sample exactly like a contiguous copy, wit
     // Ghost cells hold a poison value that must never be read.
     const T poison = std::numeric_limits<T>::max();
     std::vector<T> g(full[0] * full[1] * full[2], poison);
-    auto gidx = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
-      return (k * full[1] + j) * full[0] + i;
-    };
+    auto gidx = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return (k * full[1] + j) * full[0] + i; };
     for (std::int64_t k = 0; k < NZ; ++k)
       for (std::int64_t j = 0; j < NY; ++j)
-        for (std::int64_t i = 0; i < NX; ++i)
-          g[gidx(i + lo[0], j + lo[1], k + lo[2])] = ref[ref_index(i, j, k)];
+        for (std::int64_t i = 0; i < NX; ++i) g[gidx(i + lo[0], j + lo[1], k + lo[2])] = ref[ref_index(i, j, k)];
     const std::int64_t strides[3] = {es, es * full[0], es * full[0] * full[1]};
     const FieldView v = FieldView::with_ghosts(g.data(), dt, full, strides, lo, hi);
     require_samples_like_reference(v, ref);
@@ -210,8 +206,7 @@ TEMPLATE_TEST_CASE("FieldView layouts sample exactly like a contiguous copy, wit
     std::vector<T> m(ref.size());
     for (std::int64_t k = 0; k < NZ; ++k)
       for (std::int64_t j = 0; j < NY; ++j)
-        for (std::int64_t i = 0; i < NX; ++i)
-          m[ref_index(NX - 1 - i, j, NZ - 1 - k)] = ref[ref_index(i, j, k)];
+        for (std::int64_t i = 0; i < NX; ++i) m[ref_index(NX - 1 - i, j, NZ - 1 - k)] = ref[ref_index(i, j, k)];
     FieldView v;
     v.data = &m[ref_index(NX - 1, 0, NZ - 1)];
     v.dtype = dt;
@@ -222,8 +217,7 @@ TEMPLATE_TEST_CASE("FieldView layouts sample exactly like a contiguous copy, wit
   }
 }
 
-TEST_CASE("a strided and an array-of-structs view render bit-identically to a dense copy",
-          "[field_view][render]") {
+TEST_CASE("a strided and an array-of-structs view render bit-identically to a dense copy", "[field_view][render]") {
   // Field of 12 x 10 x 9 vertices, dense, i fastest.
   constexpr int X = 12, Y = 10, Z = 9;
   const std::vector<float> dense = tessera_test::blobby_field(X, Y, Z);
@@ -249,16 +243,14 @@ TEST_CASE("a strided and an array-of-structs view render bit-identically to a de
     const tessera::PreparedScene ps = tessera::prepare(v, s);
     return tessera_test::render_film(ps).resolve();
   };
-  const tessera::Image want =
-      render_image(FieldView::contiguous(dense.data(), DType::Float32, X, Y, Z), scene.tf);
+  const tessera::Image want = render_image(FieldView::contiguous(dense.data(), DType::Float32, X, Y, Z), scene.tf);
 
   SECTION("sub-box of a larger float32 array, k fastest") {
     constexpr int BX = X + 3, BY = Y + 2, BZ = Z + 4;
     std::vector<float> big(BX * BY * BZ, std::numeric_limits<float>::quiet_NaN());
     for (int i = 0; i < X; ++i)
       for (int j = 0; j < Y; ++j)
-        for (int k = 0; k < Z; ++k)
-          big[((i + 2) * BY + (j + 1)) * BZ + (k + 3)] = dense[(k * Y + j) * X + i];
+        for (int k = 0; k < Z; ++k) big[((i + 2) * BY + (j + 1)) * BZ + (k + 3)] = dense[(k * Y + j) * X + i];
     FieldView v;
     v.data = &big[(2 * BY + 1) * BZ + 3];
     v.dtype = DType::Float32;
@@ -297,8 +289,7 @@ TEST_CASE("a strided and an array-of-structs view render bit-identically to a de
   }
 }
 
-TEST_CASE("FieldView::validate rejects impossible views with a message naming the fault",
-          "[field_view]") {
+TEST_CASE("FieldView::validate rejects impossible views with a message naming the fault", "[field_view]") {
   std::vector<float> buf(64, 0.0f);
   FieldView ok = FieldView::contiguous(buf.data(), DType::Float32, 4, 4, 4);
   REQUIRE_NOTHROW(ok.validate());
@@ -313,10 +304,9 @@ TEST_CASE("FieldView::validate rejects impossible views with a message naming th
       for (std::int64_t bad : {std::int64_t{0}, std::int64_t{-3}}) {
         FieldView v = ok;
         v.dims[a] = bad;
-        CHECK_THROWS_WITH(v.validate("density"),
-                          Catch::Contains("density") &&
-                              Catch::Contains("dims[" + std::to_string(a) + "]") &&
-                              Catch::Contains(">= 1"));
+        CHECK_THROWS_WITH(v.validate("density"), Catch::Contains("density") &&
+                                                     Catch::Contains("dims[" + std::to_string(a) + "]") &&
+                                                     Catch::Contains(">= 1"));
       }
     }
   }

@@ -55,8 +55,8 @@ void check_furnace(const FieldView& view, const tessera::SceneDesc& s, const std
   const tessera::Film film = tessera_test::render_film(ps, &st);
   const auto L = tessera_test::luminance_stats(film);
   const double red = tessera_test::mean_red(film);
-  INFO(what << ": mean " << L.mean << " +- " << L.se << " (z " << L.z(kL) << "), red " << red
-            << ", real collisions " << st.real_collisions);
+  INFO(what << ": mean " << L.mean << " +- " << L.se << " (z " << L.z(kL) << "), red " << red << ", real collisions "
+            << st.real_collisions);
   CHECK(st.real_collisions > 0);
   CHECK(st.discarded_samples == 0);
   CHECK(L.z(kL) < 4.0);
@@ -108,8 +108,7 @@ TEST_CASE("white furnace: majorant mode and shadow estimator do not matter", "[f
   }
 }
 
-TEST_CASE("white furnace: heterogeneous field in phase, brdf and hybrid shading",
-          "[furnace][render]") {
+TEST_CASE("white furnace: heterogeneous field in phase, brdf and hybrid shading", "[furnace][render]") {
   // Lambert-only surface events (specular TF absent): albedo 1 reflects all energy into the
   // hemisphere around the normal, so the furnace holds for every shading mode.
   constexpr int n = 17;
@@ -122,14 +121,13 @@ TEST_CASE("white furnace: heterogeneous field in phase, brdf and hybrid shading"
     s.integrator.shading = shading;
     s.integrator.gradient_factor = 3.0;
     check_furnace(view, s,
-                  shading == tessera::Shading::Phase ? "phase"
+                  shading == tessera::Shading::Phase  ? "phase"
                   : shading == tessera::Shading::Brdf ? "brdf"
                                                       : "hybrid");
   }
 }
 
-TEST_CASE("white furnace under a constant envmap: envmap importance sampling in the loop",
-          "[furnace][render]") {
+TEST_CASE("white furnace under a constant envmap: envmap importance sampling in the loop", "[furnace][render]") {
   // An equirectangular map whose texels all hold L is the constant background in disguise;
   // its sampling density ~ sin(theta) exercises the envmap pdf in NEE and MIS.
   constexpr int n = 5;

@@ -211,11 +211,10 @@ std::vector<GoldenScene> golden_scenes() {
 /// The counters of a render as one line of text, in the golden counters file's format.
 std::string counter_line(const std::string& name, const tessera::RenderStats& st) {
   std::ostringstream o;
-  o << name << " samples " << st.samples << " free_flight " << st.free_flight_lookups
-    << " transmittance " << st.transmittance_lookups << " gradient " << st.gradient_lookups
-    << " real " << st.real_collisions << " null " << st.null_collisions << " discarded "
-    << st.discarded_samples << " stalled " << st.stalled_paths << " tiles_skipped "
-    << st.tiles_skipped;
+  o << name << " samples " << st.samples << " free_flight " << st.free_flight_lookups << " transmittance "
+    << st.transmittance_lookups << " gradient " << st.gradient_lookups << " real " << st.real_collisions << " null "
+    << st.null_collisions << " discarded " << st.discarded_samples << " stalled " << st.stalled_paths
+    << " tiles_skipped " << st.tiles_skipped;
   return o.str();
 }
 

@@ -28,8 +28,7 @@ std::vector<double> sample_linear(const Linear& f, std::int64_t nx, std::int64_t
   for (std::int64_t k = 0; k < nz; ++k)
     for (std::int64_t j = 0; j < ny; ++j)
       for (std::int64_t i = 0; i < nx; ++i)
-        v[(k * ny + j) * nx + i] = f(Vec3(static_cast<double>(i), static_cast<double>(j),
-                                          static_cast<double>(k)));
+        v[(k * ny + j) * nx + i] = f(Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
   return v;
 }
 
@@ -53,14 +52,12 @@ Vec3 random_point(tessera::Rng& rng, const std::int64_t n[3]) {
 TEST_CASE("trilinear interpolation reproduces linear fields exactly", "[grid_medium]") {
   tessera::Rng rng(7, 0, 0, 0);
   tessera::TransferFunction tf;
-  const std::int64_t shapes[][3] = {{5, 7, 4}, {2, 3, 9}, {1, 6, 5}, {8, 1, 2}, {2, 2, 2},
-                                    {1, 1, 7}, {1, 1, 1}, {17, 2, 1}};
+  const std::int64_t shapes[][3] = {{5, 7, 4}, {2, 3, 9}, {1, 6, 5}, {8, 1, 2},
+                                    {2, 2, 2}, {1, 1, 7}, {1, 1, 1}, {17, 2, 1}};
   for (const auto& shape : shapes) {
-    const Linear f{rng.uniform() * 10 - 5, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2,
-                   rng.uniform() * 4 - 2};
+    const Linear f{rng.uniform() * 10 - 5, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2, rng.uniform() * 4 - 2};
     const std::vector<double> data = sample_linear(f, shape[0], shape[1], shape[2]);
-    const FieldView view =
-        FieldView::contiguous(data.data(), tessera::DType::Float64, shape[0], shape[1], shape[2]);
+    const FieldView view = FieldView::contiguous(data.data(), tessera::DType::Float64, shape[0], shape[1], shape[2]);
     const auto m = make_medium<double>(view, tf);
     double worst = 0.0;
     for (int s = 0; s < 3000; ++s) {
@@ -93,8 +90,8 @@ TEST_CASE("int16 linear fields with integer coefficients interpolate exactly", "
   for (std::int64_t k = 0; k < nz; ++k)
     for (std::int64_t j = 0; j < ny; ++j)
       for (std::int64_t i = 0; i < nx; ++i)
-        data[(k * ny + j) * nx + i] = static_cast<std::int16_t>(
-            f(Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k))));
+        data[(k * ny + j) * nx + i] =
+            static_cast<std::int16_t>(f(Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k))));
   const FieldView view = FieldView::contiguous(data.data(), tessera::DType::Int16, nx, ny, nz);
   tessera::TransferFunction tf;
   const auto m = make_medium<std::int16_t>(view, tf);
@@ -136,8 +133,7 @@ TEST_CASE("gradient of u is exact on linear fields, inside and on the faces", "[
   CHECK(g.x == Approx(want.x).margin(1e-12));
 }
 
-TEST_CASE("non-finite vertices enter the interpolation as lo (NaN, -Inf) or hi (+Inf)",
-          "[grid_medium]") {
+TEST_CASE("non-finite vertices enter the interpolation as lo (NaN, -Inf) or hi (+Inf)", "[grid_medium]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   // 2 x 1 x 1: vertex 0 non-finite, vertex 1 = 3
@@ -162,8 +158,7 @@ TEST_CASE("non-finite vertices enter the interpolation as lo (NaN, -Inf) or hi (
   CHECK(m.sigma_t(Vec3(0.0)) == 0.0);
 }
 
-TEST_CASE("the macrocell DDA visits the cells a ray crosses, in order, without gaps",
-          "[grid_medium]") {
+TEST_CASE("the macrocell DDA visits the cells a ray crosses, in order, without gaps", "[grid_medium]") {
   // A medium whose "majorant" of each cell is the cell's linear index: the walk reports it.
   constexpr std::int64_t n[3] = {23, 17, 30};
   const std::vector<float> data(n[0] * n[1] * n[2], 0.0f);

@@ -141,8 +141,7 @@ TEST_CASE("writing over an existing file replaces it and leaves no temporaries",
   CHECK(dir.entries() == std::set<std::string>{"frame.exr", "frame.png"});
 }
 
-TEST_CASE("read_exr converts half channels, fills alpha with 1, honours the data window",
-          "[image_io]") {
+TEST_CASE("read_exr converts half channels, fills alpha with 1, honours the data window", "[image_io]") {
   TempDir dir;
   const std::string path = dir.file("half.exr");
   // A 3x2 RGB half image whose data window starts at (10, 20), inside a larger display window
@@ -152,8 +151,7 @@ TEST_CASE("read_exr converts half channels, fills alpha with 1, honours the data
   for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = half(0.25f * static_cast<float>(i) - 1.0f);
   {
     Imf::Header header(display, data);
-    for (const char* name : {"R", "G", "B"})
-      header.channels().insert(name, Imf::Channel(Imf::HALF));
+    for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::HALF));
     Imf::FrameBuffer fb;
     const char* names[3] = {"R", "G", "B"};
     for (int c = 0; c < 3; ++c)
@@ -181,12 +179,10 @@ TEST_CASE("read_exr converts half channels, fills alpha with 1, honours the data
 TEST_CASE("read_exr of a missing file throws naming the path", "[image_io]") {
   TempDir dir;
   const std::string path = dir.file("does_not_exist.exr");
-  CHECK_THROWS_WITH(tessera::read_exr(path),
-                    Catch::Contains(path) && Catch::Contains("does not exist"));
+  CHECK_THROWS_WITH(tessera::read_exr(path), Catch::Contains(path) && Catch::Contains("does not exist"));
 }
 
-TEST_CASE("read_exr of a file without R G B throws naming the path and channels",
-          "[image_io]") {
+TEST_CASE("read_exr of a file without R G B throws naming the path and channels", "[image_io]") {
   TempDir dir;
   const std::string path = dir.file("luma.exr");
   std::vector<float> y(4 * 4, 0.5f);
@@ -199,9 +195,8 @@ TEST_CASE("read_exr of a file without R G B throws naming the path and channels"
     file.setFrameBuffer(fb);
     file.writePixels(4);
   }
-  CHECK_THROWS_WITH(tessera::read_exr(path), Catch::Contains(path) &&
-                                                 Catch::Contains("R, G, B") &&
-                                                 Catch::Contains("Y"));
+  CHECK_THROWS_WITH(tessera::read_exr(path),
+                    Catch::Contains(path) && Catch::Contains("R, G, B") && Catch::Contains("Y"));
 }
 
 TEST_CASE("read_exr of a file that is not an EXR throws naming the path", "[image_io]") {
@@ -243,11 +238,20 @@ TEST_CASE("PNG is readable by libpng and holds the tone-mapped values", "[image_
   img.width = 4;
   img.height = 3;
   img.rgba.resize(4 * 3 * 4);
-  const float values[] = {0.0f, 0.001f, 0.18f, 0.5f, 1.0f, 4.0f, 100.0f, -1.0f,
+  const float values[] = {0.0f,
+                          0.001f,
+                          0.18f,
+                          0.5f,
+                          1.0f,
+                          4.0f,
+                          100.0f,
+                          -1.0f,
                           std::numeric_limits<float>::quiet_NaN(),
-                          std::numeric_limits<float>::infinity(), 0.02f, 2.0f};
-  const float alphas[] = {0.0f, 1.0f, 0.5f, 2.0f, -0.5f, 0.25f, 0.999f, 0.1f, 0.0f, 1.0f,
-                          std::numeric_limits<float>::quiet_NaN(), 0.75f};
+                          std::numeric_limits<float>::infinity(),
+                          0.02f,
+                          2.0f};
+  const float alphas[] = {
+      0.0f, 1.0f, 0.5f, 2.0f, -0.5f, 0.25f, 0.999f, 0.1f, 0.0f, 1.0f, std::numeric_limits<float>::quiet_NaN(), 0.75f};
   for (int i = 0; i < 12; ++i) {
     img.rgba[i * 4 + 0] = values[i];
     img.rgba[i * 4 + 1] = values[(i + 4) % 12];
@@ -255,8 +259,7 @@ TEST_CASE("PNG is readable by libpng and holds the tone-mapped values", "[image_
     img.rgba[i * 4 + 3] = alphas[i];
   }
 
-  for (const ToneMap tm : {ToneMap{0.0, ToneMap::Curve::Aces, true},
-                           ToneMap{1.5, ToneMap::Curve::Reinhard, true},
+  for (const ToneMap tm : {ToneMap{0.0, ToneMap::Curve::Aces, true}, ToneMap{1.5, ToneMap::Curve::Reinhard, true},
                            ToneMap{-2.0, ToneMap::Curve::Clamp, true}}) {
     const std::string path = dir.file("out.png");
     tessera::write_png(path, img, tm);
@@ -280,9 +283,9 @@ TEST_CASE("PNG is readable by libpng and holds the tone-mapped values", "[image_
     CHECK(px[2 * 4 + 3] == 128);  // floor(127.5 + 0.5)
     CHECK(px[3 * 4 + 3] == 255);
     CHECK(px[4 * 4 + 3] == 0);
-    CHECK(px[5 * 4 + 3] == 64);   // floor(63.75 + 0.5)
-    CHECK(px[10 * 4 + 3] == 0);   // NaN alpha
-    CHECK(px[11 * 4 + 3] == 191); // floor(191.25 + 0.5)
+    CHECK(px[5 * 4 + 3] == 64);    // floor(63.75 + 0.5)
+    CHECK(px[10 * 4 + 3] == 0);    // NaN alpha
+    CHECK(px[11 * 4 + 3] == 191);  // floor(191.25 + 0.5)
   }
   CHECK(dir.entries() == std::set<std::string>{"out.png"});
 
@@ -299,15 +302,13 @@ TEST_CASE("PNG is readable by libpng and holds the tone-mapped values", "[image_
 }
 
 TEST_CASE("tonemap_channel: range, monotonicity, limits and exact sRGB", "[image_io]") {
-  const ToneMap::Curve curves[] = {ToneMap::Curve::Clamp, ToneMap::Curve::Reinhard,
-                                   ToneMap::Curve::Aces};
+  const ToneMap::Curve curves[] = {ToneMap::Curve::Clamp, ToneMap::Curve::Reinhard, ToneMap::Curve::Aces};
   for (const auto curve : curves) {
     const ToneMap tm{0.0, curve};
     CHECK(tessera::tonemap_channel(0.0, tm) == 0.0);
     CHECK(tessera::tonemap_channel(-1.0, tm) == 0.0);
     CHECK(tessera::tonemap_channel(std::nan(""), tm) == 0.0);
-    CHECK(tessera::tonemap_channel(std::numeric_limits<double>::infinity(), tm) ==
-          Approx(1.0).margin(1e-12));
+    CHECK(tessera::tonemap_channel(std::numeric_limits<double>::infinity(), tm) == Approx(1.0).margin(1e-12));
     CHECK(tessera::tonemap_channel(1e300, tm) == Approx(1.0).margin(1e-12));
 
     // Non-decreasing and inside [0, 1] over a log sweep 1e-8 .. 1e8
@@ -321,8 +322,7 @@ TEST_CASE("tonemap_channel: range, monotonicity, limits and exact sRGB", "[image
   }
 
   // Large values saturate to ~1 for the compressive curves
-  CHECK(tessera::tonemap_channel(1e6, {0.0, ToneMap::Curve::Reinhard}) ==
-        Approx(1.0).margin(1e-6));
+  CHECK(tessera::tonemap_channel(1e6, {0.0, ToneMap::Curve::Reinhard}) == Approx(1.0).margin(1e-6));
   CHECK(tessera::tonemap_channel(1e6, {0.0, ToneMap::Curve::Aces}) == Approx(1.0).margin(1e-12));
 
   // sRGB OETF, both branches, with the identity curve
@@ -333,14 +333,10 @@ TEST_CASE("tonemap_channel: range, monotonicity, limits and exact sRGB", "[image
   CHECK(tessera::tonemap_channel(7.0, clamp) == Approx(1.0).epsilon(1e-14));
 
   // Exposure is in stops: 0.25 at +1 stop is 0.5 at 0 stops
-  CHECK(tessera::tonemap_channel(0.25, {1.0, ToneMap::Curve::Clamp}) ==
-        tessera::tonemap_channel(0.5, clamp));
+  CHECK(tessera::tonemap_channel(0.25, {1.0, ToneMap::Curve::Clamp}) == tessera::tonemap_channel(0.5, clamp));
 
   // Curves at x = 1 (Reinhard 1/2, Aces 2.54/3.16), then sRGB
-  CHECK(tessera::tonemap_channel(0.5, {1.0, ToneMap::Curve::Reinhard}) ==
-        Approx(0.7353569830524495).epsilon(1e-14));
-  CHECK(tessera::tonemap_channel(1.0, {0.0, ToneMap::Curve::Aces}) ==
-        Approx(0.9082304956696972).epsilon(1e-14));
-  CHECK(tessera::tonemap_channel(0.5, {0.0, ToneMap::Curve::Reinhard}) ==
-        Approx(0.61250102485184).epsilon(1e-13));
+  CHECK(tessera::tonemap_channel(0.5, {1.0, ToneMap::Curve::Reinhard}) == Approx(0.7353569830524495).epsilon(1e-14));
+  CHECK(tessera::tonemap_channel(1.0, {0.0, ToneMap::Curve::Aces}) == Approx(0.9082304956696972).epsilon(1e-14));
+  CHECK(tessera::tonemap_channel(0.5, {0.0, ToneMap::Curve::Reinhard}) == Approx(0.61250102485184).epsilon(1e-13));
 }

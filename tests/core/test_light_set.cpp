@@ -86,8 +86,7 @@ TEST_CASE("the light set orders lights kind by kind, whatever the list's order",
   CHECK_THROWS_WITH(tessera::prepare(view, s), Catch::Contains("sphere light 1: position"));
 }
 
-TEST_CASE("prepare fills the kernel scene: rects, spheres, then the emitting background",
-          "[light_set][kernel_scene]") {
+TEST_CASE("prepare fills the kernel scene: rects, spheres, then the emitting background", "[light_set][kernel_scene]") {
   const std::vector<float> field = tessera_test::constant_field(4, 4, 4, 0.5f);
   const tessera::FieldView view = tessera::FieldView::contiguous(field.data(), tessera::DType::Float32, 4, 4, 4);
   tessera::SceneDesc s = lit_scene();
@@ -125,8 +124,7 @@ TEST_CASE("prepare fills the kernel scene: rects, spheres, then the emitting bac
   CHECK(prepared_scene_impl(dark).kernel.lights.background_visible());
 }
 
-TEST_CASE("through the set, every kind's pdf() equals the pdf its sample() reports",
-          "[light_set]") {
+TEST_CASE("through the set, every kind's pdf() equals the pdf its sample() reports", "[light_set]") {
   const std::vector<float> field = tessera_test::constant_field(4, 4, 4, 0.5f);
   const tessera::FieldView view = tessera::FieldView::contiguous(field.data(), tessera::DType::Float32, 4, 4, 4);
   const tessera::PreparedScene ps = tessera::prepare(view, lit_scene());

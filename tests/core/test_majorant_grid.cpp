@@ -84,8 +84,7 @@ struct Interval {
 };
 Interval cell_interval(std::int64_t c, int edge, std::int64_t n) {
   const double hi_box = static_cast<double>(n - 1);
-  return {std::min(static_cast<double>(c) * edge, hi_box),
-          std::min(static_cast<double>(c + 1) * edge, hi_box)};
+  return {std::min(static_cast<double>(c) * edge, hi_box), std::min(static_cast<double>(c + 1) * edge, hi_box)};
 }
 double pick(tessera::Rng& rng, const Interval& iv) {
   const double r = rng.uniform();
@@ -101,8 +100,8 @@ double pick(tessera::Rng& rng, const Interval& iv) {
 /// Densely checks sigma_t(p) <= majorant(cell) for points of every cell. Returns the number
 /// of violations and describes the first one in *first.
 template <class T>
-int count_violations(const FieldView& view, const TransferFunction& tf, const MajorantGrid& grid,
-                     tessera::Rng& rng, int points_per_cell, std::string* first) {
+int count_violations(const FieldView& view, const TransferFunction& tf, const MajorantGrid& grid, tessera::Rng& rng,
+                     int points_per_cell, std::string* first) {
   const auto m = tessera_test::make_medium<T>(view, tf, &grid);
   const std::int64_t* nc = grid.cells();
   int bad = 0;
@@ -121,8 +120,8 @@ int count_violations(const FieldView& view, const TransferFunction& tf, const Ma
             if (bad++ == 0 && first) {
               std::ostringstream os;
               os.precision(17);
-              os << "cell (" << cx << "," << cy << "," << cz << ") p=(" << p.x << "," << p.y << ","
-                 << p.z << ") sigma_t=" << sigma << " majorant=" << maj;
+              os << "cell (" << cx << "," << cy << "," << cz << ") p=(" << p.x << "," << p.y << "," << p.z
+                 << ") sigma_t=" << sigma << " majorant=" << maj;
               *first = os.str();
             }
           }
@@ -133,8 +132,8 @@ int count_violations(const FieldView& view, const TransferFunction& tf, const Ma
 
 /// Same bound along the segments the DDA reports for random rays through the box.
 template <class T>
-int count_ray_violations(const FieldView& view, const TransferFunction& tf, const MajorantGrid& grid,
-                         tessera::Rng& rng, int rays) {
+int count_ray_violations(const FieldView& view, const TransferFunction& tf, const MajorantGrid& grid, tessera::Rng& rng,
+                         int rays) {
   const auto m = tessera_test::make_medium<T>(view, tf, &grid);
   int bad = 0;
   for (int r = 0; r < rays; ++r) {
@@ -180,9 +179,8 @@ void check_random_fields(std::uint64_t seed, bool non_finite, int trials) {
       std::string first;
       const int bad = count_violations<T>(f.view, tf, grid, rng, 40, &first);
       const int bad_rays = count_ray_violations<T>(f.view, tf, grid, rng, 30);
-      INFO("seed " << seed << " trial " << trial << " dims " << n[0] << "x" << n[1] << "x" << n[2]
-                   << " edge " << edge << " tf range [" << tf.lo << ", " << tf.hi << "] "
-                   << first);
+      INFO("seed " << seed << " trial " << trial << " dims " << n[0] << "x" << n[1] << "x" << n[2] << " edge " << edge
+                   << " tf range [" << tf.lo << ", " << tf.hi << "] " << first);
       REQUIRE(bad == 0);
       REQUIRE(bad_rays == 0);
     }
@@ -191,8 +189,7 @@ void check_random_fields(std::uint64_t seed, bool non_finite, int trials) {
 
 }  // namespace
 
-TEST_CASE("majorant >= sigma_t everywhere in every macrocell, random fields and TFs",
-          "[majorant_grid]") {
+TEST_CASE("majorant >= sigma_t everywhere in every macrocell, random fields and TFs", "[majorant_grid]") {
   SECTION("float32 with NaN and +-Inf vertices") { check_random_fields<float>(101, true, 25); }
   SECTION("float64 with NaN and +-Inf vertices") { check_random_fields<double>(102, true, 10); }
   SECTION("int16") { check_random_fields<std::int16_t>(103, false, 20); }
@@ -200,8 +197,7 @@ TEST_CASE("majorant >= sigma_t everywhere in every macrocell, random fields and 
   SECTION("uint16") { check_random_fields<std::uint16_t>(105, false, 5); }
 }
 
-TEST_CASE("majorant on a linear ramp is tight and respects the +1 vertex overlap",
-          "[majorant_grid]") {
+TEST_CASE("majorant on a linear ramp is tight and respects the +1 vertex overlap", "[majorant_grid]") {
   // v = i along x over 9 vertices, opacity = u, range [0, 8]: with edge 4 cell 0 spans
   // vertices 0..4, cell 1 vertices 4..8 (vertex 4 shared).
   std::vector<float> data(9 * 2 * 2);
@@ -236,8 +232,7 @@ TEST_CASE("majorant on a linear ramp is tight and respects the +1 vertex overlap
   CHECK(grid.majorants()[1] > 0.0);
 }
 
-TEST_CASE("update() after a TF change equals a fresh build, and global mode is one cell",
-          "[majorant_grid]") {
+TEST_CASE("update() after a TF change equals a fresh build, and global mode is one cell", "[majorant_grid]") {
   tessera::Rng rng(55, 0, 0, 0);
   const std::int64_t n[3] = {13, 9, 11};
   const RandomField f = make_random_field<float>(rng, n, true);

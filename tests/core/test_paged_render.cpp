@@ -40,16 +40,30 @@ std::vector<unsigned char> make_field(DType dt) {
         const std::size_t n = static_cast<std::size_t>((k * NY + j) * NX + i);
         unsigned char* p = bytes.data() + n * es;
         switch (dt) {
-          case DType::UInt8: { const auto t = static_cast<std::uint8_t>(v * scale); std::memcpy(p, &t, es); break; }
-          case DType::Int16: { const auto t = static_cast<std::int16_t>(v * scale - 200.0); std::memcpy(p, &t, es); break; }
-          case DType::UInt16: { const auto t = static_cast<std::uint16_t>(v * scale); std::memcpy(p, &t, es); break; }
+          case DType::UInt8: {
+            const auto t = static_cast<std::uint8_t>(v * scale);
+            std::memcpy(p, &t, es);
+            break;
+          }
+          case DType::Int16: {
+            const auto t = static_cast<std::int16_t>(v * scale - 200.0);
+            std::memcpy(p, &t, es);
+            break;
+          }
+          case DType::UInt16: {
+            const auto t = static_cast<std::uint16_t>(v * scale);
+            std::memcpy(p, &t, es);
+            break;
+          }
           default: {
             if (n % 97 == 5) v = std::numeric_limits<double>::quiet_NaN();
             else if (n % 89 == 7) v = std::numeric_limits<double>::infinity();
             else if (n % 83 == 9) v = -std::numeric_limits<double>::infinity();
             else if (n % 13 == 0) v = -0.0;
-            if (dt == DType::Float32) { const auto t = static_cast<float>(v); std::memcpy(p, &t, es); }
-            else std::memcpy(p, &v, es);
+            if (dt == DType::Float32) {
+              const auto t = static_cast<float>(v);
+              std::memcpy(p, &t, es);
+            } else std::memcpy(p, &v, es);
           }
         }
       }
@@ -305,16 +319,20 @@ TEST_CASE("prepare(PagedField) checks the cache, the block and the summary", "[p
   f.cache = &cache;
   const int edge = tessera::majorant_edge(whole, s.integrator);
   REQUIRE_THROWS_WITH(tessera::prepare(f, s, nullptr), Catch::Contains("no field summary"));
-  REQUIRE_THROWS_WITH(tessera::prepare(f, s, tessera::FieldSummary::build(whole, edge + 1)),
-                      Catch::Contains("edge " + std::to_string(edge + 1)) && Catch::Contains("needs " + std::to_string(edge)));
+  REQUIRE_THROWS_WITH(
+      tessera::prepare(f, s, tessera::FieldSummary::build(whole, edge + 1)),
+      Catch::Contains("edge " + std::to_string(edge + 1)) && Catch::Contains("needs " + std::to_string(edge)));
   tessera::PagedField g = f;
   g.dtype = DType::Float64;
-  REQUIRE_THROWS_WITH(tessera::prepare(g, s, tessera::FieldSummary::build(whole, edge)), Catch::Contains("brick cache is for a float32"));
+  REQUIRE_THROWS_WITH(tessera::prepare(g, s, tessera::FieldSummary::build(whole, edge)),
+                      Catch::Contains("brick cache is for a float32"));
   g = f;
   g.local = whole;
   g.offset[2] = 1;
-  REQUIRE_THROWS_WITH(tessera::prepare(g, s, tessera::FieldSummary::build(whole, edge)), Catch::Contains("not inside the global dims"));
+  REQUIRE_THROWS_WITH(tessera::prepare(g, s, tessera::FieldSummary::build(whole, edge)),
+                      Catch::Contains("not inside the global dims"));
   g = f;
   g.cache = nullptr;
-  REQUIRE_THROWS_WITH(tessera::prepare(g, s, tessera::FieldSummary::build(whole, edge)), Catch::Contains("no brick cache"));
+  REQUIRE_THROWS_WITH(tessera::prepare(g, s, tessera::FieldSummary::build(whole, edge)),
+                      Catch::Contains("no brick cache"));
 }

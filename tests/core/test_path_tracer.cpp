@@ -58,8 +58,7 @@ void enclose_in_rect_lights(tessera::SceneDesc& s) {
 
 }  // namespace
 
-TEST_CASE("single scattering equals multiple scattering with max_bounces 1, bit for bit",
-          "[path_tracer][render]") {
+TEST_CASE("single scattering equals multiple scattering with max_bounces 1, bit for bit", "[path_tracer][render]") {
   constexpr int n = 14;
   const std::vector<float> field = tessera_test::blobby_field(n, n, n);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, n, n, n);
@@ -89,8 +88,7 @@ TEST_CASE("single scattering equals multiple scattering with max_bounces 1, bit 
   CHECK(st_multi.real_collisions > st_single.real_collisions);
 }
 
-TEST_CASE("single scattering in a furnace loses the multiply scattered energy",
-          "[path_tracer][render]") {
+TEST_CASE("single scattering in a furnace loses the multiply scattered energy", "[path_tracer][render]") {
   constexpr int n = 5;
   const std::vector<float> field = tessera_test::constant_field(n, n, n, 1.0f);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, n, n, n);
@@ -105,8 +103,7 @@ TEST_CASE("single scattering in a furnace loses the multiply scattered energy",
   CHECK(kL - single.mean > 4.0 * single.se);  // significantly darker than the furnace value
 }
 
-TEST_CASE("furnace enclosed by rect lights: NEE + MIS to area lights keeps radiance L",
-          "[path_tracer][render]") {
+TEST_CASE("furnace enclosed by rect lights: NEE + MIS to area lights keeps radiance L", "[path_tracer][render]") {
   // No background: all light comes from six inward-facing rect lights of radiance L that
   // enclose the camera and the medium, so every pixel's expected value is L.
   SECTION("homogeneous, phase") {

@@ -39,14 +39,12 @@ TEST_CASE("HG phase function integrates to 1 over the sphere", "[phase_hg]") {
   CHECK(tessera::hg_eval(0.3, 0.0) == Approx(tessera::kInv4Pi).epsilon(1e-15));
 }
 
-TEST_CASE("HG sampling matches hg_eval: histogram of cos theta and azimuth, pdf, mean cosine",
-          "[phase_hg]") {
+TEST_CASE("HG sampling matches hg_eval: histogram of cos theta and azimuth, pdf, mean cosine", "[phase_hg]") {
   constexpr int kSamples = 200000, kBins = 40, kPhiBins = 16;
   tessera::Rng rng(31337, 0, 0, 0);
   for (const double g : {-0.7, -0.2, 0.0, 0.0005, 0.5, 0.9}) {
     // A random travel direction, and the exact poles now and then
-    const Vec3 d_in = g == 0.5 ? Vec3(0.0, 0.0, -1.0)
-                               : tessera::uniform_sphere(rng.uniform(), rng.uniform());
+    const Vec3 d_in = g == 0.5 ? Vec3(0.0, 0.0, -1.0) : tessera::uniform_sphere(rng.uniform(), rng.uniform());
     const tessera::Frame frame(d_in);
     std::vector<double> hist(kBins, 0.0), phi_hist(kPhiBins, 0.0);
     double sum_cos = 0.0, sum_cos2 = 0.0, worst_pdf = 0.0, worst_norm = 0.0;
@@ -65,8 +63,7 @@ TEST_CASE("HG sampling matches hg_eval: histogram of cos theta and azimuth, pdf,
       phi_hist[std::min(kPhiBins - 1, static_cast<int>(phi / (2.0 * tessera::kPi) * kPhiBins))] += 1.0;
     }
     std::vector<double> prob(kBins);
-    for (int b = 0; b < kBins; ++b)
-      prob[b] = hg_mass(-1.0 + 2.0 * b / kBins, -1.0 + 2.0 * (b + 1) / kBins, g);
+    for (int b = 0; b < kBins; ++b) prob[b] = hg_mass(-1.0 + 2.0 * b / kBins, -1.0 + 2.0 * (b + 1) / kBins, g);
     int dof = 0;
     const double chi2 = tessera_test::chi_square(hist, prob, kSamples, &dof);
     const std::vector<double> uniform(kPhiBins, 1.0 / kPhiBins);
@@ -75,8 +72,8 @@ TEST_CASE("HG sampling matches hg_eval: histogram of cos theta and azimuth, pdf,
 
     const double mean = sum_cos / kSamples;
     const double se = std::sqrt(std::fmax(0.0, sum_cos2 / kSamples - mean * mean) / kSamples);
-    INFO("g " << g << ": chi2 " << chi2 << " dof " << dof << ", azimuth chi2 " << chi2_phi
-              << " dof " << dof_phi << ", mean cos " << mean << " +- " << se);
+    INFO("g " << g << ": chi2 " << chi2 << " dof " << dof << ", azimuth chi2 " << chi2_phi << " dof " << dof_phi
+              << ", mean cos " << mean << " +- " << se);
     CHECK(chi2 < tessera_test::chi2_critical(dof, tessera_test::kZ1e4));
     CHECK(chi2_phi < tessera_test::chi2_critical(dof_phi, tessera_test::kZ1e4));
     CHECK(std::fabs(mean - g) < 4.0 * se);

@@ -6,8 +6,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "test_support.h"
 #include "light_lookup.h"
+#include "test_support.h"
 
 #include <cmath>
 #include <limits>
@@ -103,8 +103,8 @@ TEST_CASE("all-zero opacity: no free-flight lookups, the background exactly, alp
       CHECK(st.real_collisions == 0);
       bool exact = true;
       for (int i = 0; i < img.width * img.height; ++i)
-        exact = exact && img.rgba[4 * i] == 0.25f && img.rgba[4 * i + 1] == 0.5f &&
-                img.rgba[4 * i + 2] == 0.75f && img.rgba[4 * i + 3] == 0.0f;
+        exact = exact && img.rgba[4 * i] == 0.25f && img.rgba[4 * i + 1] == 0.5f && img.rgba[4 * i + 2] == 0.75f &&
+                img.rgba[4 * i + 3] == 0.0f;
       CHECK(exact);
     }
   }

@@ -21,8 +21,7 @@ using tessera::Distribution1D;
 using tessera::Distribution2D;
 using tessera::Rng;
 
-TEST_CASE("Distribution1D: pdf integrates to 1, samples follow f, zero bins are never hit",
-          "[sampling]") {
+TEST_CASE("Distribution1D: pdf integrates to 1, samples follow f, zero bins are never hit", "[sampling]") {
   Rng rng(11, 0, 0, 0);
   const std::vector<std::vector<double>> fs = {
       {1.0},
@@ -46,8 +45,7 @@ TEST_CASE("Distribution1D: pdf integrates to 1, samples follow f, zero bins are 
     for (int s = 0; s < kSamples; ++s) {
       std::size_t bin;
       const double x = d.sample(rng.uniform(), &bin);
-      bin_consistent = bin_consistent && x >= 0.0 && x < 1.0 &&
-                       static_cast<std::size_t>(x * f.size()) == bin;
+      bin_consistent = bin_consistent && x >= 0.0 && x < 1.0 && static_cast<std::size_t>(x * f.size()) == bin;
       counts[bin] += 1.0;
     }
     for (std::size_t i = 0; i < f.size(); ++i) prob[i] = f[i] / fsum;
@@ -80,13 +78,12 @@ TEST_CASE("Distribution1D: pdf integrates to 1, samples follow f, zero bins are 
   CHECK(bin == 2);
 }
 
-TEST_CASE("Distribution2D: pdf integrates to 1, sample() returns pdf(x, y), bins follow f",
-          "[sampling]") {
+TEST_CASE("Distribution2D: pdf integrates to 1, sample() returns pdf(x, y), bins follow f", "[sampling]") {
   Rng rng(12, 0, 0, 0);
   constexpr std::size_t nx = 8, ny = 5;
   std::vector<double> f(nx * ny);
   for (std::size_t i = 0; i < f.size(); ++i) f[i] = rng.uniform() < 0.2 ? 0.0 : rng.uniform() * 3.0;
-  f[3] = 40.0;  // a hot spot
+  f[3] = 40.0;                                               // a hot spot
   for (std::size_t x = 0; x < nx; ++x) f[2 * nx + x] = 0.0;  // an empty row
   const Distribution2D d(f, nx, ny);
   double fsum = 0.0;
@@ -172,9 +169,8 @@ TEST_CASE("random streams are pure functions of (seed, frame, pixel, sample)", "
     return v;
   };
   CHECK(first(1, 2, 3, 4) == first(1, 2, 3, 4));
-  std::set<std::vector<std::uint64_t>> distinct = {first(1, 2, 3, 4), first(2, 2, 3, 4),
-                                                   first(1, 3, 3, 4), first(1, 2, 4, 4),
-                                                   first(1, 2, 3, 5), first(0, 0, 0, 0)};
+  std::set<std::vector<std::uint64_t>> distinct = {first(1, 2, 3, 4), first(2, 2, 3, 4), first(1, 3, 3, 4),
+                                                   first(1, 2, 4, 4), first(1, 2, 3, 5), first(0, 0, 0, 0)};
   CHECK(distinct.size() == 6);
   Rng r(5, 6, 7, 8);
   double sum = 0.0;

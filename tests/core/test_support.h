@@ -83,8 +83,7 @@ inline constexpr double kZ1e4 = 3.719016485;
 /// Pearson's chi-square statistic of observed counts against expected probabilities, merging
 /// bins whose expected count is under 5 into their neighbour. Returns the statistic and sets
 /// *dof to (bins used - 1).
-inline double chi_square(const std::vector<double>& observed, const std::vector<double>& prob,
-                         double total, int* dof) {
+inline double chi_square(const std::vector<double>& observed, const std::vector<double>& prob, double total, int* dof) {
   std::vector<double> o_bins, e_bins;
   double o_acc = 0.0, e_acc = 0.0;
   for (std::size_t i = 0; i < observed.size(); ++i) {

@@ -31,8 +31,7 @@ TEST_CASE("scalar TF: linear between points, clamped at the ends, empty is zero"
   CHECK(ScalarTF({0.0, 1.0}, {0.0, 0.0}).is_zero());
 }
 
-TEST_CASE("scalar TF steps: equal x jumps, the right value holds from the step on",
-          "[transfer_function]") {
+TEST_CASE("scalar TF steps: equal x jumps, the right value holds from the step on", "[transfer_function]") {
   const ScalarTF tf({0.0, 0.5, 0.5, 1.0}, {0.0, 1.0, 4.0, 4.0});
   CHECK(tf.eval(0.25) == Approx(0.5));
   CHECK(tf.eval(0.5) == 4.0);
@@ -56,8 +55,7 @@ TEST_CASE("max_over is an upper bound of the TF over the interval and attained",
       if (q == 0) u1 = u0;  // a point
       const double m = tf.max_over(u0, u1);
       double dense = std::fmax(tf.eval(u0), tf.eval(u1));
-      for (int k = 0; k <= 2000; ++k)
-        dense = std::fmax(dense, tf.eval(std::min(u1, u0 + (u1 - u0) * k / 2000.0)));
+      for (int k = 0; k <= 2000; ++k) dense = std::fmax(dense, tf.eval(std::min(u1, u0 + (u1 - u0) * k / 2000.0)));
       for (int i = 0; i < np; ++i)
         if (xs[i] >= u0 && xs[i] <= u1) dense = std::fmax(dense, tf.eval(xs[i]));
       if (dense > m) ++not_bound;

@@ -96,8 +96,7 @@ BoxResult render_box(const std::vector<float>& field, const tessera::SceneDesc& 
 }
 
 void check_box(const BoxResult& r, double T) {
-  INFO("expected T " << T << ", mean L " << r.L.mean << " +- " << r.L.se << ", red " << r.red
-                     << ", alpha " << r.alpha);
+  INFO("expected T " << T << ", mean L " << r.L.mean << " +- " << r.L.se << ", red " << r.red << ", alpha " << r.alpha);
   CHECK(r.L.se > 0.0);
   CHECK(r.L.z(T) < 4.0);
   CHECK(std::fabs(r.red - T) < 4.0 * r.L.se);
@@ -150,8 +149,7 @@ TEST_CASE("homogeneous absorbing box: pixel radiance exp(-sigma_t d), alpha 1 - 
   }
 }
 
-TEST_CASE("emissive absorber: radiance Le (1 - exp(-tau)) over a black background",
-          "[transmittance][render]") {
+TEST_CASE("emissive absorber: radiance Le (1 - exp(-tau)) over a black background", "[transmittance][render]") {
   // Emission is collected at real collisions (emission coefficient sigma_t Le): a sample is
   // Le when the camera ray collides and 0 when it escapes into the black background.
   const std::vector<float> field = tessera_test::constant_field(kN, kN, kN, 1.0f);
@@ -174,8 +172,7 @@ TEST_CASE("emissive absorber: radiance Le (1 - exp(-tau)) over a black backgroun
   }
 }
 
-TEST_CASE("heterogeneous absorbers along the view axis: exp(-integral of sigma_t)",
-          "[transmittance][render]") {
+TEST_CASE("heterogeneous absorbers along the view axis: exp(-integral of sigma_t)", "[transmittance][render]") {
   // v = k (the z index) over 5 x 5 x 9 vertices, range [0, 8]: u = z / D along the depth D.
   constexpr int nz = 9;
   std::vector<float> field(kN * kN * nz);
@@ -202,12 +199,10 @@ TEST_CASE("heterogeneous absorbers along the view axis: exp(-integral of sigma_t
   };
   const Case cases[] = {
       {"linear opacity: sigma = s z / D", tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0}), 0.5, true},
-      {"kinked opacity: sigma = s min(1, 2 z / D)", tessera::ScalarTF({0.0, 0.5, 1.0}, {0.0, 1.0, 1.0}),
-       0.75, true},
+      {"kinked opacity: sigma = s min(1, 2 z / D)", tessera::ScalarTF({0.0, 0.5, 1.0}, {0.0, 1.0, 1.0}), 0.75, true},
       // The step sits on a macrocell face (z index 2): every cell is homogeneous, and the
       // cells before the step have majorant 0 and are crossed without any lookup.
-      {"step opacity: 0 then 1 at z = D / 4", tessera::ScalarTF({0.25, 0.25}, {0.0, 1.0}), 0.75,
-       false},
+      {"step opacity: 0 then 1 at z = D / 4", tessera::ScalarTF({0.25, 0.25}, {0.0, 1.0}), 0.75, false},
   };
   for (const Case& c : cases) {
     for (const auto mode : {tessera::MajorantMode::Grid, tessera::MajorantMode::Global}) {
@@ -219,8 +214,8 @@ TEST_CASE("heterogeneous absorbers along the view axis: exp(-integral of sigma_t
       tessera::RenderStats st;
       const tessera::Film film = tessera_test::render_film(ps, &st);
       const auto L = tessera_test::luminance_stats(film);
-      INFO(c.name << (mode == tessera::MajorantMode::Grid ? ", grid" : ", global") << ": expected "
-                  << T << ", got " << L.mean << " +- " << L.se);
+      INFO(c.name << (mode == tessera::MajorantMode::Grid ? ", grid" : ", global") << ": expected " << T << ", got "
+                  << L.mean << " +- " << L.se);
       CHECK(L.z(T) < 4.0);
       CHECK(std::fabs(tessera_test::mean_alpha(film) - (1.0 - T)) < 4.0 * L.se);
       if (c.null_events && mode == tessera::MajorantMode::Grid) CHECK(st.null_collisions > 0);
@@ -229,8 +224,7 @@ TEST_CASE("heterogeneous absorbers along the view axis: exp(-integral of sigma_t
   }
 }
 
-TEST_CASE("ratio and delta tracking of shadow rays estimate the same transmittance",
-          "[transmittance][render]") {
+TEST_CASE("ratio and delta tracking of shadow rays estimate the same transmittance", "[transmittance][render]") {
   // A heterogeneous scattering cloud lit by a rect light, a sphere light and the background;
   // only the shadow-ray estimator differs between the renders, each with its own seed, so
   // the image means are independent estimates of the same expectation.
@@ -268,9 +262,8 @@ TEST_CASE("ratio and delta tracking of shadow rays estimate the same transmittan
     const auto ratio_nr = run(sc, tessera::ShadowMode::Ratio, false, 2);
     const auto delta = run(sc, tessera::ShadowMode::Delta, true, 3);
     INFO((sc == tessera::Scattering::Single ? "single" : "multiple")
-         << ": ratio " << ratio.mean << " +- " << ratio.se << ", ratio without roulette "
-         << ratio_nr.mean << " +- " << ratio_nr.se << ", delta " << delta.mean << " +- "
-         << delta.se);
+         << ": ratio " << ratio.mean << " +- " << ratio.se << ", ratio without roulette " << ratio_nr.mean << " +- "
+         << ratio_nr.se << ", delta " << delta.mean << " +- " << delta.se);
     REQUIRE(ratio.mean > 0.01);  // the test has signal
     CHECK(std::fabs(ratio.mean - delta.mean) / std::hypot(ratio.se, delta.se) < 4.0);
     CHECK(std::fabs(ratio_nr.mean - delta.mean) / std::hypot(ratio_nr.se, delta.se) < 4.0);
@@ -278,8 +271,7 @@ TEST_CASE("ratio and delta tracking of shadow rays estimate the same transmittan
   }
 }
 
-TEST_CASE("ratio tracking with roulette stays unbiased behind a thick absorber",
-          "[transmittance][render]") {
+TEST_CASE("ratio tracking with roulette stays unbiased behind a thick absorber", "[transmittance][render]") {
   // A thin scattering layer (y > 0.5) lit only through a thicker absorbing layer (y < 0.5) by
   // a rect light below the box. The global majorant is set by one hot vertex at twice the
   // absorber's extinction, so ratio tracking multiplies by 1/2 per absorber event and most
@@ -318,8 +310,8 @@ TEST_CASE("ratio tracking with roulette stays unbiased behind a thick absorber",
   const auto ratio = run(tessera::ShadowMode::Ratio, true, 11);
   const auto ratio_nr = run(tessera::ShadowMode::Ratio, false, 12);
   const auto delta = run(tessera::ShadowMode::Delta, true, 13);
-  INFO("ratio " << ratio.mean << " +- " << ratio.se << ", ratio without roulette " << ratio_nr.mean
-                << " +- " << ratio_nr.se << ", delta " << delta.mean << " +- " << delta.se);
+  INFO("ratio " << ratio.mean << " +- " << ratio.se << ", ratio without roulette " << ratio_nr.mean << " +- "
+                << ratio_nr.se << ", delta " << delta.mean << " +- " << delta.se);
   REQUIRE(ratio_nr.mean > 20.0 * ratio_nr.se);  // the test has signal
   CHECK(std::fabs(ratio.mean - delta.mean) / std::hypot(ratio.se, delta.se) < 4.0);
   CHECK(std::fabs(ratio_nr.mean - delta.mean) / std::hypot(ratio_nr.se, delta.se) < 4.0);

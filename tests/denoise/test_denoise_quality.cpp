@@ -99,8 +99,8 @@ int main() {
     tessera::denoise(noisy);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double raw = rmse(noisy.rgba.data(), 4, ref), den = rmse(noisy.denoised.data(), 3, ref);
-    std::printf("96x96: RMSE to the 1024-spp reference: raw 8 spp %.5f, denoised %.5f (%.1f%%); denoise %.3f s\n",
-                raw, den, 100.0 * den / raw, secs);
+    std::printf("96x96: RMSE to the 1024-spp reference: raw 8 spp %.5f, denoised %.5f (%.1f%%); denoise %.3f s\n", raw,
+                den, 100.0 * den / raw, secs);
     if (noisy.rgba != rgba) {
       std::printf("FAILED: denoise changed the RGBA estimate\n");
       return 1;

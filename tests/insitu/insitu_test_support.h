@@ -19,9 +19,8 @@ namespace tessera::insitu::test {
 using tessera_test::TempDir;
 
 /// One render entry (YAML, indented for `renders:`). `extra` lines go inside the entry.
-inline std::string render_yaml(const std::string& name, const std::string& trigger,
-                               const std::string& extra = "", const std::string& field = "density",
-                               int size = 24, int spp = 2) {
+inline std::string render_yaml(const std::string& name, const std::string& trigger, const std::string& extra = "",
+                               const std::string& field = "density", int size = 24, int spp = 2) {
   std::string s = "  - name: " + name + "\n";
   if (!field.empty()) s += "    field: " + field + "\n";
   if (!trigger.empty()) s += "    trigger: " + trigger + "\n";
@@ -45,8 +44,7 @@ inline std::string render_yaml(const std::string& name, const std::string& trigg
 /// A whole config: global options (`global` lines, indented by 2) and renders.
 inline std::string config_yaml(const std::string& output_dir, const std::string& renders,
                                const std::string& global = "") {
-  return "tessera:\n  output_dir: " + output_dir + "\n  threads: 2\n" + global + "renders:\n" +
-         renders;
+  return "tessera:\n  output_dir: " + output_dir + "\n  threads: 2\n" + global + "renders:\n" + renders;
 }
 
 /// A blob of integer values in [0, 250] on n^3 vertices, i fastest.
@@ -62,9 +60,7 @@ inline std::vector<double> blob_values(int n, double cx = 0.5) {
   return v;
 }
 
-inline std::vector<float> to_float(const std::vector<double>& v) {
-  return std::vector<float>(v.begin(), v.end());
-}
+inline std::vector<float> to_float(const std::vector<double>& v) { return std::vector<float>(v.begin(), v.end()); }
 
 /// A dense float32 field (i fastest) named `name`.
 inline tessera_field dense_field(const char* name, const float* data, int n) {

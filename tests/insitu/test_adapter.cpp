@@ -207,8 +207,7 @@ TEST_CASE("triggers: every, at, when (field maximum), render_final_step", "[insi
   const std::string renders = render_yaml("every3", "{every: 3}") + render_yaml("at", "{at: [2, 5]}") +
                               render_yaml("hot", "{when: {above: 200}}") +
                               render_yaml("hotter", "{when: {above: 250}}");
-  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), renders,
-                                                          "  render_final_step: true\n"));
+  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), renders, "  render_final_step: true\n"));
   constexpr int n = 10;
   std::vector<float> sim = to_float(blob_values(n));  // maximum 250
   const tessera_field field = dense_field("density", sim.data(), n);

@@ -27,8 +27,8 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-constexpr int kN = 16;      // field vertices per edge
-constexpr int kSize = 24;   // image edge: 576 pixels
+constexpr int kN = 16;     // field vertices per edge
+constexpr int kSize = 24;  // image edge: 576 pixels
 
 /// A run of `calls` execute calls, steps 0, 1, ... on `threads` threads; per call the planned
 /// spp of each render (0 = skipped), every result, and the last image of `main`.
@@ -38,8 +38,8 @@ struct Run {
   tessera::Image last;
 };
 
-Run run(const TempDir& dir, const std::string& name, const std::string& renders, const std::string& global,
-        int calls, int threads = 2) {
+Run run(const TempDir& dir, const std::string& name, const std::string& renders, const std::string& global, int calls,
+        int threads = 2) {
   std::string text = config_yaml(dir.file(name), renders, global);
   if (threads != 2) text.replace(text.find("threads: 2"), 10, "threads: " + std::to_string(threads));
   const std::string cfg = dir.write(name + ".yaml", text);
@@ -171,8 +171,8 @@ TEST_CASE("budget: a render that cannot get min_spp is skipped with a warning na
       CHECK(res.files.empty());
       CHECK(res.stats.samples == 0);
       REQUIRE(res.warnings.size() == 1);
-      CHECK_THAT(res.warnings[0], Contains("skipped: the render budget (tessera.budget = 0.1") &&
-                                      Contains("image.min_spp = 16"));
+      CHECK_THAT(res.warnings[0],
+                 Contains("skipped: the render budget (tessera.budget = 0.1") && Contains("image.min_spp = 16"));
     } else {
       ++rendered;
       CHECK(res.planned_spp >= 16);

@@ -30,8 +30,8 @@ TEST_CASE("C API: a C simulation with a ghosted float64 field", "[insitu][c-api]
 
 TEST_CASE("C API: errors come back from C as status and message", "[insitu][c-api]") {
   TempDir dir;
-  const std::string cfg = dir.write(
-      "a.yaml", config_yaml(dir.file("out"), render_yaml("heat", "", "", "pressure", 16, 1)));
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(dir.file("out"), render_yaml("heat", "", "", "pressure", 16, 1)));
   char err[1024] = "";
   CHECK(tessera_c_api_smoke(cfg.c_str(), nullptr, 1, err, sizeof err) == TESSERA_ERROR_DATA);
   CHECK_THAT(std::string(err), Catch::Contains("pressure") && Catch::Contains("unknown"));
@@ -98,8 +98,7 @@ TEST_CASE("C API: tessera_open_with_output_dir fails as tessera_open does", "[in
   // An override that cannot be created: TESSERA_ERROR_IO
   dir.write("file_in_the_way", "x");
   a = reinterpret_cast<tessera_adapter*>(&a);
-  CHECK(tessera_open_with_output_dir(cfg.c_str(), -1, dir.file("file_in_the_way/out").c_str(), &a) ==
-        TESSERA_ERROR_IO);
+  CHECK(tessera_open_with_output_dir(cfg.c_str(), -1, dir.file("file_in_the_way/out").c_str(), &a) == TESSERA_ERROR_IO);
   CHECK(a == nullptr);
   CHECK_THAT(std::string(tessera_last_error(nullptr)), Catch::Contains("file_in_the_way"));
 

@@ -59,10 +59,10 @@ TEST_CASE("cinema_views: orbit about the centre at the render's camera distance"
 TEST_CASE("a Cinema render writes a Spec D database, appending per timestep", "[insitu][cinema]") {
   TempDir dir;
   const std::string out = dir.file("out");
-  const std::string extra =
-      "    output: {file: \"{name}_{step:03d}\", formats: [png, exr], "
-      "cinema: {azimuth: [0, 120, 240], elevation: [-30, 90]}}\n";
-  const std::string cfg = dir.write("a.yaml", config_yaml(out, render_yaml("orbit", "{every: 5}", extra, "density", 12, 1)));
+  const std::string extra = "    output: {file: \"{name}_{step:03d}\", formats: [png, exr], "
+                            "cinema: {azimuth: [0, 120, 240], elevation: [-30, 90]}}\n";
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(out, render_yaml("orbit", "{every: 5}", extra, "density", 12, 1)));
   constexpr int n = 8;
   const std::vector<float> sim = to_float(blob_values(n));
   const tessera_field field = dense_field("density", sim.data(), n);

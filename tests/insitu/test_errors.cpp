@@ -22,8 +22,7 @@ namespace {
 constexpr int kN = 8;
 
 /// A camera whose up is parallel to its view direction: prepare() throws.
-const char* kBadCamera =
-    "    camera: {position: [0.5, 0.5, 4], look_at: center, up: [0, 0, 1]}\n";
+const char* kBadCamera = "    camera: {position: [0.5, 0.5, 4], look_at: center, up: [0, 0, 1]}\n";
 
 std::string open_error(const std::string& yaml_path) {
   tessera_adapter* a = reinterpret_cast<tessera_adapter*>(0x1);
@@ -51,9 +50,7 @@ TEST_CASE("broken configs: TESSERA_ERROR_CONFIG naming file, line, column and ke
     const std::string msg = open_error(dir.write("bad.yaml", yaml));
     CHECK(std::regex_search(msg, std::regex(R"(bad\.yaml:\d+:\d+: renders\[0\]\.trigger\.every)")));
   }
-  SECTION("missing file") {
-    CHECK_THAT(open_error(dir.file("missing.yaml")), Contains("missing.yaml"));
-  }
+  SECTION("missing file") { CHECK_THAT(open_error(dir.file("missing.yaml")), Contains("missing.yaml")); }
   SECTION("YAML syntax") {
     const std::string msg = open_error(dir.write("bad.yaml", "renders: [ {name: x\n"));
     CHECK(std::regex_search(msg, std::regex(R"(bad\.yaml:\d+:\d+)")));
@@ -214,8 +211,8 @@ TEST_CASE("an envmap that disappears fails that step only", "[insitu][errors]") 
   const std::string env_path = dir.file("sky.exr");
   tessera::write_exr(env_path, env);
   const std::string extra = "    background: {type: envmap, file: sky.exr}\n";
-  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), render_yaml("r", "", extra),
-                                                          "  on_error: disable\n  max_failures: 2\n"));
+  const std::string cfg = dir.write(
+      "a.yaml", config_yaml(dir.file("out"), render_yaml("r", "", extra), "  on_error: disable\n  max_failures: 2\n"));
   const std::vector<float> sim = to_float(blob_values(kN));
   const tessera_field field = dense_field("density", sim.data(), kN);
   Adapter adapter;
@@ -238,8 +235,8 @@ TEST_CASE("an envmap that disappears fails that step only", "[insitu][errors]") 
 TEST_CASE("on_error: disable stops a render after max_failures consecutive failures", "[insitu][errors]") {
   TempDir dir;
   const std::string renders = render_yaml("bad", "", kBadCamera) + render_yaml("good", "{every: 2}");
-  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), renders,
-                                                          "  on_error: disable\n  max_failures: 3\n"));
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(dir.file("out"), renders, "  on_error: disable\n  max_failures: 3\n"));
   const std::vector<float> sim = to_float(blob_values(kN));
   const tessera_field field = dense_field("density", sim.data(), kN);
   const tessera_grid g = unit_grid(kN);

@@ -42,7 +42,8 @@ void put_value(tessera_dtype dt, unsigned char* p, double v) {
 std::size_t size_of(tessera_dtype dt) {
   switch (dt) {
     case TESSERA_UINT8: return 1;
-    case TESSERA_INT16: case TESSERA_UINT16: return 2;
+    case TESSERA_INT16:
+    case TESSERA_UINT16: return 2;
     case TESSERA_FLOAT32: return 4;
     default: return 8;
   }
@@ -51,9 +52,8 @@ std::size_t size_of(tessera_dtype dt) {
 /// The test values in an array of full_dims (ghosts included), element (i,j,k) at
 /// origin_offset + i*s[0] + j*s[1] + k*s[2] bytes from the start of `bytes`. Ghost vertices
 /// (and padding) hold `garbage`, which would change the image if it were ever read.
-Layout make_layout(tessera_dtype dt, const std::int64_t full[3], const std::int64_t s[3],
-                   std::int64_t origin_offset, std::size_t total_bytes, const std::int64_t glo[3],
-                   const std::int64_t ghi[3], double garbage) {
+Layout make_layout(tessera_dtype dt, const std::int64_t full[3], const std::int64_t s[3], std::int64_t origin_offset,
+                   std::size_t total_bytes, const std::int64_t glo[3], const std::int64_t ghi[3], double garbage) {
   const std::vector<double> v = blob_values(kN);
   Layout L;
   L.bytes.assign(total_bytes, 0);
@@ -87,8 +87,7 @@ Layout dense(tessera_dtype dt) {
 /// Renders `f` through a fresh adapter and returns the image (and the EXR path written).
 tessera::Image render_field(const TempDir& dir, const std::string& tag, const tessera_field& f,
                             std::string* exr_path = nullptr) {
-  const std::string cfg =
-      dir.write(tag + ".yaml", config_yaml(dir.file("out_" + tag), render_yaml("r", "{every: 1}")));
+  const std::string cfg = dir.write(tag + ".yaml", config_yaml(dir.file("out_" + tag), render_yaml("r", "{every: 1}")));
   Adapter adapter;
   adapter.set_quiet(true);
   REQUIRE(adapter.open(cfg) == TESSERA_OK);
@@ -127,8 +126,8 @@ TEST_CASE("layouts and dtypes render bit-identically to a dense float32 array", 
       const std::int64_t e = static_cast<std::int64_t>(size_of(dt));
       const std::int64_t s[3] = {e, e * full[0], e * full[0] * full[1]};
       const double garbage = dt == TESSERA_INT16 ? 32767.0 : 1e30;
-      const Layout L = make_layout(dt, full, s, 0, static_cast<std::size_t>(e * full[0] * full[1] * full[2]),
-                                   glo, ghi, garbage);
+      const Layout L =
+          make_layout(dt, full, s, 0, static_cast<std::size_t>(e * full[0] * full[1] * full[2]), glo, ghi, garbage);
       CHECK(same_pixels(render_field(dir, "ghost" + std::to_string(dt), L.field), reference));
     }
   }
@@ -153,8 +152,8 @@ TEST_CASE("layouts and dtypes render bit-identically to a dense float32 array", 
     // Column-major: i fastest, leading dimension n+2
     const std::int64_t g[3] = {1, 1, 1}, full[3] = {kN + 2, kN + 2, kN + 2};
     const std::int64_t s[3] = {2, 2 * full[0], 2 * full[0] * full[1]};
-    const Layout L = make_layout(TESSERA_INT16, full, s, 0,
-                                 static_cast<std::size_t>(2 * full[0] * full[1] * full[2]), g, g, -32768.0);
+    const Layout L = make_layout(TESSERA_INT16, full, s, 0, static_cast<std::size_t>(2 * full[0] * full[1] * full[2]),
+                                 g, g, -32768.0);
     CHECK(same_pixels(render_field(dir, "fortran", L.field), reference));
   }
 

@@ -37,7 +37,8 @@ FieldBinding binding_for(std::int64_t n) {
 
 }  // namespace
 
-TEST_CASE("distribution: auto is replicated while a rank's replica share fits half the limit", "[insitu][distribution]") {
+TEST_CASE("distribution: auto is replicated while a rank's replica share fits half the limit",
+          "[insitu][distribution]") {
   const config::Config cfg = config_for("auto", 1024);
   const auto& spec = cfg.renders[0];
   // 256^3 float32 = 64 MiB; one rank per node: 64 MiB <= 512 MiB -> replicated
@@ -49,7 +50,8 @@ TEST_CASE("distribution: auto is replicated while a rank's replica share fits ha
   CHECK_FALSE(plan_field(cfg, spec, binding_for(640), 1, 1, true).distributed);
 }
 
-TEST_CASE("distribution: replicated over the limit fails naming the replica, distributed fits", "[insitu][distribution]") {
+TEST_CASE("distribution: replicated over the limit fails naming the replica, distributed fits",
+          "[insitu][distribution]") {
   const config::Config rep = config_for("replicated", 512), dist = config_for("distributed", 512);
   const FieldBinding b = binding_for(640);  // 1000 MiB
   try {
@@ -69,7 +71,8 @@ TEST_CASE("distribution: replicated over the limit fails naming the replica, dis
   CHECK(static_cast<double>(plan.capacity * g.slot_bytes()) <= kCacheFieldFraction * 1000.0 * (1 << 20));
 }
 
-TEST_CASE("a distributed render whose limit leaves no room for one brick fails before allocating", "[insitu][distribution]") {
+TEST_CASE("a distributed render whose limit leaves no room for one brick fails before allocating",
+          "[insitu][distribution]") {
   const config::Config dist = config_for("distributed", 1);
   FieldPlan plan = plan_field(dist, dist.renders[0], binding_for(4096), 4, 1, true);
   CHECK_THROWS_WITH(plan_distributed(plan, binding_for(4096)), Catch::Contains("brick"));
@@ -82,7 +85,8 @@ TEST_CASE("bricks are 8 to 32 vertices, about an eighth of the longest axis", "[
   CHECK(brick_shift(big) == 5);
 }
 
-TEST_CASE("tessera.brick_cache caps the cache at its share of the field and refuses absurd values", "[insitu][distribution]") {
+TEST_CASE("tessera.brick_cache caps the cache at its share of the field and refuses absurd values",
+          "[insitu][distribution]") {
   const auto with_cache = [](const std::string& value) {
     return config::parse_config("tessera: {distribution: distributed, memory_limit_mb: 4096, brick_cache: " + value +
                                     "}\nrenders:\n  - name: r\n    camera: {position: [3, 0, 0]}\n"
@@ -100,9 +104,9 @@ TEST_CASE("tessera.brick_cache caps the cache at its share of the field and refu
   REQUIRE(g.brick_count() == 512);
   CHECK(config_for("distributed", 4096).global.brick_cache == kCacheFieldFraction);
   CHECK(capacity(config_for("distributed", 4096)) == static_cast<std::size_t>(0.4 * 512));
-  CHECK(capacity(with_cache("1")) == 512);          // every brick fits
+  CHECK(capacity(with_cache("1")) == 512);  // every brick fits
   CHECK(capacity(with_cache("0.25")) == 128);
-  CHECK(capacity(with_cache("1e-300")) == 1);       // never less than one brick
+  CHECK(capacity(with_cache("1e-300")) == 1);  // never less than one brick
   // A cache that may keep every brick takes the coarsest cut (32^3) when the limit allows:
   // nothing is ever evicted, fewer messages. Otherwise the cut stays at an eighth of the axis.
   const auto plan_for = [&](const config::Config& cfg, std::int64_t n, int shift) {
@@ -114,9 +118,9 @@ TEST_CASE("tessera.brick_cache caps the cache at its share of the field and refu
   CHECK(plan_for(with_cache("0.9"), 96, 0).shift == 3);
   CHECK(plan_for(with_cache("1"), 96, 0).shift == 5);
   CHECK(plan_for(with_cache("1"), 96, 0).capacity == 27);
-  CHECK(plan_for(with_cache("1"), 100, 0).shift == 5);     // padded far faces count: 4^3 bricks
+  CHECK(plan_for(with_cache("1"), 100, 0).shift == 5);  // padded far faces count: 4^3 bricks
   CHECK(plan_for(with_cache("1"), 100, 0).capacity == 64);
-  CHECK(plan_for(with_cache("1"), 100, 3).shift == 3);     // imposed by the ranks' agreement
+  CHECK(plan_for(with_cache("1"), 100, 3).shift == 3);  // imposed by the ranks' agreement
   CHECK(plan_for(with_cache("1"), 100, 3).capacity == 13 * 13 * 13);
   for (const char* bad : {"0", "-0.5", "1.5", ".nan", ".inf", "lots", "[0.5]"})
     CHECK_THROWS_WITH(with_cache(bad), Catch::Contains("brick_cache"));

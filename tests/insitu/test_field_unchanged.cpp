@@ -71,7 +71,8 @@ TEST_CASE("field_unchanged: the next execute skips the field pass, same image", 
 }
 
 TEST_CASE("field_unchanged: an unmarked call in between, even one that renders nothing, drops "
-          "the summary", "[insitu][summary]") {
+          "the summary",
+          "[insitu][summary]") {
   TempDir dir;
   Adapter adapter;
   open_quiet(adapter, dir, render_yaml("main", "{every: 2}"));
@@ -92,8 +93,7 @@ TEST_CASE("field_unchanged: an unmarked call in between, even one that renders n
   CHECK(same_pixels(fresh_image(moved, kN, 4), *adapter.last_image("main")));
 }
 
-TEST_CASE("field_unchanged: another pointer or shape despite the mark is read again",
-          "[insitu][summary]") {
+TEST_CASE("field_unchanged: another pointer or shape despite the mark is read again", "[insitu][summary]") {
   TempDir dir;
   Adapter adapter;
   open_quiet(adapter, dir, render_yaml("main", ""));
@@ -127,8 +127,7 @@ TEST_CASE("field_unchanged: another pointer or shape despite the mark is read ag
   }
 }
 
-TEST_CASE("one pass per field and call: several renders and Cinema cameras share it",
-          "[insitu][summary]") {
+TEST_CASE("one pass per field and call: several renders and Cinema cameras share it", "[insitu][summary]") {
   TempDir dir;
   Adapter adapter;
   const std::string cinema =

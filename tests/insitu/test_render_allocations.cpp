@@ -102,8 +102,14 @@ int posix_memalign(void** out, std::size_t a, std::size_t n) {
 // The C++ allocator
 void* operator new(std::size_t n) { return counted_new(n); }
 void* operator new[](std::size_t n) { return counted_new(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept { count(n); return __libc_malloc(n ? n : 1); }
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { count(n); return __libc_malloc(n ? n : 1); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  count(n);
+  return __libc_malloc(n ? n : 1);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
+  count(n);
+  return __libc_malloc(n ? n : 1);
+}
 void* operator new(std::size_t n, std::align_val_t a) { return counted_new_aligned(n, a); }
 void* operator new[](std::size_t n, std::align_val_t a) { return counted_new_aligned(n, a); }
 void operator delete(void* p) noexcept { __libc_free(p); }
@@ -134,8 +140,7 @@ TEST_CASE("a render allocates nothing proportional to the field", "[insitu][allo
   std::vector<double> sim(static_cast<std::size_t>(n) * n * n);
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        sim[i + n * (j + static_cast<std::size_t>(n) * k)] = ((i ^ j ^ k) & 15) * 10.0;
+      for (int i = 0; i < n; ++i) sim[i + n * (j + static_cast<std::size_t>(n) * k)] = ((i ^ j ^ k) & 15) * 10.0;
   tessera_field field = dense_field("density", nullptr, n);
   field.data = sim.data();
   field.dtype = TESSERA_FLOAT64;
@@ -160,8 +165,8 @@ TEST_CASE("a render allocates nothing proportional to the field", "[insitu][allo
     tessera_status s = TESSERA_OK;
     const Counts c = measure([&] { s = adapter.execute(step, 0.0, grid, {&field, 1}); });
     REQUIRE(s == TESSERA_OK);
-    INFO("step " << step << ": " << c.bytes << " bytes in " << c.calls << " allocations, largest "
-                 << c.largest << "; limit " << limit << ", field " << field_bytes);
+    INFO("step " << step << ": " << c.bytes << " bytes in " << c.calls << " allocations, largest " << c.largest
+                 << "; limit " << limit << ", field " << field_bytes);
     CHECK(c.bytes < limit);
     CHECK(c.largest < field_bytes / 8);
   }

@@ -97,8 +97,8 @@ TEST_CASE("a call where no trigger fires reads no field memory", "[insitu][trigg
 
 TEST_CASE("only fields used by a firing render are read", "[insitu][triggers]") {
   TempDir dir;
-  const std::string renders = render_yaml("a", "{every: 1}", "", "density") +
-                              render_yaml("b", "{every: 2}", "", "pressure");
+  const std::string renders =
+      render_yaml("a", "{every: 1}", "", "density") + render_yaml("b", "{every: 2}", "", "pressure");
   const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), renders));
   constexpr int n = 8;
   const NoAccessPages pages(static_cast<std::size_t>(::sysconf(_SC_PAGESIZE)));

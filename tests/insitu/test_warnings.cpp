@@ -17,7 +17,8 @@ using Catch::Matchers::Contains;
 
 TEST_CASE("adapter warns when the range misses the data, naming both", "[insitu][warnings]") {
   TempDir dir;
-  const std::string miss = "    transfer_function: {range: [1000, 2000], density_scale: 40, opacity: [[0, 0], [1, 1]]}\n";
+  const std::string miss =
+      "    transfer_function: {range: [1000, 2000], density_scale: 40, opacity: [[0, 0], [1, 1]]}\n";
   const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), render_yaml("miss", "", miss)));
   constexpr int n = 16;
   const std::vector<float> sim = to_float(blob_values(n));  // integers in [0, 250]

@@ -12,9 +12,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <string>
-#include <functional>
 #include <vector>
 
 namespace tessera_mpi_test {
@@ -118,10 +118,10 @@ inline Box block_of(const std::array<std::int64_t, 3>& global, const std::array<
 
 /// A layout of a local array with one ghost layer per side.
 enum class Layout {
-  COrder,        ///< i fastest, dense
-  FortranPadded, ///< k fastest, i slowest, each (j,k) plane padded by 3 elements
-  MirroredJ,     ///< i fastest, j axis stored backwards (negative stride)
-  StructMember,  ///< the value is one member of a 24-byte struct per vertex
+  COrder,         ///< i fastest, dense
+  FortranPadded,  ///< k fastest, i slowest, each (j,k) plane padded by 3 elements
+  MirroredJ,      ///< i fastest, j axis stored backwards (negative stride)
+  StructMember,   ///< the value is one member of a 24-byte struct per vertex
 };
 
 /// A rank's local array in the given layout and dtype, ghosts filled with a poison value.
@@ -161,8 +161,8 @@ class LocalArray {
       for (std::int64_t j = 0; j < ny; ++j)
         for (std::int64_t i = 0; i < nx; ++i) {
           const bool ghost = i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1;
-          const double v = ghost ? poison(dtype)
-                                 : value(box.offset[0] + i - 1, box.offset[1] + j - 1, box.offset[2] + k - 1);
+          const double v =
+              ghost ? poison(dtype) : value(box.offset[0] + i - 1, box.offset[1] + j - 1, box.offset[2] + k - 1);
           store(m_base + i * stride[0] + j * stride[1] + k * stride[2], dtype, v);
         }
   }
@@ -177,10 +177,26 @@ class LocalArray {
   }
   static void store(unsigned char* p, tessera::DType t, double v) {
     switch (t) {
-      case tessera::DType::UInt8: { const auto x = static_cast<std::uint8_t>(v); std::memcpy(p, &x, 1); break; }
-      case tessera::DType::Int16: { const auto x = static_cast<std::int16_t>(v); std::memcpy(p, &x, 2); break; }
-      case tessera::DType::UInt16: { const auto x = static_cast<std::uint16_t>(v); std::memcpy(p, &x, 2); break; }
-      case tessera::DType::Float32: { const auto x = static_cast<float>(v); std::memcpy(p, &x, 4); break; }
+      case tessera::DType::UInt8: {
+        const auto x = static_cast<std::uint8_t>(v);
+        std::memcpy(p, &x, 1);
+        break;
+      }
+      case tessera::DType::Int16: {
+        const auto x = static_cast<std::int16_t>(v);
+        std::memcpy(p, &x, 2);
+        break;
+      }
+      case tessera::DType::UInt16: {
+        const auto x = static_cast<std::uint16_t>(v);
+        std::memcpy(p, &x, 2);
+        break;
+      }
+      case tessera::DType::Float32: {
+        const auto x = static_cast<float>(v);
+        std::memcpy(p, &x, 4);
+        break;
+      }
       case tessera::DType::Float64: std::memcpy(p, &v, 8); break;
     }
   }
@@ -193,8 +209,9 @@ class LocalArray {
 };
 
 /// The whole field in C order (i fastest), in `dtype`, as the replica must hold it.
-inline std::vector<unsigned char> global_bytes(const std::array<std::int64_t, 3>& g, tessera::DType dtype,
-                                               const std::function<double(std::int64_t, std::int64_t, std::int64_t)>& value) {
+inline std::vector<unsigned char> global_bytes(
+    const std::array<std::int64_t, 3>& g, tessera::DType dtype,
+    const std::function<double(std::int64_t, std::int64_t, std::int64_t)>& value) {
   const std::size_t e = tessera::dtype_size(dtype);
   std::vector<unsigned char> out(static_cast<std::size_t>(g[0] * g[1] * g[2]) * e);
   std::size_t n = 0;

@@ -26,7 +26,6 @@ namespace {
 
 constexpr std::array<std::int64_t, 3> kGlobal{29, 26, 24};
 
-
 /// One render, far camera so that the volume fills part of the image; EXR only.
 std::string config_text(const std::string& output_dir, const std::string& distribution = "auto",
                         const std::string& scattering = "multiple", int threads = 1,
@@ -44,7 +43,9 @@ std::string config_text(const std::string& output_dir, const std::string& distri
          "diffuse: viridis, emission: [[0, [0, 0, 0]], [0.7, [0, 0, 0]], [1, [1, 0.4, 0.1]]]}\n"
          "    lights: [{type: rect, position: [2, -1, 3], target: center, size: {relative: 1}, intensity: 8}]\n"
          "    background: {type: constant, color: [0.1, 0.1, 0.15]}\n"
-         "    integrator: {scattering: " + scattering + ", max_bounces: 6, tile: 8, seed: 5}\n"
+         "    integrator: {scattering: " +
+         scattering +
+         ", max_bounces: 6, tile: 8, seed: 5}\n"
          "    output: {file: \"{name}_{step:04d}\", formats: [exr]}\n";
 }
 
@@ -59,8 +60,7 @@ std::array<int, 3> procs_for(int n) {
 
 /// This rank's block as the simulation holds it, described in `f` and `g`.
 struct Published : PublishedBlock {
-  Published(const Box& box, tessera_field& f, tessera_grid& g,
-            const std::array<std::int64_t, 3>& global = kGlobal)
+  Published(const Box& box, tessera_field& f, tessera_grid& g, const std::array<std::int64_t, 3>& global = kGlobal)
       : PublishedBlock(box, global) {
     f = field;
     g = grid;
@@ -155,8 +155,7 @@ TEST_CASE("an invalid communicator handle is refused at open", "[mpi][adapter][e
   MPI_Barrier(MPI_COMM_WORLD);
 }
 
-TEST_CASE("field_unchanged under MPI: the summary is kept only if every rank says so",
-          "[mpi][adapter][summary]") {
+TEST_CASE("field_unchanged under MPI: the summary is kept only if every rank says so", "[mpi][adapter][summary]") {
   SharedTempDir dir;
   const std::string out = dir.file("unchanged");
   if (world_rank() == 0) {
@@ -210,7 +209,10 @@ TEST_CASE("distributed mode gives the replicated mode's images bit for bit at 1,
     // (at one rank `distributed` reads the one block in place, as replicated mode does)
     // Caches: the default, one that keeps every brick (then one 32^3 brick covers this field)
     // and 2% of the field (one slot: at this size also the one 32^3 brick)
-    struct Variant { int threads; const char* cache; };
+    struct Variant {
+      int threads;
+      const char* cache;
+    };
     for (int n : sizes_up_to_world()) {
       for (const Variant v : {Variant{1, ""}, Variant{2, ""}, Variant{1, "1"}, Variant{2, "0.02"}}) {
         const std::string out = dir.file("dist_" + scattering + "_np" + std::to_string(n) + "_t" +

@@ -38,7 +38,6 @@ struct Watchdog {
   ~Watchdog() { alarm(0); }
 };
 
-
 /// A small, fast render; `trigger` and `extra_render` vary it, `global` adds tessera: keys.
 std::string config_text(const std::string& out, const std::string& trigger = "{every: 1}",
                         const std::string& extra_render = "", const std::string& global = "") {
@@ -84,7 +83,8 @@ TEST_CASE("a trigger that differs on one rank fails tessera_open on every rank",
   if (world_size() < 2) return;
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
-  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), odd_one_out() ? "{every: 2}" : "{every: 1}"));
+  const std::string cfg =
+      write_rank_config(dir, config_text(dir.file("out"), odd_one_out() ? "{every: 2}" : "{every: 1}"));
   const auto t0 = std::chrono::steady_clock::now();
   tessera_adapter* a = nullptr;
   const tessera_status s = tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a);
@@ -155,11 +155,13 @@ TEST_CASE("a grid that differs on one rank fails the firing call on every rank",
   const Case cases[] = {
       {"spacing", [](tessera_grid& g) { g.spacing[0] *= 0.5; },
        who + " has spacing [" + std::to_string(0.5 * h).substr(0, 6)},
-      {"origin", [](tessera_grid& g) { g.origin[2] = 0.25; }, who + " has origin [-0.5, -0.5, 0.25], rank 0 has [-0.5, -0.5, -0.5]"},
+      {"origin", [](tessera_grid& g) { g.origin[2] = 0.25; },
+       who + " has origin [-0.5, -0.5, 0.25], rank 0 has [-0.5, -0.5, -0.5]"},
       {"global_dims", [](tessera_grid& g) { g.global_dims[0] += 1; },
        who + " has global_dims [" + std::to_string(kGlobal[0] + 1) + ", " + std::to_string(kGlobal[1]) + ", " +
            std::to_string(kGlobal[2]) + "], rank 0 has [" + std::to_string(kGlobal[0])},
-      {"NaN spacing (compared bit for bit)", [](tessera_grid& g) { g.spacing[1] = std::nan(""); }, who + " has spacing ["},
+      {"NaN spacing (compared bit for bit)", [](tessera_grid& g) { g.spacing[1] = std::nan(""); },
+       who + " has spacing ["},
   };
   for (const Case& c : cases) {
     DYNAMIC_SECTION(c.name) {
@@ -214,8 +216,8 @@ TEST_CASE("a final-step flag on one rank fails the call on every rank", "[mpi][a
   Published pub;
 
   SECTION("a render fires on one rank only") {
-    const std::string cfg =
-        write_rank_config(dir, config_text(out, "{every: 1}", "late\n    trigger: {at: [1000]}", "  render_final_step: true\n"));
+    const std::string cfg = write_rank_config(
+        dir, config_text(out, "{every: 1}", "late\n    trigger: {at: [1000]}", "  render_final_step: true\n"));
     tessera_adapter* a = nullptr;
     REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
     const tessera_status s = odd_one_out() ? tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1)
@@ -237,9 +239,8 @@ TEST_CASE("a final-step flag on one rank fails the call on every rank", "[mpi][a
                                            : tessera_execute(a, 3, 0.5, &pub.grid, &pub.field, 1);
     const std::string error = tessera_last_error(a);
     INFO(error);
-    const bool ok = s == TESSERA_ERROR_CONFIG &&
-                    contains(error, "render 'view' is forced (final step) on " + who +
-                                        " but waits for its `when` trigger on rank 0");
+    const bool ok = s == TESSERA_ERROR_CONFIG && contains(error, "render 'view' is forced (final step) on " + who +
+                                                                     " but waits for its `when` trigger on rank 0");
     CHECK(ok);
     tessera_close(a);
     REQUIRE(all_ranks(ok));
@@ -277,7 +278,8 @@ TEST_CASE("execute_final on one rank while the others execute fails the call on 
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
   // Every render fires at every step: forcing them changes nothing but the kind of call
-  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), "{every: 1}", "", "  render_final_step: true\n"));
+  const std::string cfg =
+      write_rank_config(dir, config_text(dir.file("out"), "{every: 1}", "", "  render_final_step: true\n"));
   Published pub;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
@@ -305,7 +307,8 @@ TEST_CASE("a final call that renders on rank 0 while the others fire nothing and
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
   // Nothing fires at step 3 unless forced by the final call (render_final_step)
-  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
+  const std::string cfg =
+      write_rank_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
   Published pub;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
@@ -346,7 +349,8 @@ TEST_CASE("a final call on rank 0 while the others go on to a firing step fails 
   if (world_size() < 2) return;
   Watchdog watchdog;
   SharedTempDir dir("tessera_agree_");
-  const std::string cfg = write_rank_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
+  const std::string cfg =
+      write_rank_config(dir, config_text(dir.file("out"), "{at: [1000]}", "", "  render_final_step: true\n"));
   Published pub;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
@@ -355,11 +359,12 @@ TEST_CASE("a final call on rank 0 while the others go on to a firing step fails 
     s = tessera_execute_final(a, 3, 0.5, &pub.grid, &pub.field, 1);
   } else {
     REQUIRE(tessera_execute(a, 3, 0.5, &pub.grid, &pub.field, 1) == TESSERA_OK);  // fires nothing
-    s = tessera_execute(a, 1000, 1.0, &pub.grid, &pub.field, 1);                   // fires 'view'
+    s = tessera_execute(a, 1000, 1.0, &pub.grid, &pub.field, 1);                  // fires 'view'
   }
   const std::string error = tessera_last_error(a);
   INFO(error);
-  bool ok = s == TESSERA_ERROR_DATA && contains(error, "ranks disagree on the step: rank 1 is at step 1000, rank 0 at step 3");
+  bool ok = s == TESSERA_ERROR_DATA &&
+            contains(error, "ranks disagree on the step: rank 1 is at step 1000, rank 0 at step 3");
   CHECK(ok);
   const tessera_status closed = tessera_close(a);  // every rank closes: they agree
   CHECK(closed == TESSERA_OK);

@@ -18,8 +18,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
-#include <string>
 #include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -43,8 +43,10 @@ std::string budget_config(const std::string& out, const std::string& global, int
                           bool two_renders = false) {
   const std::string body =
       "    field: density\n"
-      "    image: {width: " + std::to_string(kWidth) + ", height: " + std::to_string(kHeight) +
-      ", spp: " + std::to_string(spp) + ", min_spp: " + std::to_string(min_spp) + "}\n"
+      "    image: {width: " +
+      std::to_string(kWidth) + ", height: " + std::to_string(kHeight) + ", spp: " + std::to_string(spp) +
+      ", min_spp: " + std::to_string(min_spp) +
+      "}\n"
       "    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: 3.2}}, look_at: center, fov: 30}\n"
       "    transfer_function: {range: [0, 250], density_scale: 10, opacity: [[0, 0], [1, 1]]}\n"
       "    output: {file: \"{name}_{step:04d}\", formats: [exr]}\n";
@@ -80,8 +82,7 @@ TEST_CASE("every rank renders with rank 0's plan, whatever its own clock says", 
   REQUIRE(all_ranks(a.open(cfg, MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
   const auto run = [&](std::int64_t step, bool others_sleep, double seconds) {
     // The sleeping ranks simulate; the others wait for them inside execute (the adapter's time)
-    if ((world_rank() != 0) == others_sleep)
-      std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+    if ((world_rank() != 0) == others_sleep) std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
     const tessera_status s = a.execute(step, 0.1 * static_cast<double>(step), pub.grid, {&pub.field, 1});
     REQUIRE(all_ranks(s == TESSERA_OK && a.last_results().size() == 1));
     return a.last_results()[0];
@@ -172,7 +173,8 @@ TEST_CASE("under the fake clock the plans are a BudgetPlanner's over the samples
   REQUIRE(all_ranks(a.close() == TESSERA_OK));
 }
 
-TEST_CASE("ranks that disagree on the budget, min_spp or the fake clock fail tessera_open", "[mpi][budget][robustness]") {
+TEST_CASE("ranks that disagree on the budget, min_spp or the fake clock fail tessera_open",
+          "[mpi][budget][robustness]") {
   if (world_size() < 2) return;
   Watchdog watchdog;
   const bool odd = world_rank() == world_size() - 1;
@@ -197,7 +199,8 @@ TEST_CASE("ranks that disagree on the budget, min_spp or the fake clock fail tes
   {
     EnvVar clock("TESSERA_TEST_CLOCK", std::string(odd ? "0.1,1e-6" : "0.1,2e-6"));
     e = open_error(budget_config(out, "  budget: 0.25\n", 16, 1));
-    CHECK(all_ranks(contains(e, "ranks disagree on the environment") && contains(e, "TESSERA_TEST_CLOCK is '0.1,1e-6' on " + last)));
+    CHECK(all_ranks(contains(e, "ranks disagree on the environment") &&
+                    contains(e, "TESSERA_TEST_CLOCK is '0.1,1e-6' on " + last)));
   }
   {
     EnvVar clock("TESSERA_TEST_CLOCK", "0.1;1e-6");  // malformed on every rank: a clear error everywhere

@@ -160,7 +160,8 @@ TEST_CASE("distributed renders are bit-identical to a one-rank render of the who
           const Box box = v.uneven ? uneven_block(n, ctx.rank()) : block(n, ctx.rank());
           const LocalArray local(box, DType::Float32, Layout::StructMember, value);
           const tessera::SceneDesc scene = scene_for(scattering, v.threads);
-          const tessera::PreparedScene prepared = prepare_distributed(ctx, local.view(), box, scene, v.shift, v.capacity);
+          const tessera::PreparedScene prepared =
+              prepare_distributed(ctx, local.view(), box, scene, v.shift, v.capacity);
           tessera::Film film(scene.image.width, scene.image.height);
           tessera::RenderStats stats;
           ctx.render(prepared, film, stats);

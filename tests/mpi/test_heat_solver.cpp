@@ -14,10 +14,10 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <sys/resource.h>
 #include <unistd.h>
-#include <numbers>
 #include <vector>
 
 using namespace tessera_mpi_test;

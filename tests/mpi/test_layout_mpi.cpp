@@ -28,7 +28,8 @@ struct LayoutWatchdog {
 };
 
 std::string layout_config(const std::string& out) {
-  return "tessera:\n  output_dir: " + out + "\n  threads: 1\nrenders:\n  - name: view\n"
+  return "tessera:\n  output_dir: " + out +
+         "\n  threads: 1\nrenders:\n  - name: view\n"
          "    field: density\n"
          "    image: {width: 8, height: 8, spp: 1}\n"
          "    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: 3.2}}, look_at: center, fov: 30}\n"
@@ -38,8 +39,9 @@ std::string layout_config(const std::string& out) {
 
 /// This rank's slab (along y) of the global field, float32, no ghosts.
 struct Slab {
-  Slab() : local(block_of(kLayoutGlobal, {1, world_size(), 1}, world_rank()), tessera::DType::Float32,
-                 Layout::COrder, blobs(kLayoutGlobal)) {
+  Slab()
+      : local(block_of(kLayoutGlobal, {1, world_size(), 1}, world_rank()), tessera::DType::Float32, Layout::COrder,
+              blobs(kLayoutGlobal)) {
     const Box box = block_of(kLayoutGlobal, {1, world_size(), 1}, world_rank());
     const tessera::FieldView real = local.view();
     field.name = "density";
@@ -87,7 +89,8 @@ TEST_CASE("layout faults across ranks are TESSERA_ERROR_DATA on every rank, nami
          s.field.ghosts_hi[1] = 0;
        },
        "cover", false},
-      {"outside: the last slab starts one row late", [](Slab& s) { s.grid.offset[1] += 1; }, "reach past global_dims", true},
+      {"outside: the last slab starts one row late", [](Slab& s) { s.grid.offset[1] += 1; }, "reach past global_dims",
+       true},
       {"dtype: the last rank says uint16", [](Slab& s) { s.field.dtype = TESSERA_UINT16; }, "different dtypes", false},
   };
   for (const Case& c : cases) {
@@ -134,7 +137,8 @@ TEST_CASE("an empty TESSERA_MPI_RANKS_PER_NODE is reported as set but empty", "[
   if (world_size() > 1) {
     if (world_rank() == world_size() - 1) setenv(kKnob, "", 1);
     ok = open_fails_with("TESSERA_MPI_RANKS_PER_NODE is '' (set but empty) on rank " +
-                         std::to_string(world_size() - 1) + " but unset on rank 0") && ok;
+                         std::to_string(world_size() - 1) + " but unset on rank 0") &&
+         ok;
   }
   if (saved) setenv(kKnob, restore.c_str(), 1);
   else unsetenv(kKnob);

@@ -8,8 +8,8 @@
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -22,13 +22,13 @@ namespace {
 
 constexpr int kN = 16;
 
-
 std::string render_entry(const std::string& name, const std::string& trigger, int size, int spp) {
   return "  - name: " + name + "\n    field: density\n    trigger: " + trigger +
          "\n    image: {width: " + std::to_string(size) + ", height: " + std::to_string(size) +
          ", spp: " + std::to_string(spp) +
          "}\n"
-         "    camera: {position: {orbit: {azimuth: 30, elevation: 25, distance: 3}}, look_at: center, up: [0, 0, 1], fov: 40}\n"
+         "    camera: {position: {orbit: {azimuth: 30, elevation: 25, distance: 3}}, look_at: center, up: [0, 0, 1], "
+         "fov: 40}\n"
          "    transfer_function: {range: [0, 250], density_scale: 40, opacity: [[0, 0], [1, 1]], diffuse: viridis}\n"
          "    lights: [{type: sphere, position: [3, -2, 3], radius: 0.4, intensity: 20}]\n"
          "    output: {file: \"{name}_{step:04d}\", formats: [exr]}\n";
@@ -78,9 +78,9 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 TEST_CASE("time_limit stops every rank and the next call renders", "[mpi][limits]") {
   SharedTempDir dir("tessera_limits_");
   const std::string out = dir.file("out");
-  const std::string cfg = dir.write("a.yaml", "tessera:\n  output_dir: " + out + "\n  threads: 1\n  time_limit: 2\nrenders:\n" +
-                                                  render_entry("heavy", "{at: [0]}", 64, 1000000) +
-                                                  render_entry("light", "{every: 1}", 16, 1));
+  const std::string cfg = dir.write(
+      "a.yaml", "tessera:\n  output_dir: " + out + "\n  threads: 1\n  time_limit: 2\nrenders:\n" +
+                    render_entry("heavy", "{at: [0]}", 64, 1000000) + render_entry("light", "{every: 1}", 16, 1));
   Slab slab;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
@@ -104,8 +104,9 @@ TEST_CASE("time_limit stops every rank and the next call renders", "[mpi][limits
 TEST_CASE("memory_limit_mb fails fast on every rank with the estimate", "[mpi][limits]") {
   SharedTempDir dir("tessera_limits_");
   const std::string out = dir.file("out");
-  const std::string cfg = dir.write("b.yaml", "tessera:\n  output_dir: " + out + "\n  threads: 1\n  memory_limit_mb: 1024\nrenders:\n" +
-                                                  render_entry("huge", "{every: 1}", 16384, 1));
+  const std::string cfg =
+      dir.write("b.yaml", "tessera:\n  output_dir: " + out + "\n  threads: 1\n  memory_limit_mb: 1024\nrenders:\n" +
+                              render_entry("huge", "{every: 1}", 16384, 1));
   Slab slab;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));

@@ -105,7 +105,7 @@ TEST_CASE("assemble copies every layout and dtype into one C-order replica per n
                       whole.dims[2] == kGlobal[2] && holds(whole, expect);
           if (n == 1) {
             good = good && whole.data == view.data;  // one rank: zero copy
-          } else {  // the replica is dense C order
+          } else {                                   // the replica is dense C order
             good = good && std::memcmp(whole.data, expect.data(), expect.size()) == 0;
           }
           // The window is reused while the size stays.
@@ -174,8 +174,8 @@ TEST_CASE("renders over 1, 2, 3 and 4 ranks are bit-identical to a one-rank rend
             if (ctx.rank() == 0 && !same_pixels(film, ref_twice)) ok = false, what += " progressive pixels";
             if (n > 1 && ctx.bytes_moved() == 0) ok = false, what += " bytes_moved";
           }
-          INFO("scattering " << static_cast<int>(scattering) << ", ranks " << n << ", ranks_per_node "
-                             << ranks_per_node << ", threads " << threads << ":" << what);
+          INFO("scattering " << static_cast<int>(scattering) << ", ranks " << n << ", ranks_per_node " << ranks_per_node
+                             << ", threads " << threads << ":" << what);
           REQUIRE(all_ranks(ok));
         }
   }

@@ -42,11 +42,9 @@ struct CliRun {
 #ifdef TESSERA_RENDER_EXE
 /// Runs `prefix timeout T tessera-render args` inside `dir` (prefix: shell words before it,
 /// e.g. "ulimit -f 2 &&"), capturing stdout, stderr and the wall time.
-inline CliRun run_cli(const TempDir& dir, const std::string& args, const std::string& prefix = "",
-                      int timeout_s = 60) {
-  const std::string cmd = "cd '" + dir.path().string() + "' && " + prefix + " timeout " +
-                          std::to_string(timeout_s) + " '" TESSERA_RENDER_EXE "' " + args +
-                          " > cli.out 2> cli.err";
+inline CliRun run_cli(const TempDir& dir, const std::string& args, const std::string& prefix = "", int timeout_s = 60) {
+  const std::string cmd = "cd '" + dir.path().string() + "' && " + prefix + " timeout " + std::to_string(timeout_s) +
+                          " '" TESSERA_RENDER_EXE "' " + args + " > cli.out 2> cli.err";
   const auto t0 = std::chrono::steady_clock::now();
   const int raw = std::system(cmd.c_str());
   CliRun r;

@@ -21,12 +21,12 @@ inline void write_cli_scene(const TempDir& dir, bool denoise, int size = 32) {
   const std::vector<float> v = to_float(blob_values(16));
   std::ofstream(dir.file("blob.raw"), std::ios::binary)
       .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
-  dir.write("scene.yaml", "tessera:\n  output_dir: results\n"
-                          "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
-                          "renders:\n" +
-                              with_denoise(render_yaml("d", "", "    output: {file: \"{name}\", formats: [exr, png]}\n",
-                                                       "", size, 4),
-                                           denoise));
+  dir.write("scene.yaml",
+            "tessera:\n  output_dir: results\n"
+            "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
+            "renders:\n" +
+                with_denoise(render_yaml("d", "", "    output: {file: \"{name}\", formats: [exr, png]}\n", "", size, 4),
+                             denoise));
 }
 
 }  // namespace tessera_test::denoise

@@ -1,7 +1,7 @@
 #pragma once
 /// Shared by the robustness tests: a file-size limit for the scope of a test. Test code only.
-#include <sys/resource.h>
 #include <signal.h>
+#include <sys/resource.h>
 
 namespace tessera_test {
 

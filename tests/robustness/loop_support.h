@@ -87,7 +87,6 @@ inline bool film_finite(const tessera::Film& f) {
   return true;
 }
 
-
 /// The ball as a raw file plus a tessera-render config; `subst` replaces the placeholders
 /// SPACING, ORIGIN, CAMPOS, FOV, APERTURE, DENS, OPAC, LIGHT, FREEPATH, STEP, BOUNCES.
 inline void write_ball_config(const TempDir& dir, std::map<std::string, std::string> subst) {

@@ -31,8 +31,7 @@ inline MeasuredRun run_measured(const TempDir& dir, const std::vector<std::strin
   for (char** e = environ; *e; ++e) {
     const std::string var(*e);
     bool replaced = false;
-    for (const std::string& x : env)
-      replaced = replaced || var.compare(0, x.find('=') + 1, x, 0, x.find('=') + 1) == 0;
+    for (const std::string& x : env) replaced = replaced || var.compare(0, x.find('=') + 1, x, 0, x.find('=') + 1) == 0;
     if (!replaced) env_strings.push_back(var);
   }
   env_strings.insert(env_strings.end(), env.begin(), env.end());

@@ -34,8 +34,8 @@ std::string fill(const std::string& head, const std::string& unit, const std::st
 TEST_CASE("config memory: the worst 4 MiB configs load or fail within the stated memory bound",
           "[robustness][loading][memory]") {
   TempDir dir;
-  const std::string head = tessera_test::loading::volume_block(dir) + "renders:\n" +
-                           tessera_test::loading::minimal_render();
+  const std::string head =
+      tessera_test::loading::volume_block(dir) + "renders:\n" + tessera_test::loading::minimal_render();
   dir.write("small.yaml", head);
   const std::vector<std::string> env;
   const auto check = [&](const std::string& file) {

@@ -53,8 +53,8 @@ TEST_CASE("denoise: TESSERA_OIDN_LIBRARY naming a missing file fails before rend
           "[robustness][denoise]") {
   TempDir dir;
   write_cli_scene(dir, true);
-  const tessera_test::CliRun r =
-      tessera_test::run_cli(dir, "scene.yaml --quiet", "TESSERA_OIDN_LIBRARY=/nonexistent/libOpenImageDenoise.so.2", 30);
+  const tessera_test::CliRun r = tessera_test::run_cli(
+      dir, "scene.yaml --quiet", "TESSERA_OIDN_LIBRARY=/nonexistent/libOpenImageDenoise.so.2", 30);
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Contains("tessera-render: error: scene.yaml: render 'd': image.denoise: cannot load Intel Open "
                              "Image Denoise from TESSERA_OIDN_LIBRARY=/nonexistent/libOpenImageDenoise.so.2"));
@@ -72,7 +72,8 @@ TEST_CASE("denoise: TESSERA_OIDN_LIBRARY naming a library that is not OIDN is re
   write_cli_scene(dir, true);
   const tessera_test::CliRun r = tessera_test::run_cli(dir, "scene.yaml --quiet", "TESSERA_OIDN_LIBRARY=" + libz, 30);
   CHECK(r.status == 1);
-  CHECK_THAT(r.err, Contains("TESSERA_OIDN_LIBRARY=" + libz + ": not Open Image Denoise 2.x (it has no function oidnNewDevice)"));
+  CHECK_THAT(r.err, Contains("TESSERA_OIDN_LIBRARY=" + libz +
+                             ": not Open Image Denoise 2.x (it has no function oidnNewDevice)"));
   CHECK_FALSE(fs::exists(dir.path() / "results"));
   // A file that is not a library at all
   dir.write("fake.so", "not an ELF file");
@@ -96,8 +97,9 @@ TEST_CASE("denoise: not found anywhere, the error lists the places tried and how
     return;
   }
   CHECK(r.status == 1);
-  CHECK_THAT(r.err, Contains("image.denoise: Intel Open Image Denoise 2.x not found (tried TESSERA_OIDN_LIBRARY: unset; "
-                             "libOpenImageDenoise.so.2: "));
+  CHECK_THAT(r.err,
+             Contains("image.denoise: Intel Open Image Denoise 2.x not found (tried TESSERA_OIDN_LIBRARY: unset; "
+                      "libOpenImageDenoise.so.2: "));
   CHECK_THAT(r.err, Contains("install it with `python3 -m pip install pyoidn`"));
   CHECK_THAT(r.err, Contains("TESSERA_OIDN_LIBRARY=/path/to/libOpenImageDenoise.so.2"));
   CHECK_FALSE(fs::exists(dir.path() / "results"));

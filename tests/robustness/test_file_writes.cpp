@@ -14,9 +14,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <signal.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -80,9 +80,8 @@ std::vector<Writer> writers(float scale = 1.0f) {
 /// For every limit n in [0, size): run `fail_at(n)` around the writer and collect the n at
 /// which it did not throw with `expected`, left a file under the final name or a temporary.
 template <class Around>
-std::vector<std::string> faults_at_every_byte(const tessera_test::TempDir& dir, const Writer& w,
-                                              std::uint64_t size, const std::string& expected,
-                                              Around&& around) {
+std::vector<std::string> faults_at_every_byte(const tessera_test::TempDir& dir, const Writer& w, std::uint64_t size,
+                                              const std::string& expected, Around&& around) {
   std::vector<std::string> bad;
   const std::string base = dir.file("out");
   const std::string final_path = base + "." + w.name;
@@ -274,7 +273,8 @@ TEST_CASE("file writes: the adapter returns TESSERA_ERROR_IO for the effective c
     const InjectedFault fault(100, ENOSPC, suffix);
     CHECK(tessera_execute(a, step, 0.0, &g, &f, 1) == TESSERA_ERROR_IO);
     const std::string name = "w_000" + std::to_string(step) + suffix;
-    CHECK_THAT(std::string(tessera_last_error(a)), Contains(name) && Contains("at byte 100") && Contains("No space left"));
+    CHECK_THAT(std::string(tessera_last_error(a)),
+               Contains(name) && Contains("at byte 100") && Contains("No space left"));
     CHECK_FALSE(fs::exists(out + "/" + name));
     ++step;
   }
@@ -303,13 +303,15 @@ void write_cli_scene(const tessera_test::TempDir& dir) {
   const std::vector<float> v = to_float(blob_values(16));
   std::ofstream(dir.file("blob.raw"), std::ios::binary)
       .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
-  dir.write("scene.yaml", "tessera:\n  output_dir: results\n"
-                          "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
-                          "renders:\n" +
-                              render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "", 8, 1));
+  dir.write("scene.yaml",
+            "tessera:\n  output_dir: results\n"
+            "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
+            "renders:\n" +
+                render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "", 8, 1));
   // The driver's EXR must outgrow its effective config (~1.3 KB) for a limit between them
-  std::string driver = config_yaml("results", render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n",
-                                                          "density", 8, 1));
+  std::string driver = config_yaml(
+      "results",
+      render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "density", 8, 1));
   const std::string square = "image: {width: 8, height: 8,";
   driver.replace(driver.find(square), square.size(), "image: {width: 8, height: 64,");
   dir.write("driver.yaml", driver);
@@ -342,7 +344,8 @@ TEST_CASE("file writes: tessera-render and the adapter on a full file system fai
   // taken by a filler file; the listing is taken before the namespace goes away
   const auto mount = [](int fill) {
     return "mkdir -p results && unshare -m sh -c \"mount -t tmpfs -o size=8k tessera_full results || exit 97; "
-           "head -c " + std::to_string(fill) + " /dev/zero > results/filler; ";
+           "head -c " +
+           std::to_string(fill) + " /dev/zero > results/filler; ";
   };
   const std::string list = "; echo \\$? > status; ls -a results > listing\"";
   const int probe = run_shell(dir, mount(0) + "true" + list);
@@ -354,8 +357,8 @@ TEST_CASE("file writes: tessera-render and the adapter on a full file system fai
     // Full: the EXR fails at its first byte
     REQUIRE(run_shell(dir, mount(8192) + "\\\"" TESSERA_RENDER_EXE "\\\" scene.yaml --quiet 2> cli.err" + list) == 0);
     CHECK(slurp(dir.file("status")) == "1\n");
-    CHECK_THAT(slurp(dir.file("cli.err")), Contains("tessera-render: error:") && Contains("No space left on device") &&
-                                               Contains("big_0000.exr"));
+    CHECK_THAT(slurp(dir.file("cli.err")),
+               Contains("tessera-render: error:") && Contains("No space left on device") && Contains("big_0000.exr"));
   }
   SECTION("adapter") {
     // One page left: the effective config fits, the EXR does not
@@ -369,7 +372,8 @@ TEST_CASE("file writes: tessera-render and the adapter on a full file system fai
   CHECK(listing.find(".tmp") == std::string::npos);
 }
 
-TEST_CASE("file writes: under prlimit --fsize at a handful of sizes, tessera-render and the adapter leave only complete files",
+TEST_CASE("file writes: under prlimit --fsize at a handful of sizes, tessera-render and the adapter leave only "
+          "complete files",
           "[robustness][writes][cli]") {
   tessera_test::TempDir dir;
   write_cli_scene(dir);
@@ -431,7 +435,8 @@ TEST_CASE("file writes: tessera-synth under a file-size limit exits non-zero wit
   const std::string synth = "\"" TESSERA_SYNTH_EXE "\" vol/v.raw --dims 8 8 8 --dtype uint8";
   // 512 bytes; with the limit one byte short the write fails
   const std::string in_dir = "cd '" + dir.path().string() + "' && ";
-  REQUIRE(std::system((in_dir + "(prlimit --fsize=511:511 " + synth + "; echo $? > status) 2>&1 | cat > out").c_str()) == 0);
+  REQUIRE(std::system(
+              (in_dir + "(prlimit --fsize=511:511 " + synth + "; echo $? > status) 2>&1 | cat > out").c_str()) == 0);
   CHECK(slurp(dir.file("status")) != "0\n");
   CHECK_THAT(slurp(dir.file("out")), Contains("vol/v.raw") && Contains("File too large"));
   CHECK_FALSE(fs::exists(dir.file("vol/v.raw")));

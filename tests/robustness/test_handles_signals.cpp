@@ -11,9 +11,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <signal.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -45,7 +45,9 @@ TEST_CASE("SIGXFSZ: an image write past the file-size limit is TESSERA_ERROR_IO,
   TempDir dir;
   const std::string out = dir.file("out");
   const std::string cfg = dir.write(
-      "a.yaml", config_yaml(out, render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "density", 64, 1)));
+      "a.yaml",
+      config_yaml(out, render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n",
+                                   "density", 64, 1)));
   tessera_adapter* a = nullptr;
   REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);  // writes the effective config
   const std::vector<float> v = to_float(blob_values(16));
@@ -103,14 +105,17 @@ TEST_CASE("SIGXFSZ: the PNG and EXR writers fail with EFBIG, and a pending signa
 }
 
 #ifdef TESSERA_RENDER_EXE
-TEST_CASE("SIGXFSZ: tessera-render under ulimit -f exits 1 with the message, no temp file", "[robustness][signals][cli]") {
+TEST_CASE("SIGXFSZ: tessera-render under ulimit -f exits 1 with the message, no temp file",
+          "[robustness][signals][cli]") {
   TempDir dir;
   const std::vector<float> v = to_float(blob_values(16));
   std::ofstream(dir.file("blob.raw"), std::ios::binary)
       .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
-  dir.write("scene.yaml", "tessera:\n  output_dir: results\n"
-                          "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
-                          "renders:\n" + render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "", 64, 1));
+  dir.write("scene.yaml",
+            "tessera:\n  output_dir: results\n"
+            "volume: {file: blob.raw, dims: [16, 16, 16], dtype: float32, spacing: [0.1, 0.1, 0.1]}\n"
+            "renders:\n" +
+                render_yaml("big", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr, png]}\n", "", 64, 1));
   // ulimit -f counts 512-byte blocks: 2 = 1024 bytes. A SIGXFSZ that escaped would show as
   // status 128 + 25 from `timeout`
   const tessera_test::CliRun r = tessera_test::run_cli(dir, "scene.yaml --quiet", "ulimit -f 2 &&");

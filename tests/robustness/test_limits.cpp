@@ -4,8 +4,8 @@
 #include "../insitu/insitu_test_support.h"
 #include "cli_run.h"
 
-#include <tessera/memory_estimate.h>
 #include <tessera/film.h>
+#include <tessera/memory_estimate.h>
 #include <tessera/tessera.h>
 
 #include <catch2/catch.hpp>
@@ -73,11 +73,11 @@ TEST_CASE("time_limit: a render far too long fails after the limit, writes nothi
   TempDir dir;
   const std::string out = dir.file("out");
   // `heavy` fires at step 0 only; `light` at every step
-  const std::string cfg = dir.write(
-      "a.yaml", config_yaml(out,
-                            render_yaml("heavy", "{at: [0]}", "", "density", 64, 1000000) +
-                                render_yaml("light", "", "", "density", 16, 1),
-                            "  time_limit: 2\n"));
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(out,
+                                      render_yaml("heavy", "{at: [0]}", "", "density", 64, 1000000) +
+                                          render_yaml("light", "", "", "density", 16, 1),
+                                      "  time_limit: 2\n"));
   tessera_adapter* a = nullptr;
   REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
   const std::vector<float> v = to_float(blob_values(16));
@@ -88,8 +88,8 @@ TEST_CASE("time_limit: a render far too long fails after the limit, writes nothi
   CHECK(tessera_execute(a, 0, 0.0, &g, &f, 1) == TESSERA_ERROR_RENDER);
   const double took = seconds_since(t0);
   const std::string err = tessera_last_error(a);
-  CHECK_THAT(err, Contains("render 'heavy' at step 0") && Contains("tessera.time_limit = 2 s") &&
-                      Contains("tiles done"));
+  CHECK_THAT(err,
+             Contains("render 'heavy' at step 0") && Contains("tessera.time_limit = 2 s") && Contains("tiles done"));
   CHECK(took > 1.5);
   CHECK(took < 15.0);
   CHECK_FALSE(fs::exists(out + "/heavy_0000.exr"));
@@ -107,17 +107,17 @@ TEST_CASE("time_limit: one endless path inside a tile stops too", "[robustness][
   // until max_bounces (minutes for this one 16x16 tile at 1 spp without a limit). Tiles and
   // passes are too coarse here: the path itself polls the deadline every 256 collisions.
   TempDir dir;
-  const std::string extra =
-      "    camera: {position: center, look_at: [0, 0, 0], up: [0, 0, 1], fov: 40}\n"
-      "    transfer_function: {range: auto, density_scale: 1e308, opacity: [[0, 1], [1, 1]], "
-      "diffuse: [[0, [1, 1, 1]]]}\n"
-      "    integrator: {scattering: multiple, max_bounces: 1000000, shading: phase, tile: 16}\n";
+  const std::string extra = "    camera: {position: center, look_at: [0, 0, 0], up: [0, 0, 1], fov: 40}\n"
+                            "    transfer_function: {range: auto, density_scale: 1e308, opacity: [[0, 1], [1, 1]], "
+                            "diffuse: [[0, [1, 1, 1]]]}\n"
+                            "    integrator: {scattering: multiple, max_bounces: 1000000, shading: phase, tile: 16}\n";
   expect_time_limit_failure(
-      dir, config_yaml(dir.file("out"), render_yaml("walk", "", extra, "density", 16, 1), "  time_limit: 1\n"),
-      "walk", 1);
+      dir, config_yaml(dir.file("out"), render_yaml("walk", "", extra, "density", 16, 1), "  time_limit: 1\n"), "walk",
+      1);
 }
 
-TEST_CASE("time_limit: adaptive sampling stops too - the preview in prepare and then the tiles", "[robustness][limits]") {
+TEST_CASE("time_limit: adaptive sampling stops too - the preview in prepare and then the tiles",
+          "[robustness][limits]") {
   TempDir dir;
   std::string render = render_yaml("adaptive", "", "", "density", 64, 1000000);
   const std::string spp = "spp: 1000000}";
@@ -137,8 +137,8 @@ TEST_CASE("time_limit covers every Cinema view of a render", "[robustness][limit
   {
     tessera::insitu::Adapter ad;
     ad.set_quiet(true);
-    REQUIRE(ad.open(dir.write("c.yaml", config_yaml(dir.file("c"), render_yaml("sweep", "", "", "density", 48, 64))), -1) ==
-            TESSERA_OK);
+    REQUIRE(ad.open(dir.write("c.yaml", config_yaml(dir.file("c"), render_yaml("sweep", "", "", "density", 48, 64))),
+                    -1) == TESSERA_OK);
     REQUIRE(ad.execute(0, 0.0, g, std::span<const tessera_field>(&f, 1)) == TESSERA_OK);
     one_view = ad.last_results().at(0).render_seconds;
   }
@@ -147,7 +147,8 @@ TEST_CASE("time_limit covers every Cinema view of a render", "[robustness][limit
   char global[64];
   std::snprintf(global, sizeof global, "  time_limit: %.3f\n", limit);
   const std::string out = dir.file("out");
-  const std::string cfg = dir.write("a.yaml", config_yaml(out, render_yaml("sweep", "", cinema, "density", 48, 64), global));
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(out, render_yaml("sweep", "", cinema, "density", 48, 64), global));
   tessera_adapter* a = nullptr;
   REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
   const auto t0 = Clock::now();
@@ -278,7 +279,8 @@ TEST_CASE("CLI: a volume larger than the memory limit fails before its file is r
   }
   dir.write("scene.yaml", "tessera:\n  output_dir: results\n  memory_limit_mb: 64\n"
                           "volume: {file: big.raw, dims: [1024, 1024, 32], dtype: float32}\n"
-                          "renders:\n" + render_yaml("r", "", "", "", 16, 1));
+                          "renders:\n" +
+                              render_yaml("r", "", "", "", 16, 1));
   const Run r = run_cli(dir, "scene.yaml --quiet");
   CHECK(r.status == 1);
   CHECK(r.seconds < 5.0);

@@ -80,7 +80,7 @@ std::string exr_with_window(const TempDir& dir, const std::string& name, int x1,
   const std::string tag("dataWindow\0box2i\0", 17);
   const std::size_t at = bytes.find(tag);
   REQUIRE(at != std::string::npos);
-  const std::size_t box = at + tag.size() + 4;  // after the int32 size (16)
+  const std::size_t box = at + tag.size() + 4;    // after the int32 size (16)
   const std::int32_t window[4] = {0, 0, x1, y1};  // little endian on the machines we test
   f.seekp(static_cast<std::streamoff>(box));
   f.write(reinterpret_cast<const char*>(window), sizeof window);
@@ -104,8 +104,7 @@ TEST_CASE("a config over the size limit fails before it is read", "[robustness][
   CHECK_THAT(config_error(text), Contains("allowed: at most 4194304 bytes"));
 }
 
-TEST_CASE("a large mapping loads in linear time and its duplicate key is found",
-          "[robustness][loading]") {
+TEST_CASE("a large mapping loads in linear time and its duplicate key is found", "[robustness][loading]") {
   // 150,000 keys (~2.7 MB): quadratic checking took minutes at this size
   std::string yaml = big_mapping(150'000, "");
   yaml += "  k10000007: 2\n";  // the duplicate, after all the others
@@ -173,8 +172,7 @@ TEST_CASE("deep nesting fails cleanly", "[robustness][loading]") {
   CHECK_THAT(config_error(maps), Contains("nested too deeply"));
 }
 
-TEST_CASE("input on which yaml-cpp's LoadAll never ends is refused at once",
-          "[robustness][loading]") {
+TEST_CASE("input on which yaml-cpp's LoadAll never ends is refused at once", "[robustness][loading]") {
   // YAML::LoadAll(",") returns documents without end until memory runs out (fuzz finding);
   // documents are therefore counted with yaml-cpp's event parser, two at most
   for (const char* text : {",", "---\n,", "renders: []\n---\n,\n---\n,"}) {
@@ -195,8 +193,7 @@ TEST_CASE("a second YAML document is an error naming its line", "[robustness][lo
   CHECK_THAT(e, StartsWith("scene.yaml:7:1: a second YAML document starts here"));
 }
 
-TEST_CASE("non-regular files are refused for every file key, without blocking",
-          "[robustness][loading]") {
+TEST_CASE("non-regular files are refused for every file key, without blocking", "[robustness][loading]") {
   TempDir dir;
   const std::string fifo = dir.file("pipe");
   REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
@@ -204,8 +201,7 @@ TEST_CASE("non-regular files are refused for every file key, without blocking",
   const std::string render = minimal_render();
 
   SECTION("envmap") {
-    const std::string yaml = vol + "renders:\n" + render +
-                             "    background: {type: envmap, file: pipe}\n";
+    const std::string yaml = vol + "renders:\n" + render + "    background: {type: envmap, file: pipe}\n";
     std::string e;
     CHECK(returns_within(10.0, fifo, [&] { e = config_error(yaml, dir.path().string()); }));
     CHECK_THAT(e, StartsWith("scene.yaml:7:32: renders[0].background.file: "));
@@ -247,11 +243,12 @@ TEST_CASE("non-regular files are refused for every file key, without blocking",
   }
   SECTION("devices and directories") {
     const std::string yaml = "volume: {file: /dev/zero, dims: [2, 2, 2], dtype: float32}\n"
-                             "renders:\n" + render;
+                             "renders:\n" +
+                             render;
     CHECK_THAT(config_error(yaml), Contains("/dev/zero is a character device (allowed: a regular file)"));
-    CHECK_THAT(config_error(vol + "renders:\n" + render + "    background: {type: envmap, file: .}\n",
-                            dir.path().string()),
-               Contains("is a directory"));
+    CHECK_THAT(
+        config_error(vol + "renders:\n" + render + "    background: {type: envmap, file: .}\n", dir.path().string()),
+        Contains("is a directory"));
     CHECK_THAT(load_error("/dev/zero"), Contains("is a character device"));
   }
 }
@@ -296,13 +293,12 @@ TEST_CASE("an EXR header cannot ask for more than its file holds", "[robustness]
   CHECK_THAT(error_of(dir.file("tail.exr")), Contains("tail.exr"));
 }
 
-TEST_CASE("spp above the maximum is refused at load and on the command line",
-          "[robustness][loading]") {
+TEST_CASE("spp above the maximum is refused at load and on the command line", "[robustness][loading]") {
   const std::string e = config_error("renders:\n  - name: a\n    image: {spp: 2147483647}\n");
   CHECK_THAT(e, StartsWith("scene.yaml:3:13: renders[0].image.spp: 2147483647 is out of range "
                            "[1, 1048576]"));
-  CHECK(config_error("renders:\n" + std::string(minimal_render()).replace(
-                         minimal_render().find("spp: 1"), 6, "spp: 1048576")) == "");
+  CHECK(config_error("renders:\n" +
+                     std::string(minimal_render()).replace(minimal_render().find("spp: 1"), 6, "spp: 1048576")) == "");
 #ifdef TESSERA_RENDER_EXE
   TempDir dir;
   dir.write("scene.yaml", volume_block(dir) + "renders:\n" + minimal_render());
@@ -336,7 +332,8 @@ TEST_CASE("Cinema views are bounded: each one is a whole render", "[robustness][
   std::string az, el;
   for (int i = 0; i < 100; ++i) az += (i ? ", " : "") + std::to_string(i * 3.6);
   for (int i = 0; i < 41; ++i) el += (i ? ", " : "") + std::to_string(-80 + 4 * i);
-  const std::string head = "renders:\n" + minimal_render() + "    output: {cinema: {azimuth: [" + az + "], elevation: [";
+  const std::string head =
+      "renders:\n" + minimal_render() + "    output: {cinema: {azimuth: [" + az + "], elevation: [";
   CHECK_THAT(config_error(head + el + "]}}\n"),
              Contains("renders[0].output.cinema: 100 azimuths x 41 elevations make 4100 views (allowed: at most "
                       "4096 views per render)"));

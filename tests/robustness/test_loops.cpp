@@ -2,12 +2,12 @@
 // reproducers that used to hang (density_scale or opacity 1e308, raymarch step 1e-300, a light
 // at 1e200) render or fail within a bounded time; extinction is clamped, not scaled; a step
 // that no longer advances t ends its path and is counted in stalled_paths.
-#include <tessera/loop_bounds.h>
 #include <tessera/image_io.h>
+#include <tessera/loop_bounds.h>
 #include <tessera/render.h>
 
-#include "loop_support.h"
 #include "light_lookup.h"
+#include "loop_support.h"
 
 #include <catch2/catch.hpp>
 
@@ -57,8 +57,7 @@ TEST_CASE("density_scale and opacity up to 1e308 render in bounded time", "[robu
   }
 }
 
-TEST_CASE("extinction beyond 1000 per voxel is clamped: an opaque medium's image is unchanged",
-          "[robustness][loops]") {
+TEST_CASE("extinction beyond 1000 per voxel is clamped: an opaque medium's image is unchanged", "[robustness][loops]") {
   // Constant opacity 1: every density at or above the clamp is the same medium, bit for bit
   const std::vector<float> v = ball_field();
   const auto view = ball_view(v);
@@ -77,8 +76,7 @@ TEST_CASE("extinction beyond 1000 per voxel is clamped: an opaque medium's image
   CHECK(!bit_identical(at_cap.film, half.film));
 }
 
-TEST_CASE("raymarch step: below extent / 2^20 refused naming the minimum, at it bounded",
-          "[robustness][loops]") {
+TEST_CASE("raymarch step: below extent / 2^20 refused naming the minimum, at it bounded", "[robustness][loops]") {
   const std::vector<float> v = ball_field();
   const auto view = ball_view(v);
   tessera::SceneDesc s = ball_scene();

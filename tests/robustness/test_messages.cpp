@@ -24,7 +24,8 @@ TEST_CASE("long string values are cut in messages", "[robustness][messages]") {
   // A plain scalar where a word is expected
   std::string e = config_error("renders:\n  - name: a\n    camera: {position: [0, 0, 5]}\n"
                                "    transfer_function: {opacity: [[0, 1]]}\n"
-                               "    output: {tonemap: " + big + "}\n");
+                               "    output: {tonemap: " +
+                               big + "}\n");
   CHECK(e.size() < kShortMessage);
   CHECK_THAT(e, StartsWith("scene.yaml:5:14: renders[0].output.tonemap: " + std::string(64, 'x') +
                            "... (1000000 characters) is not allowed (allowed: aces, reinhard or "
@@ -38,8 +39,10 @@ TEST_CASE("long string values are cut in messages", "[robustness][messages]") {
   CHECK(e.size() < kShortMessage);
   CHECK_THAT(e, Contains("(1000000 characters) is not a valid name (allowed: 1 to 128 letters"));
   // A file name: paths are cut to their first and last 100 characters
-  e = config_error("volume: {file: " + big + ", dims: [1, 1, 1], dtype: uint8}\n"
-                   "renders:\n" + minimal_render());
+  e = config_error("volume: {file: " + big +
+                   ", dims: [1, 1, 1], dtype: uint8}\n"
+                   "renders:\n" +
+                   minimal_render());
   CHECK(e.size() < 200 + kShortMessage);
   CHECK_THAT(e, Contains("...") && Contains(" characters)"));
   // An output pattern
@@ -53,15 +56,14 @@ TEST_CASE("long string values are cut in messages", "[robustness][messages]") {
   // An unknown key: the key path is cut too
   e = config_error("tessera:\n  ? " + big + "\n  : 1\n");
   CHECK(e.size() < kShortMessage);
-  CHECK_THAT(e, StartsWith("scene.yaml:2:5: tessera." + std::string(64, 'x') +
-                           "... (1000000 characters): unknown key"));
+  CHECK_THAT(e,
+             StartsWith("scene.yaml:2:5: tessera." + std::string(64, 'x') + "... (1000000 characters): unknown key"));
 }
 
 TEST_CASE("long numbers are shown short", "[robustness][messages]") {
   const std::string digits300 = "1" + std::string(299, '0');
   // A double out of range
-  std::string e = config_error("renders:\n  - name: a\n    camera: {position: [0, 0, 5], fov: " +
-                               digits300 + "}\n");
+  std::string e = config_error("renders:\n  - name: a\n    camera: {position: [0, 0, 5], fov: " + digits300 + "}\n");
   CHECK(e.size() < kShortMessage);
   CHECK_THAT(e, Contains("renders[0].camera.fov: 1e+299 (written with 300 characters) is out of "
                          "range (0, 180)"));

@@ -36,10 +36,13 @@ TEST_CASE("message text: invisible characters, invalid UTF-8 and controls are es
   using tessera::printable_text;
   CHECK(printable_text("plain caf\xC3\xA9 \xE6\x97\xA5") == "plain caf\xC3\xA9 \xE6\x97\xA5");  // UTF-8 kept
   CHECK(printable_text(kBom + "key") == "\\u{FEFF}key");
-  CHECK(printable_text("a\xE2\x80\x8B" "b\xE2\x80\xAE" "c") == "a\\u{200B}b\\u{202E}c");  // ZWSP, RLO
-  CHECK(printable_text("a\xC2\x85" "b") == "a\\u{0085}b");                              // C1 control
-  CHECK(printable_text("\xFF\xC3(\xED\xA0\x80") == "\\xff\\xc3(\\xed\\xa0\\x80");       // invalid, surrogate
-  CHECK(printable_text("\xC0\xAF") == "\\xc0\\xaf");                                     // overlong '/'
+  CHECK(printable_text("a\xE2\x80\x8B"
+                       "b\xE2\x80\xAE"
+                       "c") == "a\\u{200B}b\\u{202E}c");  // ZWSP, RLO
+  CHECK(printable_text("a\xC2\x85"
+                       "b") == "a\\u{0085}b");                                     // C1 control
+  CHECK(printable_text("\xFF\xC3(\xED\xA0\x80") == "\\xff\\xc3(\\xed\\xa0\\x80");  // invalid, surrogate
+  CHECK(printable_text("\xC0\xAF") == "\\xc0\\xaf");                               // overlong '/'
   CHECK(printable_text("a\x1b[31mb\tc\n") == "a\\x1b[31mb\\x09c\\x0a");
   CHECK(printable_text("l1\nl2", true) == "l1\nl2");
 
@@ -74,7 +77,9 @@ TEST_CASE("config: a BOM starts a file legally, one inside it and invalid UTF-8 
   e = config_error("renders:\n" + minimal_render() + kBom + "tessera: {threads: 2}\n");
   CHECK_THAT(e, Contains(": \\u{FEFF}tessera: unknown key"));
   // Invalid UTF-8 in a value
-  e = config_error("renders:\n" + minimal_render() + "    output: {tonemap: \"ac\xFF\xFE" "es\"}\n");
+  e = config_error("renders:\n" + minimal_render() +
+                   "    output: {tonemap: \"ac\xFF\xFE"
+                   "es\"}\n");
   CHECK_THAT(e, Contains("\"ac\\xff\\xfees\" is not allowed"));
   CHECK(e.find('\xFF') == std::string::npos);
 }
@@ -104,7 +109,8 @@ TEST_CASE("config: a long file name is cut to its first and last parts", "[robus
 }
 
 TEST_CASE("config: a custom YAML tag is an error at its line:column naming the tag", "[robustness][messages]") {
-  std::string e = config_error("renders:\n  - name: !foo a\n" + minimal_render().substr(std::string("  - name: a\n").size()));
+  std::string e =
+      config_error("renders:\n  - name: !foo a\n" + minimal_render().substr(std::string("  - name: a\n").size()));
   CHECK_THAT(e, StartsWith("scene.yaml:2:11: YAML tag '!foo' is not supported"));
   e = config_error("tessera: {threads: !!binary AAAA}\nrenders:\n" + minimal_render());
   CHECK_THAT(e, StartsWith("scene.yaml:1:20: YAML tag '!!binary' is not supported"));
@@ -132,8 +138,7 @@ TEST_CASE("config: output.file stays inside output_dir and never names a hidden 
   };
   for (const Case& c : cases) {
     INFO(c.pattern);
-    const std::string e =
-        config_error("renders:\n" + minimal_render() + "    output: {file: \"" + c.pattern + "\"}\n");
+    const std::string e = config_error("renders:\n" + minimal_render() + "    output: {file: \"" + c.pattern + "\"}\n");
     CHECK_THAT(e, StartsWith("scene.yaml:6:14: renders[0].output.file: bad output pattern") && Contains(c.says));
   }
   // Names below output_dir, dots inside names included, stay allowed
@@ -200,11 +205,12 @@ TEST_CASE("tessera-render: flat data (one vertex thick) is blamed on its extent,
   dir.write("v.raw", std::string(16 * 4, '\0'));
   for (const char* dims : {"[4, 4, 1]", "[1, 4, 4]"}) {
     INFO(dims);
-    dir.write("s.yaml", std::string("volume: {file: v.raw, dims: ") + dims +
-                            ", dtype: float32}\nrenders:\n  - name: a\n"
-                            "    image: {width: 4, height: 4, spp: 1}\n"
-                            "    camera: {position: {orbit: {azimuth: 0, elevation: 0, distance: fit}}, look_at: center}\n"
-                            "    transfer_function: {opacity: [[0, 0], [1, 1]]}\n");
+    dir.write("s.yaml",
+              std::string("volume: {file: v.raw, dims: ") + dims +
+                  ", dtype: float32}\nrenders:\n  - name: a\n"
+                  "    image: {width: 4, height: 4, spp: 1}\n"
+                  "    camera: {position: {orbit: {azimuth: 0, elevation: 0, distance: fit}}, look_at: center}\n"
+                  "    transfer_function: {opacity: [[0, 0], [1, 1]]}\n");
     const tessera_test::CliRun r = tessera_test::run_cli(dir, "s.yaml -o out");
     CHECK(r.status == 0);
     CHECK_THAT(r.err, Contains("the volume is one vertex thick there"));
@@ -214,7 +220,8 @@ TEST_CASE("tessera-render: flat data (one vertex thick) is blamed on its extent,
   }
 }
 
-TEST_CASE("adapter: a 5000-character output_dir, file name or field name is not echoed in full", "[robustness][messages]") {
+TEST_CASE("adapter: a 5000-character output_dir, file name or field name is not echoed in full",
+          "[robustness][messages]") {
   using namespace tessera::insitu::test;
   TempDir dir;
   const std::string renders = render_yaml("r", "", "", "density", 8, 1);
@@ -233,7 +240,8 @@ TEST_CASE("adapter: a 5000-character output_dir, file name or field name is not 
   }
   SECTION("a file name too long for the file system, at execute") {
     const std::string long_file = "    output: {file: \"{name}_" + std::string(3000, 'f') + "\", formats: [exr]}\n";
-    const std::string cfg2 = dir.write("b.yaml", config_yaml(dir.file("out"), render_yaml("r", "", long_file, "density", 8, 1)));
+    const std::string cfg2 =
+        dir.write("b.yaml", config_yaml(dir.file("out"), render_yaml("r", "", long_file, "density", 8, 1)));
     tessera_adapter* a = nullptr;
     REQUIRE(tessera_open(cfg2.c_str(), -1, &a) == TESSERA_OK);
     constexpr int n = 8;

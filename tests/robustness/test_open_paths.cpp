@@ -127,8 +127,9 @@ TEST_CASE("open paths: a library planted under a relative PATH entry or a relati
   fake_python(dir.path() / "bin/python3");
   plant(dir.path() / "lib/python3.11/site-packages/pyoidn/oidn/lib/libOpenImageDenoise.so.2");
   plant(dir.path() / "home/.local/lib/python3.11/site-packages/pyoidn/oidn/lib/libOpenImageDenoise.so.2");
-  const tessera_test::CliRun r = tessera_test::run_cli(
-      dir, "scene.yaml --quiet", "env -u TESSERA_OIDN_LIBRARY -u LD_LIBRARY_PATH HOME=home PATH=:bin:/usr/bin:/bin", 20);
+  const tessera_test::CliRun r =
+      tessera_test::run_cli(dir, "scene.yaml --quiet",
+                            "env -u TESSERA_OIDN_LIBRARY -u LD_LIBRARY_PATH HOME=home PATH=:bin:/usr/bin:/bin", 20);
   INFO(r.err);
   CHECK(r.status != 124);
   CHECK(r.err.find("site-packages/pyoidn") == std::string::npos);  // never tried, so never named
@@ -225,7 +226,8 @@ TEST_CASE("open paths: FIFOs and a link planted under the outputs' temporary nam
   std::vector<std::string> planted;
   for (const char* name : {"d.exr", "d.png"})
     for (int n = 0; n < 8; ++n) {
-      planted.push_back((dir.path() / "results" / name).string() + ".tmp." + std::to_string(pid) + "." + std::to_string(n));
+      planted.push_back((dir.path() / "results" / name).string() + ".tmp." + std::to_string(pid) + "." +
+                        std::to_string(n));
       make_fifo(planted.back());
     }
   fs::create_symlink(dir.file("victim.txt"), (dir.path() / "results/d.png.tmp.").string() + std::to_string(pid) + ".8");

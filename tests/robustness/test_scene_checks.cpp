@@ -7,8 +7,8 @@
 #include <tessera/render.h>
 #include <tessera/stats.h>
 
-#include "loop_support.h"
 #include "light_lookup.h"
+#include "loop_support.h"
 
 #include <catch2/catch.hpp>
 #include <tbb/global_control.h>
@@ -32,7 +32,8 @@ TEST_CASE("messages name the real key: spacing, camera position", "[robustness][
   SECTION("spacing 1e308 is a spacing fault, not a sphere light's") {
     tessera::SceneDesc s = ball_scene();
     s.geometry.spacing = Vec3(1e308);
-    tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).center = Vec3(INFINITY);  // what an orbit against the bounds resolves to
+    tessera::nth_light<tessera::SphereLightDesc>(s.lights, 0).center =
+        Vec3(INFINITY);  // what an orbit against the bounds resolves to
     try {
       (void)tessera::prepare(view, s);
       FAIL("prepare accepted spacing 1e308");
@@ -144,8 +145,7 @@ TEST_CASE("threads: the statistic is the number of threads actually used", "[rob
   const std::vector<float> v = ball_field();
   const auto view = ball_view(v);
   tessera::SceneDesc s = ball_scene();
-  const int cap = static_cast<int>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const int cap = static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   s.options.threads = 65536;
   const TimedRender many = timed_render(view, s);
   CHECK(many.stats.threads == cap);
@@ -164,8 +164,7 @@ TEST_CASE("threads: the statistic is the number of threads actually used", "[rob
   }
 }
 
-TEST_CASE("tessera-render: every numeric key at its extremes finishes or fails naming it",
-          "[robustness][scene][cli]") {
+TEST_CASE("tessera-render: every numeric key at its extremes finishes or fails naming it", "[robustness][scene][cli]") {
   struct Case {
     const char* what;
     std::map<std::string, std::string> subst;
@@ -177,33 +176,40 @@ TEST_CASE("tessera-render: every numeric key at its extremes finishes or fails n
       {"spacing 1e308", {{"SPACING", "[1e308, 1e308, 1e308]"}}, "volume.spacing", "sphere light"},
       {"spacing 1e-320", {{"SPACING", "[1e-320, 1e-320, 1e-320]"}}, "volume.spacing"},
       // A volume 1.5e-89 wide has optical depth ~1e-87: correctly shows nothing, and says why
-      {"spacing 1e-90", {{"SPACING", "[1e-90, 1e-90, 1e-90]"}}, nullptr, nullptr,
+      {"spacing 1e-90",
+       {{"SPACING", "[1e-90, 1e-90, 1e-90]"}},
+       nullptr,
+       nullptr,
        "likely cause: transfer_function.density_scale too small"},
       {"spacing 1e90", {{"SPACING", "[1e90, 1e90, 1e90]"}}, nullptr},
       {"anisotropic spacing 1e-12", {{"SPACING", "[1e-12, 1, 1]"}}, "volume.spacing: with dims 16x16x16"},
       {"origin 1e308", {{"ORIGIN", "[1e308, 0, 0]"}}, "volume.origin"},
       {"origin 1e7", {{"ORIGIN", "[1e7, -1e7, 1e7]"}}, nullptr},
       {"camera position 1e308", {{"CAMPOS", "[1e308, 1, 1]"}}, "camera.position", "parallel"},
-      {"camera orbit distance 1e300", {{"CAMPOS", "{orbit: {azimuth: 0, elevation: 0, distance: 1e300}}"}},
+      {"camera orbit distance 1e300",
+       {{"CAMPOS", "{orbit: {azimuth: 0, elevation: 0, distance: 1e300}}"}},
        "camera.position"},
       {"fov 1e-300", {{"FOV", "1e-300"}}, nullptr},
       // The ball covers ~1e-5 of a pixel: correctly shows nothing, and says why
       {"fov 179.9999", {{"FOV", "179.9999"}}, nullptr, nullptr, "cover less than one pixel"},
       {"aperture 1e300", {{"APERTURE", "1e300"}}, "camera.aperture"},
       {"aperture 10", {{"APERTURE", "10"}}, nullptr},
-      {"light intensity 1e308", {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1, intensity: 1e308}"}},
+      {"light intensity 1e308",
+       {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1, intensity: 1e308}"}},
        "lights[0].intensity 1e+308"},
-      {"light intensity 1e29", {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1, intensity: 1e29}"}},
-       nullptr},
+      {"light intensity 1e29", {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1, intensity: 1e29}"}}, nullptr},
       {"light intensity times color overflows",
        {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1, color: [10, 1, 1], intensity: 1e308}"}},
        "lights[0].intensity"},
-      {"light radius 1e-300", {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1e-300, intensity: 1}"}},
+      {"light radius 1e-300",
+       {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1e-300, intensity: 1}"}},
        nullptr},
-      {"light radius 1e300", {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1e300, intensity: 1}"}},
+      {"light radius 1e300",
+       {{"LIGHT", "{type: sphere, position: [3, 3, 3], radius: 1e300, intensity: 1}"}},
        "lights[0].radius 1e+300"},
       {"rect size 1e-200",
-       {{"LIGHT", "{type: rect, position: [3, 3, 3], target: center, size: 1e-200, intensity: 1}"}}, nullptr},
+       {{"LIGHT", "{type: rect, position: [3, 3, 3], target: center, size: 1e-200, intensity: 1}"}},
+       nullptr},
       {"max_bounces 1000000", {{"BOUNCES", "1000000"}}, nullptr},
   };
   for (const Case& c : cases) {
@@ -221,10 +227,8 @@ TEST_CASE("tessera-render: every numeric key at its extremes finishes or fails n
       CHECK(image_finite(tessera::read_exr(dir.file("out/r.exr"))));
       const std::string json = slurp(dir.file("stats.json"));
       CHECK_THAT(json, Contains("\"discarded_samples\": 0"));
-      if (c.warning)
-        CHECK_THAT(r.err, Contains(c.warning));
-      else
-        CHECK_THAT(json, Contains("\"warnings\": []"));
+      if (c.warning) CHECK_THAT(r.err, Contains(c.warning));
+      else CHECK_THAT(json, Contains("\"warnings\": []"));
     }
   }
 }
@@ -235,8 +239,7 @@ TEST_CASE("tessera-render: threads stat and warnings in --stats", "[robustness][
   const CliRun r = run_render_cli(dir, "scene.yaml --quiet --threads 65536 --stats stats.json");
   REQUIRE(r.status == 0);
   const std::string json = slurp(dir.file("stats.json"));
-  const int cap = static_cast<int>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const int cap = static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   CHECK_THAT(json, Contains("\"threads\": " + std::to_string(cap) + ","));
   CHECK_THAT(json, !Contains("65536"));
   CHECK_THAT(json, Contains("\"stalled_paths\": 0"));

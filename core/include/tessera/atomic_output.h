@@ -75,7 +75,7 @@ class AtomicOutputFile {
   std::string m_path, m_temp;
   int m_fd = -1;
   std::uint64_t m_size = 0;
-  std::string m_first_fault;  ///< non-empty after a failed write
+  std::string m_first_fault;   ///< non-empty after a failed write
   bool m_fault_armed = false;  ///< detail::set_write_fault applies to this file
   std::uint64_t m_fault_byte = 0;
   int m_fault_errno = 0;

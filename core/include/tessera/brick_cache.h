@@ -43,7 +43,7 @@ namespace tessera {
 struct BrickGrid {
   std::int64_t dims[3] = {0, 0, 0};  ///< global vertices
   DType dtype = DType::Float32;
-  int shift = 5;                     ///< B = 2^shift vertices per brick edge
+  int shift = 5;                       ///< B = 2^shift vertices per brick edge
   std::int64_t bricks[3] = {0, 0, 0};  ///< ceil(dims / B)
 
   /// Throws std::invalid_argument when dims < 1 or shift outside [1, 10].
@@ -61,9 +61,9 @@ struct BrickGrid {
 
 /// Counters of one render's paging (for stats and benchmarks).
 struct BrickCacheStats {
-  std::uint64_t fetched = 0;     ///< bricks filled and published
-  std::uint64_t misses = 0;      ///< acquire() calls that had to wait
-  std::uint64_t flushes = 0;     ///< times the older half of the cache was evicted to make room
+  std::uint64_t fetched = 0;        ///< bricks filled and published
+  std::uint64_t misses = 0;         ///< acquire() calls that had to wait
+  std::uint64_t flushes = 0;        ///< times the older half of the cache was evicted to make room
   std::uint64_t peak_resident = 0;  ///< most bricks resident at once
 };
 
@@ -158,19 +158,38 @@ namespace detail {
 inline double load_as_double(DType t, const unsigned char* p) {
   switch (t) {
     case DType::UInt8: return static_cast<double>(*p);
-    case DType::Int16: { std::int16_t v; __builtin_memcpy(&v, p, sizeof v); return static_cast<double>(v); }
-    case DType::UInt16: { std::uint16_t v; __builtin_memcpy(&v, p, sizeof v); return static_cast<double>(v); }
-    case DType::Float32: { float v; __builtin_memcpy(&v, p, sizeof v); return static_cast<double>(v); }
-    case DType::Float64: default: { double v; __builtin_memcpy(&v, p, sizeof v); return v; }
+    case DType::Int16: {
+      std::int16_t v;
+      __builtin_memcpy(&v, p, sizeof v);
+      return static_cast<double>(v);
+    }
+    case DType::UInt16: {
+      std::uint16_t v;
+      __builtin_memcpy(&v, p, sizeof v);
+      return static_cast<double>(v);
+    }
+    case DType::Float32: {
+      float v;
+      __builtin_memcpy(&v, p, sizeof v);
+      return static_cast<double>(v);
+    }
+    case DType::Float64:
+    default: {
+      double v;
+      __builtin_memcpy(&v, p, sizeof v);
+      return v;
+    }
   }
 }
 /// Element e of a dense array of dtype t at base, as double.
 inline double load_element(DType t, const unsigned char* base, std::int64_t e) {
   switch (t) {
     case DType::UInt8: return load_as_double(t, base + e);
-    case DType::Int16: case DType::UInt16: return load_as_double(t, base + 2 * e);
+    case DType::Int16:
+    case DType::UInt16: return load_as_double(t, base + 2 * e);
     case DType::Float32: return load_as_double(t, base + 4 * e);
-    case DType::Float64: default: return load_as_double(t, base + 8 * e);
+    case DType::Float64:
+    default: return load_as_double(t, base + 8 * e);
   }
 }
 }  // namespace detail
@@ -189,7 +208,8 @@ inline double PagedFieldView::load(std::int64_t i, std::int64_t j, std::int64_t 
   // Another rank's: its brick's slot, fetched on a miss
   const std::int64_t b = ((k >> shift) * bricks[1] + (j >> shift)) * bricks[0] + (i >> shift);
   const unsigned char* slot = cache->find(b);
-  if (!slot) [[unlikely]] slot = cache->acquire(b);
+  if (!slot) [[unlikely]]
+    slot = cache->acquire(b);
   const std::int64_t m = (std::int64_t{1} << shift) - 1;
   const std::int64_t e = ((((k & m) << shift) + (j & m)) << shift) + (i & m);
   return detail::load_element(dtype, slot, e);
@@ -199,10 +219,10 @@ inline double PagedFieldView::load(std::int64_t i, std::int64_t j, std::int64_t 
 /// rank's own block and the cache that serves the rest.
 struct PagedField {
   DType dtype = DType::Float32;
-  std::int64_t dims[3] = {0, 0, 0};  ///< global vertices
-  FieldView local;                   ///< own block, validated; may be empty (data null)
+  std::int64_t dims[3] = {0, 0, 0};    ///< global vertices
+  FieldView local;                     ///< own block, validated; may be empty (data null)
   std::int64_t offset[3] = {0, 0, 0};  ///< global vertex of local's (0, 0, 0)
-  BrickCache* cache = nullptr;       ///< non-null, grid dims and dtype as above
+  BrickCache* cache = nullptr;         ///< non-null, grid dims and dtype as above
 };
 
 }  // namespace tessera

@@ -10,9 +10,9 @@ struct CameraDesc {
   Vec3 position{0.0, 0.0, 5.0};
   Vec3 look_at{0.0, 0.0, 0.0};
   Vec3 up{0.0, 1.0, 0.0};
-  double fov_deg = 30.0;         ///< vertical field of view, (0, 180)
-  double aperture = 0.0;         ///< lens radius, world units; 0 = pinhole
-  double focus_distance = 0.0;   ///< 0 = |look_at - position|
+  double fov_deg = 30.0;        ///< vertical field of view, (0, 180)
+  double aperture = 0.0;        ///< lens radius, world units; 0 = pinhole
+  double focus_distance = 0.0;  ///< 0 = |look_at - position|
 };
 
 /// Prepared camera: generates primary rays. Pixel (px, py), py = 0 the top row, covers

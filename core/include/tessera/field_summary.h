@@ -64,7 +64,7 @@ class FieldSummary {
   /// MPI_MAX, MPI_BOR, MPI_SUM) gives exactly the parts of the whole field, in any order.
   struct Parts {
     std::int64_t cells[3] = {1, 1, 1};
-    std::vector<double> lo, hi;        ///< +Inf / -Inf for a cell with no finite vertex
+    std::vector<double> lo, hi;  ///< +Inf / -Inf for a cell with no finite vertex
     std::vector<std::uint8_t> flags;
     std::uint64_t nan = 0;
     double vmin = INFINITY, vmax = -INFINITY;
@@ -72,11 +72,10 @@ class FieldSummary {
   /// The parts of one block: `block` holds the global vertices [offset, offset + block.dims)
   /// of a field of `global_dims`; cells are the global field's (as majorant_edge of the global
   /// field gives `edge`); cells the block does not touch are left empty.
-  static Parts partial(const FieldView& block, const std::int64_t offset[3],
-                       const std::int64_t global_dims[3], int edge);
+  static Parts partial(const FieldView& block, const std::int64_t offset[3], const std::int64_t global_dims[3],
+                       int edge);
   /// The summary of combined parts (of the whole field); `layout` is recorded for matches().
-  static std::shared_ptr<const FieldSummary> from_parts(Parts&& parts, const FieldLayout& layout,
-                                                        int edge);
+  static std::shared_ptr<const FieldSummary> from_parts(Parts&& parts, const FieldLayout& layout, int edge);
 
   /// make_shared of the constructor, as prepare() and its callers keep it.
   static std::shared_ptr<const FieldSummary> build(const FieldView& field, int edge);

@@ -23,14 +23,13 @@ std::size_t dtype_size(DType t);
 const char* dtype_name(DType t);
 
 struct FieldView {
-  const void* data = nullptr;        ///< first real vertex
+  const void* data = nullptr;  ///< first real vertex
   DType dtype = DType::Float32;
   std::int64_t dims[3] = {0, 0, 0};  ///< real vertices along i, j, k (each >= 1)
   std::int64_t byte_strides[3] = {0, 0, 0};
 
   /// Dense C-order view (k slowest... i fastest): strides sizeof(T), nx*sizeof(T), nx*ny*sizeof(T).
-  static FieldView contiguous(const void* data, DType dtype, std::int64_t nx, std::int64_t ny,
-                              std::int64_t nz);
+  static FieldView contiguous(const void* data, DType dtype, std::int64_t nx, std::int64_t ny, std::int64_t nz);
 
   /// View of the real region of an array that holds ghost layers: `full_dims` is the extent
   /// including ghosts, `base` its first element (ghost included). Throws std::invalid_argument
@@ -63,8 +62,7 @@ struct TypedFieldView {
 
 template <class T>
 TypedFieldView<T> typed(const FieldView& f) {
-  return {static_cast<const unsigned char*>(f.data), f.byte_strides[0], f.byte_strides[1],
-          f.byte_strides[2]};
+  return {static_cast<const unsigned char*>(f.data), f.byte_strides[0], f.byte_strides[1], f.byte_strides[2]};
 }
 
 /// Calls fn(TypedFieldView<T>) with T the C++ type of f.dtype.
@@ -75,7 +73,8 @@ decltype(auto) dispatch_dtype(const FieldView& f, Fn&& fn) {
     case DType::Int16: return fn(typed<std::int16_t>(f));
     case DType::UInt16: return fn(typed<std::uint16_t>(f));
     case DType::Float32: return fn(typed<float>(f));
-    case DType::Float64: default: return fn(typed<double>(f));
+    case DType::Float64:
+    default: return fn(typed<double>(f));
   }
 }
 

@@ -15,8 +15,8 @@ namespace tessera {
 struct PixelSums {
   double r = 0, g = 0, b = 0, a = 0;
   double lum = 0, lum2 = 0;
-  std::uint64_t n = 0;       ///< samples accumulated
-  std::uint64_t drawn = 0;   ///< samples drawn (accumulated + discarded): next sample index
+  std::uint64_t n = 0;      ///< samples accumulated
+  std::uint64_t drawn = 0;  ///< samples drawn (accumulated + discarded): next sample index
 };
 
 /// Sums of the denoiser's auxiliary features over a pixel's kept samples (the same samples,
@@ -41,9 +41,7 @@ class Film {
   const std::vector<PixelSums>& pixels() const { return m_px; }
   bool has_aux() const { return !m_aux.empty(); }
   /// The pixel's auxiliary sums, or nullptr when the film has none.
-  AuxSums* aux_at(int x, int y) {
-    return m_aux.empty() ? nullptr : &m_aux[static_cast<std::size_t>(y) * m_width + x];
-  }
+  AuxSums* aux_at(int x, int y) { return m_aux.empty() ? nullptr : &m_aux[static_cast<std::size_t>(y) * m_width + x]; }
   std::vector<AuxSums>& aux() { return m_aux; }
   const std::vector<AuxSums>& aux() const { return m_aux; }
 

@@ -7,9 +7,9 @@ namespace tessera {
 
 struct Image {
   int width = 0, height = 0;
-  std::vector<float> rgba;       ///< width*height*4, row 0 = top, linear radiance; A = alpha
-  std::vector<float> variance;   ///< optional: width*height, variance of the pixel mean (luminance)
-  std::vector<float> samples;    ///< optional: width*height, sample count per pixel
+  std::vector<float> rgba;      ///< width*height*4, row 0 = top, linear radiance; A = alpha
+  std::vector<float> variance;  ///< optional: width*height, variance of the pixel mean (luminance)
+  std::vector<float> samples;   ///< optional: width*height, sample count per pixel
   /// Optional (denoising): width*height*3 each. albedo: mean albedo of the first real
   /// collision, in [0, 1]; normal: mean world-space shading normal there, in [-1, 1];
   /// 0 where a sample met nothing. denoised: the denoised RGB (denoiser.h); when present,

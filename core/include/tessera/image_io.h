@@ -39,7 +39,7 @@ inline constexpr std::int64_t kMaxExrPixels = std::int64_t(1) << 27;  ///< 16384
 inline constexpr double kMaxExrCompression = 1100.0;
 
 struct ToneMap {
-  double exposure = 0.0;   ///< stops: pixel * 2^exposure before tone mapping
+  double exposure = 0.0;  ///< stops: pixel * 2^exposure before tone mapping
   enum class Curve { Clamp, Reinhard, Aces } curve = Curve::Aces;
   /// PNG alpha from A (straight alpha). Default false: opaque, since the rendered radiance
   /// already contains the background.

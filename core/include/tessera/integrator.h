@@ -12,18 +12,18 @@ enum class ShadowMode { Ratio, Delta };
 
 struct IntegratorDesc {
   Scattering scattering = Scattering::Single;
-  int max_bounces = 16;          ///< multiple: real collisions per path, >= 1
-  int rr_depth = 3;              ///< multiple: Russian roulette from this collision on
+  int max_bounces = 16;  ///< multiple: real collisions per path, >= 1
+  int rr_depth = 3;      ///< multiple: Russian roulette from this collision on
   Shading shading = Shading::Hybrid;
   double gradient_factor = 1.0;  ///< hybrid: P_brdf = 1 - exp(-gradient_factor * |grad u|_voxel)
   double phase_g = 0.0;          ///< Henyey-Greenstein g in (-1, 1)
   FreePath free_path = FreePath::Delta;
   MajorantMode majorant = MajorantMode::Grid;
-  int macrocell = 8;             ///< macrocell edge in voxels (grid majorant)
-  double step = 0.5;             ///< raymarch step, in voxels (of the smallest spacing)
+  int macrocell = 8;  ///< macrocell edge in voxels (grid majorant)
+  double step = 0.5;  ///< raymarch step, in voxels (of the smallest spacing)
   ShadowMode shadow = ShadowMode::Ratio;
-  bool shadow_roulette = true;   ///< Russian roulette on ratio-tracking throughput < 0.1
-  bool culling = true;           ///< fill tiles that see only the background without tracing
+  bool shadow_roulette = true;  ///< Russian roulette on ratio-tracking throughput < 0.1
+  bool culling = true;          ///< fill tiles that see only the background without tracing
 };
 
 }  // namespace tessera

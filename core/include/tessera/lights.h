@@ -42,12 +42,12 @@ enum class BackgroundType { Constant, Gradient, EnvMap };
 
 struct BackgroundDesc {
   BackgroundType type = BackgroundType::Constant;
-  Color color{0.0};                        ///< Constant
-  Color top{1.0}, middle{0.5}, bottom{0.0};///< Gradient, by dot(direction, up)
-  Vec3 up{0.0, 0.0, 1.0};                  ///< Gradient and EnvMap "up" (envmap pole)
-  double intensity = 1.0;                  ///< multiplies every type
-  bool visible = true;                     ///< false: hidden from camera rays only
-  std::shared_ptr<const Image> envmap;     ///< EnvMap: equirectangular, linear RGB
+  Color color{0.0};                          ///< Constant
+  Color top{1.0}, middle{0.5}, bottom{0.0};  ///< Gradient, by dot(direction, up)
+  Vec3 up{0.0, 0.0, 1.0};                    ///< Gradient and EnvMap "up" (envmap pole)
+  double intensity = 1.0;                    ///< multiplies every type
+  bool visible = true;                       ///< false: hidden from camera rays only
+  std::shared_ptr<const Image> envmap;       ///< EnvMap: equirectangular, linear RGB
 };
 
 }  // namespace tessera

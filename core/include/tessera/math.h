@@ -20,9 +20,7 @@ inline constexpr double kInv4Pi = 1.0 / (4.0 * kPi);
 inline double max_component(const Vec3& v) { return std::fmax(v.x, std::fmax(v.y, v.z)); }
 inline double luminance(const Color& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 inline bool is_black(const Color& c) { return c.x == 0.0 && c.y == 0.0 && c.z == 0.0; }
-inline bool is_finite(const Color& c) {
-  return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);
-}
+inline bool is_finite(const Color& c) { return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z); }
 
 /// Orthonormal basis around unit vector n (Duff et al. 2017, branchless).
 struct Frame {

@@ -18,11 +18,11 @@ namespace tessera {
 
 /// What core needs to know of one render to estimate its allocations.
 struct RenderFootprint {
-  int width = 0, height = 0;   ///< image size in pixels
-  int tile = 8;                ///< tile edge (0 = scanline), as RenderOptions::tile
-  int threads = 1;             ///< worker threads (> 0)
-  bool variance = false;       ///< the resolved image has a variance layer
-  bool samples = false;        ///< the resolved image has a sample-count layer
+  int width = 0, height = 0;  ///< image size in pixels
+  int tile = 8;               ///< tile edge (0 = scanline), as RenderOptions::tile
+  int threads = 1;            ///< worker threads (> 0)
+  bool variance = false;      ///< the resolved image has a variance layer
+  bool samples = false;       ///< the resolved image has a sample-count layer
   /// image.denoise: the film's auxiliary sums (AuxSums per pixel), and where the image is
   /// written the albedo, normal and denoised layers (3 floats per pixel each) and OIDN's
   /// working memory (kDenoiserBytesPerPixel up to kDenoiserMaxWorkingBytes, and
@@ -31,11 +31,11 @@ struct RenderFootprint {
   /// Formats written, no repeats (where this rank writes: rank 0, or the CLI); each adds the
   /// buffers its row of image_format.h names
   std::vector<ImageFormat> formats{ImageFormat::Exr, ImageFormat::Png};
-  bool writes = true;          ///< this rank resolves and writes the image
-  bool keeps_last_image = false;  ///< the image is kept after the write (adapter rank 0)
-  int views = 0;               ///< Cinema views rendered after the main image (0 = none)
-  std::int64_t field_dims[3] = {0, 0, 0};  ///< vertices of the rendered field; 0 = not counted
-  int macrocell_edge = 16;     ///< majorant_edge() of the field and integrator
+  bool writes = true;                                ///< this rank resolves and writes the image
+  bool keeps_last_image = false;                     ///< the image is kept after the write (adapter rank 0)
+  int views = 0;                                     ///< Cinema views rendered after the main image (0 = none)
+  std::int64_t field_dims[3] = {0, 0, 0};            ///< vertices of the rendered field; 0 = not counted
+  int macrocell_edge = 16;                           ///< majorant_edge() of the field and integrator
   std::int64_t envmap_width = 0, envmap_height = 0;  ///< envmap texels; 0 = no envmap
 };
 

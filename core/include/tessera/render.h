@@ -83,8 +83,7 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene);
 /// memory are the ones it was built from. prepare cannot check this (it would take the very
 /// pass it saves); with changed values the majorants may be too low and the image biased.
 /// The image is bit-identical to that of prepare(field, scene) when the guarantee holds.
-PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
-                      std::shared_ptr<const FieldSummary> reuse);
+PreparedScene prepare(const FieldView& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> reuse);
 
 /// Distributed mode (brick_cache.h): prepares the scene over a field that this rank holds only
 /// a block of. `summary` (non-null) must be the whole field's summary with the edge
@@ -109,8 +108,7 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
 /// A render whose cache fails (BrickCache::fail) does not hang: blocked workers read zeros
 /// and render_tiles returns normally; the caller must check field.cache->failed() and
 /// discard the film.
-PreparedScene prepare(const PagedField& field, const SceneDesc& scene,
-                      std::shared_ptr<const FieldSummary> summary);
+PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary);
 
 /// Render the tiles with the given indices into `film` (which must be width x height), with
 /// TBB over tiles. Adds spp samples to each pixel, continuing each pixel's sample indices.
@@ -124,11 +122,10 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene,
 /// `progress`, if set, is called from worker threads with the number of tiles finished.
 /// Past scene.desc().options.deadline the remaining tiles are skipped and DeadlineExceeded
 /// is thrown after the workers have stopped (stats then count the work done).
-void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film,
-                  RenderStats& stats, const std::function<void(int)>& progress = {});
+void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
+                  const std::function<void(int)>& progress = {});
 
 /// Render every tile.
-void render(const PreparedScene& scene, Film& film, RenderStats& stats,
-            const std::function<void(int)>& progress = {});
+void render(const PreparedScene& scene, Film& film, RenderStats& stats, const std::function<void(int)>& progress = {});
 
 }  // namespace tessera

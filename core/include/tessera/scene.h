@@ -25,7 +25,7 @@ struct ImageDesc {
   static constexpr int kMaxEdge = 16384;
   static constexpr int kMaxSpp = 1 << 20;
   int width = 512, height = 512;  ///< in [1, kMaxEdge]
-  int spp = 16;                  ///< samples per pixel per render call, in [1, kMaxSpp]
+  int spp = 16;                   ///< samples per pixel per render call, in [1, kMaxSpp]
   /// Adaptive sampling, 0 = off: a pixel stops after min(spp, max(8, spp/16)) samples once the
   /// relative standard error of its mean luminance is below this (docs/physics.md).
   double target_error = 0.0;
@@ -38,10 +38,10 @@ struct ImageDesc {
 
 struct RenderOptions {
   std::uint64_t seed = 0;
-  std::uint64_t frame = 0;       ///< timestep / frame: part of every random stream
-  int tile = 8;                  ///< tile edge in pixels; 0 = scanline
+  std::uint64_t frame = 0;  ///< timestep / frame: part of every random stream
+  int tile = 8;             ///< tile edge in pixels; 0 = scanline
   TileOrder order = TileOrder::RowMajor;
-  int threads = 0;               ///< 0 = all hardware threads
+  int threads = 0;  ///< 0 = all hardware threads
   /// Wall-clock deadline of the render (steady clock); max() = none. render_tiles checks it
   /// before each tile, between passes over a tile and every 1024 samples of an adaptive
   /// pixel, prepare() every 1024 samples of the adaptive preview (never per sample); past it

@@ -21,8 +21,8 @@ class BlockWriteSignals {
   BlockWriteSignals& operator=(const BlockWriteSignals&) = delete;
 
  private:
-  sigset_t m_old;        ///< the thread's mask before
-  sigset_t m_consume;    ///< signals this guard blocked that were not pending before
+  sigset_t m_old;      ///< the thread's mask before
+  sigset_t m_consume;  ///< signals this guard blocked that were not pending before
   bool m_active = false;
 };
 

@@ -13,21 +13,19 @@ struct RenderStats {
   std::uint64_t gradient_lookups = 0;       ///< field samples for gradients (shading)
   std::uint64_t real_collisions = 0;
   std::uint64_t null_collisions = 0;
-  std::uint64_t discarded_samples = 0;      ///< NaN / Inf radiance samples dropped
+  std::uint64_t discarded_samples = 0;  ///< NaN / Inf radiance samples dropped
   /// Paths ended by a loop guard (docs/physics.md "Loop guards"): a tracking or march step
   /// that did not advance t, a traversal over its step budget, or a degenerate ray. Each
   /// contributes nothing from that point on. 0 for every scene prepare() accepts unless the
   /// arithmetic degenerates; a warning otherwise (render_warnings).
   std::uint64_t stalled_paths = 0;
-  std::uint64_t nan_voxels_seen = 0;        ///< NaN vertices in the field (counted at prepare)
+  std::uint64_t nan_voxels_seen = 0;  ///< NaN vertices in the field (counted at prepare)
   std::uint64_t tiles_total = 0;
-  std::uint64_t tiles_skipped = 0;          ///< tiles filled without tracing (culling)
-  double wall_seconds = 0.0;                ///< rendering only
-  int threads = 0;                          ///< worker threads actually used (arena concurrency)
+  std::uint64_t tiles_skipped = 0;  ///< tiles filled without tracing (culling)
+  double wall_seconds = 0.0;        ///< rendering only
+  int threads = 0;                  ///< worker threads actually used (arena concurrency)
 
-  std::uint64_t density_lookups() const {
-    return free_flight_lookups + transmittance_lookups + gradient_lookups;
-  }
+  std::uint64_t density_lookups() const { return free_flight_lookups + transmittance_lookups + gradient_lookups; }
   /// Combines every integer counter of `o` into this one by its rule in kRenderCounters
   /// (summed, or the larger kept). wall_seconds and threads are left alone: how they combine
   /// depends on what is being combined (threads of one render vs ranks vs renders).

@@ -16,7 +16,8 @@ inline int tf_segment(const double* x, int n, double u) {
   int lo = 0, hi = n - 1;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    if (x[mid] <= u) lo = mid; else hi = mid;
+    if (x[mid] <= u) lo = mid;
+    else hi = mid;
   }
   return lo;
 }
@@ -78,13 +79,13 @@ class ColorTF {
 
 /// Everything that maps a field value to optical properties (docs/physics.md "Field and medium").
 struct TransferFunction {
-  double lo = 0.0, hi = 1.0;       ///< value range mapped to u = 0 .. 1 (lo < hi)
-  double density_scale = 1.0;      ///< sigma_t = density_scale * opacity(u), 1/world unit
+  double lo = 0.0, hi = 1.0;   ///< value range mapped to u = 0 .. 1 (lo < hi)
+  double density_scale = 1.0;  ///< sigma_t = density_scale * opacity(u), 1/world unit
   ScalarTF opacity;
   ColorTF diffuse = ColorTF::constant(Color(1.0));
-  ColorTF specular;                ///< absent = zero
+  ColorTF specular;  ///< absent = zero
   ScalarTF roughness = ScalarTF::constant(0.5);
-  ColorTF emission;                ///< absent = zero
+  ColorTF emission;  ///< absent = zero
 
   /// u(v) = clamp((v - lo)/(hi - lo), 0, 1); NaN maps to 0 (no medium), see docs/physics.md.
   double normalise(double v) const {

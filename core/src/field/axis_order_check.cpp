@@ -101,10 +101,10 @@ std::string axis_order_warning(const AxisOrderSuspicion& s, const std::string& k
                 "differ by %.2f, %.2f, %.2f of the difference between random vertices (the image will show "
                 "stripes), while dims [%lld, %lld, %lld] make the data smooth (%.2f, %.2f, %.2f); %s lists x, "
                 "the axis that varies fastest in the file, first",
-                key.c_str(), (long long)s.given[0], (long long)s.given[1], (long long)s.given[2],
-                s.given_roughness[0], s.given_roughness[1], s.given_roughness[2], (long long)s.better[0],
-                (long long)s.better[1], (long long)s.better[2], s.better_roughness[0], s.better_roughness[1],
-                s.better_roughness[2], key.c_str());
+                key.c_str(), (long long)s.given[0], (long long)s.given[1], (long long)s.given[2], s.given_roughness[0],
+                s.given_roughness[1], s.given_roughness[2], (long long)s.better[0], (long long)s.better[1],
+                (long long)s.better[2], s.better_roughness[0], s.better_roughness[1], s.better_roughness[2],
+                key.c_str());
   return buf;
 }
 

@@ -32,17 +32,17 @@ struct BrickCache::State {
   /// capacity slots; default-initialised (new[] without ()), so the pages are reserved and
   /// only touched, i.e. made resident, as bricks arrive
   std::unique_ptr<unsigned char[]> pool;
-  std::vector<unsigned char> zero;  ///< one slot of zeros, what acquire returns after fail()
-  std::vector<std::uint8_t> state;  ///< per brick
-  std::vector<std::uint32_t> waiters;  ///< per brick: workers blocked in acquire on it
-  std::vector<std::int64_t> owner;     ///< per slot: its brick, -1 when free
-  std::vector<std::uint64_t> slot_seq; ///< per slot: when its brick was published (eviction order)
+  std::vector<unsigned char> zero;      ///< one slot of zeros, what acquire returns after fail()
+  std::vector<std::uint8_t> state;      ///< per brick
+  std::vector<std::uint32_t> waiters;   ///< per brick: workers blocked in acquire on it
+  std::vector<std::int64_t> owner;      ///< per slot: its brick, -1 when free
+  std::vector<std::uint64_t> slot_seq;  ///< per slot: when its brick was published (eviction order)
   std::uint64_t next_seq = 0;
   std::vector<std::size_t> free_slots;
   std::unordered_map<std::int64_t, std::size_t> reserved;  ///< brick -> slot, not yet published
-  std::vector<std::int64_t> fifo;   ///< wanted bricks, oldest first, from `fifo_head`
+  std::vector<std::int64_t> fifo;                          ///< wanted bricks, oldest first, from `fifo_head`
   std::size_t fifo_head = 0;
-  long active = 0;        ///< workers inside a tile and not blocked in acquire
+  long active = 0;  ///< workers inside a tile and not blocked in acquire
   bool flush_pending = false;
   std::string why;
   BrickCacheStats stats;

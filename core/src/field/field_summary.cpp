@@ -87,9 +87,9 @@ CellRange scan_run(const unsigned char* p, std::int64_t sx, std::int64_t n, std:
 struct Slab {
   std::int64_t ck, k_begin, k_end;
   bool extra_row;
-  CellRange* out;                    ///< nc[0]*nc[1] cells of layer ck (or a partial copy)
-  std::uint64_t nans = 0;            ///< over the owned rows
-  CellRange total = kEmpty;          ///< finite min/max over the owned rows, in order
+  CellRange* out;            ///< nc[0]*nc[1] cells of layer ck (or a partial copy)
+  std::uint64_t nans = 0;    ///< over the owned rows
+  CellRange total = kEmpty;  ///< finite min/max over the owned rows, in order
 };
 
 template <class T>
@@ -275,8 +275,9 @@ FieldSummary::Parts FieldSummary::partial(const FieldView& block, const std::int
 std::shared_ptr<const FieldSummary> FieldSummary::from_parts(Parts&& parts, const FieldLayout& layout, int edge) {
   if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
   const std::int64_t n = parts.cells[0] * parts.cells[1] * parts.cells[2];
-  if (parts.cells[0] < 1 || parts.cells[1] < 1 || parts.cells[2] < 1 || parts.lo.size() != static_cast<std::size_t>(n) ||
-      parts.hi.size() != parts.lo.size() || parts.flags.size() != parts.lo.size())
+  if (parts.cells[0] < 1 || parts.cells[1] < 1 || parts.cells[2] < 1 ||
+      parts.lo.size() != static_cast<std::size_t>(n) || parts.hi.size() != parts.lo.size() ||
+      parts.flags.size() != parts.lo.size())
     throw std::invalid_argument("field summary parts: " + std::to_string(parts.lo.size()) + " lo, " +
                                 std::to_string(parts.hi.size()) + " hi, " + std::to_string(parts.flags.size()) +
                                 " flags for " + std::to_string(n) + " cells");

@@ -30,8 +30,7 @@ const char* dtype_name(DType t) {
   return "unknown";
 }
 
-FieldView FieldView::contiguous(const void* data, DType dtype, std::int64_t nx, std::int64_t ny,
-                                std::int64_t nz) {
+FieldView FieldView::contiguous(const void* data, DType dtype, std::int64_t nx, std::int64_t ny, std::int64_t nz) {
   const auto s = static_cast<std::int64_t>(dtype_size(dtype));
   FieldView v;
   v.data = data;
@@ -46,8 +45,7 @@ FieldView FieldView::contiguous(const void* data, DType dtype, std::int64_t nx, 
 }
 
 FieldView FieldView::with_ghosts(const void* base, DType dtype, const std::int64_t full_dims[3],
-                                 const std::int64_t byte_strides[3],
-                                 const std::int64_t ghosts_lo[3],
+                                 const std::int64_t byte_strides[3], const std::int64_t ghosts_lo[3],
                                  const std::int64_t ghosts_hi[3]) {
   static const char* axis = "ijk";
   FieldView v;
@@ -58,9 +56,8 @@ FieldView FieldView::with_ghosts(const void* base, DType dtype, const std::int64
       throw std::invalid_argument(std::string("negative ghost width along ") + axis[a]);
     v.dims[a] = full_dims[a] - ghosts_lo[a] - ghosts_hi[a];
     if (v.dims[a] < 1)
-      throw std::invalid_argument(std::string("ghost layers along ") + axis[a] + " (" +
-                                  std::to_string(ghosts_lo[a]) + " + " +
-                                  std::to_string(ghosts_hi[a]) + ") leave no real vertex of " +
+      throw std::invalid_argument(std::string("ghost layers along ") + axis[a] + " (" + std::to_string(ghosts_lo[a]) +
+                                  " + " + std::to_string(ghosts_hi[a]) + ") leave no real vertex of " +
                                   std::to_string(full_dims[a]));
     v.byte_strides[a] = byte_strides[a];
     offset += ghosts_lo[a] * byte_strides[a];
@@ -78,23 +75,20 @@ void FieldView::validate(const std::string& what) const {
       throw std::invalid_argument(what + ": dims[" + std::to_string(a) + "] (" + axis[a] +
                                   ") = " + std::to_string(dims[a]) + ", must be >= 1");
     if (dims[a] > 1 && std::llabs(byte_strides[a]) < es)
-      throw std::invalid_argument(what + ": byte stride along " + axis[a] + " is " +
-                                  std::to_string(byte_strides[a]) + ", smaller than the " +
-                                  std::to_string(es) + "-byte element");
+      throw std::invalid_argument(what + ": byte stride along " + axis[a] + " is " + std::to_string(byte_strides[a]) +
+                                  ", smaller than the " + std::to_string(es) + "-byte element");
   }
   // Overlap check: sort axes by |stride|; each must step over the whole extent of the smaller.
   std::array<int, 3> order{0, 1, 2};
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return std::llabs(byte_strides[a]) < std::llabs(byte_strides[b]);
-  });
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return std::llabs(byte_strides[a]) < std::llabs(byte_strides[b]); });
   std::int64_t extent = es;  // bytes spanned by the axes seen so far
   for (int a : order) {
     if (dims[a] == 1) continue;
     const std::int64_t s = std::llabs(byte_strides[a]);
     if (s < extent)
-      throw std::invalid_argument(what + ": byte strides overlap: stride " +
-                                  std::to_string(byte_strides[a]) + " along " + axis[a] +
-                                  " is smaller than the " + std::to_string(extent) +
+      throw std::invalid_argument(what + ": byte strides overlap: stride " + std::to_string(byte_strides[a]) +
+                                  " along " + axis[a] + " is smaller than the " + std::to_string(extent) +
                                   " bytes spanned by the faster axes");
     extent = s * (dims[a] - 1) + extent;
   }

@@ -44,7 +44,7 @@ class MajorantGrid {
 
  private:
   std::shared_ptr<const FieldSummary> m_summary;
-  int m_edge = 16;                        ///< copies of the summary's, read by the kernels
+  int m_edge = 16;  ///< copies of the summary's, read by the kernels
   std::int64_t m_nc[3] = {1, 1, 1};
   std::vector<double> m_majorant;
   double m_max = 0.0;

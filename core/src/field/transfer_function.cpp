@@ -10,15 +10,14 @@ namespace {
 void check_points(const std::vector<double>& xs, std::size_t nv) {
   if (xs.size() != nv) throw std::invalid_argument("transfer function: x and value counts differ");
   if (xs.size() > static_cast<std::size_t>(kMaxTfPoints))
-    throw std::invalid_argument("transfer function: " + std::to_string(xs.size()) +
-                                " points, at most " + std::to_string(kMaxTfPoints) + " allowed");
+    throw std::invalid_argument("transfer function: " + std::to_string(xs.size()) + " points, at most " +
+                                std::to_string(kMaxTfPoints) + " allowed");
   for (std::size_t i = 0; i < xs.size(); ++i) {
     if (!std::isfinite(xs[i]))
       throw std::invalid_argument("transfer function: point " + std::to_string(i) + " is not finite");
     if (i > 0 && xs[i] < xs[i - 1])
-      throw std::invalid_argument("transfer function: point " + std::to_string(i) +
-                                  " has decreasing u (" + std::to_string(xs[i]) + " < " +
-                                  std::to_string(xs[i - 1]) + ")");
+      throw std::invalid_argument("transfer function: point " + std::to_string(i) + " has decreasing u (" +
+                                  std::to_string(xs[i]) + " < " + std::to_string(xs[i - 1]) + ")");
   }
 }
 
@@ -34,7 +33,6 @@ ScalarTF::ScalarTF(const std::vector<double>& xs, const std::vector<double>& vs)
     m_v[i] = vs[i];
   }
 }
-
 
 double ScalarTF::max_over(double u0, double u1) const {
   if (m_n == 0) return 0.0;
@@ -66,7 +64,6 @@ ColorTF::ColorTF(const std::vector<double>& xs, const std::vector<Color>& vs) {
     m_v[i] = vs[i];
   }
 }
-
 
 bool ColorTF::is_zero() const {
   for (int i = 0; i < m_n; ++i)

@@ -71,8 +71,7 @@ AtomicOutputFile::AtomicOutputFile(const std::string& path) : m_path(path) {
   }
   if (m_fd < 0) {
     const int error = errno;
-    throw AtomicOutputError(path, "cannot create the temporary file '" + m_temp + "': " +
-                                      errno_text(error));
+    throw AtomicOutputError(path, "cannot create the temporary file '" + m_temp + "': " + errno_text(error));
   }
 }
 
@@ -131,7 +130,7 @@ void AtomicOutputFile::commit() {
     if (!m_first_fault.empty()) fail(m_first_fault);
 
     // Verify: the file holds exactly the bytes written
-    struct stat st{};
+    struct stat st {};
     if (::fstat(m_fd, &st) != 0) fail("cannot stat the temporary file '" + m_temp + "': " + errno_text(errno));
     if (std::uint64_t(st.st_size) != m_size)
       fail("the temporary file '" + m_temp + "' has " + std::to_string(st.st_size) + " bytes after " +

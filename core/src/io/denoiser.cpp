@@ -22,9 +22,9 @@ namespace {
 // ---- The subset of OIDN's C API used here (values as in oidn.h) ----
 using OIDNDevice = void*;
 using OIDNFilter = void*;
-constexpr int kOidnDeviceTypeCpu = 1;   // OIDN_DEVICE_TYPE_CPU
-constexpr int kOidnFormatFloat3 = 3;    // OIDN_FORMAT_FLOAT3
-constexpr int kOidnErrorNone = 0;       // OIDN_ERROR_NONE
+constexpr int kOidnDeviceTypeCpu = 1;  // OIDN_DEVICE_TYPE_CPU
+constexpr int kOidnFormatFloat3 = 3;   // OIDN_FORMAT_FLOAT3
+constexpr int kOidnErrorNone = 0;      // OIDN_ERROR_NONE
 
 struct OidnApi {
   OIDNDevice (*newDevice)(int type) = nullptr;
@@ -207,11 +207,11 @@ Loaded load_oidn() {
   Loaded l;
   const char* env = std::getenv("TESSERA_OIDN_LIBRARY");
   if (env && *env) {
-    std::string why = is_absolute(env) ? try_load(env, l) : "not an absolute path (allowed: /path/to/" + std::string(kSoname) + ")";
+    std::string why =
+        is_absolute(env) ? try_load(env, l) : "not an absolute path (allowed: /path/to/" + std::string(kSoname) + ")";
     if (!why.empty())
-      l.error = "cannot load Intel Open Image Denoise from TESSERA_OIDN_LIBRARY=" +
-                std::string(env) + ": " + why + "; point it at libOpenImageDenoise.so.2 of OIDN 2.x, or unset it and " +
-                kInstallHint;
+      l.error = "cannot load Intel Open Image Denoise from TESSERA_OIDN_LIBRARY=" + std::string(env) + ": " + why +
+                "; point it at libOpenImageDenoise.so.2 of OIDN 2.x, or unset it and " + kInstallHint;
     return l;
   }
   std::string tried = std::string("TESSERA_OIDN_LIBRARY: ") + (env ? "empty (ignored)" : "unset");

@@ -17,8 +17,8 @@ constexpr std::uint32_t kFlagTiled = 0x200, kFlagLongNames = 0x400, kFlagDeep = 
 [[noreturn]] void bad(const std::string& what) { throw std::runtime_error(what); }
 
 std::int32_t le32(const unsigned char* p) {
-  return static_cast<std::int32_t>(std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 |
-                                   std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24);
+  return static_cast<std::int32_t>(std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+                                   std::uint32_t(p[3]) << 24);
 }
 
 /// Reads the header front to back, never past the end of the file.
@@ -104,8 +104,8 @@ ExrHeaderSummary check_exr_header(const RegularFile& file) {
     const std::string type = c.name(max_name);
     const std::int32_t size = c.i32();
     if (size < 0 || std::uint64_t(size) > c.left()) {
-      bad("header attribute \"" + name + "\" declares " + std::to_string(size) +
-          " bytes but the file has " + std::to_string(c.left()) + " left");
+      bad("header attribute \"" + name + "\" declares " + std::to_string(size) + " bytes but the file has " +
+          std::to_string(c.left()) + " left");
     }
     if (name == "dataWindow" && type == "box2i" && size == 16) {
       const std::int64_t x0 = c.i32(), y0 = c.i32(), x1 = c.i32(), y1 = c.i32();
@@ -143,9 +143,8 @@ ExrHeaderSummary check_exr_header(const RegularFile& file) {
   const std::string size_text = std::to_string(s.width) + "x" + std::to_string(s.height);
   if (s.width < 1 || s.height < 1) bad("data window " + size_text + " is empty");
   if (s.width > kMaxExrEdge || s.height > kMaxExrEdge || s.width * s.height > kMaxExrPixels) {
-    bad("data window " + size_text + " is too large (allowed: at most " +
-        std::to_string(kMaxExrEdge) + " pixels per side and " + std::to_string(kMaxExrPixels) +
-        " pixels in all)");
+    bad("data window " + size_text + " is too large (allowed: at most " + std::to_string(kMaxExrEdge) +
+        " pixels per side and " + std::to_string(kMaxExrPixels) + " pixels in all)");
   }
   const double pixel_bytes = double(s.width) * double(s.height) * s.bytes_per_pixel;
   const double ratio = s.compression == 0 ? 1.0 : kMaxExrCompression;
@@ -153,9 +152,8 @@ ExrHeaderSummary check_exr_header(const RegularFile& file) {
     bad("data window " + size_text + " needs " + std::to_string(std::uint64_t(pixel_bytes)) +
         " bytes of pixels but the file has " + std::to_string(file.size()) + " bytes (allowed: " +
         (s.compression == 0 ? std::string("as many bytes as pixel data, the file is uncompressed")
-                            : "at most " + std::to_string(int(kMaxExrCompression)) +
-                                  " times the file size")
-        + ")");
+                            : "at most " + std::to_string(int(kMaxExrCompression)) + " times the file size") +
+        ")");
   }
   // The chunk offset table (8 bytes a chunk, level 0 counted) must fit in the file; OpenEXR
   // allocates it, and a tile buffer, from the header alone
@@ -165,19 +163,16 @@ ExrHeaderSummary check_exr_header(const RegularFile& file) {
   if (flags & kFlagTiled) {
     if (!have_tiles) bad("tiled file without a tile description");
     if (tile_w < 1 || tile_h < 1 || tile_w > kMaxExrEdge || tile_h > kMaxExrEdge ||
-        double(tile_w) * double(tile_h) * s.bytes_per_pixel >
-            kMaxExrCompression * double(file.size())) {
-      bad("tile size " + std::to_string(tile_w) + "x" + std::to_string(tile_h) +
-          " does not fit a file of " + std::to_string(file.size()) + " bytes (allowed: at most " +
-          std::to_string(kMaxExrEdge) + " per side and " + std::to_string(int(kMaxExrCompression)) +
-          " times the file size in bytes)");
+        double(tile_w) * double(tile_h) * s.bytes_per_pixel > kMaxExrCompression * double(file.size())) {
+      bad("tile size " + std::to_string(tile_w) + "x" + std::to_string(tile_h) + " does not fit a file of " +
+          std::to_string(file.size()) + " bytes (allowed: at most " + std::to_string(kMaxExrEdge) + " per side and " +
+          std::to_string(int(kMaxExrCompression)) + " times the file size in bytes)");
     }
     chunks = ceil_div(s.width, tile_w) * ceil_div(s.height, tile_h);
   }
   if (double(chunks) * 8.0 > double(file.size())) {
-    bad("data window " + size_text + " needs " + std::to_string(chunks) +
-        " chunks but a file of " + std::to_string(file.size()) +
-        " bytes cannot hold their offset table");
+    bad("data window " + size_text + " needs " + std::to_string(chunks) + " chunks but a file of " +
+        std::to_string(file.size()) + " bytes cannot hold their offset table");
   }
   return s;
 }

@@ -4,8 +4,8 @@
 /// temporary file is verified (size; an EXR's header and offset table read back) before the
 /// rename, and on any failure nothing new appears under the final name and a
 /// std::runtime_error names the path and the fault.
-#include <tessera/image_io.h>
 #include <tessera/atomic_output.h>
+#include <tessera/image_io.h>
 #include <tessera/regular_file.h>
 
 #include "io/exr_header.h"
@@ -69,12 +69,10 @@ void validate(const char* what, const std::string& path, const Image& img) {
     throw std::runtime_error(std::string(what) + ": cannot write '" + path + "': " + fault);
   };
   if (img.width <= 0 || img.height <= 0)
-    fail("image size " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-         " is empty (both must be > 0)");
+    fail("image size " + std::to_string(img.width) + "x" + std::to_string(img.height) + " is empty (both must be > 0)");
   const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
   if (img.rgba.size() != n * 4)
-    fail("rgba has " + std::to_string(img.rgba.size()) + " floats, expected width*height*4 = " +
-         std::to_string(n * 4));
+    fail("rgba has " + std::to_string(img.rgba.size()) + " floats, expected width*height*4 = " + std::to_string(n * 4));
   if (!img.variance.empty() && img.variance.size() != n)
     fail("variance has " + std::to_string(img.variance.size()) +
          " floats, expected 0 or width*height = " + std::to_string(n));
@@ -117,10 +115,8 @@ void png_on_flush(png_structp) {}
 /// Encodes 8-bit RGBA rows, appending the PNG file's bytes to `bytes`. Only trivially
 /// destructible locals live here, because libpng reports errors by longjmp. Returns false with
 /// err.message set on failure.
-bool encode_png(std::vector<unsigned char>& bytes, int width, int height, const unsigned char* rgba8,
-                PngError& err) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_on_error,
-                                            png_on_warning);
+bool encode_png(std::vector<unsigned char>& bytes, int width, int height, const unsigned char* rgba8, PngError& err) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_on_error, png_on_warning);
   if (!png) {
     std::snprintf(err.message, sizeof err.message, "png_create_write_struct failed");
     return false;
@@ -137,8 +133,7 @@ bool encode_png(std::vector<unsigned char>& bytes, int width, int height, const 
   }
   png_set_write_fn(png, &bytes, png_on_write, png_on_flush);
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
-               PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
+               PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
   png_write_info(png, info);
   const std::size_t row_bytes = static_cast<std::size_t>(width) * 4;
@@ -203,8 +198,8 @@ Image read_exr_pixels(const std::string& path) {
     std::string present;
     for (auto it = channels.begin(); it != channels.end(); ++it)
       present += (present.empty() ? "" : ", ") + std::string(it.name());
-    throw std::runtime_error("missing channel(s) " + missing + " (present: " +
-                             (present.empty() ? "none" : present) + ")");
+    throw std::runtime_error("missing channel(s) " + missing + " (present: " + (present.empty() ? "none" : present) +
+                             ")");
   }
 
   // Image = data window; OpenEXR converts half/uint channels into the FLOAT slices
@@ -257,16 +252,12 @@ void write_exr(const std::string& path, const Image& img) {
     const Imath::Box2i& dw = header.dataWindow();
     Imf::FrameBuffer fb;
     for (int c = 0; c < 4; ++c)
-      fb.insert(k_rgba_names[c],
-                Imf::Slice::Make(Imf::FLOAT, img.rgba.data() + c, dw, k_px_stride));
-    if (!img.variance.empty())
-      fb.insert("variance", Imf::Slice::Make(Imf::FLOAT, img.variance.data(), dw));
-    if (!img.samples.empty())
-      fb.insert("samples", Imf::Slice::Make(Imf::FLOAT, img.samples.data(), dw));
+      fb.insert(k_rgba_names[c], Imf::Slice::Make(Imf::FLOAT, img.rgba.data() + c, dw, k_px_stride));
+    if (!img.variance.empty()) fb.insert("variance", Imf::Slice::Make(Imf::FLOAT, img.variance.data(), dw));
+    if (!img.samples.empty()) fb.insert("samples", Imf::Slice::Make(Imf::FLOAT, img.samples.data(), dw));
     if (!img.denoised.empty())
       for (int c = 0; c < 3; ++c)
-        fb.insert(k_denoised_names[c],
-                  Imf::Slice::Make(Imf::FLOAT, img.denoised.data() + c, dw, k_rgb_stride));
+        fb.insert(k_denoised_names[c], Imf::Slice::Make(Imf::FLOAT, img.denoised.data() + c, dw, k_rgb_stride));
 
     {
       AtomicOStream stream(out);
@@ -343,8 +334,7 @@ void write_png(const std::string& path, const Image& img, const ToneMap& tm) {
   PngError err;
   if (!encode_png(bytes, img.width, img.height, rgba8.data(), err))
     throw std::runtime_error("write_png: cannot write '" + path + "': libpng: " + err.message);
-  write_atomically("write_png", path,
-                   [&](AtomicOutputFile& out) { out.write(bytes.data(), bytes.size()); });
+  write_atomically("write_png", path, [&](AtomicOutputFile& out) { out.write(bytes.data(), bytes.size()); });
 }
 
 }  // namespace tessera

@@ -32,7 +32,7 @@ RegularFile::RegularFile(const std::string& path) : m_path(path) {
   m_fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (m_fd < 0 && errno == ENOENT) throw std::runtime_error(path + " does not exist");
   if (m_fd < 0) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
-  struct stat st{};
+  struct stat st {};
   if (::fstat(m_fd, &st) != 0) {
     const int err = errno;
     ::close(m_fd);
@@ -57,8 +57,8 @@ void RegularFile::read_at(std::uint64_t offset, void* out, std::size_t n) const 
     const ssize_t r = ::pread(m_fd, p + done, n - done, static_cast<off_t>(offset + done));
     if (r < 0 && errno == EINTR) continue;
     if (r < 0) {
-      throw std::runtime_error(m_path + ": read failed after " + std::to_string(done) + " of " +
-                               std::to_string(n) + " bytes: " + std::strerror(errno));
+      throw std::runtime_error(m_path + ": read failed after " + std::to_string(done) + " of " + std::to_string(n) +
+                               " bytes: " + std::strerror(errno));
     }
     if (r == 0) {
       throw std::runtime_error(m_path + ": file ends after " + std::to_string(offset + done) +

@@ -9,13 +9,12 @@ namespace tessera {
 
 Camera::Camera(const CameraDesc& c, int width, int height) {
   if (width < 1 || height < 1)
-    throw std::invalid_argument("camera: image size " + std::to_string(width) + "x" +
-                                std::to_string(height) + " must be at least 1x1");
+    throw std::invalid_argument("camera: image size " + std::to_string(width) + "x" + std::to_string(height) +
+                                " must be at least 1x1");
   if (!is_finite(c.position) || !is_finite(c.look_at) || !is_finite(c.up))
     throw std::invalid_argument("camera: position, look_at and up must be finite");
   if (!(c.fov_deg > 0.0 && c.fov_deg < 180.0))
-    throw std::invalid_argument("camera: fov " + std::to_string(c.fov_deg) +
-                                " is outside (0, 180) degrees");
+    throw std::invalid_argument("camera: fov " + std::to_string(c.fov_deg) + " is outside (0, 180) degrees");
   if (!(c.aperture >= 0.0) || !std::isfinite(c.aperture))
     throw std::invalid_argument("camera: aperture must be finite and >= 0");
   if (!(c.focus_distance >= 0.0) || !std::isfinite(c.focus_distance))

@@ -38,11 +38,11 @@ template <class T>
 struct GridMedium {
   typename FieldAccessor<T>::type field;
   std::int64_t n[3];
-  double hi_index[3];              ///< n - 1 as double: the box in voxel space is [0, hi_index]
+  double hi_index[3];  ///< n - 1 as double: the box in voxel space is [0, hi_index]
   const TransferFunction* tf;
-  const double* majorant;          ///< per macrocell, 1 / world unit
+  const double* majorant;  ///< per macrocell, 1 / world unit
   std::int64_t nc[3];
-  double cell_edge;                ///< macrocell edge in voxels
+  double cell_edge;  ///< macrocell edge in voxels
   /// Extinction clamp, 1 / world unit (kMaxOpticalThicknessPerVoxel / smallest spacing):
   /// also catches density_scale * opacity overflowing to Inf
   double sigma_max = INFINITY;
@@ -80,9 +80,7 @@ struct GridMedium {
   }
 
   double u(const Vec3& p) const { return tf->normalise(value(p)); }
-  double sigma_t_of_u(double uu) const {
-    return std::min(tf->density_scale * tf->opacity.eval(uu), sigma_max);
-  }
+  double sigma_t_of_u(double uu) const { return std::min(tf->density_scale * tf->opacity.eval(uu), sigma_max); }
   double sigma_t(const Vec3& p) const { return sigma_t_of_u(u(p)); }
 
   /// Gradient of u by central differences one voxel apart (one-sided at the faces), in
@@ -104,8 +102,7 @@ struct GridMedium {
 /// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
 /// Ray in voxel space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
 template <class T, class Fn>
-bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0,
-                         double t1, Fn&& fn) {
+bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Fn&& fn) {
   if (!(t0 < t1)) return false;
   const double E = m.cell_edge;
   std::int64_t c[3], step[3];

@@ -28,9 +28,8 @@ struct TypeTag {
 template <class Fn>
 decltype(auto) with_value(const KernelScene& ks, Fn&& fn) {
   if (ks.paged.cache != nullptr) return fn(TypeTag<PagedValue>{});
-  return dispatch_dtype(ks.field, [&](auto view) -> decltype(auto) {
-    return fn(TypeTag<typename decltype(view)::value_type>{});
-  });
+  return dispatch_dtype(
+      ks.field, [&](auto view) -> decltype(auto) { return fn(TypeTag<typename decltype(view)::value_type>{}); });
 }
 
 /// The kernels' medium over the scene's field (trivially copyable; points into ks).

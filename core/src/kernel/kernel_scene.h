@@ -23,28 +23,28 @@ namespace tessera {
 
 struct KernelScene {
   // Image and random streams
-  int width = 0, height = 0;     ///< pixels
-  int spp = 0;                   ///< samples per pixel (the adaptive maximum)
-  double target_error = 0.0;     ///< adaptive sampling's target; 0 = uniform sampling
-  double adaptive_scale = 0.0;   ///< samples per unit of sigma (adaptive_sampling.h); 0 = off
+  int width = 0, height = 0;    ///< pixels
+  int spp = 0;                  ///< samples per pixel (the adaptive maximum)
+  double target_error = 0.0;    ///< adaptive sampling's target; 0 = uniform sampling
+  double adaptive_scale = 0.0;  ///< samples per unit of sigma (adaptive_sampling.h); 0 = off
   std::uint64_t seed = 0, frame = 0;
   Camera camera;
 
   // Medium: the field, its placement, its majorants and the transfer functions
-  FieldView field;               ///< paged: the global dims and dtype, data null (never read)
-  PagedFieldView paged;          ///< paged mode (brick_cache.h) when paged.cache is set
+  FieldView field;       ///< paged: the global dims and dtype, data null (never read)
+  PagedFieldView paged;  ///< paged mode (brick_cache.h) when paged.cache is set
   const TransferFunction* tf = nullptr;
-  Vec3 origin{0.0};              ///< world position of vertex (0, 0, 0)
-  Vec3 inv_spacing{1.0};         ///< 1 / spacing, per axis
+  Vec3 origin{0.0};                  ///< world position of vertex (0, 0, 0)
+  Vec3 inv_spacing{1.0};             ///< 1 / spacing, per axis
   const double* majorant = nullptr;  ///< per macrocell, 1 / world unit, x fastest
   std::int64_t cells[3] = {1, 1, 1};
-  int cell_edge = 1;             ///< macrocell edge in voxels
-  double max_majorant = 0.0;     ///< 0: the medium is empty for this TF
-  double sigma_max = 0.0;        ///< extinction clamp, 1 / world unit (loop_bounds.h)
-  double march_step = 0.5;       ///< raymarch step, world units
+  int cell_edge = 1;          ///< macrocell edge in voxels
+  double max_majorant = 0.0;  ///< 0: the medium is empty for this TF
+  double sigma_max = 0.0;     ///< extinction clamp, 1 / world unit (loop_bounds.h)
+  double march_step = 0.5;    ///< raymarch step, world units
 
   // Integrator (each mode is read once per ray or collision where it acts, never per step)
-  int max_depth = 1;             ///< real collisions per path (1 for single scattering)
+  int max_depth = 1;  ///< real collisions per path (1 for single scattering)
   int rr_depth = 3;
   Shading shading = Shading::Hybrid;
   FreePath free_path = FreePath::Delta;

@@ -239,9 +239,8 @@ class PathTracer {
       return 0.0;
     }
     double T = 1.0;
-    const TrackEnd end = m_s.shadow == ShadowMode::Delta
-                             ? shadow_walk<ShadowMode::Delta>(ov, dv, t0, t1, rng, k, T)
-                             : shadow_walk<ShadowMode::Ratio>(ov, dv, t0, t1, rng, k, T);
+    const TrackEnd end = m_s.shadow == ShadowMode::Delta ? shadow_walk<ShadowMode::Delta>(ov, dv, t0, t1, rng, k, T)
+                                                         : shadow_walk<ShadowMode::Ratio>(ov, dv, t0, t1, rng, k, T);
     if (end == TrackEnd::Stalled) {
       ++k.stalled_paths;
       T = 0.0;
@@ -252,8 +251,8 @@ class PathTracer {
   /// The tracking loop of one shadow estimator over voxel-space ray ov + t dv, t in [t0, t1],
   /// updating the transmittance estimate T at each tentative collision.
   template <ShadowMode kMode>
-  TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng,
-                       KernelCounters& k, double& T) const {
+  TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng, KernelCounters& k,
+                       double& T) const {
     const bool roulette = m_s.shadow_roulette;
     return sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) {
       ++k.transmittance_lookups;
@@ -265,14 +264,13 @@ class PathTracer {
   /// Emitters met along `ray` before distance t_end (all lights are transparent), plus the
   /// infinite lights when the ray escaped, MIS-weighted against light sampling unless from
   /// the camera (which sees the background as shown, emitting or not).
-  void gather_emitters(const Ray& ray, double t_end, bool hit, bool from_camera, double pdf_prev,
-                       const Color& beta, Color& L) const {
+  void gather_emitters(const Ray& ray, double t_end, bool hit, bool from_camera, double pdf_prev, const Color& beta,
+                       Color& L) const {
     for (int i = 0; i < m_L.area_count(); ++i) {
       const Light& l = m_L[i];
       const double t = l.intersect(ray);
       if (t > 0.0 && t < t_end) {
-        const double w =
-            from_camera ? 1.0 : power_heuristic(pdf_prev, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, t));
+        const double w = from_camera ? 1.0 : power_heuristic(pdf_prev, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, t));
         L += beta * l.radiance(ray.d) * w;
       }
     }
@@ -289,10 +287,14 @@ class PathTracer {
 
   /// Like gather_emitters for the last collision's sampled direction, where no further free
   /// flight is sampled: each emitter is weighted by the transmittance up to it.
-  void gather_with_transmittance(const Ray& ray, double pdf_dir, const Color& beta, Rng& rng,
-                                 KernelCounters& k, Color& L) const {
+  void gather_with_transmittance(const Ray& ray, double pdf_dir, const Color& beta, Rng& rng, KernelCounters& k,
+                                 Color& L) const {
     if (m_L.count() == 0) return;
-    struct Hit { double t; Color Le; double pdf; };
+    struct Hit {
+      double t;
+      Color Le;
+      double pdf;
+    };
     Hit hits[kMaxLights];
     int n = 0;
     for (int i = 0; i < m_L.area_count(); ++i) {
@@ -320,9 +322,8 @@ class PathTracer {
   }
 
   /// Next-event estimation to one light chosen by the light sampler.
-  Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface,
-                     const SurfaceBrdf& brdf, const Color& albedo, Rng& rng,
-                     KernelCounters& k) const {
+  Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface, const SurfaceBrdf& brdf,
+                     const Color& albedo, Rng& rng, KernelCounters& k) const {
     const int pick = m_L.sampler().pick(rng.uniform());
     const double u1 = rng.uniform(), u2 = rng.uniform();
     const LightSample ls = m_L[pick].sample(x, u1, u2);

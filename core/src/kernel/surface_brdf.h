@@ -17,8 +17,7 @@ struct SurfaceBrdf {
   double alpha;
   double p_spec;  ///< probability of sampling the specular lobe (0 when F0 is black)
 
-  SurfaceBrdf(const Vec3& normal, const Color& a, const Color& f, double roughness)
-      : n(normal), albedo(a), f0(f) {
+  SurfaceBrdf(const Vec3& normal, const Color& a, const Color& f, double roughness) : n(normal), albedo(a), f0(f) {
     alpha = std::fmax(1e-3, roughness * roughness);
     const double ms = max_component(f0), md = max_component(albedo);
     p_spec = ms > 0.0 ? std::clamp(ms / (ms + md), 0.1, 0.9) : 0.0;

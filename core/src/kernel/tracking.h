@@ -33,8 +33,8 @@ enum class TrackEnd {
 /// form), steps t += Exp(maj) until the cell's exit, calling fn(p, t, maj) at each; fn returns
 /// false to stop the walk. One rng draw per step before fn (fn draws what it needs itself).
 template <class V, class Fn>
-TrackEnd sample_majorant_steps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0,
-                               double t1, Rng& rng, Fn&& fn) {
+TrackEnd sample_majorant_steps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng,
+                               Fn&& fn) {
   double budget = kMaxTrackingSteps;
   bool stalled = false;
   const bool stopped = traverse_macrocells(m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
@@ -82,8 +82,8 @@ struct TransmittanceStep<ShadowMode::Delta> {
 /// an Exp(1) threshold. Visits `on_lookup` once per field sample. Returns 1 on a collision
 /// (*t_hit set), 0 when the ray leaves [t0, t1), -1 when over kMaxMarchSteps steps.
 template <class V, class Lookup>
-int march_free_flight(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1,
-                      double h, Rng& rng, double* t_hit, Lookup&& on_lookup) {
+int march_free_flight(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, double h, Rng& rng,
+                      double* t_hit, Lookup&& on_lookup) {
   const double tau = exp_unit(rng);
   double sum = 0.0;
   double budget = kMaxMarchSteps + 2.0;

@@ -18,15 +18,15 @@ namespace tessera {
 /// Renders all samples of the pixels of `rect` (a tile, or a band of one) into the film,
 /// adding its counters to `st`. `culled`: the tile's culling verdict. Stops early, leaving
 /// the tile incomplete, once `stop` says so.
-using TileKernel = void (*)(const KernelScene& ks, const Tile& rect, bool culled, Film& film,
-                            RenderStats& st, StopCheck& stop);
+using TileKernel = void (*)(const KernelScene& ks, const Tile& rect, bool culled, Film& film, RenderStats& st,
+                            StopCheck& stop);
 TileKernel tile_kernel(const KernelScene& ks);
 
 /// The adaptive-sampling preview (adaptive_sampling.h) of block row `by`: per block, sigma of
 /// the luminance of the pilot samples of its middle pixel, summed into *sigma_sum, and those
 /// samples' luminance sum and count.
-using PreviewKernel = void (*)(const KernelScene& ks, int by, double* sigma_sum, double* lum_sum,
-                               std::uint64_t* count, StopCheck& stop);
+using PreviewKernel = void (*)(const KernelScene& ks, int by, double* sigma_sum, double* lum_sum, std::uint64_t* count,
+                               StopCheck& stop);
 PreviewKernel preview_kernel(const KernelScene& ks);
 
 }  // namespace tessera

@@ -15,7 +15,6 @@
 namespace tessera {
 namespace {
 
-
 /// Adds one finite sample to a pixel's sums.
 inline void add_sample(PixelSums& px, const SampleResult& r) {
   px.r += r.L.x;
@@ -64,8 +63,7 @@ class TileSampler {
   /// Draw sample `index` of the pixel into its sums, and into `aux` when given (a non-finite
   /// one is counted and dropped). Returns the sample when it was kept, for the caller's own
   /// bookkeeping.
-  const SampleResult* accumulate(int x, int y, PixelSums& px, AuxSums* aux, std::uint64_t index,
-                                 RenderStats& st) {
+  const SampleResult* accumulate(int x, int y, PixelSums& px, AuxSums* aux, std::uint64_t index, RenderStats& st) {
     ++st.samples;
     ++px.drawn;
     if (!draw(x, y, index, m_last)) {
@@ -103,8 +101,8 @@ bool for_samples(int begin, int end, StopCheck& stop, Fn&& fn) {
 
 /// Uniform sampling: all spp estimates of the tile, sample-major.
 template <class V>
-void sample_uniform(TileSampler<V>& ts, const KernelScene& s, const Tile& tile,
-                    Film& film, RenderStats& st, StopCheck& stop) {
+void sample_uniform(TileSampler<V>& ts, const KernelScene& s, const Tile& tile, Film& film, RenderStats& st,
+                    StopCheck& stop) {
   for (int si = 0; si < s.spp && !stop.stop(); ++si)
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
@@ -119,8 +117,8 @@ void sample_uniform(TileSampler<V>& ts, const KernelScene& s, const Tile& tile,
 /// `samples`) however the tiles are split across calls or ranks: free when tiles are
 /// multiples of the block, pilot-sized otherwise.
 template <class V>
-void sample_adaptive(TileSampler<V>& ts, const KernelScene& s, const Tile& tile,
-                     Film& film, RenderStats& st, StopCheck& stop) {
+void sample_adaptive(TileSampler<V>& ts, const KernelScene& s, const Tile& tile, Film& film, RenderStats& st,
+                     StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.width, height = s.height, spp = s.spp;
   const int pilot = adaptive_pilot(spp);
@@ -161,7 +159,8 @@ void sample_adaptive(TileSampler<V>& ts, const KernelScene& s, const Tile& tile,
           const int n = adaptive_count(others, pilot, spp, s.adaptive_scale);
           PixelSums& px = film.at(x, y);
           AuxSums* aux = film.aux_at(x, y);
-          if (!for_samples(pilot, n, stop, [&](int si) { ts.accumulate(x, y, px, aux, static_cast<std::uint64_t>(si), st); }))
+          if (!for_samples(pilot, n, stop,
+                           [&](int si) { ts.accumulate(x, y, px, aux, static_cast<std::uint64_t>(si), st); }))
             return;
         }
       }
@@ -172,8 +171,7 @@ void sample_adaptive(TileSampler<V>& ts, const KernelScene& s, const Tile& tile,
 /// Render one tile (or a band of one, see plan_work in render.cpp): all its samples before
 /// the next one. `culled`: the tile's culling verdict.
 template <class V>
-void render_tile(const KernelScene& s, const Tile& tile, bool culled, Film& film, RenderStats& st,
-                 StopCheck& stop) {
+void render_tile(const KernelScene& s, const Tile& tile, bool culled, Film& film, RenderStats& st, StopCheck& stop) {
   const GridMedium<V> medium = make_medium<V>(s);
   TileSampler<V> ts(s, medium, culled, stop);
   if (s.target_error > 0.0) sample_adaptive(ts, s, tile, film, st, stop);
@@ -184,8 +182,8 @@ void render_tile(const KernelScene& s, const Tile& tile, bool culled, Film& film
 /// The adaptive-sampling preview (adaptive_sampling.h) of one block row: per block, sigma of
 /// the luminance of `pilot` samples of its middle pixel, and those samples' luminance sum.
 template <class V>
-void preview_row(const KernelScene& s, int by, double* sigma_sum,
-                 double* lum_sum, std::uint64_t* count, StopCheck& stop) {
+void preview_row(const KernelScene& s, int by, double* sigma_sum, double* lum_sum, std::uint64_t* count,
+                 StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
   const int width = s.width, height = s.height;
   const int pilot = adaptive_pilot(s.spp);

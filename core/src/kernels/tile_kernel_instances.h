@@ -16,7 +16,7 @@ PreviewKernel preview_kernel_for();
 
 /// Instantiates both for V (in tile_kernel_<value>.cpp, after including tile_kernel_impl.h).
 #define TESSERA_INSTANTIATE_TILE_KERNELS(V) \
-  template TileKernel tile_kernel_for<V>();  \
+  template TileKernel tile_kernel_for<V>(); \
   template PreviewKernel preview_kernel_for<V>()
 
 extern template TileKernel tile_kernel_for<std::uint8_t>();

@@ -18,8 +18,8 @@ namespace tessera {
 /// more than TBB will run at once (global_control max_allowed_parallelism, the hardware
 /// threads unless the caller lowered it). Asking for more would only create idle arena slots.
 inline int render_threads(const RenderOptions& o) {
-  const int cap = static_cast<int>(std::max<std::size_t>(
-      1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+  const int cap = static_cast<int>(
+      std::max<std::size_t>(1, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
   const int want = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
   return std::clamp(want, 1, cap);
 }

@@ -7,7 +7,8 @@
 namespace tessera {
 
 Environment::Environment(const BackgroundDesc& desc)
-    : m_type(desc.type), m_frame(glm::length(desc.up) > 0.0 ? glm::normalize(desc.up) : Vec3(0, 0, 1)),
+    : m_type(desc.type),
+      m_frame(glm::length(desc.up) > 0.0 ? glm::normalize(desc.up) : Vec3(0, 0, 1)),
       m_visible(desc.visible) {
   if (!(desc.intensity >= 0.0) || !std::isfinite(desc.intensity))
     throw std::invalid_argument("background: intensity must be finite and >= 0");
@@ -38,8 +39,8 @@ Environment::Environment(const BackgroundDesc& desc)
           const float* p = img.px(x, y);
           const Color c = Color(p[0], p[1], p[2]) * k;
           if (!is_finite(c) || c.x < 0 || c.y < 0 || c.z < 0)
-            throw std::invalid_argument("background: envmap texel (" + std::to_string(x) + ", " +
-                                        std::to_string(y) + ") is negative or not finite");
+            throw std::invalid_argument("background: envmap texel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                        ") is negative or not finite");
           const std::size_t i = static_cast<std::size_t>(y) * m_w + x;
           m_texels[i] = c;
           f[i] = max_component(c) * sin_theta;
@@ -68,7 +69,8 @@ Color Environment::eval(const Vec3& d) const {
       const double t = glm::dot(d, m_frame.n);
       return t >= 0.0 ? m_middle * (1.0 - t) + m_top * t : m_middle * (1.0 + t) + m_bottom * (-t);
     }
-    case BackgroundType::EnvMap: default: {
+    case BackgroundType::EnvMap:
+    default: {
       double u, v;
       to_uv(d, &u, &v);
       const int x = std::min(m_w - 1, static_cast<int>(u * m_w));

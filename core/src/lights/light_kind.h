@@ -10,10 +10,10 @@
 namespace tessera {
 
 struct LightSample {
-  Vec3 wi;         ///< unit direction from the shading point to the light point
-  double dist;     ///< distance to the light point
-  Color L;         ///< radiance arriving along -wi (0 if the back side was sampled)
-  double pdf;      ///< solid-angle pdf of wi under this light's strategy
+  Vec3 wi;      ///< unit direction from the shading point to the light point
+  double dist;  ///< distance to the light point
+  Color L;      ///< radiance arriving along -wi (0 if the back side was sampled)
+  double pdf;   ///< solid-angle pdf of wi under this light's strategy
 };
 
 /// LightKind<Desc>, specialised once per alternative of LightDesc (lights.h) in that kind's

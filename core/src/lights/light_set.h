@@ -148,10 +148,11 @@ class LightSet {
   LightSet() = default;
   LightSet(const Light* lights, int count, const Environment* background)
       : m_lights(lights), m_count(count), m_sampler(count), m_background(background) {
-    m_area = static_cast<int>(std::find_if(lights, lights + count, [](const Light& l) { return l.infinite(); }) - lights);
+    m_area =
+        static_cast<int>(std::find_if(lights, lights + count, [](const Light& l) { return l.infinite(); }) - lights);
   }
   int count() const { return m_count; }
-  int area_count() const { return m_area; }   ///< lights [0, area_count()) are finite
+  int area_count() const { return m_area; }  ///< lights [0, area_count()) are finite
   const Light& operator[](int i) const { return m_lights[i]; }
   const LightSampler& sampler() const { return m_sampler; }
   /// The background seen by camera rays that escape: shown unless hidden (visible: false),

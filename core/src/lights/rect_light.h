@@ -17,8 +17,8 @@ class RectLight {
     const Vec3 to = d.target - d.position;
     if (!(glm::length(to) > 0.0)) throw std::invalid_argument("rect light: target equals position");
     if (!(d.width > 0.0) || !(d.height > 0.0) || !std::isfinite(d.width) || !std::isfinite(d.height))
-      throw std::invalid_argument("rect light: size " + std::to_string(d.width) + " x " +
-                                  std::to_string(d.height) + " must be finite and > 0");
+      throw std::invalid_argument("rect light: size " + std::to_string(d.width) + " x " + std::to_string(d.height) +
+                                  " must be finite and > 0");
     m_n = glm::normalize(to);
     const Vec3 ref = std::fabs(m_n.z) > 0.999 ? Vec3(0, 1, 0) : Vec3(0, 0, 1);
     m_u = glm::normalize(glm::cross(ref, m_n));

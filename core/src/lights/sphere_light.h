@@ -15,8 +15,7 @@ class SphereLight {
   SphereLight() = default;
   explicit SphereLight(const SphereLightDesc& d) : m_c(d.center), m_r(d.radius), m_L(d.radiance) {
     if (!(d.radius > 0.0) || !std::isfinite(d.radius))
-      throw std::invalid_argument("sphere light: radius " + std::to_string(d.radius) +
-                                  " must be finite and > 0");
+      throw std::invalid_argument("sphere light: radius " + std::to_string(d.radius) + " must be finite and > 0");
   }
   /// Distance to the outward-facing (front) hit, or -1. From inside there is none.
   double intersect_front(const Ray& r) const {

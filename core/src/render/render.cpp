@@ -17,8 +17,8 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 
@@ -70,13 +70,12 @@ std::vector<WorkItem> plan_work(const PreparedSceneImpl& s, std::span<const int>
 
 }  // namespace
 
-void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film,
-                  RenderStats& stats, const std::function<void(int)>& progress) {
+void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
+                  const std::function<void(int)>& progress) {
   const PreparedSceneImpl& s = prepared_scene_impl(scene);
   if (film.width() != s.desc.image.width || film.height() != s.desc.image.height)
-    throw std::invalid_argument("film is " + std::to_string(film.width()) + "x" +
-                                std::to_string(film.height()) + ", scene image is " +
-                                std::to_string(s.desc.image.width) + "x" +
+    throw std::invalid_argument("film is " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
+                                ", scene image is " + std::to_string(s.desc.image.width) + "x" +
                                 std::to_string(s.desc.image.height));
   const int ntiles = static_cast<int>(s.tiles.size());
   for (int i : tile_indices)
@@ -97,29 +96,30 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   {
     tbb::task_arena arena(threads);
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), 1),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                            if (stop.stop()) return;  // the deadline: skip the rest
-                            const WorkItem& w = work[i];
-                            const std::size_t tile = static_cast<std::size_t>(tile_indices[w.tile]);
-                            {
-                              TileBracket bracket(ks.paged.cache);
-                              render_tile(ks, w.rect, s.tile_culled[tile] != 0, film, per_item[i], stop);
-                            }
-                            if (stop.stopped()) return;  // possibly cut short: not done
-                            if (bands_left[w.tile].fetch_sub(1) != 1) continue;
-                            const int d = ++done;
-                            if (progress && !reporting.exchange(true)) {
-                              progress(d);
-                              reporting = false;
-                            }
-                          }
-                        },
-                        // One task per item: the auto partitioner grouped neighbouring tiles
-                        // into one task, so a few heavy tiles (a small volume in a big image)
-                        // could end on one thread.
-                        tbb::simple_partitioner());
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, work.size(), 1),
+          [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+              if (stop.stop()) return;  // the deadline: skip the rest
+              const WorkItem& w = work[i];
+              const std::size_t tile = static_cast<std::size_t>(tile_indices[w.tile]);
+              {
+                TileBracket bracket(ks.paged.cache);
+                render_tile(ks, w.rect, s.tile_culled[tile] != 0, film, per_item[i], stop);
+              }
+              if (stop.stopped()) return;  // possibly cut short: not done
+              if (bands_left[w.tile].fetch_sub(1) != 1) continue;
+              const int d = ++done;
+              if (progress && !reporting.exchange(true)) {
+                progress(d);
+                reporting = false;
+              }
+            }
+          },
+          // One task per item: the auto partitioner grouped neighbouring tiles
+          // into one task, so a few heavy tiles (a small volume in a big image)
+          // could end on one thread.
+          tbb::simple_partitioner());
     });
   }
   // Integer counters: the sum is the same whatever the schedule.
@@ -132,8 +132,7 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   if (stop.stopped()) throw DeadlineExceeded(static_cast<std::size_t>(done.load()), tile_indices.size());
 }
 
-void render(const PreparedScene& scene, Film& film, RenderStats& stats,
-            const std::function<void(int)>& progress) {
+void render(const PreparedScene& scene, Film& film, RenderStats& stats, const std::function<void(int)>& progress) {
   std::vector<int> all(scene.tiles().size());
   std::iota(all.begin(), all.end(), 0);
   render_tiles(scene, all, film, stats, progress);

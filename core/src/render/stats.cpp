@@ -8,8 +8,7 @@ namespace tessera {
 
 // Every integer field is a row of kRenderCounters: 11 counters, then wall_seconds and threads
 // (an int, padded to 8 bytes).
-static_assert(sizeof(RenderStats) ==
-                  sizeof(std::uint64_t) * std::size(kRenderCounters) + 2 * sizeof(double),
+static_assert(sizeof(RenderStats) == sizeof(std::uint64_t) * std::size(kRenderCounters) + 2 * sizeof(double),
               "a RenderStats field is missing from kRenderCounters (or a non-counter was added)");
 
 void RenderStats::add_counters(const RenderStats& o) {
@@ -29,8 +28,7 @@ std::vector<std::string> render_warnings(const RenderStats& s) {
                   "%llu of %llu samples (%.3g%%) were not finite (NaN or Inf radiance) and were "
                   "discarded; the image is darker than it should be (check light sizes and "
                   "intensities)",
-                  static_cast<unsigned long long>(s.discarded_samples),
-                  static_cast<unsigned long long>(s.samples),
+                  static_cast<unsigned long long>(s.discarded_samples), static_cast<unsigned long long>(s.samples),
                   100.0 * static_cast<double>(s.discarded_samples) / static_cast<double>(s.samples));
     out.emplace_back(buf);
   }

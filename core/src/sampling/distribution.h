@@ -21,9 +21,7 @@ class Distribution1D {
   std::size_t size() const { return m_f.size(); }
   double integral() const { return m_integral; }
   /// pdf (w.r.t. x in [0,1)) of bin i.
-  double pdf(std::size_t i) const {
-    return m_integral > 0.0 ? m_f[i] / m_integral : 1.0;
-  }
+  double pdf(std::size_t i) const { return m_integral > 0.0 ? m_f[i] / m_integral : 1.0; }
   /// Continuous sample in [0,1); *bin receives the bin index.
   double sample(double u, std::size_t* bin) const {
     const std::size_t n = m_f.size();

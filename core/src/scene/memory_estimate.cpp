@@ -109,8 +109,8 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
   // Tiles and work lists: the tile list and culling flags (prepare), the tile indices, work
   // items, per-item counters and band counters (render_tiles); a short list is cut into bands
   const u64 edge = f.tile > 0 ? static_cast<u64>(f.tile) : 0;
-  const u64 tiles = edge ? mul((nonneg(f.width) + edge - 1) / edge, (nonneg(f.height) + edge - 1) / edge)
-                         : nonneg(f.height);
+  const u64 tiles =
+      edge ? mul((nonneg(f.width) + edge - 1) / edge, (nonneg(f.height) + edge - 1) / edge) : nonneg(f.height);
   const u64 threads = nonneg(std::max(1, f.threads));
   const u64 items = tiles < 4 * threads ? mul(tiles, std::max<u64>(1, ((edge ? edge : 1) + 7) / 8)) : tiles;
   constexpr u64 kPerTile = sizeof(Tile) + 1 + sizeof(int) + sizeof(std::atomic<int>);

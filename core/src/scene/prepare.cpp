@@ -23,7 +23,6 @@ void require(bool ok, const std::string& msg) {
   if (!ok) throw std::invalid_argument(msg);
 }
 
-
 std::string num(double v) { return short_number(v); }
 std::string vec(const Vec3& v) {
   std::string out = "[";
@@ -73,8 +72,8 @@ void validate_lights(const std::vector<LightDesc>& lights, std::index_sequence<I
 void validate_scale(const FieldView& field, const SceneDesc& s) {
   const VolumeGeometry& g = s.geometry;
   const Bounds b = field_bounds(field, g);
-  const std::string dims = std::to_string(field.dims[0]) + "x" + std::to_string(field.dims[1]) + "x" +
-                           std::to_string(field.dims[2]);
+  const std::string dims =
+      std::to_string(field.dims[0]) + "x" + std::to_string(field.dims[1]) + "x" + std::to_string(field.dims[2]);
   require(is_finite(b.hi) && is_finite(b.hi - b.lo) && std::isfinite(glm::length(b.hi - b.lo)),
           "volume spacing " + vec(g.spacing) + " with origin " + vec(g.origin) + " and dims " + dims +
               " makes the data bounds overflow (their corner or diagonal is not finite)");
@@ -83,18 +82,19 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
           "volume spacing " + vec(g.spacing) + " is outside [1e-100, 1e100] on some axis");
   const double h = std::min({g.spacing.x, g.spacing.y, g.spacing.z});
   const double lim = kMaxCoordinateVoxels * h;
-  const std::string why = " beyond 2^40 smallest spacings (" + num(lim) +
-                          ") from 0, where a double no longer resolves a voxel";
+  const std::string why =
+      " beyond 2^40 smallest spacings (" + num(lim) + ") from 0, where a double no longer resolves a voxel";
   const auto near = [&](const Vec3& p) { return max_abs(p) <= lim; };
-  require(near(g.origin) && near(b.hi), "volume origin " + vec(g.origin) + " puts the data (far corner " +
-                                            vec(b.hi) + ")" + why);
+  require(near(g.origin) && near(b.hi),
+          "volume origin " + vec(g.origin) + " puts the data (far corner " + vec(b.hi) + ")" + why);
   // Camera
   const CameraDesc& c = s.camera;
   require(is_finite(c.position), "camera.position " + vec(c.position) + " is not finite");
   require(is_finite(c.look_at), "camera.look_at " + vec(c.look_at) + " is not finite");
   require(near(c.position), "camera.position " + vec(c.position) + " lies" + why);
   require(near(c.look_at), "camera.look_at " + vec(c.look_at) + " lies" + why);
-  require(!(c.aperture > lim), "camera.aperture " + num(c.aperture) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+  require(!(c.aperture > lim),
+          "camera.aperture " + num(c.aperture) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
   require(!(c.focus_distance > lim), "camera.focus_distance " + num(c.focus_distance) +
                                          " is larger than 2^40 smallest spacings (" + num(lim) + ")");
   // Lights
@@ -122,9 +122,9 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
   if (s.integrator.free_path == FreePath::Raymarch) {
     const double diag = glm::length(b.hi - b.lo) / h;  // in smallest spacings
     const double min_step = diag / kMaxMarchSteps;
-    require(s.integrator.step >= min_step,
-            "integrator.step " + num(s.integrator.step) + " is below the minimum " + num(min_step) +
-                " for this volume (dims " + dims + "): at most 2^20 raymarch steps across the data");
+    require(s.integrator.step >= min_step, "integrator.step " + num(s.integrator.step) + " is below the minimum " +
+                                               num(min_step) + " for this volume (dims " + dims +
+                                               "): at most 2^20 raymarch steps across the data");
   }
 }
 
@@ -139,8 +139,7 @@ void validate_scene(const FieldView& field, const SceneDesc& s) {
   require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi && std::isfinite(tf.hi - tf.lo),
           "transfer function range [" + num(tf.lo) + ", " + num(tf.hi) +
               "] must be finite with lo < hi and a finite width hi - lo");
-  require(std::isfinite(tf.density_scale) && tf.density_scale >= 0.0,
-          "density_scale must be finite and >= 0");
+  require(std::isfinite(tf.density_scale) && tf.density_scale >= 0.0, "density_scale must be finite and >= 0");
   for (int i = 0; i < tf.opacity.size(); ++i)
     require(tf.opacity.v(i) >= 0.0 && std::isfinite(tf.opacity.v(i)),
             "opacity value " + num(tf.opacity.v(i)) + " must be finite and >= 0");
@@ -193,8 +192,8 @@ void validate_paged(const PagedField& f) {
               dims_text(g.dims) + ", the field is " + dtype_name(f.dtype) + " " + dims_text(f.dims));
   if (f.local.data == nullptr) return;  // no own block: every vertex through the cache
   f.local.validate("paged field: own block");
-  require(f.local.dtype == f.dtype, "paged field: own block is " + std::string(dtype_name(f.local.dtype)) +
-                                        ", the field " + dtype_name(f.dtype));
+  require(f.local.dtype == f.dtype,
+          "paged field: own block is " + std::string(dtype_name(f.local.dtype)) + ", the field " + dtype_name(f.dtype));
   for (int a = 0; a < 3; ++a)
     require(f.offset[a] >= 0 && f.offset[a] + f.local.dims[a] <= f.dims[a],
             "paged field: own block of " + dims_text(f.local.dims) + " at offset " + dims_text(f.offset) +
@@ -254,8 +253,8 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
   p.bounds = field_bounds(field, scene.geometry);
   p.camera = Camera(scene.camera, scene.image.width, scene.image.height);
   p.inv_spacing = 1.0 / scene.geometry.spacing;
-  p.march_step = scene.integrator.step *
-                 std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
+  p.march_step =
+      scene.integrator.step * std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
   p.grid.set_summary(std::move(summary));
   // Extinction clamp: beyond kMaxOpticalThicknessPerVoxel per smallest spacing the medium is
   // opaque at sub-voxel scale in double precision (loop_bounds.h)
@@ -275,8 +274,7 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
 
 }  // namespace
 
-PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
-                      std::shared_ptr<const FieldSummary> reuse) {
+PreparedScene prepare(const FieldView& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> reuse) {
   validate(field, scene);
   PreparedScene ps;
   PreparedSceneImpl& p = *ps.m_impl;
@@ -288,16 +286,15 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene,
   return ps;
 }
 
-PreparedScene prepare(const PagedField& field, const SceneDesc& scene,
-                      std::shared_ptr<const FieldSummary> summary) {
+PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary) {
   validate_paged(field);
   const FieldView global = global_descriptor(field);
   validate_scene(global, scene);
   const int edge = majorant_edge(global, scene.integrator);
   require(summary != nullptr, "paged field: no field summary (the combined partial summaries of every block)");
   require(summary->edge() == edge, "paged field: the field summary has macrocell edge " +
-                                       std::to_string(summary->edge()) + ", this scene needs " +
-                                       std::to_string(edge) + " for dims " + dims_text(field.dims));
+                                       std::to_string(summary->edge()) + ", this scene needs " + std::to_string(edge) +
+                                       " for dims " + dims_text(field.dims));
   for (int a = 0; a < 3; ++a)
     require(summary->cells()[a] == std::max<std::int64_t>(1, (field.dims[a] - 1 + edge - 1) / edge),
             "paged field: the field summary's " + dims_text(summary->cells()) + " cells do not fit dims " +

@@ -20,12 +20,12 @@ struct PreparedSceneImpl {
   Camera camera;
   MajorantGrid grid;
   Environment env;
-  std::vector<Light> lights;   ///< every light, in LightSet order (light_set.h)
+  std::vector<Light> lights;  ///< every light, in LightSet order (light_set.h)
   std::vector<Tile> tiles;
   std::vector<std::uint8_t> tile_culled;  ///< per tile: 1 = nothing to trace (tile_culling.h)
   Vec3 inv_spacing{1.0};
-  double march_step = 0.5;   ///< raymarch step in world units
-  double sigma_max = 0.0;    ///< extinction clamp, 1 / world unit (loop_bounds.h)
+  double march_step = 0.5;  ///< raymarch step in world units
+  double sigma_max = 0.0;   ///< extinction clamp, 1 / world unit (loop_bounds.h)
   bool has_emission = false;
   bool has_specular = false;
   bool summary_reused = false;  ///< the grid's FieldSummary came from the caller

@@ -36,7 +36,8 @@ std::string flat_data(const Bounds& b) {
   const std::string where = "the data's bounds (" + interval(b.lo.x, b.hi.x) + " x " + interval(b.lo.y, b.hi.y) +
                             " x " + interval(b.lo.z, b.hi.z) + ")";
   if (b.lo == b.hi) return where + " are a single point (the volume has one vertex)";
-  return where + " have no extent along " + axes + " (the volume is one vertex thick there, so it has no "
+  return where + " have no extent along " + axes +
+         " (the volume is one vertex thick there, so it has no "
          "thickness to absorb or scatter light; give it at least 2 vertices along every axis)";
 }
 
@@ -116,7 +117,8 @@ std::vector<std::string> scene_warnings(const PreparedScene& scene) {
   }
   if (s.nan_vertices() > 0) {
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.3g%%", 100.0 * double(s.nan_vertices()) / double(std::max<std::uint64_t>(1, vertices)));
+    std::snprintf(buf, sizeof buf, "%.3g%%",
+                  100.0 * double(s.nan_vertices()) / double(std::max<std::uint64_t>(1, vertices)));
     out.push_back(std::to_string(s.nan_vertices()) + " of " + std::to_string(vertices) + " vertices (" + buf +
                   ") are NaN: there is no medium around them (holes in the image)");
   }
@@ -164,20 +166,16 @@ std::vector<std::string> render_warnings(const PreparedScene& scene, const Rende
     const TfVerdict v = judge_tf(desc.tf, s.value_min(), s.value_max());
     const Bounds b = scene.bounds();
     const double depth = desc.tf.density_scale * v.max_opacity * 2.0 * b.radius();
-    if (!flat_axes(b).empty())
-      cause = "the data has no extent along " + flat_axes(b) + " (one vertex thick)";
-    else if (v.disjoint)
-      cause = "transfer_function.range misses the data's values";
-    else if (v.invisible)
-      cause = "the opacity transfer function is 0 over the data's values";
+    if (!flat_axes(b).empty()) cause = "the data has no extent along " + flat_axes(b) + " (one vertex thick)";
+    else if (v.disjoint) cause = "transfer_function.range misses the data's values";
+    else if (v.invisible) cause = "the opacity transfer function is 0 over the data's values";
     else if (!camera_misses(desc, b).empty())
       cause = "the camera does not see the data (behind it, outside its view or under a pixel)";
     else if (depth < kThinVolumeDepth)
       cause = "transfer_function.density_scale too small (optical depth at most " + num(depth) +
               " across the volume: density_scale " + num(desc.tf.density_scale) + " x opacity " + num(v.max_opacity) +
               " x diagonal " + num(2.0 * b.radius()) + ")";
-    else
-      cause = "unclear; check transfer_function.range and opacity, density_scale and the camera";
+    else cause = "unclear; check transfer_function.range and opacity, density_scale and the camera";
   }
   out.push_back("nothing of the field is visible: 0 real collisions in " + std::to_string(stats.samples) +
                 " samples; likely cause: " + cause);

@@ -29,15 +29,13 @@ std::vector<Tile> make_tiles(int width, int height, int edge, TileOrder order) {
   std::vector<std::pair<std::uint64_t, Tile>> keyed;
   for (int ty = 0; ty < ny; ++ty)
     for (int tx = 0; tx < nx; ++tx) {
-      const Tile t{tx * edge, ty * edge, std::min(width, (tx + 1) * edge),
-                   std::min(height, (ty + 1) * edge)};
+      const Tile t{tx * edge, ty * edge, std::min(width, (tx + 1) * edge), std::min(height, (ty + 1) * edge)};
       const std::uint64_t key = order == TileOrder::Morton
                                     ? morton2(static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty))
                                     : static_cast<std::uint64_t>(ty) * nx + tx;
       keyed.emplace_back(key, t);
     }
-  std::stable_sort(keyed.begin(), keyed.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (auto& k : keyed) tiles.push_back(k.second);
   return tiles;
 }

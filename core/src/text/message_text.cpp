@@ -18,10 +18,19 @@ std::size_t utf8_char(std::string_view s, std::size_t i, char32_t& cp) {
   }
   std::size_t n = 0;
   char32_t min = 0;
-  if ((b0 & 0xE0) == 0xC0) { n = 2; cp = b0 & 0x1F; min = 0x80; }
-  else if ((b0 & 0xF0) == 0xE0) { n = 3; cp = b0 & 0x0F; min = 0x800; }
-  else if ((b0 & 0xF8) == 0xF0) { n = 4; cp = b0 & 0x07; min = 0x10000; }
-  else return 0;
+  if ((b0 & 0xE0) == 0xC0) {
+    n = 2;
+    cp = b0 & 0x1F;
+    min = 0x80;
+  } else if ((b0 & 0xF0) == 0xE0) {
+    n = 3;
+    cp = b0 & 0x0F;
+    min = 0x800;
+  } else if ((b0 & 0xF8) == 0xF0) {
+    n = 4;
+    cp = b0 & 0x07;
+    min = 0x10000;
+  } else return 0;
   if (i + n > s.size()) return 0;
   for (std::size_t k = 1; k < n; ++k) {
     const auto b = static_cast<unsigned char>(s[i + k]);
@@ -35,9 +44,9 @@ std::size_t utf8_char(std::string_view s, std::size_t i, char32_t& cp) {
 /// Characters that print as nothing (or move the text around) on a terminal.
 bool invisible(char32_t cp) {
   return (cp >= 0x80 && cp <= 0x9F) || cp == 0xAD || cp == 0x34F || cp == 0x61C || cp == 0x180E ||
-         (cp >= 0x200B && cp <= 0x200F) || (cp >= 0x2028 && cp <= 0x202E) ||
-         (cp >= 0x2060 && cp <= 0x206F) || cp == 0xFEFF || (cp >= 0xFFF9 && cp <= 0xFFFB) ||
-         cp == 0xFFFE || cp == 0xFFFF || (cp >= 0xE0000 && cp <= 0xE007F);
+         (cp >= 0x200B && cp <= 0x200F) || (cp >= 0x2028 && cp <= 0x202E) || (cp >= 0x2060 && cp <= 0x206F) ||
+         cp == 0xFEFF || (cp >= 0xFFF9 && cp <= 0xFFFB) || cp == 0xFFFE || cp == 0xFFFF ||
+         (cp >= 0xE0000 && cp <= 0xE007F);
 }
 
 void append_byte_escape(std::string& out, unsigned char b) {
@@ -102,16 +111,15 @@ std::string printable_text(std::string_view s, bool keep_newlines) {
 
 std::string shown_value(std::string_view s, std::size_t max) {
   if (s.size() <= max) return printable_text(s);
-  return printable_text(s.substr(0, cut_before(s, max))) + "... (" + std::to_string(s.size()) +
-         " characters)";
+  return printable_text(s.substr(0, cut_before(s, max))) + "... (" + std::to_string(s.size()) + " characters)";
 }
 
 std::string shown_path(std::string_view s, std::size_t max) {
   if (s.size() <= max) return printable_text(s);
   const std::size_t head = cut_before(s, max / 2);
   const std::size_t tail = cut_after(s, max / 2);
-  return printable_text(s.substr(0, head)) + "..." + printable_text(s.substr(tail)) + " (" +
-         std::to_string(s.size()) + " characters)";
+  return printable_text(s.substr(0, head)) + "..." + printable_text(s.substr(tail)) + " (" + std::to_string(s.size()) +
+         " characters)";
 }
 
 std::string message_quoting(std::string message, std::string_view path) {

@@ -34,8 +34,7 @@ namespace tessera::insitu {
 /// What `on_error: abort` throws out of open/execute; status() tells what failed.
 class AdapterError : public std::runtime_error {
  public:
-  AdapterError(tessera_status status, const std::string& message)
-      : std::runtime_error(message), m_status(status) {}
+  AdapterError(tessera_status status, const std::string& message) : std::runtime_error(message), m_status(status) {}
   tessera_status status() const { return m_status; }
 
  private:
@@ -58,16 +57,16 @@ struct OpenOptions {
 
 /// The outcome of one render in the last execute() call (one entry per render that fired).
 struct RenderResult {
-  std::string name;                   ///< the render's name in the config
+  std::string name;  ///< the render's name in the config
   std::int64_t step = 0;
   double time = 0.0;
-  tessera_status status = TESSERA_OK; ///< TESSERA_OK or what failed
-  std::string error;                  ///< "" when status is TESSERA_OK
-  std::vector<std::string> files;     ///< files written (rank 0 only; empty on other ranks)
-  double render_seconds = 0.0;        ///< rendering only (all cameras for a Cinema render)
-  double samples_per_second = 0.0;    ///< stats.samples / render_seconds
-  double prepare_seconds = 0.0;       ///< this rank's tessera::prepare time (all cameras)
-  double denoise_seconds = 0.0;       ///< rank 0: image.denoise time (all cameras); 0 when off
+  tessera_status status = TESSERA_OK;  ///< TESSERA_OK or what failed
+  std::string error;                   ///< "" when status is TESSERA_OK
+  std::vector<std::string> files;      ///< files written (rank 0 only; empty on other ranks)
+  double render_seconds = 0.0;         ///< rendering only (all cameras for a Cinema render)
+  double samples_per_second = 0.0;     ///< stats.samples / render_seconds
+  double prepare_seconds = 0.0;        ///< this rank's tessera::prepare time (all cameras)
+  double denoise_seconds = 0.0;        ///< rank 0: image.denoise time (all cameras); 0 when off
   /// The simulation's wall time on this rank since the last execute() in which a render fired:
   /// the time spent outside execute() in between (calls that rendered nothing included), i.e.
   /// the steps the simulation computed for this image. The same for every render of one call;
@@ -82,7 +81,7 @@ struct RenderResult {
   /// another render, or kept from the last call after field_unchanged(); at most 1 per
   /// macrocell edge otherwise, however many Cinema cameras.
   int field_passes = 0;
-  RenderStats stats;                  ///< summed over ranks on rank 0 (and over Cinema cameras)
+  RenderStats stats;  ///< summed over ranks on rank 0 (and over Cinema cameras)
   /// Rank 0: what may be wrong with the image although it rendered, one sentence each
   /// (tessera::render_warnings(prepared, stats), scene_warnings.h: transfer-function range
   /// missing the data's values or opacity 0 over them, constant field, NaN vertices, data out

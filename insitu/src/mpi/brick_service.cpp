@@ -100,8 +100,8 @@ void BrickService::serve(int source, const std::int64_t message[2]) {
   const FieldView part = sub_view(m_local, me.offset, lo, hi);
   detail::TypeList keep;  // freeing a type in use by a pending send is allowed
   MPI_Request r = MPI_REQUEST_NULL;
-  check(MPI_Isend(part.data, 1, detail::strided_view_type(part, keep), source, kTagReply + static_cast<int>(id),
-                  m_comm, &r),
+  check(MPI_Isend(part.data, 1, detail::strided_view_type(part, keep), source, kTagReply + static_cast<int>(id), m_comm,
+                  &r),
         "MPI_Isend");
   m_sends.push_back(r);
   ++m_traffic.requests_served;

@@ -39,10 +39,10 @@ struct BlockBox {
 
 /// Traffic of one BrickService (this rank), for reports and benchmarks.
 struct BrickTraffic {
-  std::uint64_t requests_sent = 0;     ///< request messages to owners
-  std::uint64_t requests_served = 0;   ///< requests answered
-  std::uint64_t bytes_received = 0;    ///< field bytes received into slots
-  std::uint64_t bytes_sent = 0;        ///< field bytes sent to other ranks
+  std::uint64_t requests_sent = 0;    ///< request messages to owners
+  std::uint64_t requests_served = 0;  ///< requests answered
+  std::uint64_t bytes_received = 0;   ///< field bytes received into slots
+  std::uint64_t bytes_sent = 0;       ///< field bytes sent to other ranks
 };
 
 class BrickService {
@@ -53,8 +53,7 @@ class BrickService {
 
   /// `boxes`: every rank's block, in rank order (already checked: disjoint, covering the grid);
   /// `local`: this rank's view of its block. Holds references to all four.
-  BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes, const FieldView& local,
-               BrickCache& cache);
+  BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes, const FieldView& local, BrickCache& cache);
   ~BrickService();
   BrickService(const BrickService&) = delete;
   BrickService& operator=(const BrickService&) = delete;
@@ -75,8 +74,8 @@ class BrickService {
   struct Fetch {
     std::int64_t brick = -1;
     unsigned char* slot = nullptr;
-    std::int64_t message[2] = {0, 0};      ///< {brick, id}, the request sent to each owner
-    std::vector<MPI_Request> requests;     ///< receives from owners, then request sends
+    std::int64_t message[2] = {0, 0};   ///< {brick, id}, the request sent to each owner
+    std::vector<MPI_Request> requests;  ///< receives from owners, then request sends
   };
   void serve_requests();
   void serve(int source, const std::int64_t message[2]);
@@ -89,11 +88,11 @@ class BrickService {
   const std::vector<BlockBox>& m_boxes;
   const FieldView& m_local;
   BrickCache& m_cache;
-  std::vector<Fetch> m_fetches;           ///< kMaxInFlight, by id; brick -1 = free
+  std::vector<Fetch> m_fetches;  ///< kMaxInFlight, by id; brick -1 = free
   int m_in_flight = 0;
-  std::deque<std::int64_t> m_pending;     ///< taken from the cache, not yet started
-  std::vector<std::int64_t> m_taken;      ///< scratch for take_wanted
-  std::vector<MPI_Request> m_sends;       ///< replies in flight
+  std::deque<std::int64_t> m_pending;  ///< taken from the cache, not yet started
+  std::vector<std::int64_t> m_taken;   ///< scratch for take_wanted
+  std::vector<MPI_Request> m_sends;    ///< replies in flight
   BrickTraffic m_traffic;
 };
 

@@ -25,14 +25,15 @@ MPI_Datatype element_type(DType t) {
     case DType::Int16: return MPI_INT16_T;
     case DType::UInt16: return MPI_UINT16_T;
     case DType::Float32: return MPI_FLOAT;
-    case DType::Float64: default: return MPI_DOUBLE;
+    case DType::Float64:
+    default: return MPI_DOUBLE;
   }
 }
 
 MPI_Datatype strided_view_type(const FieldView& v, TypeList& keep) {
   MPI_Datatype row, plane, box;
-  check(MPI_Type_create_hvector(static_cast<int>(v.dims[0]), 1, v.byte_strides[0],
-                                element_type(v.dtype), &row), "MPI_Type_create_hvector");
+  check(MPI_Type_create_hvector(static_cast<int>(v.dims[0]), 1, v.byte_strides[0], element_type(v.dtype), &row),
+        "MPI_Type_create_hvector");
   check(MPI_Type_create_hvector(static_cast<int>(v.dims[1]), 1, v.byte_strides[1], row, &plane),
         "MPI_Type_create_hvector");
   check(MPI_Type_create_hvector(static_cast<int>(v.dims[2]), 1, v.byte_strides[2], plane, &box),
@@ -60,9 +61,8 @@ MPI_Datatype pixel_type(TypeList& keep, std::size_t bytes) {
   return keep.commit(t);
 }
 
-MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int> indices, int width,
-                            MPI_Datatype pixel, TypeList& keep, std::uint64_t& pixels,
-                            std::size_t pixel_bytes) {
+MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int> indices, int width, MPI_Datatype pixel,
+                            TypeList& keep, std::uint64_t& pixels, std::size_t pixel_bytes) {
   std::vector<int> lengths;
   std::vector<MPI_Aint> displs;
   for (int t : indices) {

@@ -47,8 +47,7 @@ MPI_Datatype pixel_type(TypeList& keep, std::size_t bytes = sizeof(PixelSums));
 /// The rows of the tiles `indices` inside a width-wide Film, relative to its first pixel, in
 /// units of `pixel` (of `pixel_bytes` each: PixelSums, or AuxSums for the auxiliary sums).
 /// Adds the number of pixels they cover to `pixels`.
-MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int> indices, int width,
-                            MPI_Datatype pixel, TypeList& keep, std::uint64_t& pixels,
-                            std::size_t pixel_bytes = sizeof(PixelSums));
+MPI_Datatype tile_rows_type(const std::vector<Tile>& tiles, std::span<const int> indices, int width, MPI_Datatype pixel,
+                            TypeList& keep, std::uint64_t& pixels, std::size_t pixel_bytes = sizeof(PixelSums));
 
 }  // namespace tessera::insitu::detail

@@ -63,8 +63,6 @@ std::pair<double, double> MpiParallelContext::range(double local_min, double loc
   return {global[0], -global[1]};
 }
 
-std::uint64_t MpiParallelContext::bytes_moved() const {
-  return m_report.assemble_bytes + m_report.render_bytes;
-}
+std::uint64_t MpiParallelContext::bytes_moved() const { return m_report.assemble_bytes + m_report.render_bytes; }
 
 }  // namespace tessera::insitu

@@ -91,8 +91,7 @@ class MpiParallelContext final : public ParallelContext {
   FieldView assemble(const FieldView& local, const GlobalPlacement& where) override;
   std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where,
                                                 int edge) override;
-  PagedField distribute(const FieldView& local, const GlobalPlacement& where, int shift,
-                        std::size_t capacity) override;
+  PagedField distribute(const FieldView& local, const GlobalPlacement& where, int shift, std::size_t capacity) override;
   void serve_while(const std::function<void()>& fn) override;
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override;
   /// This rank's bytes moved by the last assemble() + render() (see MpiRenderReport; sum
@@ -149,8 +148,8 @@ class MpiParallelContext final : public ParallelContext {
   /// film (empty, or its samples so far).
   void share_film(const PreparedScene& scene, Film& film, MPI_Datatype pixel);
   /// Rank 0 receives the pixels of every other rank's tiles (`mine` on each rank) into `film`.
-  void gather_film(const std::vector<Tile>& tiles, const std::vector<int>& mine, int width,
-                   MPI_Datatype pixel, Film& film);
+  void gather_film(const std::vector<Tile>& tiles, const std::vector<int>& mine, int width, MPI_Datatype pixel,
+                   Film& film);
 
   // Statistics (parallel_context_mpi_stats.cpp)
   /// Rank 0: adds the counters of all ranks to `stats` (threads: the total over ranks; wall
@@ -159,18 +158,18 @@ class MpiParallelContext final : public ParallelContext {
 
   bool m_mpi = false;
   bool m_connected = false;
-  MPI_Comm m_comm = MPI_COMM_NULL;   ///< duplicate of the user's communicator
-  MPI_Comm m_node = MPI_COMM_NULL;   ///< ranks sharing this node's replica
+  MPI_Comm m_comm = MPI_COMM_NULL;  ///< duplicate of the user's communicator
+  MPI_Comm m_node = MPI_COMM_NULL;  ///< ranks sharing this node's replica
   int m_rank = 0, m_size = 1;
   int m_node_rank = 0, m_node_size = 1, m_node_count = 1;
-  std::vector<int> m_leader_of;      ///< per rank of m_comm: its node leader's rank
+  std::vector<int> m_leader_of;  ///< per rank of m_comm: its node leader's rank
 
   MPI_Win m_replica_win = MPI_WIN_NULL;
   void* m_replica = nullptr;
   std::uint64_t m_replica_bytes = 0;
 
   MPI_Win m_counter_win = MPI_WIN_NULL;
-  std::int64_t* m_counter = nullptr; ///< rank 0: the next tile to hand out
+  std::int64_t* m_counter = nullptr;  ///< rank 0: the next tile to hand out
 
   // Distributed mode: this rank's view and every rank's block, the cache and its server;
   // m_service is non-null between distribute() and the next assemble()

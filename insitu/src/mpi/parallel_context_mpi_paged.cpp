@@ -69,8 +69,7 @@ PagedField MpiParallelContext::distribute(const FieldView& local, const GlobalPl
   m_paged_local = local;
   const BrickGrid grid = BrickGrid::make(where.global_dims, local.dtype, shift);
   const bool same = m_cache && m_cache->capacity() == capacity && m_cache->grid().shift == grid.shift &&
-                    m_cache->grid().dtype == grid.dtype &&
-                    std::equal(grid.dims, grid.dims + 3, m_cache->grid().dims);
+                    m_cache->grid().dtype == grid.dtype && std::equal(grid.dims, grid.dims + 3, m_cache->grid().dims);
   if (same) {
     m_cache->reset();  // the values may have changed since the last render
   } else {

@@ -81,8 +81,7 @@ void MpiParallelContext::ensure_replica(std::uint64_t bytes) {
   // The leader allocates the whole replica; the others map the leader's segment.
   const MPI_Aint mine = m_node_rank == 0 ? static_cast<MPI_Aint>(bytes) : 0;
   void* base = nullptr;
-  check(MPI_Win_allocate_shared(mine, 1, MPI_INFO_NULL, m_node, &base, &m_replica_win),
-        "MPI_Win_allocate_shared");
+  check(MPI_Win_allocate_shared(mine, 1, MPI_INFO_NULL, m_node, &base, &m_replica_win), "MPI_Win_allocate_shared");
   MPI_Win_set_errhandler(m_replica_win, MPI_ERRORS_RETURN);
   MPI_Aint size = 0;
   int disp_unit = 0;
@@ -115,8 +114,8 @@ void MpiParallelContext::exchange_boxes(const FieldView& local, const std::vecto
           recv_counts[s] = 1;
           recv_types[s] = detail::replica_box_type(local.dtype, boxes[s].global, boxes[s].offset, boxes[s].dims, keep);
         }
-    check(MPI_Ialltoallw(local.data, send_counts.data(), zero.data(), send_types.data(), m_replica,
-                         recv_counts.data(), zero.data(), recv_types.data(), m_comm, &request),
+    check(MPI_Ialltoallw(local.data, send_counts.data(), zero.data(), send_types.data(), m_replica, recv_counts.data(),
+                         zero.data(), recv_types.data(), m_comm, &request),
           "MPI_Ialltoallw");
   }
 
@@ -128,7 +127,7 @@ void MpiParallelContext::exchange_boxes(const FieldView& local, const std::vecto
 }
 
 std::vector<MpiParallelContext::RankBox> MpiParallelContext::check_boxes(const FieldView& local,
-                                                                          const GlobalPlacement& where) {
+                                                                         const GlobalPlacement& where) {
   // Everyone learns everyone's box; the checks below then fail alike on every rank.
   RankBox mine{};
   std::string view_error;
@@ -146,8 +145,7 @@ std::vector<MpiParallelContext::RankBox> MpiParallelContext::check_boxes(const F
   mine.view_ok = view_error.empty() ? 1 : 0;
   constexpr int kWords = sizeof(RankBox) / sizeof(std::int64_t);
   std::vector<RankBox> boxes(m_size);
-  check(MPI_Allgather(&mine, kWords, MPI_INT64_T, boxes.data(), kWords, MPI_INT64_T, m_comm),
-        "MPI_Allgather");
+  check(MPI_Allgather(&mine, kWords, MPI_INT64_T, boxes.data(), kWords, MPI_INT64_T, m_comm), "MPI_Allgather");
 
   // Check the decomposition: one dtype, one global grid, disjoint boxes covering it.
   const RankBox& first = boxes[0];
@@ -155,21 +153,19 @@ std::vector<MpiParallelContext::RankBox> MpiParallelContext::check_boxes(const F
   for (int r = 0; r < m_size; ++r) {
     const RankBox& b = boxes[r];
     const std::string who = "rank " + std::to_string(r);
-    if (!b.view_ok)
-      throw LayoutError(r == m_rank ? view_error : who + " published an invalid field view");
+    if (!b.view_ok) throw LayoutError(r == m_rank ? view_error : who + " published an invalid field view");
     if (b.dtype != first.dtype)
       throw LayoutError("ranks publish different dtypes: rank 0 " +
-                               std::string(dtype_name(static_cast<DType>(first.dtype))) + ", " + who +
-                               " " + dtype_name(static_cast<DType>(b.dtype)));
+                        std::string(dtype_name(static_cast<DType>(first.dtype))) + ", " + who + " " +
+                        dtype_name(static_cast<DType>(b.dtype)));
     for (int a = 0; a < 3; ++a) {
       if (b.global[a] != first.global[a])
         throw LayoutError("ranks disagree on global_dims: rank 0 has " + dims_text(first.global) + ", " + who +
-                                 " has " + dims_text(b.global));
+                          " has " + dims_text(b.global));
       if (b.global[a] < 1 || b.global[a] > INT_MAX)
         throw LayoutError("global_dims must be in [1, " + std::to_string(INT_MAX) + "]");
       if (b.offset[a] < 0 || b.dims[a] < 1 || b.offset[a] + b.dims[a] > b.global[a])
-        throw LayoutError(who + "'s real vertices " + box_text(b.offset, b.dims) +
-                                 " leave the global grid");
+        throw LayoutError(who + "'s real vertices " + box_text(b.offset, b.dims) + " leave the global grid");
     }
     covered += b.dims[0] * b.dims[1] * b.dims[2];
     for (int q = 0; q < r; ++q) {
@@ -178,16 +174,15 @@ std::vector<MpiParallelContext::RankBox> MpiParallelContext::check_boxes(const F
       for (int a = 0; a < 3; ++a)
         overlap = overlap && b.offset[a] < o.offset[a] + o.dims[a] && o.offset[a] < b.offset[a] + b.dims[a];
       if (overlap)
-        throw LayoutError("rank " + std::to_string(q) + "'s real vertices " + box_text(o.offset, o.dims) +
-                                 " overlap " + who + "'s " + box_text(b.offset, b.dims) +
-                                 " (declare shared vertices as ghosts on all but one rank)");
+        throw LayoutError("rank " + std::to_string(q) + "'s real vertices " + box_text(o.offset, o.dims) + " overlap " +
+                          who + "'s " + box_text(b.offset, b.dims) +
+                          " (declare shared vertices as ghosts on all but one rank)");
     }
   }
   const std::int64_t total = first.global[0] * first.global[1] * first.global[2];
   if (covered != total)
-    throw LayoutError("the ranks' real vertices cover " + std::to_string(covered) + " of the " +
-                             std::to_string(total) + " global vertices " + dims_text(first.global) +
-                             " (real vertices: " + boxes_text(boxes) + ")");
+    throw LayoutError("the ranks' real vertices cover " + std::to_string(covered) + " of the " + std::to_string(total) +
+                      " global vertices " + dims_text(first.global) + " (real vertices: " + boxes_text(boxes) + ")");
   return boxes;
 }
 
@@ -197,11 +192,9 @@ FieldView MpiParallelContext::assemble(const FieldView& local, const GlobalPlace
     local.validate("field");
     for (int a = 0; a < 3; ++a)
       if (where.offset[a] != 0 || local.dims[a] != where.global_dims[a])
-        throw LayoutError("one rank must hold the whole grid: its real vertices " +
-                                 box_text(where.offset, local.dims) + " do not cover global dims " +
-                                 std::to_string(where.global_dims[0]) + "x" +
-                                 std::to_string(where.global_dims[1]) + "x" +
-                                 std::to_string(where.global_dims[2]));
+        throw LayoutError("one rank must hold the whole grid: its real vertices " + box_text(where.offset, local.dims) +
+                          " do not cover global dims " + std::to_string(where.global_dims[0]) + "x" +
+                          std::to_string(where.global_dims[1]) + "x" + std::to_string(where.global_dims[2]));
     return local;  // zero copy
   }
 

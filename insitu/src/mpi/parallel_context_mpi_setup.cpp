@@ -43,8 +43,8 @@ std::unique_ptr<ParallelContext> ParallelContext::create(int comm_f) {
   MPI_Initialized(&initialized);
   MPI_Finalized(&finalized);
   if (!initialized || finalized)
-    throw std::runtime_error("an MPI communicator was given (handle " + std::to_string(comm_f) +
-                             ") but MPI is " + (finalized ? "finalized" : "not initialized"));
+    throw std::runtime_error("an MPI communicator was given (handle " + std::to_string(comm_f) + ") but MPI is " +
+                             (finalized ? "finalized" : "not initialized"));
   const MPI_Comm comm = MPI_Comm_f2c(comm_f);
   bool bad = comm == MPI_COMM_NULL;
 #if defined(OPEN_MPI)
@@ -79,11 +79,8 @@ void MpiParallelContext::connect_nodes(int ranks_per_node) {
   if (m_size == 1) return;  // one rank: nothing to share
 
   // Nodes: ranks that can map one replica; the node's rank 0 is its leader.
-  if (ranks_per_node > 0)
-    check(MPI_Comm_split(m_comm, m_rank / ranks_per_node, m_rank, &m_node), "MPI_Comm_split");
-  else
-    check(MPI_Comm_split_type(m_comm, MPI_COMM_TYPE_SHARED, m_rank, MPI_INFO_NULL, &m_node),
-          "MPI_Comm_split_type");
+  if (ranks_per_node > 0) check(MPI_Comm_split(m_comm, m_rank / ranks_per_node, m_rank, &m_node), "MPI_Comm_split");
+  else check(MPI_Comm_split_type(m_comm, MPI_COMM_TYPE_SHARED, m_rank, MPI_INFO_NULL, &m_node), "MPI_Comm_split_type");
   MPI_Comm_set_errhandler(m_node, MPI_ERRORS_RETURN);
   MPI_Comm_rank(m_node, &m_node_rank);
   MPI_Comm_size(m_node, &m_node_size);
@@ -96,8 +93,8 @@ void MpiParallelContext::connect_nodes(int ranks_per_node) {
 
   // The tile counter: one int64 on rank 0, in a passive-target epoch for the context's life.
   const MPI_Aint counter_bytes = m_rank == 0 ? sizeof(std::int64_t) : 0;
-  check(MPI_Win_allocate(counter_bytes, sizeof(std::int64_t), MPI_INFO_NULL, m_comm, &m_counter,
-                         &m_counter_win), "MPI_Win_allocate");
+  check(MPI_Win_allocate(counter_bytes, sizeof(std::int64_t), MPI_INFO_NULL, m_comm, &m_counter, &m_counter_win),
+        "MPI_Win_allocate");
   MPI_Win_set_errhandler(m_counter_win, MPI_ERRORS_RETURN);
   if (m_rank == 0) *m_counter = 0;
   check(MPI_Win_lock_all(0, m_counter_win), "MPI_Win_lock_all");
@@ -121,9 +118,9 @@ void MpiParallelContext::allgather_waiting(const void* mine, std::size_t bytes, 
   if (m_size == 1) return allgather(mine, bytes, all);  // (every rank of a larger one polls: no mixing)
   if (bytes > static_cast<std::size_t>(INT_MAX)) throw std::length_error("allgather: too many bytes");
   MPI_Request request = MPI_REQUEST_NULL;
-  check(MPI_Iallgather(mine, static_cast<int>(bytes), MPI_BYTE, all, static_cast<int>(bytes), MPI_BYTE, m_comm,
-                       &request),
-        "MPI_Iallgather");
+  check(
+      MPI_Iallgather(mine, static_cast<int>(bytes), MPI_BYTE, all, static_cast<int>(bytes), MPI_BYTE, m_comm, &request),
+      "MPI_Iallgather");
   // Test back to back for the first millisecond (ranks that arrive together: as fast as a
   // blocking allgather), then with pauses of 50 us doubling to 1 ms, which leave the core to
   // the simulation or to oversubscribed ranks; on_wait at warn_after, 2x, 4x, ...

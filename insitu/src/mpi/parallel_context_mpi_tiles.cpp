@@ -56,14 +56,12 @@ void MpiParallelContext::render_multi(const PreparedScene& scene, Film& film, Re
   reduce_stats(local, stats);
 }
 
-std::vector<int> MpiParallelContext::render_grabbed_tiles(const PreparedScene& scene, Film& film,
-                                                          RenderStats& local) {
+std::vector<int> MpiParallelContext::render_grabbed_tiles(const PreparedScene& scene, Film& film, RenderStats& local) {
   const int ntiles = static_cast<int>(scene.tiles().size());
   // Reset the counter; nobody grabs before the reset is visible.
   if (m_rank == 0) {
     const std::int64_t zero = 0;
-    check(MPI_Accumulate(&zero, 1, MPI_INT64_T, 0, 0, 1, MPI_INT64_T, MPI_REPLACE, m_counter_win),
-          "MPI_Accumulate");
+    check(MPI_Accumulate(&zero, 1, MPI_INT64_T, 0, 0, 1, MPI_INT64_T, MPI_REPLACE, m_counter_win), "MPI_Accumulate");
     check(MPI_Win_flush(0, m_counter_win), "MPI_Win_flush");
   }
   check(MPI_Barrier(m_comm), "MPI_Barrier");
@@ -97,8 +95,7 @@ std::vector<int> MpiParallelContext::render_grabbed_tiles(const PreparedScene& s
         return;
       }
       std::int64_t start = 0;
-      check(MPI_Fetch_and_op(&step, &start, MPI_INT64_T, 0, 0, MPI_SUM, m_counter_win),
-            "MPI_Fetch_and_op");
+      check(MPI_Fetch_and_op(&step, &start, MPI_INT64_T, 0, 0, MPI_SUM, m_counter_win), "MPI_Fetch_and_op");
       check(MPI_Win_flush(0, m_counter_win), "MPI_Win_flush");
       if (start >= ntiles) return;
       const std::size_t first = mine.size();

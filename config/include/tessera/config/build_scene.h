@@ -47,8 +47,7 @@ Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up
 std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, double> auto_range);
 
 /// Core transfer function; colormap names are expanded (colormaps.h).
-TransferFunction build_transfer_function(const TransferFunctionSpec& tf,
-                                         std::pair<double, double> auto_range);
+TransferFunction build_transfer_function(const TransferFunctionSpec& tf, std::pair<double, double> auto_range);
 
 /// Reads the background's envmap EXR (tessera::read_exr); nullptr unless type is envmap.
 /// Throws std::runtime_error naming the file.
@@ -57,14 +56,13 @@ std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg);
 /// Everything but the field: camera, lights, TF, background, integrator, image, options.
 /// options.threads is 0 (use build_render_options to fill it from the global options).
 /// Reads the envmap (if any) from disk on every call.
-SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
-                      std::pair<double, double> auto_range, const VolumeGeometry& geom);
+SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
+                      const VolumeGeometry& geom);
 
 /// As above with an envmap already loaded by load_envmap (callers rendering many frames load
 /// it once). `envmap` is ignored unless the background type is envmap, where it must be set.
-SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds,
-                      std::pair<double, double> auto_range, const VolumeGeometry& geom,
-                      std::shared_ptr<const Image> envmap);
+SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
+                      const VolumeGeometry& geom, std::shared_ptr<const Image> envmap);
 
 /// seed, tile and tile order from the render's integrator block, threads from the global
 /// options; frame = 0.

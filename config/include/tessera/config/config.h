@@ -52,29 +52,29 @@ struct GlobalOptions {
   double budget = 0.0;
 
   static constexpr double kMaxBudget = 1e6;
-  static constexpr double kMaxTimeLimit = 31536000.0;            ///< one year, in seconds
+  static constexpr double kMaxTimeLimit = 31536000.0;  ///< one year, in seconds
   static constexpr std::int64_t kMaxMemoryLimitMb = std::int64_t(1) << 40;
   static constexpr double kDefaultBrickCache = 0.4;
 };
 
 /// `volume:` (CLI only): a raw binary array of dims[0]*dims[1]*dims[2] values, i fastest.
 struct VolumeSpec {
-  std::string file;                ///< resolved against the YAML file's directory
-  std::int64_t dims[3] = {1, 1, 1};///< each >= 1
+  std::string file;                  ///< resolved against the YAML file's directory
+  std::int64_t dims[3] = {1, 1, 1};  ///< each >= 1
   DType dtype = DType::Float32;
-  Vec3 spacing{1.0};               ///< each > 0
+  Vec3 spacing{1.0};  ///< each > 0
   Vec3 origin{0.0};
   ByteOrder byte_order = ByteOrder::Little;
-  std::int64_t header_bytes = 0;   ///< >= 0, skipped at the start of the file
+  std::int64_t header_bytes = 0;  ///< >= 0, skipped at the start of the file
 
   VolumeGeometry geometry() const { return VolumeGeometry{origin, spacing}; }
 };
 
 struct Config {
-  std::string path;                ///< the file it was loaded from (as given; for messages)
+  std::string path;  ///< the file it was loaded from (as given; for messages)
   GlobalOptions global;
   std::optional<VolumeSpec> volume;
-  std::vector<RenderSpec> renders; ///< at least one, names unique
+  std::vector<RenderSpec> renders;  ///< at least one, names unique
 
   /// The render called `name`, or nullptr.
   const RenderSpec* find_render(const std::string& name) const;

@@ -13,16 +13,16 @@ struct RectLightSpec {
   PointSpec position;                      ///< required
   PointSpec target = PointSpec::center();  ///< the side it emits toward; not `position`
   LengthSpec width = LengthSpec::world(1.0), height = LengthSpec::world(1.0);  ///< `size`, > 0
-  Color color{1.0};                        ///< components >= 0
-  double intensity = 1.0;                  ///< >= 0; radiance = color * intensity
+  Color color{1.0};                                                            ///< components >= 0
+  double intensity = 1.0;                                                      ///< >= 0; radiance = color * intensity
 };
 
 /// `{type: sphere, ...}`: core's SphereLightDesc once its centre and radius are resolved.
 struct SphereLightSpec {
-  PointSpec position;                           ///< required; the centre
-  LengthSpec radius = LengthSpec::world(1.0);   ///< > 0
-  Color color{1.0};                             ///< components >= 0
-  double intensity = 1.0;                       ///< >= 0; radiance = color * intensity
+  PointSpec position;                          ///< required; the centre
+  LengthSpec radius = LengthSpec::world(1.0);  ///< > 0
+  Color color{1.0};                            ///< components >= 0
+  double intensity = 1.0;                      ///< >= 0; radiance = color * intensity
 };
 
 /// One entry of `lights:`, one alternative per kind, in the order of core's LightDesc

@@ -25,7 +25,7 @@ void validate_output_pattern(const std::string& pattern);
 /// The pattern with its placeholders replaced; throws std::invalid_argument like
 /// validate_output_pattern, and also when the expanded name (with these values) would leave
 /// output_dir or be hidden.
-std::string format_output_path(const std::string& pattern, const std::string& name,
-                               std::int64_t step, double time, int rank);
+std::string format_output_path(const std::string& pattern, const std::string& name, std::int64_t step, double time,
+                               int rank);
 
 }  // namespace tessera::config

@@ -12,7 +12,7 @@ namespace tessera::config {
 
 /// A volume read into memory, owned, in native byte order, C order with i fastest.
 struct RawVolume {
-  std::vector<std::byte> bytes;    ///< dims[0]*dims[1]*dims[2]*dtype_size(dtype) bytes
+  std::vector<std::byte> bytes;  ///< dims[0]*dims[1]*dims[2]*dtype_size(dtype) bytes
   DType dtype = DType::Float32;
   std::int64_t dims[3] = {0, 0, 0};
 

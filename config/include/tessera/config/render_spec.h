@@ -21,18 +21,18 @@ namespace tessera::config {
 struct TriggerSpec {
   enum class Kind { Every, At, When };
   Kind kind = Kind::Every;
-  std::int64_t every = 1;          ///< Every: fires when step % every == 0; >= 1
-  std::vector<std::int64_t> at;    ///< At: the steps, as given (non-empty, each >= 0)
-  double above = 0.0;              ///< When: fires when the field maximum exceeds it
+  std::int64_t every = 1;        ///< Every: fires when step % every == 0; >= 1
+  std::vector<std::int64_t> at;  ///< At: the steps, as given (non-empty, each >= 0)
+  double above = 0.0;            ///< When: fires when the field maximum exceeds it
 };
 
 struct CameraSpec {
-  PointSpec position;                      ///< required
+  PointSpec position;  ///< required
   PointSpec look_at = PointSpec::center();
-  Vec3 up{0.0, 0.0, 1.0};                  ///< non-zero
-  double fov = 30.0;                       ///< vertical, degrees, (0, 180)
-  double aperture = 0.0;                   ///< >= 0
-  double focus_distance = 0.0;             ///< >= 0; 0 = distance to look_at
+  Vec3 up{0.0, 0.0, 1.0};       ///< non-zero
+  double fov = 30.0;            ///< vertical, degrees, (0, 180)
+  double aperture = 0.0;        ///< >= 0
+  double focus_distance = 0.0;  ///< >= 0; 0 = distance to look_at
 };
 
 /// `integrator:`: the core IntegratorDesc plus the per-render options that live in
@@ -40,25 +40,25 @@ struct CameraSpec {
 struct IntegratorSpec {
   IntegratorDesc desc;
   std::uint64_t seed = 0;
-  int tile = 8;                            ///< tile edge in pixels; 0 = scanline
+  int tile = 8;  ///< tile edge in pixels; 0 = scanline
   TileOrder tile_order = TileOrder::RowMajor;
 };
 
 /// `output: {cinema: ...}`: a Cinema image database (camera sweep) written by the adapter.
 struct CinemaSpec {
-  std::vector<double> azimuths;            ///< degrees
-  std::vector<double> elevations;          ///< degrees, [-90, 90]
+  std::vector<double> azimuths;    ///< degrees
+  std::vector<double> elevations;  ///< degrees, [-90, 90]
   /// Views (azimuths x elevations) one render may have: each is a whole render and image.
   static constexpr std::size_t kMaxViews = 4096;
 };
 
 struct OutputSpec {
-  std::string file = "{name}_{step:06d}";  ///< pattern, see output_path.h; no extension
+  std::string file = "{name}_{step:06d}";                                ///< pattern, see output_path.h; no extension
   std::vector<ImageFormat> formats{ImageFormat::Exr, ImageFormat::Png};  ///< non-empty, no repeats
-  double exposure = 0.0;                   ///< stops, PNG only
-  ToneMap::Curve tonemap = ToneMap::Curve::Aces;  ///< PNG only
-  bool variance = false;                   ///< EXR: add the per-pixel variance channel
-  bool samples = false;                    ///< EXR: add the per-pixel sample-count channel
+  double exposure = 0.0;                                                 ///< stops, PNG only
+  ToneMap::Curve tonemap = ToneMap::Curve::Aces;                         ///< PNG only
+  bool variance = false;                                                 ///< EXR: add the per-pixel variance channel
+  bool samples = false;  ///< EXR: add the per-pixel sample-count channel
   std::optional<CinemaSpec> cinema;
 
   bool has_format(ImageFormat f) const;
@@ -66,10 +66,10 @@ struct OutputSpec {
 };
 
 struct RenderSpec {
-  std::string name;                        ///< required, unique, [A-Za-z0-9_-]+
-  std::string field;                       ///< adapter: published field name; "" = not given
-  std::optional<TriggerSpec> trigger;      ///< adapter only; absent = every step
-  ImageDesc image;                         ///< width, height in [1, 16384], spp >= 1
+  std::string name;                    ///< required, unique, [A-Za-z0-9_-]+
+  std::string field;                   ///< adapter: published field name; "" = not given
+  std::optional<TriggerSpec> trigger;  ///< adapter only; absent = every step
+  ImageDesc image;                     ///< width, height in [1, 16384], spp >= 1
   /// `image.min_spp`, adapter with tessera.budget: the fewest samples per pixel worth an
   /// image, in [1, image.spp]; a render the budget cannot give that many is skipped. Default 1.
   int min_spp = 1;

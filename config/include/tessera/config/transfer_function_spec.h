@@ -32,12 +32,12 @@ struct RangeSpec {
 
 struct TransferFunctionSpec {
   RangeSpec range;
-  double density_scale = 1.0;           ///< >= 0
-  std::vector<ScalarPoint> opacity;     ///< required, at least one point; values >= 0
-  ColorTFSpec diffuse;                  ///< absent: constant white (core default); values in [0, 1]
-  ColorTFSpec specular;                 ///< absent: zero; values in [0, 1]
-  std::vector<ScalarPoint> roughness;   ///< absent: constant 0.5 (core default); values in [0, 1]
-  ColorTFSpec emission;                 ///< absent: zero; values >= 0
+  double density_scale = 1.0;          ///< >= 0
+  std::vector<ScalarPoint> opacity;    ///< required, at least one point; values >= 0
+  ColorTFSpec diffuse;                 ///< absent: constant white (core default); values in [0, 1]
+  ColorTFSpec specular;                ///< absent: zero; values in [0, 1]
+  std::vector<ScalarPoint> roughness;  ///< absent: constant 0.5 (core default); values in [0, 1]
+  ColorTFSpec emission;                ///< absent: zero; values >= 0
 };
 
 }  // namespace tessera::config

@@ -8,9 +8,9 @@
 namespace tessera::job {
 
 struct Args {
-  std::string scene;                 ///< SCENE.yaml
-  std::optional<std::string> render; ///< --render NAME
-  std::optional<std::string> output; ///< -o OUT
+  std::string scene;                                     ///< SCENE.yaml
+  std::optional<std::string> render;                     ///< --render NAME
+  std::optional<std::string> output;                     ///< -o OUT
   std::optional<int> spp, width, height, tile, threads;  ///< --scanline sets tile = 0
   std::optional<std::uint64_t> seed;
   /// --step N: render as the adapter does at simulation step N (frame N's random numbers,

@@ -20,14 +20,12 @@ struct OutputTarget {
 /// With -o OUT: OUT.exr / OUT.png per output.formats, or only OUT itself when it ends in .exr
 /// or .png (any case). With several renders (`several`), _NAME goes before the extension:
 /// OUT_NAME.exr.
-std::vector<OutputTarget> output_targets(const config::GlobalOptions& global,
-                                         const config::RenderSpec& spec,
+std::vector<OutputTarget> output_targets(const config::GlobalOptions& global, const config::RenderSpec& spec,
                                          const std::optional<std::string>& out_flag, bool several,
                                          std::int64_t step = 0);
 
 /// Writes the image to every target (EXR linear; PNG through the render's tone map),
 /// creating directories as needed.
-void write_outputs(const std::vector<OutputTarget>& targets, const Image& image,
-                   const config::OutputSpec& output);
+void write_outputs(const std::vector<OutputTarget>& targets, const Image& image, const config::OutputSpec& output);
 
 }  // namespace tessera::job

@@ -44,8 +44,8 @@ VolumeInfo describe_field(const FieldView& view, const VolumeGeometry& geometry,
 
 /// The scene for `spec` with the command line's overrides (--spp, --width, --height, --tile,
 /// --scanline, --threads, --seed) applied over the YAML.
-SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
-                    const VolumeInfo& volume, const Args& args);
+SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec, const VolumeInfo& volume,
+                    const Args& args);
 
 /// Renders and writes one image; the returned record holds its statistics and outputs.
 /// volume.summary is reused when it has the render's macrocell edge, else replaced.
@@ -53,8 +53,7 @@ SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec,
 /// read: a sparse or huge file must fail with the size and the limit, not exhaust memory.
 void check_volume_memory(const config::Config& cfg);
 
-RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec,
-                        VolumeInfo& volume, const Args& args,
+RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec, VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress);
 
 /// One render's image and its record (outputs empty): run_render without the writing.
@@ -66,8 +65,7 @@ struct RenderedImage {
 /// Everything run_render does before writing: the memory check (against `targets`' formats;
 /// none = no image buffers), scene, time limit, prepare, render, warnings. tessera.render
 /// (python/) calls it with default Args and no targets, so its pixels are the CLI's.
-RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& spec,
-                           VolumeInfo& volume, const Args& args,
-                           const std::vector<OutputTarget>& targets, bool show_progress);
+RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& spec, VolumeInfo& volume,
+                           const Args& args, const std::vector<OutputTarget>& targets, bool show_progress);
 
 }  // namespace tessera::job
