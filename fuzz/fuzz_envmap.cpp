@@ -94,7 +94,8 @@ void write_seeds(const std::string& dir) {
   int n = 0;
   for (const Imf::Compression k : kinds) {
     for (const Imf::PixelType t : {Imf::HALF, Imf::FLOAT}) {
-      write_seed(dir + "/seed_" + std::to_string(n++) + ".exr", k, t, false, n % 2 == 0);
+      const int i = n++;
+      write_seed(dir + "/seed_" + std::to_string(i) + ".exr", k, t, false, i % 2 == 1);
     }
   }
   write_seed(dir + "/seed_tiled_zip.exr", Imf::ZIP_COMPRESSION, Imf::HALF, true, true);
