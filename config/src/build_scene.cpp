@@ -72,6 +72,23 @@ struct Resolver {
       fail(key + " " + format_number(v) + " is larger than 2^40 smallest spacings (" + format_number(lim) + ")");
     return v;
   }
+  /// The point at simulation step `step`: each moving orbit value S + D * n, checked against
+  /// its key's range as a plain number is when the config is loaded.
+  PointSpec at_step(const std::string& key, const PointSpec& p, std::int64_t step) const {
+    if (!p.moves()) return p;
+    PointSpec q = p;
+    q.orbit = p.orbit.at(step);
+    const auto check = [&](const char* name, const OrbitValue& v, double at, double lo, double hi,
+                           const char* allowed) {
+      if (std::isfinite(at) && at >= lo && at <= hi) return;
+      fail(key + ": orbit " + name + " {start: " + format_number(v.start) + ", per_step: " + format_number(v.per_step) +
+           "} is " + format_number(at) + " at step " + std::to_string(step) + " (allowed: " + allowed + ")");
+    };
+    check("azimuth", p.orbit.azimuth, q.orbit.azimuth.start, -INFINITY, INFINITY, "a finite number");
+    check("elevation", p.orbit.elevation, q.orbit.elevation.start, -90.0, 90.0, "a number in [-90, 90]");
+    if (!p.orbit.fit) check("distance", p.orbit.distance, q.orbit.distance.start, 0.0, INFINITY, "a number >= 0");
+    return q;
+  }
   /// An orbit is placed in multiples of the data's bounding-sphere radius: data of one vertex
   /// (radius 0) puts it on the data itself, a fault of the data's extent, not of the camera.
   void orbit_extent(const std::string& key, const PointSpec& p, const Bounds& b) const {
@@ -93,9 +110,12 @@ struct LightFrame {
   const Resolver& res;
   const Bounds& bounds;
   const Vec3& up;
+  std::int64_t step;
   std::string key;
 
-  Vec3 point(const char* name, const PointSpec& p) const { return res.point(key + name, resolve_point(p, bounds, up)); }
+  Vec3 point(const char* name, const PointSpec& p) const {
+    return res.point(key + name, resolve_point(res.at_step(key + name, p, step), bounds, up));
+  }
   double length(const char* name, const LengthSpec& l) const {
     return res.length(key + name, l.resolve(bounds.radius()));
   }
@@ -157,12 +177,12 @@ std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg) {
 }
 
 SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
-                      const VolumeGeometry& geom) {
-  return build_scene(spec, data_bounds, auto_range, geom, load_envmap(spec.background));
+                      const VolumeGeometry& geom, std::int64_t step) {
+  return build_scene(spec, data_bounds, auto_range, geom, load_envmap(spec.background), step);
 }
 
 SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
-                      const VolumeGeometry& geom, std::shared_ptr<const Image> envmap) {
+                      const VolumeGeometry& geom, std::shared_ptr<const Image> envmap, std::int64_t step) {
   SceneDesc s;
   s.geometry = geom;
   // The data bounds first: every relative point and size is resolved against them
@@ -180,8 +200,11 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pa
   const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
   const double fit_radii = fit_distance(spec.camera.fov, spec.image.width, spec.image.height);
   res.orbit_extent("camera.position", spec.camera.position, data_bounds);
-  s.camera.position = res.point("camera.position", resolve_point(spec.camera.position, data_bounds, up, fit_radii));
-  s.camera.look_at = res.point("camera.look_at", resolve_point(spec.camera.look_at, data_bounds, up));
+  s.camera.position =
+      res.point("camera.position",
+                resolve_point(res.at_step("camera.position", spec.camera.position, step), data_bounds, up, fit_radii));
+  s.camera.look_at = res.point(
+      "camera.look_at", resolve_point(res.at_step("camera.look_at", spec.camera.look_at, step), data_bounds, up));
   s.camera.up = up;
   s.camera.fov_deg = spec.camera.fov;
   s.camera.aperture = spec.camera.aperture;
@@ -189,7 +212,7 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pa
 
   // Lights: the checks every kind shares, then its own points and lengths
   for (std::size_t i = 0; i < spec.lights.size(); ++i) {
-    const LightFrame f{res, data_bounds, up, "lights[" + std::to_string(i) + "]."};
+    const LightFrame f{res, data_bounds, up, step, "lights[" + std::to_string(i) + "]."};
     s.lights.push_back(std::visit(
         [&](const auto& l) -> LightDesc {
           const Color radiance = l.color * l.intensity;

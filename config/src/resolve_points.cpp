@@ -11,6 +11,7 @@
 namespace tessera::config {
 
 Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up_in) {
+  if (orbit.moves()) throw std::logic_error("orbit_direction: a moving orbit needs its step (OrbitSpec::at)");
   const Vec3 up = glm::normalize(up_in);
 
   // Reference e1: the world axis least aligned with up, projected onto the plane normal to up
@@ -21,8 +22,8 @@ Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up_in) {
   const Vec3 e1 = glm::normalize(ref - glm::dot(ref, up) * up);
   const Vec3 e2 = glm::cross(up, e1);
 
-  const double az = orbit.azimuth * kPi / 180.0;
-  const double el = orbit.elevation * kPi / 180.0;
+  const double az = orbit.azimuth.start * kPi / 180.0;
+  const double el = orbit.elevation.start * kPi / 180.0;
   return std::cos(el) * (std::cos(az) * e1 + std::sin(az) * e2) + std::sin(el) * up;
 }
 
@@ -50,7 +51,7 @@ Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up
     case PointSpec::Kind::Absolute: return p.xyz;
     case PointSpec::Kind::Center: return data_bounds.center();
     case PointSpec::Kind::Orbit: {
-      const double radii = p.orbit.fit ? fit_radii : p.orbit.distance;
+      const double radii = p.orbit.fit ? fit_radii : p.orbit.distance.start;
       return data_bounds.center() + radii * data_bounds.radius() * orbit_direction(p.orbit, up);
     }
   }

@@ -33,6 +33,7 @@ void write(YAML::Emitter& out, std::int64_t v) { out << v; }
 /// Seeds: all 64 bits, as digits.
 void write(YAML::Emitter& out, std::uint64_t v) { out << std::to_string(v); }
 void write(YAML::Emitter& out, const Vec3& v);
+void write(YAML::Emitter& out, const OrbitValue& v);
 void write(YAML::Emitter& out, const PointSpec& p);
 void write(YAML::Emitter& out, const LengthSpec& l);
 void write(YAML::Emitter& out, const ScalarPoint& p);
@@ -79,6 +80,15 @@ void write(YAML::Emitter& out, const std::vector<T>& xs) {
 }
 
 void write(YAML::Emitter& out, const Vec3& v) { flow_seq(out, v.x, v.y, v.z); }
+
+/// An orbit value: the plain number, or `{start: S, per_step: D}` when it moves.
+void write(YAML::Emitter& out, const OrbitValue& v) {
+  if (!v.moves()) return write(out, v.start);
+  out << YAML::Flow << YAML::BeginMap;
+  field(out, "start", v.start);
+  field(out, "per_step", v.per_step);
+  out << YAML::EndMap;
+}
 
 void write(YAML::Emitter& out, const PointSpec& p) {
   switch (p.kind) {

@@ -21,7 +21,8 @@ struct CinemaView {
 
 /// The cameras, elevation-major (phi fastest). Each looks at the data centre from
 /// centre + d * orbit_direction(phi, theta, up) (build_scene.h), d = the render's camera
-/// distance from that centre, with the render's fov, aperture and focus distance. Its up is
+/// distance from that centre (a moving orbit's at the call's step; phi and theta stay absolute,
+/// so each names the same view at every step), with the render's fov, aperture and focus distance. Its up is
 /// the direction of (phi, theta + 90): perpendicular to the view, and the render's `up`
 /// projected onto the image plane wherever that is defined, so that the poles (theta = +-90)
 /// render too. An empty azimuth or elevation list stands for [0]. Throws std::invalid_argument if the render's camera sits at the centre.

@@ -147,7 +147,7 @@ class Pass {
     PreparedScene prepared;
     std::vector<CinemaView> views;
     if (!phase(TESSERA_ERROR_RENDER, [&] {
-          scene = config::build_scene(m_spec, m_binding.global_bounds, range, m_binding.geometry);
+          scene = config::build_scene(m_spec, m_binding.global_bounds, range, m_binding.geometry, m_call.step);
           scene.options = config::build_render_options(m_spec, m_cfg.global);
           scene.options.frame = static_cast<std::uint64_t>(m_call.step);
           scene.options.deadline = m_deadline;

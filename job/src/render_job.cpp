@@ -80,9 +80,10 @@ void check_memory(const config::Config& cfg, const config::RenderSpec& spec, con
 
 SceneDesc scene_for(const config::Config& cfg, const config::RenderSpec& spec, const VolumeInfo& volume,
                     const Args& args) {
-  // The flags first: `distance: fit` frames the camera for the image's aspect ratio
+  // The flags first: `distance: fit` frames the camera for the image's aspect ratio; a moving
+  // orbit is placed at --step, as the adapter places it at that step
   const config::RenderSpec flagged = with_flags(spec, args);
-  SceneDesc scene = config::build_scene(flagged, volume.bounds, volume.range, volume.geometry);
+  SceneDesc scene = config::build_scene(flagged, volume.bounds, volume.range, volume.geometry, args.step);
   scene.options = options_for(cfg, flagged, args);
   return scene;
 }

@@ -105,3 +105,41 @@ TEST_CASE("a Cinema render writes a Spec D database, appending per timestep", "[
   CHECK(csv.size() == 1 + 18);
   CHECK(csv.back() == "1.5,240,90,orbit_015_phi_240_theta_90.png");
 }
+
+TEST_CASE("a moving orbit in the adapter: the static orbit of the step, Cinema views included", "[insitu][cinema]") {
+  TempDir dir;
+  const std::string out = dir.file("out");
+  const std::string cinema = "    output: {file: \"{name}_{step:03d}\", formats: [exr], "
+                             "cinema: {azimuth: [0, 90], elevation: [10]}}\n";
+  // At step 5: azimuth 10 + 4 * 5 = 30, elevation 40 - 3 * 5 = 25, distance 2 + 0.25 * 5 = 3.25
+  const std::string moving = "    camera: {position: {orbit: {azimuth: {start: 10, per_step: 4}, elevation: {start: "
+                             "40, per_step: -3}, distance: {start: 2, per_step: 0.25}}}, fov: 40}\n";
+  const std::string fixed = "    camera: {position: {orbit: {azimuth: 30, elevation: 25, distance: 3.25}}, fov: 40}\n";
+  const std::string renders = render_yaml("moving", "{every: 1}", moving + cinema, "density", 12, 1) +
+                              render_yaml("fixed", "{every: 1}", fixed + cinema, "density", 12, 1);
+  const std::string cfg = dir.write("a.yaml", config_yaml(out, renders));
+  constexpr int n = 8;
+  const std::vector<float> sim = to_float(blob_values(n));
+  const tessera_field field = dense_field("density", sim.data(), n);
+  Adapter adapter;
+  adapter.set_quiet(true);
+  REQUIRE(adapter.open(cfg) == TESSERA_OK);
+  REQUIRE(adapter.execute(5, 0.5, unit_grid(n), {&field, 1}) == TESSERA_OK);
+  CHECK(same_pixels(*adapter.last_image("moving"), *adapter.last_image("fixed")));
+  // The views keep their angles and take the camera's distance of the step
+  for (const char* view : {"_phi_0_theta_10.exr", "_phi_90_theta_10.exr"}) {
+    INFO(view);
+    CHECK(same_pixels(tessera::read_exr(out + "/moving.cdb/moving_005" + view),
+                      tessera::read_exr(out + "/fixed.cdb/fixed_005" + view)));
+  }
+  // Step 6 moves the camera
+  REQUIRE(adapter.execute(6, 0.6, unit_grid(n), {&field, 1}) == TESSERA_OK);
+  CHECK_FALSE(same_pixels(*adapter.last_image("moving"), *adapter.last_image("fixed")));
+  // At step -17 the elevation is 91: that call fails for this render, with the value and step
+  CHECK(adapter.execute(-17, 0.0, unit_grid(n), {&field, 1}) == TESSERA_ERROR_RENDER);
+  REQUIRE(adapter.last_results().size() == 2);
+  CHECK(adapter.last_results()[0].status == TESSERA_ERROR_RENDER);
+  CHECK_THAT(adapter.last_results()[0].error,
+             Catch::Matchers::Contains("orbit elevation {start: 40, per_step: -3} is 91 at step -17"));
+  CHECK(adapter.last_results()[1].status == TESSERA_OK);
+}

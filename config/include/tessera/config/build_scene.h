@@ -20,13 +20,15 @@
 #include <tessera/image.h>
 #include <tessera/scene.h>
 
+#include <cstdint>
 #include <memory>
 #include <utility>
 
 namespace tessera::config {
 
 /// The unit direction of an orbit point about `up` (see above). `up` need not be normalised
-/// but must be non-zero.
+/// but must be non-zero. The orbit must not move (take OrbitSpec::at(step) of one that does);
+/// a moving one throws std::logic_error, as resolve_point does for a moving orbit point.
 Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up);
 
 /// `distance: fit` in bounding-sphere radii: 1 / sin(h), h = half the smaller field of view;
@@ -55,14 +57,17 @@ std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg);
 
 /// Everything but the field: camera, lights, TF, background, integrator, image, options.
 /// options.threads is 0 (use build_render_options to fill it from the global options).
-/// Reads the envmap (if any) from disk on every call.
+/// Reads the envmap (if any) from disk on every call. `step` is the simulation step: a
+/// moving orbit (`{start: S, per_step: D}`) is placed at S + D * step, and a value that
+/// leaves its key's range there (elevation outside [-90, 90], distance below 0) throws
+/// std::invalid_argument naming the render, the key and the step.
 SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
-                      const VolumeGeometry& geom);
+                      const VolumeGeometry& geom, std::int64_t step = 0);
 
 /// As above with an envmap already loaded by load_envmap (callers rendering many frames load
 /// it once). `envmap` is ignored unless the background type is envmap, where it must be set.
 SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
-                      const VolumeGeometry& geom, std::shared_ptr<const Image> envmap);
+                      const VolumeGeometry& geom, std::shared_ptr<const Image> envmap, std::int64_t step = 0);
 
 /// seed, tile and tile order from the render's integrator block, threads from the global
 /// options; frame = 0.
