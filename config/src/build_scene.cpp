@@ -79,14 +79,17 @@ struct Resolver {
     PointSpec q = p;
     q.orbit = p.orbit.at(step);
     const auto check = [&](const char* name, const OrbitValue& v, double at, double lo, double hi,
-                           const char* allowed) {
+                           const std::string& allowed) {
       if (std::isfinite(at) && at >= lo && at <= hi) return;
       fail(key + ": orbit " + name + " {start: " + format_number(v.start) + ", per_step: " + format_number(v.per_step) +
            "} is " + format_number(at) + " at step " + std::to_string(step) + " (allowed: " + allowed + ")");
     };
     check("azimuth", p.orbit.azimuth, q.orbit.azimuth.start, -INFINITY, INFINITY, "a finite number");
-    check("elevation", p.orbit.elevation, q.orbit.elevation.start, -90.0, 90.0, "a number in [-90, 90]");
-    if (!p.orbit.fit) check("distance", p.orbit.distance, q.orbit.distance.start, 0.0, INFINITY, "a number >= 0");
+    check("elevation", p.orbit.elevation, q.orbit.elevation.start, kMinElevation, kMaxElevation,
+          "a number in [" + format_number(kMinElevation) + ", " + format_number(kMaxElevation) + "]");
+    if (!p.orbit.fit)
+      check("distance", p.orbit.distance, q.orbit.distance.start, kMinDistance, INFINITY,
+            "a number >= " + format_number(kMinDistance));
     return q;
   }
   /// An orbit is placed in multiples of the data's bounding-sphere radius: data of one vertex

@@ -74,7 +74,8 @@ PointSpec parse_point(const Value& v, bool allow_fit) {
   om.allow(kOrbitKeys);
   OrbitSpec s;
   if (const auto a = om.get("azimuth")) s.azimuth = parse_orbit_value(*a, Range::any());
-  if (const auto e = om.get("elevation")) s.elevation = parse_orbit_value(*e, Range::closed(-90.0, 90.0));
+  if (const auto e = om.get("elevation"))
+    s.elevation = parse_orbit_value(*e, Range::closed(kMinElevation, kMaxElevation));
   const char* distance_allowed = allow_fit ? "a number >= 0, in bounding-sphere radii of the data, "
                                              "{start: S, per_step: D} or fit"
                                            : "a number >= 0, in bounding-sphere radii of the data, or "
@@ -88,7 +89,7 @@ PointSpec parse_point(const Value& v, bool allow_fit) {
   }
   if (allow_fit && d.is_scalar() && !reads_as_number(std::string(d.text())))
     d.fail(d.describe() + " is not a distance (allowed: " + std::string(distance_allowed) + ")");
-  s.distance = parse_orbit_value(d, Range::at_least(0.0), true);
+  s.distance = parse_orbit_value(d, Range::at_least(kMinDistance), true);
   return PointSpec::on_orbit(s.azimuth, s.elevation, s.distance);
 }
 

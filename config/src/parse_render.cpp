@@ -140,7 +140,7 @@ OutputSpec parse_output(const Value& v) {
       for (const Value& e : a->list("a list of angles in degrees", 1)) cs.azimuths.push_back(e.number());
     if (const auto a = cm.get("elevation"))
       for (const Value& e : a->list("a list of angles in degrees", 1))
-        cs.elevations.push_back(e.number(Range::closed(-90.0, 90.0)));
+        cs.elevations.push_back(e.number(Range::closed(kMinElevation, kMaxElevation)));
     const std::size_t views =
         std::max<std::size_t>(1, cs.azimuths.size()) * std::max<std::size_t>(1, cs.elevations.size());
     if (views > CinemaSpec::kMaxViews)

@@ -6,6 +6,7 @@
 #include <tessera/camera.h>
 #include <tessera/config/build_scene.h>
 #include <tessera/image_io.h>
+#include <tessera/number_text.h>
 #include <tessera/render.h>
 
 #include "temp_dir.h"
@@ -25,18 +26,12 @@ using tessera::config::test::config_error;
 
 namespace {
 
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 std::string fit_scene(double az, double el, double fov, int w, int h, const Vec3& up, double aperture = 0.0) {
   return "renders:\n  - name: a\n    image: {width: " + std::to_string(w) + ", height: " + std::to_string(h) +
-         ", spp: 1}\n    camera:\n      position: {orbit: {azimuth: " + num(az) + ", elevation: " + num(el) +
-         ", distance: fit}}\n      up: [" + num(up.x) + ", " + num(up.y) + ", " + num(up.z) +
-         "]\n      fov: " + num(fov) + "\n      aperture: " + num(aperture) +
-         "\n    transfer_function: {opacity: [[0, 1]]}\n";
+         ", spp: 1}\n    camera:\n      position: {orbit: {azimuth: " + format_number(az) +
+         ", elevation: " + format_number(el) + ", distance: fit}}\n      up: [" + format_number(up.x) + ", " +
+         format_number(up.y) + ", " + format_number(up.z) + "]\n      fov: " + format_number(fov) +
+         "\n      aperture: " + format_number(aperture) + "\n    transfer_function: {opacity: [[0, 1]]}\n";
 }
 
 SceneDesc build(const std::string& yaml, const Bounds& b) {
@@ -214,8 +209,8 @@ TEST_CASE("a volume framed with distance: fit renders whole, with an empty borde
     INFO(w << "x" << h << ", azimuth " << az << ", elevation " << el << ", fov " << fov);
     const std::string yaml = "renders:\n  - name: a\n    image: {width: " + std::to_string(w) +
                              ", height: " + std::to_string(h) +
-                             ", spp: 2}\n    camera: {position: {orbit: {azimuth: " + num(az) +
-                             ", elevation: " + num(el) + ", distance: fit}}, fov: " + num(fov) +
+                             ", spp: 2}\n    camera: {position: {orbit: {azimuth: " + format_number(az) +
+                             ", elevation: " + format_number(el) + ", distance: fit}}, fov: " + format_number(fov) +
                              "}\n    transfer_function: {range: [0, 2], density_scale: 1000, "
                              "opacity: [[0, 1], [1, 1]]}\n    background: {type: constant, color: [0, 0, 0]}\n";
     const Config c = parse_config(yaml, "fit.yaml", "");

@@ -5,6 +5,7 @@
 #include "test_support.h"
 
 #include <tessera/config/build_scene.h>
+#include <tessera/number_text.h>
 #include <tessera/render.h>
 
 #include <cstdint>
@@ -19,12 +20,6 @@ using Catch::Matchers::Contains;
 using tessera::config::test::config_error;
 
 namespace {
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 std::string scene(const std::string& orbit, const std::string& light = "center") {
   return "renders:\n  - name: a\n    image: {width: 24, height: 16, spp: 2}\n    camera: {position: {orbit: " + orbit +
@@ -93,9 +88,9 @@ TEST_CASE("a moving orbit at step n renders the plain orbit at S + D * n bit for
           "{azimuth: " + std::string(which == 0 || which == 3 ? "{start: 10, per_step: 1.5}" : "10") +
           ", elevation: " + (which == 1 || which == 3 ? "{start: 20, per_step: -0.75}" : std::string("20")) +
           ", distance: " + (which == 2 || which == 3 ? "{start: 3, per_step: 0.125}" : "3") + "}";
-      const std::string plain = "{azimuth: " + num(which == 0 || which == 3 ? az : 10.0) +
-                                ", elevation: " + num(which == 1 || which == 3 ? el : 20.0) +
-                                ", distance: " + num(which == 2 || which == 3 ? di : 3.0) + "}";
+      const std::string plain = "{azimuth: " + format_number(which == 0 || which == 3 ? az : 10.0) +
+                                ", elevation: " + format_number(which == 1 || which == 3 ? el : 20.0) +
+                                ", distance: " + format_number(which == 2 || which == 3 ? di : 3.0) + "}";
       Config cm, cp;
       const RenderSpec& rm = parsed(scene(moving), cm).renders[0];
       const RenderSpec& rp = parsed(scene(plain), cp).renders[0];

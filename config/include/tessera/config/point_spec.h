@@ -25,6 +25,10 @@ struct OrbitValue {
 
 /// The largest |per_step| of an orbit value, in its key's units per step.
 inline constexpr double kMaxPerStep = 1e6;
+/// An orbit's elevation in degrees lies in [kMinElevation, kMaxElevation] and its distance is
+/// at least kMinDistance, when the config is loaded (S) and at every step (S + D * n).
+inline constexpr double kMinElevation = -90.0, kMaxElevation = 90.0;
+inline constexpr double kMinDistance = 0.0;
 
 /// `{orbit: {azimuth, elevation, distance}}`: a point on a sphere about the data centre.
 /// `distance: fit` (camera.position only) sets `fit`; the distance is then computed when the
