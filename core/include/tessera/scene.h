@@ -13,10 +13,26 @@
 
 namespace tessera {
 
-/// World placement of the field's vertices: vertex (i,j,k) at origin + (i,j,k) * spacing.
+/// What one array element of the field is (docs/data-model.md).
+enum class Association : int {
+  Vertex = 0,  ///< a value at a grid vertex; the medium fills the vertices' box
+  Cell = 1,    ///< a value at a cell centre; the medium fills the cells' whole box
+};
+
+/// World placement of the field's elements.
+/// - Vertex data, uniform axis a: vertex i at origin[a] + i * spacing[a].
+/// - Cell data, uniform axis a: cell i covers [origin[a] + i h, origin[a] + (i + 1) h] (h =
+///   spacing[a]), its value at the cell's centre; the medium fills the cells' whole box.
+/// - Rectilinear axis a (coords[a] != nullptr): the caller's increasing coordinates, never
+///   copied, valid while the render runs: dims[a] vertex positions (vertex data) or
+///   dims[a] + 1 cell boundaries (cell data); origin[a] and spacing[a] are then unused.
+/// Values are reconstructed trilinearly between vertices (or cell centres), each axis' weight
+/// taken in its own coordinates, and clamped to the nearest centre over the outer half cell.
 struct VolumeGeometry {
   Vec3 origin{0.0};
   Vec3 spacing{1.0};  ///< each component > 0
+  Association association = Association::Vertex;
+  const double* coords[3] = {nullptr, nullptr, nullptr};  ///< per axis: nullptr = uniform
 };
 
 struct ImageDesc {

@@ -134,6 +134,9 @@ void validate_scene(const FieldView& field, const SceneDesc& s) {
   require(is_finite(g.origin), "volume origin " + vec(g.origin) + " must be finite");
   require(is_finite(g.spacing) && g.spacing.x > 0 && g.spacing.y > 0 && g.spacing.z > 0,
           "volume spacing " + vec(g.spacing) + " must be finite and > 0 on every axis");
+  require(g.association == Association::Vertex, "cell-centred data: not yet supported by the renderer");
+  require(g.coords[0] == nullptr && g.coords[1] == nullptr && g.coords[2] == nullptr,
+          "rectilinear axes: not yet supported by the renderer");
   const TransferFunction& tf = s.tf;
   // hi - lo must be finite too: u = (v - lo) / (hi - lo) is NaN for v near hi otherwise.
   require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi && std::isfinite(tf.hi - tf.lo),
