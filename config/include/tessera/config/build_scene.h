@@ -60,7 +60,10 @@ std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg);
 /// Reads the envmap (if any) from disk on every call. `step` is the simulation step: a
 /// moving orbit (`{start: S, per_step: D}`) is placed at S + D * step, and a value that
 /// leaves its key's range there (elevation outside [-90, 90], distance below 0) throws
-/// std::invalid_argument naming the render, the key and the step.
+/// std::invalid_argument naming the render, the key and the step. A keyframed camera
+/// (`camera.keyframes`) is placed at its pose of `step` (camera_keyframes.h); a pose that makes
+/// no camera there (position on look_at, a view along up) throws std::invalid_argument naming
+/// the render, the step and its keyframes.
 SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
                       const VolumeGeometry& geom, std::int64_t step = 0);
 
