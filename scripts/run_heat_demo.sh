@@ -3,9 +3,10 @@
 # out/heat/ (two views, every 10 steps as the render budget allows), and one MP4 per view when
 # ffmpeg is installed. Then the movie: the same simulation again with configs/heat_movie.yaml,
 # a camera that turns 3.6 degrees a step, rendered every 2 steps into out/heat/movie/ and
-# made into out/heat/heat_turn.mp4 (MOVIE=0 skips it; it adds about 30 s of rendering). Each step does WORK_MS ms of extra computation (tessera-heat --work-ms),
-# standing for a real simulation's step, so that the budget (a quarter of the simulation's
-# time) pays for images.
+# made into out/heat/heat_turn.mp4 (MOVIE=0 skips it; it adds about a minute of rendering on
+# two cores). Each step of the first run does WORK_MS ms of extra computation (tessera-heat
+# --work-ms), standing for a real simulation's step, so that the budget (a quarter of the
+# simulation's time) pays for images.
 # Builds tessera-heat first if it is missing.
 #
 #   scripts/run_heat_demo.sh [OUT_DIR] [extra tessera-heat flags...]

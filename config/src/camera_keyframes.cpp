@@ -8,7 +8,9 @@ namespace tessera::config {
 namespace {
 
 /// b - a for a <= b, exact in unsigned arithmetic (it may pass INT64_MAX).
-std::uint64_t distance(std::int64_t a, std::int64_t b) { return static_cast<std::uint64_t>(b) - static_cast<std::uint64_t>(a); }
+std::uint64_t distance(std::int64_t a, std::int64_t b) {
+  return static_cast<std::uint64_t>(b) - static_cast<std::uint64_t>(a);
+}
 
 /// (b - a) / (d - c), both spans non-negative, d > c: a ratio of step differences.
 double ratio(std::int64_t a, std::int64_t b, std::int64_t c, std::int64_t d) {

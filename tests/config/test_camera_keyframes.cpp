@@ -173,8 +173,8 @@ TEST_CASE("between two keyframes the camera is their interpolation", "[config][k
   before.step[3] = 40;
   w.has_after = false;
   // Velocity per step on each side of step 20
-  const Vec3 v_in = (interpolate_pose(CameraInterpolation::Smooth, before, 1.0 - eps).position - c20.position) /
-                    (-eps * 10.0);
+  const Vec3 v_in =
+      (interpolate_pose(CameraInterpolation::Smooth, before, 1.0 - eps).position - c20.position) / (-eps * 10.0);
   const Vec3 v_out = (interpolate_pose(CameraInterpolation::Smooth, w, eps).position - c20.position) / (eps * 20.0);
   CHECK(glm::length(v_in - v_out) < 1e-2 * glm::length(v_out));
   // The tangent there is (p40 - p10) / 30 per step
@@ -212,9 +212,10 @@ TEST_CASE("keyframe_span: exact at the ends of the step range", "[config][keyfra
   CHECK(near_end.i == 0);
   CHECK(near_end.t <= 1.0);
   // A keyframed camera at steps near 2^62 and at the ends: finite, the keyframes' own pose
-  const RenderSpec r = render_of(
-      "keyframes: [{step: -9223372036854775808, position: [3, 0, 1]}, {step: 4611686018427387904, position: [0, 3, 2]}, "
-      "{step: 9223372036854775807, position: {orbit: {azimuth: 1e300, elevation: -89, distance: 1e6}}}]");
+  const RenderSpec r =
+      render_of("keyframes: [{step: -9223372036854775808, position: [3, 0, 1]}, {step: 4611686018427387904, position: "
+                "[0, 3, 2]}, "
+                "{step: 9223372036854775807, position: {orbit: {azimuth: 1e300, elevation: -89, distance: 1e6}}}]");
   const Volume v;
   for (const std::int64_t n : {kMin, kMin + 1, std::int64_t{0}, std::int64_t{1} << 62, kMax - 1, kMax}) {
     INFO(n);
@@ -240,7 +241,8 @@ TEST_CASE("bad keyframes are refused on load with file:line:col", "[config][keyf
   CHECK_THAT(err("keyframes: {step: 0, position: [3, 0, 0]}"), Contains("a list of 1 to 4096 keyframes"));
   CHECK_THAT(err("keyframes: [[3, 0, 0]]"), Contains("keyframes[0]"));
   std::string many = "keyframes: [";
-  for (int i = 0; i <= 4096; ++i) many += (i ? ", " : "") + std::string("{step: ") + std::to_string(i) + ", position: [3, 0, 0]}";
+  for (int i = 0; i <= 4096; ++i)
+    many += (i ? ", " : "") + std::string("{step: ") + std::to_string(i) + ", position: [3, 0, 0]}";
   CHECK_THAT(err(many + "]"), Contains("4096"));
   // Missing and unknown keys
   CHECK_THAT(err("keyframes: [{position: [3, 0, 0]}]"), Contains("missing required key"));
@@ -319,4 +321,16 @@ TEST_CASE("the effective config writes keyframes back", "[config][keyframes]") {
   CHECK(b.renders[0].camera.keyframes[1].position.orbit.azimuth == 80.0);
   CHECK(b.renders[0].camera.interpolation == CameraInterpolation::Smooth);
   CHECK(to_yaml(b) == text);
+}
+
+TEST_CASE("the heat demo's movie config loads: a camera turning 3.6 degrees a step", "[config][keyframes]") {
+  const Config c = load_config(std::string(TESSERA_TEST_DATA_DIR) + "/../../configs/heat_movie.yaml");
+  REQUIRE(c.renders.size() == 1);
+  const RenderSpec& r = c.renders[0];
+  CHECK(r.camera.position.moves());
+  CHECK(r.camera.position.orbit.azimuth == OrbitValue(35.0, 3.6));
+  CHECK(r.camera.position.is_fit());
+  REQUIRE(r.trigger);
+  CHECK(r.trigger->every == 2);
+  CHECK_FALSE(c.global.budget > 0.0);  // every trigger renders: the movie has all its frames
 }

@@ -24,9 +24,10 @@ TEST_CASE("a keyframed camera in the adapter: the camera of each step, Cinema vi
   const std::string cinema = "    output: {file: \"{name}_{step:03d}\", formats: [exr, png], "
                              "cinema: {azimuth: [0, 90], elevation: [10]}}\n";
   // Keyframes at steps 2 and 6; at step 6 the camera is the second keyframe's
-  const std::string keyed = "    camera: {keyframes: [{step: 2, position: {orbit: {azimuth: 10, elevation: 20, distance: "
-                            "3}}, fov: 40}, {step: 6, position: {orbit: {azimuth: 100, elevation: 35, distance: 2.5}}, "
-                            "look_at: [0.5, 0.4, 0.5], fov: 30}], interpolation: smooth}\n";
+  const std::string keyed =
+      "    camera: {keyframes: [{step: 2, position: {orbit: {azimuth: 10, elevation: 20, distance: "
+      "3}}, fov: 40}, {step: 6, position: {orbit: {azimuth: 100, elevation: 35, distance: 2.5}}, "
+      "look_at: [0.5, 0.4, 0.5], fov: 30}], interpolation: smooth}\n";
   const std::string fixed = "    camera: {position: {orbit: {azimuth: 100, elevation: 35, distance: 2.5}}, "
                             "look_at: [0.5, 0.4, 0.5], fov: 30}\n";
   const std::string renders = render_yaml("keyed", "{every: 1}", keyed + cinema, "density", 12, 1) +
