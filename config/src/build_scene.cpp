@@ -161,7 +161,7 @@ CameraPose resolve_keyframe(const Resolver& res, const RenderSpec& spec, std::si
 }
 
 /// A keyframed camera at simulation step n (camera_keyframes.h): only the keyframes around n are
-/// resolved (O(log k) for k keyframes). A pose that cannot make a camera (position on look_at,
+/// resolved (2 to 4 of them, found by binary search). A pose that cannot make a camera (position on look_at,
 /// view along up) fails here with the step and its keyframes, as a moving orbit does.
 CameraPose keyframed_pose(const Resolver& res, const RenderSpec& spec, const Bounds& b, std::int64_t step) {
   const std::vector<CameraKeyframe>& keys = spec.camera.keyframes;

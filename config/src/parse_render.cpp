@@ -79,9 +79,8 @@ void parse_keyframes(const Map& m, const Value& list, CameraSpec& c) {
   parse_camera_common(m, c);
   c.interpolation = m.choice_or("interpolation", c.interpolation, detail::kCameraInterpolationNames);
   const std::string each = "{step: N, position: point, look_at: point, fov: degrees}";
-  for (const Value& e : list.list("a list of 1 to " + std::to_string(CameraSpec::kMaxKeyframes) + " keyframes, each " +
-                                      each + ", in increasing step order",
-                                  1, CameraSpec::kMaxKeyframes)) {
+  for (const Value& e :
+       list.list("a list of keyframes, each " + each + ", in increasing step order", 1, CameraSpec::kMaxKeyframes)) {
     const Map km = e.map_with_keys({"step", "position", "look_at", "fov"}, " (a keyframe: " + each + ")");
     CameraKeyframe k;
     const Value step = km.require("step", "an integer, the simulation step of this keyframe");

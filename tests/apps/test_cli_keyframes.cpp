@@ -56,7 +56,8 @@ TEST_CASE("tessera-render --step with a keyframed camera", "[cli][keyframes]") {
   std::vector<float> v;
   for (int k = 0; k < 9; ++k)
     for (int j = 0; j < 9; ++j)
-      for (int i = 0; i < 9; ++i) v.push_back(static_cast<float>(std::exp(-0.2 * ((i - 4) * (i - 4) + (j - 4) * (j - 4) + (k - 4) * (k - 4)))));
+      for (int i = 0; i < 9; ++i)
+        v.push_back(static_cast<float>(std::exp(-0.2 * ((i - 4) * (i - 4) + (j - 4) * (j - 4) + (k - 4) * (k - 4)))));
   std::ofstream(dir.file("v.raw"), std::ios::binary)
       .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
   dir.write("keyed.yaml", scene("keyframes: [{step: 0, position: {orbit: {azimuth: 0, elevation: 10, distance: fit}}}, "
