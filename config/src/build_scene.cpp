@@ -153,10 +153,15 @@ CameraPose resolve_keyframe(const Resolver& res, const RenderSpec& spec, std::si
   const std::string key = "camera.keyframes[" + std::to_string(k) + "].";
   res.orbit_extent(key + "position", f.position, b);
   CameraPose p;
-  p.position = res.point(key + "position", resolve_point(f.position, b, spec.camera.up,
-                                                         fit_distance(f.fov, spec.image.width, spec.image.height)));
+  const double fit_radii = fit_distance(f.fov, spec.image.width, spec.image.height);
+  p.position = res.point(key + "position", resolve_point(f.position, b, spec.camera.up, fit_radii));
   p.look_at = res.point(key + "look_at", resolve_point(f.look_at, b, spec.camera.up));
   p.fov = f.fov;
+  if (f.position.kind == PointSpec::Kind::Orbit) {
+    const OrbitSpec& o = f.position.orbit;
+    p.on_orbit = true;
+    p.orbit = Vec3(o.azimuth.start, o.elevation.start, o.fit ? fit_radii : o.distance.start);
+  }
   return p;
 }
 
@@ -190,6 +195,8 @@ CameraPose keyframed_pose(const Resolver& res, const RenderSpec& spec, const Bou
       }
     }
     p = interpolate_pose(spec.camera.interpolation, w, span.t);
+    // Between two orbit keyframes: the point of the interpolated orbit, placed as a static one
+    if (p.on_orbit) p.position = resolve_point(PointSpec::on_orbit(p.orbit.x, p.orbit.y, p.orbit.z), b, spec.camera.up);
     where = "at step " + std::to_string(step) + " (between keyframes " + std::to_string(i) + " and " +
             std::to_string(i + 1) + ", steps " + std::to_string(keys[i].step) + " and " +
             std::to_string(keys[i + 1].step) + ")";

@@ -36,6 +36,15 @@ void tangents(const PoseWindow& w, T (*get)(const CameraPose&), T& d1, T& d2) {
   d2 = w.has_after ? (get(w.pose[3]) - get(w.pose[1])) * ratio(w.step[1], w.step[2], w.step[1], w.step[3]) : secant;
 }
 
+/// The Catmull-Rom tangents of the orbit values: a neighbour counts only when it is on an orbit.
+void orbit_tangents(const PoseWindow& w, Vec3& d1, Vec3& d2) {
+  PoseWindow o = w;
+  o.has_before = w.has_before && w.pose[0].on_orbit;
+  o.has_after = w.has_after && w.pose[3].on_orbit;
+  tangents(
+      o, +[](const CameraPose& p) { return p.orbit; }, d1, d2);
+}
+
 Vec3 position_of(const CameraPose& p) { return p.position; }
 Vec3 look_at_of(const CameraPose& p) { return p.look_at; }
 double fov_of(const CameraPose& p) { return p.fov; }
@@ -57,12 +66,27 @@ CameraPose interpolate_pose(CameraInterpolation mode, const PoseWindow& w, doubl
   const CameraPose& b = w.pose[2];
   if (t == 0.0) return a;
   if (t == 1.0) return b;
-  if (mode == CameraInterpolation::Linear)
-    return {lerp(a.position, b.position, t), lerp(a.look_at, b.look_at, t), (1.0 - t) * a.fov + t * b.fov};
+  const bool orbit = a.on_orbit && b.on_orbit;
+  if (mode == CameraInterpolation::Linear) {
+    CameraPose p{lerp(a.position, b.position, t), lerp(a.look_at, b.look_at, t), (1.0 - t) * a.fov + t * b.fov};
+    if (orbit) {
+      p.on_orbit = true;
+      p.orbit = lerp(a.orbit, b.orbit, t);
+    }
+    return p;
+  }
 
-  // Smooth: one Hermite segment per value, the fov kept between its two keyframes
+  // Smooth: one Hermite segment per value, the fov (and an orbit's elevation and distance)
+  // kept between its two keyframes
   CameraPose p;
   Vec3 d1, d2;
+  if (orbit) {
+    orbit_tangents(w, d1, d2);
+    p.on_orbit = true;
+    p.orbit = hermite(a.orbit, d1, b.orbit, d2, t);
+    p.orbit.y = std::clamp(p.orbit.y, std::min(a.orbit.y, b.orbit.y), std::max(a.orbit.y, b.orbit.y));
+    p.orbit.z = std::clamp(p.orbit.z, std::min(a.orbit.z, b.orbit.z), std::max(a.orbit.z, b.orbit.z));
+  }
   tangents(w, position_of, d1, d2);
   p.position = hermite(a.position, d1, b.position, d2, t);
   tangents(w, look_at_of, d1, d2);

@@ -62,8 +62,8 @@ TEST_CASE("the moving-camera pictures of docs/config.md are made by their docume
   } cases[] = {{"turn", 30, "moving_turn_0030"}, {"fly", 15, "moving_fly_0015"}, {"fly", 60, "moving_fly_0060"}};
   for (const auto& c : cases) {
     INFO(c.picture);
-    REQUIRE(run("'" TESSERA_RENDER_EXE "' '" + dir.file("moving_cameras.yaml") + "' --render " + c.render +
-                " --step " + std::to_string(c.step) + " -o '" + dir.file(c.picture) + "' --quiet") == 0);
+    REQUIRE(run("'" TESSERA_RENDER_EXE "' '" + dir.file("moving_cameras.yaml") + "' --render " + c.render + " --step " +
+                std::to_string(c.step) + " -o '" + dir.file(c.picture) + "' --quiet") == 0);
     const std::vector<std::uint8_t> made = pixels(dir.file(std::string(c.picture) + ".png"));
     const std::vector<std::uint8_t> committed = pixels(kRepo + "/docs/images/" + c.picture + ".png");
     REQUIRE(made.size() == 160u * 160u * 4u);

@@ -138,8 +138,14 @@ TEST_CASE("between two keyframes the camera is their interpolation", "[config][k
   CHECK(c15.look_at == 0.5 * c10.look_at + 0.5 * c20.look_at);
   CHECK(c15.look_at == 0.5 * Vec3(0, 1, 1) + 0.5 * b.center());
   CHECK(c15.fov_deg == 40.0);
+  // Between two orbit keyframes the camera stays on the orbit: azimuth, elevation and distance
+  // (fit: that keyframe's fit distance) interpolated, placed as a static orbit is
   const CameraDesc c25 = scene_at(v, keyed, 25).camera;
-  CHECK(c25.position == 0.75 * c20.position + 0.25 * c40.position);
+  const double fit = fit_distance(35.0, 24, 16);
+  CHECK(c25.position == resolve_point(PointSpec::on_orbit(0.75 * 80.0 + 0.25 * 150.0, 0.75 * 10.0 + 0.25 * 40.0,
+                                                          0.75 * 3.0 + 0.25 * fit),
+                                      b, Vec3(0, 0, 1)));
+  CHECK(c25.position != 0.75 * c20.position + 0.25 * c40.position);
   CHECK(c25.fov_deg == 0.75 * 50.0 + 0.25 * 35.0);
   CHECK(c25.up == Vec3(0, 0, 1));
   CHECK(c25.aperture == 0.01);
@@ -192,6 +198,48 @@ TEST_CASE("between two keyframes the camera is their interpolation", "[config][k
     CHECK(glm::length(a.position - c.position) < 1e-12);
     CHECK(a.fov_deg == Approx(c.fov_deg).epsilon(1e-12));
   }
+}
+
+TEST_CASE("between two orbit keyframes the camera turns along the orbit", "[config][keyframes]") {
+  const Volume v;
+  for (const char* mode : {"linear", "smooth"}) {
+    INFO(mode);
+    // Halfway between azimuth 0 and 90 (elevation 10 to 30, distance 2 to 4): the static orbit
+    // at 45, 20, 3, bit for bit, image included
+    const RenderSpec keyed =
+        render_of("keyframes: [{step: 0, position: {orbit: {azimuth: 0, elevation: 10, distance: 2}}}, "
+                  "{step: 10, position: {orbit: {azimuth: 90, elevation: 30, distance: 4}}}], interpolation: " +
+                  std::string(mode));
+    const RenderSpec half = render_of("position: {orbit: {azimuth: 45, elevation: 20, distance: 3}}");
+    CHECK(same_camera(scene_at(v, keyed, 5).camera, scene_at(v, half, 5).camera));
+    CHECK(same_bits(render_at(v, keyed, 5), render_at(v, half, 5)));
+    // Azimuth 0 to 360 is a full turn: at the middle the camera is on the other side
+    const RenderSpec turn = render_of(
+        "keyframes: [{step: 0, position: {orbit: {azimuth: 0, distance: fit}}}, {step: 100, position: {orbit: "
+        "{azimuth: 360, distance: fit}}}], interpolation: " +
+        std::string(mode));
+    const Vec3 c = v.bounds().center();
+    const Vec3 p0 = scene_at(v, turn, 0).camera.position - c;
+    const Vec3 p50 = scene_at(v, turn, 50).camera.position - c;
+    CHECK(glm::dot(glm::normalize(p0), glm::normalize(p50)) == Approx(-1.0));
+    CHECK(glm::length(p50) == Approx(glm::length(p0)));
+  }
+  // Smooth with three orbit keyframes: the elevation overshoots nowhere (clamped to each
+  // segment's keyframes), the azimuth follows the spline
+  const RenderSpec three = render_of(
+      "keyframes: [{step: 0, position: {orbit: {azimuth: 0, elevation: 0, distance: 3}}}, {step: 10, position: {orbit: "
+      "{azimuth: 90, elevation: 80, distance: 3}}}, {step: 20, position: {orbit: {azimuth: 100, elevation: 80, "
+      "distance: 3}}}], interpolation: smooth");
+  const Vec3 c = v.bounds().center();
+  for (int n = 0; n <= 20; ++n) {
+    const Vec3 d = glm::normalize(scene_at(v, three, n).camera.position - c);
+    CHECK(std::asin(d.z) * 180.0 / kPi <= 80.0 + 1e-9);
+  }
+  // An orbit keyframe next to a point keyframe: that segment is a straight line
+  const RenderSpec mixed =
+      render_of("keyframes: [{step: 0, position: {orbit: {azimuth: 0, distance: 2}}}, {step: 4, position: [9, 9, 9]}]");
+  const CameraDesc m0 = scene_at(v, mixed, 0).camera, m4 = scene_at(v, mixed, 4).camera;
+  CHECK(scene_at(v, mixed, 2).camera.position == 0.5 * m0.position + 0.5 * m4.position);
 }
 
 TEST_CASE("keyframe_span: exact at the ends of the step range", "[config][keyframes]") {
