@@ -195,11 +195,17 @@ CameraPose keyframed_pose(const Resolver& res, const RenderSpec& spec, const Bou
       }
     }
     p = interpolate_pose(spec.camera.interpolation, w, span.t);
-    // Between two orbit keyframes: the point of the interpolated orbit, placed as a static one
-    if (p.on_orbit) p.position = resolve_point(PointSpec::on_orbit(p.orbit.x, p.orbit.y, p.orbit.z), b, spec.camera.up);
     where = "at step " + std::to_string(step) + " (between keyframes " + std::to_string(i) + " and " +
             std::to_string(i + 1) + ", steps " + std::to_string(keys[i].step) + " and " +
             std::to_string(keys[i + 1].step) + ")";
+    // Between two orbit keyframes: the point of the interpolated orbit, placed as a static one
+    if (p.on_orbit) {
+      if (!is_finite(p.orbit))
+        res.fail("camera.keyframes " + where + ": the orbit (azimuth, elevation, distance) " + vec_text(p.orbit) +
+                 " is not finite: the keyframes' orbit values are too far apart to interpolate (allowed: values "
+                 "whose differences are finite doubles)");
+      p.position = resolve_point(PointSpec::on_orbit(p.orbit.x, p.orbit.y, p.orbit.z), b, spec.camera.up);
+    }
     p.position = res.point("camera.keyframes " + where + ": position", p.position);
     p.look_at = res.point("camera.keyframes " + where + ": look_at", p.look_at);
   }

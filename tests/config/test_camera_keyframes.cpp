@@ -350,6 +350,17 @@ TEST_CASE("a keyframed pose that makes no camera fails that step's build, naming
   // A keyframe's orbit at distance 0 sits on look_at (center): that keyframe, at its step
   const RenderSpec zero = render_of("keyframes: [{step: 3, position: {orbit: {azimuth: 10, distance: 0}}}]");
   CHECK_THAT(build_error(zero, 3), Contains("camera.keyframes at step 3 (keyframe 0, step 3): position"));
+  // Orbit keyframes whose azimuths are finite but whose difference is not: the smooth spline's
+  // tangent overflows, a clear error for the steps between them (linear stays finite)
+  const std::string huge = "keyframes: [{step: 0, position: {orbit: {azimuth: -1.7e308, distance: 2}}}, {step: 2, "
+                           "position: {orbit: {azimuth: 1.7e308, distance: 2}}}, {step: 4, position: {orbit: "
+                           "{azimuth: -1.7e308, distance: 2}}}], interpolation: ";
+  CHECK(build_error(render_of(huge + "linear"), 1).empty());
+  CHECK(build_error(render_of(huge + "smooth"), 2).empty());
+  CHECK_THAT(build_error(render_of(huge + "smooth"), 1),
+             Contains("camera.keyframes at step 1 (between keyframes 0 and 1, steps 0 and 2): the orbit (azimuth, "
+                      "elevation, distance) [") &&
+                 Contains("is not finite"));
   // An orbit distance that resolves beyond the representable world names the keyframe
   const RenderSpec far =
       render_of("keyframes: [{step: 0, position: [3, 0, 0]}, {step: 1, position: {orbit: {distance: 1e300}}}]");

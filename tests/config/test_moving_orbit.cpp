@@ -8,6 +8,7 @@
 #include <tessera/number_text.h>
 #include <tessera/render.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -257,5 +258,12 @@ TEST_CASE("a moving orbit at huge steps: a finite camera or a clear error, never
     const RenderSpec& di = parsed(scene("{distance: {start: 0, per_step: 1e6}}"), d).renders[0];
     const std::string msg = build_error(di, b, n);
     CHECK_THAT(msg, Contains(n > 0 ? "lies beyond 2^40 smallest spacings" : "orbit distance {start: 0, per_step: "));
+  }
+  // The largest azimuths (their radians overflow) wrap exactly modulo 360: a finite camera
+  for (const double az : {1.7e308, -std::numeric_limits<double>::max()}) {
+    INFO("azimuth " << az);
+    const Vec3 d = orbit_direction(OrbitSpec{az, 10.0, 1.0}, Vec3(0, 0, 1));
+    CHECK(is_finite(d));
+    CHECK(d == orbit_direction(OrbitSpec{std::fmod(az, 360.0), 10.0, 1.0}, Vec3(0, 0, 1)));
   }
 }

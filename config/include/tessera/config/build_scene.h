@@ -27,7 +27,8 @@
 namespace tessera::config {
 
 /// The unit direction of an orbit point about `up` (see above). `up` need not be normalised
-/// but must be non-zero. The orbit must not move (take OrbitSpec::at(step) of one that does);
+/// but must be non-zero. An azimuth beyond about 5.7e307 degrees (whose radians overflow) is
+/// reduced modulo 360 first, exactly, so every finite azimuth gives a finite direction. The orbit must not move (take OrbitSpec::at(step) of one that does);
 /// a moving one throws std::logic_error, as resolve_point does for a moving orbit point.
 Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up);
 
