@@ -1,5 +1,6 @@
 // RenderSpec -> tessera::SceneDesc, once the data bounds and value range are known.
 #include <tessera/config/build_scene.h>
+#include <tessera/config/camera_keyframes.h>
 #include <tessera/config/colormaps.h>
 #include <tessera/image_io.h>
 #include <tessera/loop_bounds.h>
@@ -145,6 +146,81 @@ SphereLightDesc resolve_light(const SphereLightSpec& l, const LightFrame& f, con
   return sp;
 }
 
+/// Keyframe k of the render's camera, resolved against the data bounds under its key; an orbit
+/// with `distance: fit` is framed with the keyframe's fov.
+CameraPose resolve_keyframe(const Resolver& res, const RenderSpec& spec, std::size_t k, const Bounds& b) {
+  const CameraKeyframe& f = spec.camera.keyframes[k];
+  const std::string key = "camera.keyframes[" + std::to_string(k) + "].";
+  res.orbit_extent(key + "position", f.position, b);
+  CameraPose p;
+  const double fit_radii = fit_distance(f.fov, spec.image.width, spec.image.height);
+  p.position = res.point(key + "position", resolve_point(f.position, b, spec.camera.up, fit_radii));
+  p.look_at = res.point(key + "look_at", resolve_point(f.look_at, b, spec.camera.up));
+  p.fov = f.fov;
+  if (f.position.kind == PointSpec::Kind::Orbit) {
+    const OrbitSpec& o = f.position.orbit;
+    p.on_orbit = true;
+    p.orbit = Vec3(o.azimuth.start, o.elevation.start, o.fit ? fit_radii : o.distance.start);
+  }
+  return p;
+}
+
+/// A keyframed camera at simulation step n (camera_keyframes.h): only the keyframes around n are
+/// resolved (2 to 4 of them, found by binary search). A pose that cannot make a camera (position on look_at,
+/// view along up) fails here with the step and its keyframes, as a moving orbit does.
+CameraPose keyframed_pose(const Resolver& res, const RenderSpec& spec, const Bounds& b, std::int64_t step) {
+  const std::vector<CameraKeyframe>& keys = spec.camera.keyframes;
+  std::vector<std::int64_t> steps;
+  steps.reserve(keys.size());
+  for (const CameraKeyframe& k : keys) steps.push_back(k.step);
+  const KeyframeSpan span = keyframe_span(steps, step);
+  const std::size_t i = span.i;
+  PoseWindow w;
+  w.pose[1] = resolve_keyframe(res, spec, i, b);
+  w.step[1] = keys[i].step;
+  std::string where = "at step " + std::to_string(step) + " (keyframe " + std::to_string(i) + ", step " +
+                      std::to_string(keys[i].step) + ")";
+  CameraPose p = w.pose[1];
+  if (span.t > 0.0) {
+    w.pose[2] = resolve_keyframe(res, spec, i + 1, b);
+    w.step[2] = keys[i + 1].step;
+    if (spec.camera.interpolation == CameraInterpolation::Smooth) {
+      if ((w.has_before = i > 0)) {
+        w.pose[0] = resolve_keyframe(res, spec, i - 1, b);
+        w.step[0] = keys[i - 1].step;
+      }
+      if ((w.has_after = i + 2 < keys.size())) {
+        w.pose[3] = resolve_keyframe(res, spec, i + 2, b);
+        w.step[3] = keys[i + 2].step;
+      }
+    }
+    p = interpolate_pose(spec.camera.interpolation, w, span.t);
+    where = "at step " + std::to_string(step) + " (between keyframes " + std::to_string(i) + " and " +
+            std::to_string(i + 1) + ", steps " + std::to_string(keys[i].step) + " and " +
+            std::to_string(keys[i + 1].step) + ")";
+    // Between two orbit keyframes: the point of the interpolated orbit, placed as a static one
+    if (p.on_orbit) {
+      if (!is_finite(p.orbit))
+        res.fail("camera.keyframes " + where + ": the orbit (azimuth, elevation, distance) " + vec_text(p.orbit) +
+                 " is not finite: the keyframes' orbit values are too far apart to interpolate (allowed: values "
+                 "whose differences are finite doubles)");
+      p.position = resolve_point(PointSpec::on_orbit(p.orbit.x, p.orbit.y, p.orbit.z), b, spec.camera.up);
+    }
+    p.position = res.point("camera.keyframes " + where + ": position", p.position);
+    p.look_at = res.point("camera.keyframes " + where + ": look_at", p.look_at);
+  }
+  // The camera core can build: a view direction, not along up (core's own test)
+  const Vec3 view = p.look_at - p.position;
+  if (!(glm::length(view) > 0.0))
+    res.fail("camera.keyframes " + where + ": position " + vec_text(p.position) +
+             " equals look_at (allowed: keyframes between which the camera never reaches the point it looks at)");
+  if (glm::length(glm::cross(glm::normalize(view), glm::normalize(spec.camera.up))) < 1e-9)
+    res.fail("camera.keyframes " + where + ": the view direction from " + vec_text(p.position) + " to " +
+             vec_text(p.look_at) + " is parallel to camera.up " + vec_text(spec.camera.up) +
+             " (allowed: a view that is not straight along up)");
+  return p;
+}
+
 }  // namespace
 
 std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, double> auto_range) {
@@ -201,15 +277,22 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pa
   // (a spacing outside its range is prepare()'s error to report, not the camera's)
   const double h = std::min({geom.spacing.x, geom.spacing.y, geom.spacing.z});
   const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
-  const double fit_radii = fit_distance(spec.camera.fov, spec.image.width, spec.image.height);
-  res.orbit_extent("camera.position", spec.camera.position, data_bounds);
-  s.camera.position =
-      res.point("camera.position",
-                resolve_point(res.at_step("camera.position", spec.camera.position, step), data_bounds, up, fit_radii));
-  s.camera.look_at = res.point(
-      "camera.look_at", resolve_point(res.at_step("camera.look_at", spec.camera.look_at, step), data_bounds, up));
+  if (spec.camera.keyframes.empty()) {
+    const double fit_radii = fit_distance(spec.camera.fov, spec.image.width, spec.image.height);
+    res.orbit_extent("camera.position", spec.camera.position, data_bounds);
+    s.camera.position = res.point(
+        "camera.position",
+        resolve_point(res.at_step("camera.position", spec.camera.position, step), data_bounds, up, fit_radii));
+    s.camera.look_at = res.point(
+        "camera.look_at", resolve_point(res.at_step("camera.look_at", spec.camera.look_at, step), data_bounds, up));
+    s.camera.fov_deg = spec.camera.fov;
+  } else {
+    const CameraPose p = keyframed_pose(res, spec, data_bounds, step);
+    s.camera.position = p.position;
+    s.camera.look_at = p.look_at;
+    s.camera.fov_deg = p.fov;
+  }
   s.camera.up = up;
-  s.camera.fov_deg = spec.camera.fov;
   s.camera.aperture = spec.camera.aperture;
   s.camera.focus_distance = spec.camera.focus_distance;
 

@@ -50,6 +50,56 @@ void parse_image(const Value& v, RenderSpec& r) {
   }
 }
 
+/// The shared keys of a camera (`up`, `aperture`, `focus_distance`) into c.
+void parse_camera_common(const Map& m, CameraSpec& c) {
+  if (const auto u = m.get("up")) {
+    c.up = u->vec3();
+    if (c.up == Vec3(0.0)) u->fail("[0, 0, 0] has no direction (allowed: a non-zero vector)");
+  }
+  c.aperture = m.number_or("aperture", c.aperture, Range::at_least(0.0));
+  c.focus_distance = m.number_or("focus_distance", c.focus_distance, Range::at_least(0.0));
+}
+
+/// A keyframe's point: as anywhere else, but it does not move per step (the keyframes do).
+PointSpec parse_keyframe_point(const Value& v, bool allow_fit) {
+  const PointSpec p = detail::parse_point(v, allow_fit);
+  if (p.moves())
+    v.fail("a keyframe's orbit does not move per step: the keyframes move the camera (allowed: plain numbers for "
+           "azimuth, elevation and distance, not {start, per_step})");
+  return p;
+}
+
+/// `camera: {keyframes: [...], interpolation, up, aperture, focus_distance}` into c.
+void parse_keyframes(const Map& m, const Value& list, CameraSpec& c) {
+  // position, look_at and fov belong to each keyframe
+  for (const char* own : {"position", "look_at", "fov"})
+    if (const auto o = m.get(own))
+      o->fail(std::string("camera.") + own + " beside camera.keyframes (allowed: either position, look_at and fov, " +
+              "or keyframes, each keyframe with its own position, look_at and fov)");
+  parse_camera_common(m, c);
+  c.interpolation = m.choice_or("interpolation", c.interpolation, detail::kCameraInterpolationNames);
+  const std::string each = "{step: N, position: point, look_at: point, fov: degrees}";
+  for (const Value& e :
+       list.list("a list of keyframes, each " + each + ", in increasing step order", 1, CameraSpec::kMaxKeyframes)) {
+    const Map km = e.map_with_keys({"step", "position", "look_at", "fov"}, " (a keyframe: " + each + ")");
+    CameraKeyframe k;
+    const Value step = km.require("step", "an integer, the simulation step of this keyframe");
+    k.step = step.integer(std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max());
+    if (!c.keyframes.empty() && k.step <= c.keyframes.back().step)
+      step.fail("keyframe step " + std::to_string(k.step) +
+                (k.step == c.keyframes.back().step ? " is given twice"
+                                                   : " comes after step " + std::to_string(c.keyframes.back().step)) +
+                " (allowed: keyframes in increasing step order, each step once)");
+    k.position =
+        parse_keyframe_point(km.require("position", detail::point_allowed() + " (distance: a number or fit)"), true);
+    if (const auto p = km.get("look_at")) k.look_at = parse_keyframe_point(*p, false);
+    k.fov = km.number_or("fov", k.fov, Range::open(0.0, 180.0));
+    if (detail::plainly_same(k.position, k.look_at))
+      km.get("position")->fail("keyframe position equals look_at (allowed: a point other than look_at)");
+    c.keyframes.push_back(k);
+  }
+}
+
 }  // namespace
 
 namespace detail {
@@ -89,17 +139,20 @@ TriggerSpec parse_trigger(const Value& v) {
 }
 
 CameraSpec parse_camera(const Value& v) {
-  const Map m = v.map_with_keys({"position", "look_at", "up", "fov", "aperture", "focus_distance"});
+  const Map m =
+      v.map_with_keys({"position", "look_at", "up", "fov", "aperture", "focus_distance", "keyframes", "interpolation"});
   CameraSpec c;
-  c.position = parse_point(m.require("position", point_allowed() + " (distance: a number or fit)"), true);
-  if (const auto p = m.get("look_at")) c.look_at = parse_point(*p);
-  if (const auto u = m.get("up")) {
-    c.up = u->vec3();
-    if (c.up == Vec3(0.0)) u->fail("[0, 0, 0] has no direction (allowed: a non-zero vector)");
+  if (const auto k = m.get("keyframes")) {
+    parse_keyframes(m, *k, c);
+    return c;
   }
+  if (const auto i = m.get("interpolation"))
+    i->fail("interpolation is how keyframes are joined, and this camera has none (allowed: interpolation beside "
+            "keyframes)");
+  c.position = parse_point(m.require("position", point_allowed() + " (distance: a number or fit), or keyframes"), true);
+  if (const auto p = m.get("look_at")) c.look_at = parse_point(*p);
+  parse_camera_common(m, c);
   c.fov = m.number_or("fov", c.fov, Range::open(0.0, 180.0));
-  c.aperture = m.number_or("aperture", c.aperture, Range::at_least(0.0));
-  c.focus_distance = m.number_or("focus_distance", c.focus_distance, Range::at_least(0.0));
 
   // A camera that looks at its own position is caught here when it is plain to see
   if (plainly_same(c.position, c.look_at)) {

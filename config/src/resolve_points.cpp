@@ -22,7 +22,10 @@ Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up_in) {
   const Vec3 e1 = glm::normalize(ref - glm::dot(ref, up) * up);
   const Vec3 e2 = glm::cross(up, e1);
 
-  const double az = orbit.azimuth.start * kPi / 180.0;
+  // An azimuth whose radians would overflow (|azimuth| > 5.7e307) is first reduced exactly
+  // modulo 360 (any other azimuth as before: its radians are finite)
+  const double az_deg = orbit.azimuth.start;
+  const double az = (std::isfinite(az_deg * kPi) ? az_deg : std::fmod(az_deg, 360.0)) * kPi / 180.0;
   const double el = orbit.elevation.start * kPi / 180.0;
   return std::cos(el) * (std::cos(az) * e1 + std::sin(az) * e2) + std::sin(el) * up;
 }

@@ -179,12 +179,32 @@ void write_image(YAML::Emitter& out, const RenderSpec& r) {
   out << YAML::EndMap;
 }
 
+/// A keyframed camera: its keyframes as a block list of one-line maps, then how they are joined.
+void write_keyframes(YAML::Emitter& out, const CameraSpec& c) {
+  key(out, "keyframes");
+  out << YAML::BeginSeq;
+  for (const CameraKeyframe& k : c.keyframes) {
+    out << YAML::Flow << YAML::BeginMap;
+    field(out, "step", k.step);
+    field(out, "position", k.position);
+    field(out, "look_at", k.look_at);
+    field(out, "fov", k.fov);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  field(out, "interpolation", name_of(detail::kCameraInterpolationNames, c.interpolation));
+}
+
 void write(YAML::Emitter& out, const CameraSpec& c) {
   out << YAML::BeginMap;
-  field(out, "position", c.position);
-  field(out, "look_at", c.look_at);
+  if (c.keyframes.empty()) {
+    field(out, "position", c.position);
+    field(out, "look_at", c.look_at);
+  } else {
+    write_keyframes(out, c);
+  }
   field(out, "up", c.up);
-  field(out, "fov", c.fov);
+  if (c.keyframes.empty()) field(out, "fov", c.fov);
   field(out, "aperture", c.aperture);
   field(out, "focus_distance", c.focus_distance);
   out << YAML::EndMap;

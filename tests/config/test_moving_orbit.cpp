@@ -8,6 +8,7 @@
 #include <tessera/number_text.h>
 #include <tessera/render.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -235,4 +236,34 @@ TEST_CASE("the effective config writes a moving orbit back as {start, per_step}"
   const std::string ft = to_yaml(f);
   CHECK_THAT(ft, Contains("{orbit: {azimuth: {start: 0.1, per_step: 0.3}, elevation: 20, distance: fit}}"));
   CHECK(to_yaml(parse_config(ft, "g.yaml", "")) == ft);
+}
+
+TEST_CASE("a moving orbit at huge steps: a finite camera or a clear error, never NaN", "[config][orbit]") {
+  // Each key at its largest per_step, at steps up to 2^62 and the ends of int64: S + D * n is
+  // finite (|D n| <= 1e6 * 2^63), so the azimuth builds (it wraps), the elevation and the
+  // distance leave their range or the world with a message naming the value and the step
+  const Bounds b{Vec3(0.0), Vec3(2.0)};
+  constexpr std::int64_t kBig = std::int64_t{1} << 62;
+  for (const std::int64_t n :
+       {kBig, -kBig, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()}) {
+    INFO("step " << n);
+    Config a, e, d;
+    const RenderSpec& az = parsed(scene("{azimuth: {start: 0, per_step: 1e6}, distance: 2}"), a).renders[0];
+    const SceneDesc s = build_scene(az, b, {0.0, 1.0}, VolumeGeometry{b.lo, Vec3(0.5)}, n);
+    CHECK(is_finite(s.camera.position));
+    CHECK(glm::length(s.camera.position - b.center()) == Approx(2.0 * b.radius()));
+    const RenderSpec& el = parsed(scene("{elevation: {start: 0, per_step: -1e6}, distance: 2}"), e).renders[0];
+    CHECK_THAT(build_error(el, b, n), Contains("orbit elevation {start: 0, per_step: -1e+06} is ") &&
+                                          Contains("at step " + std::to_string(n)));
+    const RenderSpec& di = parsed(scene("{distance: {start: 0, per_step: 1e6}}"), d).renders[0];
+    const std::string msg = build_error(di, b, n);
+    CHECK_THAT(msg, Contains(n > 0 ? "lies beyond 2^40 smallest spacings" : "orbit distance {start: 0, per_step: "));
+  }
+  // The largest azimuths (their radians overflow) wrap exactly modulo 360: a finite camera
+  for (const double az : {1.7e308, -std::numeric_limits<double>::max()}) {
+    INFO("azimuth " << az);
+    const Vec3 d = orbit_direction(OrbitSpec{az, 10.0, 1.0}, Vec3(0, 0, 1));
+    CHECK(is_finite(d));
+    CHECK(d == orbit_direction(OrbitSpec{std::fmod(az, 360.0), 10.0, 1.0}, Vec3(0, 0, 1)));
+  }
 }

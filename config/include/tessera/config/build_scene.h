@@ -27,7 +27,8 @@
 namespace tessera::config {
 
 /// The unit direction of an orbit point about `up` (see above). `up` need not be normalised
-/// but must be non-zero. The orbit must not move (take OrbitSpec::at(step) of one that does);
+/// but must be non-zero. An azimuth beyond about 5.7e307 degrees (whose radians overflow) is
+/// reduced modulo 360 first, exactly, so every finite azimuth gives a finite direction. The orbit must not move (take OrbitSpec::at(step) of one that does);
 /// a moving one throws std::logic_error, as resolve_point does for a moving orbit point.
 Vec3 orbit_direction(const OrbitSpec& orbit, const Vec3& up);
 
@@ -60,7 +61,10 @@ std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg);
 /// Reads the envmap (if any) from disk on every call. `step` is the simulation step: a
 /// moving orbit (`{start: S, per_step: D}`) is placed at S + D * step, and a value that
 /// leaves its key's range there (elevation outside [-90, 90], distance below 0) throws
-/// std::invalid_argument naming the render, the key and the step.
+/// std::invalid_argument naming the render, the key and the step. A keyframed camera
+/// (`camera.keyframes`) is placed at its pose of `step` (camera_keyframes.h); a pose that makes
+/// no camera there (position on look_at, a view along up) throws std::invalid_argument naming
+/// the render, the step and its keyframes.
 SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pair<double, double> auto_range,
                       const VolumeGeometry& geom, std::int64_t step = 0);
 

@@ -26,13 +26,31 @@ struct TriggerSpec {
   double above = 0.0;            ///< When: fires when the field maximum exceeds it
 };
 
+/// One entry of `camera: {keyframes: [...]}`: where the camera is at simulation step `step`.
+/// Its points do not move per step (no `{start, per_step}` orbit values: the keyframes move
+/// the camera); `position` may be an orbit with `distance: fit`, framed with this `fov`.
+struct CameraKeyframe {
+  std::int64_t step = 0;
+  PointSpec position;  ///< required; differs from look_at where that is plain to see
+  PointSpec look_at = PointSpec::center();
+  double fov = 30.0;  ///< vertical, degrees, (0, 180)
+};
+
+/// How a keyframed camera moves between its keyframes (camera_keyframes.h).
+enum class CameraInterpolation { Linear, Smooth };
+
 struct CameraSpec {
-  PointSpec position;  ///< required
+  PointSpec position;  ///< required unless keyframes are given
   PointSpec look_at = PointSpec::center();
   Vec3 up{0.0, 0.0, 1.0};       ///< non-zero
   double fov = 30.0;            ///< vertical, degrees, (0, 180)
   double aperture = 0.0;        ///< >= 0
   double focus_distance = 0.0;  ///< >= 0; 0 = distance to look_at
+  /// Non-empty: a keyframed camera; position, look_at and fov above are unused (the config
+  /// gives either them or keyframes). Steps strictly increasing, 1 to kMaxKeyframes entries.
+  std::vector<CameraKeyframe> keyframes;
+  CameraInterpolation interpolation = CameraInterpolation::Linear;  ///< keyframes only
+  static constexpr std::size_t kMaxKeyframes = 4096;
 };
 
 /// `integrator:`: the core IntegratorDesc plus the per-render options that live in
