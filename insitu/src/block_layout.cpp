@@ -71,8 +71,7 @@ Key key(std::int64_t i, std::int64_t j, std::int64_t k) {
 }
 
 void add_corners(std::vector<Key>& keys, const std::int64_t lo[3], const std::int64_t hi[3]) {
-  for (int c = 0; c < 8; ++c)
-    keys.push_back(key(c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]));
+  for (int c = 0; c < 8; ++c) keys.push_back(key(c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]));
 }
 
 }  // namespace

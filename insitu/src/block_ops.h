@@ -8,9 +8,11 @@
 #include <tessera/field_view.h>
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <utility>
+#include <vector>
 
 namespace tessera::insitu {
 
@@ -27,5 +29,17 @@ void combine_parts(FieldSummary::Parts& a, const FieldSummary::Parts& b);
 
 /// Finite min/max over the blocks' values (field_range of each); nullopt when none is finite.
 std::optional<std::pair<double, double>> blocks_range(std::span<const FieldBlock> blocks);
+
+/// One rank's assemble_blocks (parallel_context.h): tessera_execute's block must cover the
+/// grid (LayoutError otherwise) and is returned as it is, as is one domain that covers it;
+/// several domains are checked (block_layout.h) and copied into `replica` (resized to the
+/// field), whose view is returned.
+FieldView assemble_one_rank(std::span<const FieldBlock> blocks, const std::int64_t global[3], DType dtype,
+                            std::vector<unsigned char>& replica);
+
+/// One rank's summarize_blocks: the blocks checked as assemble_one_rank does, their partial
+/// summaries combined.
+std::shared_ptr<const FieldSummary> summarize_one_rank(std::span<const FieldBlock> blocks, const std::int64_t global[3],
+                                                       DType dtype, int edge);
 
 }  // namespace tessera::insitu

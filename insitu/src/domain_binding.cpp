@@ -21,7 +21,14 @@ namespace {
 
 constexpr const char* kAxis = "ijk";
 
-std::string axis(int a) { return "[" + std::to_string(a) + "] (" + kAxis[a] + ")"; }
+std::string axis(int a) {
+  std::string s = "[";
+  s += std::to_string(a);
+  s += "] (";
+  s += kAxis[a];
+  s += ')';
+  return s;
+}
 
 [[noreturn]] void fail(const std::string& fault) { throw std::invalid_argument(fault); }
 
@@ -49,7 +56,8 @@ void check_mesh(const tessera_mesh& m) {
     if (m.global_dims[a] < 1 || m.global_dims[a] > INT_MAX)
       fail("mesh: global_dims" + axis(a) + " = " + std::to_string(m.global_dims[a]) + ", must be in [1, " +
            std::to_string(INT_MAX) + "]");
-    if (!std::isfinite(m.origin[a])) fail("mesh: origin" + axis(a) + " = " + short_number(m.origin[a]) + " is not finite");
+    if (!std::isfinite(m.origin[a]))
+      fail("mesh: origin" + axis(a) + " = " + short_number(m.origin[a]) + " is not finite");
     if (!m.coords[a]) {
       const double s = m.spacing[a];
       if (!std::isfinite(s) || !(s > 0.0))
@@ -184,7 +192,8 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
       if (q >= list.size() || q >= first.size() || list[q].first != first[q].first) {
         const bool missing = q >= list.size() || (q < first.size() && first[q].first < list[q].first);
         const std::string_view which = missing ? first[q].first : list[q].first;
-        fail(who + ": field '" + std::string(which) + (missing ? "' is missing: domain 0 publishes it" : "' is not published by domain 0") +
+        fail(who + ": field '" + std::string(which) +
+             (missing ? "' is missing: domain 0 publishes it" : "' is not published by domain 0") +
              " (every domain must publish the same fields)");
       }
       const tessera_field& f = d.fields[list[q].second];
@@ -203,8 +212,8 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
       block.offset[a] = d.offset[a];
       if (d.offset[a] < 0 || block.view.dims[a] > mesh->global_dims[a] - d.offset[a])
         fail(label + ": real elements [" + std::to_string(d.offset[a]) + ".." +
-             std::to_string(d.offset[a] + block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) +
-             " (offset" + axis(a) + " = " + std::to_string(d.offset[a]) + ") leave the mesh's [0.." +
+             std::to_string(d.offset[a] + block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" +
+             axis(a) + " = " + std::to_string(d.offset[a]) + ") leave the mesh's [0.." +
              std::to_string(mesh->global_dims[a]) + ")");
     }
     b.blocks.push_back(block);

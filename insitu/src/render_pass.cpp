@@ -202,6 +202,7 @@ class Pass {
  private:
   /// Runs fn on this rank, then agrees with the others; on any rank's failure records
   /// `status` and the message (this rank's own, or that another rank failed) and returns false.
+  /// The other ranks' message quotes the first failing rank's.
   /// A LayoutError on any rank (the ranks' boxes do not fit together) records
   /// TESSERA_ERROR_DATA instead, on every rank: a descriptor fault, whichever phase found it.
   template <class Fn>
@@ -228,12 +229,18 @@ class Pass {
     const bool root = m_ctx.rank() == 0;
     const bool any_layout = m_ctx.any(layout);
     const bool root_failed = m_ctx.any(root && !ok);
+    // The first failing rank's own message, for the others' (two more collectives)
+    const int first_failed = m_ctx.min(ok ? std::numeric_limits<int>::max() : m_ctx.rank());
+    std::string theirs = ok ? std::string() : fault;
+    m_ctx.broadcast(theirs, first_failed);
     m_out.report_here = root || (!ok && !root_failed);
     m_out.result.status = any_layout ? TESSERA_ERROR_DATA : status;
     // A long output_dir is quoted short (each time), and nothing prints raw
     fault = message_quoting(std::move(fault), m_cfg.global.output_dir);
     std::string where = "render '" + m_spec.name + "' at step " + std::to_string(m_call.step) + ": ";
-    if (ok) m_out.result.error = where + "failed on another rank";
+    if (ok)
+      m_out.result.error = where + "failed on another rank (rank " + std::to_string(first_failed) + ": " +
+                           message_quoting(std::move(theirs), m_cfg.global.output_dir) + ")";
     else if (m_ctx.size() > 1) m_out.result.error = where + "rank " + std::to_string(m_ctx.rank()) + ": " + fault;
     else m_out.result.error = where + fault;
     return false;

@@ -164,7 +164,9 @@ class MpiParallelContext final : public ParallelContext {
   int m_node_rank = 0, m_node_size = 1, m_node_count = 1;
   std::vector<int> m_leader_of;  ///< per rank of m_comm: its node leader's rank
 
-  std::int64_t m_global[3] = {0, 0, 0};  ///< global dims of the last checked decomposition
+  std::int64_t m_global[3] = {0, 0, 0};
+  std::vector<unsigned char>
+      m_local_replica;  ///< one rank with several domains: their copy  ///< global dims of the last checked decomposition
   MPI_Win m_replica_win = MPI_WIN_NULL;
   void* m_replica = nullptr;
   std::uint64_t m_replica_bytes = 0;

@@ -41,10 +41,7 @@ std::shared_ptr<const FieldSummary> MpiParallelContext::summarize_blocks(std::sp
   FieldView primary;  // the block distribute_blocks reads in place (none: data null)
   primary.dtype = dtype;
   if (!blocks.empty()) primary = blocks[0].view;
-  if (m_size == 1 && blocks.size() == 1) {
-    assemble_blocks(blocks, global, dtype);  // the checks of one rank
-    return FieldSummary::build(primary, edge);
-  }
+  if (m_size == 1) return summarize_one_rank(blocks, global, dtype, edge);  // no MPI call
   check_boxes(blocks, global, dtype);
   FieldSummary::Parts parts = partial_of_blocks(blocks, global, edge);
   // Exact in any order: min / max / or / sum (field_summary.h)

@@ -17,13 +17,6 @@ namespace {
 
 using detail::check;
 
-std::string box_text(const std::int64_t offset[3], const std::int64_t dims[3]) {
-  std::string s = "[";
-  for (int a = 0; a < 3; ++a)
-    s += (a ? ", " : "") + std::to_string(offset[a]) + ".." + std::to_string(offset[a] + dims[a]);
-  return s + ")";
-}
-
 std::string dims_text(const std::int64_t dims[3]) {
   return std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]);
 }
@@ -209,24 +202,7 @@ std::vector<BlockRecord> MpiParallelContext::check_boxes(std::span<const FieldBl
 FieldView MpiParallelContext::assemble_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3],
                                               DType dtype) {
   m_report.assemble_bytes = 0;
-  if (m_size == 1 && blocks.size() == 1) {
-    const FieldView& local = blocks[0].view;
-    local.validate("field");
-    for (int a = 0; a < 3; ++a)
-      if (blocks[0].offset[a] != 0 || local.dims[a] != global[a]) {
-        if (blocks[0].domain < 0)
-          throw LayoutError("one rank must hold the whole grid: its real vertices " +
-                            box_text(blocks[0].offset, local.dims) + " do not cover global dims " +
-                            std::to_string(global[0]) + "x" + std::to_string(global[1]) + "x" +
-                            std::to_string(global[2]));
-        const BlockRecord r{{blocks[0].offset[0], blocks[0].offset[1], blocks[0].offset[2]},
-                            {local.dims[0], local.dims[1], local.dims[2]},
-                            0,
-                            blocks[0].domain};
-        check_tiling(std::span<const BlockRecord>(&r, 1), global, "elements");  // throws
-      }
-    return local;  // zero copy
-  }
+  if (m_size == 1) return assemble_one_rank(blocks, global, dtype, m_local_replica);  // no MPI call
 
   end_distribution();
   std::vector<int> counts;
