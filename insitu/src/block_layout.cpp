@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <climits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace tessera::insitu {
@@ -41,14 +42,24 @@ bool overlap(const BlockRecord& a, const BlockRecord& b) {
 std::pair<std::int64_t, std::int64_t> overlapping_pair(std::span<const BlockRecord> blocks) {
   std::vector<std::int64_t> order(blocks.size());
   for (std::size_t n = 0; n < order.size(); ++n) order[n] = static_cast<std::int64_t>(n);
+  // Blocks that start at the same element overlap: found in O(N log N) whatever the budget
   std::sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t b) {
-    return blocks[a].offset[0] != blocks[b].offset[0] ? blocks[a].offset[0] < blocks[b].offset[0] : a < b;
+    const BlockRecord &x = blocks[a], &y = blocks[b];
+    return std::tie(x.offset[0], x.offset[1], x.offset[2], a) < std::tie(y.offset[0], y.offset[1], y.offset[2], b);
   });
+  for (std::size_t n = 1; n < order.size(); ++n) {
+    const BlockRecord &x = blocks[order[n - 1]], &y = blocks[order[n]];
+    if (x.offset[0] == y.offset[0] && x.offset[1] == y.offset[1] && x.offset[2] == y.offset[2])
+      return {std::min(order[n - 1], order[n]), std::max(order[n - 1], order[n])};
+  }
+  // A sweep along i (order is sorted by i first)
   std::vector<std::int64_t> active;  // blocks whose i range may still meet later ones
   std::int64_t tests = 0;
   std::pair<std::int64_t, std::int64_t> best{-1, -1};
   for (std::int64_t n : order) {
     const BlockRecord& b = blocks[n];
+    tests += static_cast<std::int64_t>(active.size());
+    if (tests > kMaxPairTests) return best;
     std::erase_if(active, [&](std::int64_t q) { return blocks[q].offset[0] + blocks[q].dims[0] <= b.offset[0]; });
     for (std::int64_t q : active) {
       if (++tests > kMaxPairTests) return best;

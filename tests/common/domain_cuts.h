@@ -46,7 +46,8 @@ inline float global_value(const Dims& g, std::int64_t i, std::int64_t j, std::in
   const double y = static_cast<double>(j) / static_cast<double>(g[1] - 1) - 0.5;
   const double z = static_cast<double>(k) / static_cast<double>(g[2] - 1) - 0.55;
   const double r2 = x * x + 1.3 * y * y + z * z;
-  return static_cast<float>(std::round(250.0 * std::exp(-r2 / 0.07) + 40.0 * std::exp(-((x - 0.3) * (x - 0.3) + y * y) / 0.02)));
+  return static_cast<float>(
+      std::round(250.0 * std::exp(-r2 / 0.07) + 40.0 * std::exp(-((x - 0.3) * (x - 0.3) + y * y) / 0.02)));
 }
 
 /// The mesh of g elements over [-0.5, 0.5]^3 (vertex data: g vertices; cell data: g cells).

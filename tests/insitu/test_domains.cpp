@@ -33,11 +33,10 @@ const Dims kG{23, 19, 17};
 
 std::string domains_config(const TempDir& dir, const std::string& out, const std::string& scattering) {
   return dir.write("cfg_" + out + ".yaml",
-                   config_yaml(dir.file(out),
-                               render_yaml("view", "{every: 1}",
-                                           "    integrator: {scattering: " + scattering +
-                                               ", max_bounces: 4, tile: 8, seed: 3}\n",
-                                           "density", 28, 3)));
+                   config_yaml(dir.file(out), render_yaml("view", "{every: 1}",
+                                                          "    integrator: {scattering: " + scattering +
+                                                              ", max_bounces: 4, tile: 8, seed: 3}\n",
+                                                          "density", 28, 3)));
 }
 
 bool same_image(const tessera::Image& a, const tessera::Image& b) {
@@ -139,16 +138,21 @@ TEST_CASE("domains: bad meshes and domains fail with TESSERA_ERROR_DATA naming w
   };
   static tessera_field other_name, other_dtype, two[2];
   const std::vector<Case> cases = {
-      {"overlap", [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[3].offset[1] -= 1; },
+      {"overlap",
+       [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[3].offset[1] -= 1; },
        {"domain 3", "overlap", "domain 2"}},
       {"gap", [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d.pop_back(); }, {"cover", "of the"}},
-      {"outside the mesh", [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[6].offset[2] += 1; },
+      {"outside the mesh",
+       [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[6].offset[2] += 1; },
        {"domain 6", "field 'density'", "along k", "leave the mesh"}},
-      {"negative offset", [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[0].offset[0] = -1; },
+      {"negative offset",
+       [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[0].offset[0] = -1; },
        {"domain 0", "along i", "leave the mesh"}},
-      {"NaN origin", [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.origin[1] = NAN; },
+      {"NaN origin",
+       [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.origin[1] = NAN; },
        {"mesh: origin[1] (j)", "not finite"}},
-      {"infinite spacing", [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.spacing[2] = INFINITY; },
+      {"infinite spacing",
+       [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.spacing[2] = INFINITY; },
        {"mesh: spacing[2] (k)"}},
       {"non-increasing coordinates",
        [&](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) {
@@ -165,9 +169,11 @@ TEST_CASE("domains: bad meshes and domains fail with TESSERA_ERROR_DATA naming w
       {"ghosts larger than the array",
        [](tessera_mesh&, std::vector<tessera_domain>&, HeldDomains& h) { h.field(4).ghosts_hi[2] = 1000; },
        {"domain 4", "field 'density'", "ghost layers along k"}},
-      {"NULL fields", [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[2].fields = nullptr; },
+      {"NULL fields",
+       [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[2].fields = nullptr; },
        {"domain 2", "field list is invalid", "NULL"}},
-      {"negative nfields", [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[1].nfields = -1; },
+      {"negative nfields",
+       [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[1].nfields = -1; },
        {"domain 1", "field list is invalid"}},
       {"a field of another name",
        [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains& h) {
@@ -190,16 +196,20 @@ TEST_CASE("domains: bad meshes and domains fail with TESSERA_ERROR_DATA naming w
          d[0].nfields = 2;
        },
        {"domain 0", "published twice"}},
-      {"AMR levels", [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.nlevels = 2; },
+      {"AMR levels",
+       [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.nlevels = 2; },
        {"nlevels = 2", "not yet"}},
-      {"a domain at level 1", [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[3].level = 1; },
+      {"a domain at level 1",
+       [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[3].level = 1; },
        {"domain 3", "level 1", "not yet"}},
       {"bad association",
        [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.association = tessera_association(7); },
        {"association 7"}},
-      {"global_dims 0", [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.global_dims[0] = 0; },
+      {"global_dims 0",
+       [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.global_dims[0] = 0; },
        {"global_dims[0] (i)"}},
-      {"no domains", [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d.clear(); },
+      {"no domains",
+       [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d.clear(); },
        {"no rank passed a domain"}},
   };
   for (const Case& c : cases) {
@@ -242,8 +252,7 @@ TEST_CASE("domains: the C API's argument checks (NULL mesh, NULL domains, ndomai
 TEST_CASE("domains: a call where nothing fires reads no descriptor", "[insitu][domains]") {
   TempDir dir;
   Adapter ad;
-  REQUIRE(ad.open(dir.write("cfg.yaml", config_yaml(dir.file("o"), render_yaml("view", "{every: 5}")))) ==
-          TESSERA_OK);
+  REQUIRE(ad.open(dir.write("cfg.yaml", config_yaml(dir.file("o"), render_yaml("view", "{every: 5}")))) == TESSERA_OK);
   tessera_mesh bad{};  // invalid in every way: never looked at
   CHECK(ad.execute_domains(1, 0.0, bad, {}) == TESSERA_OK);
 }

@@ -30,8 +30,7 @@ namespace {
 
 const Dims kG{29, 26, 24};
 
-std::string config_text(const std::string& output_dir, const std::string& distribution,
-                        const std::string& scattering) {
+std::string config_text(const std::string& output_dir, const std::string& distribution, const std::string& scattering) {
   return "tessera:\n  output_dir: " + output_dir + "\n  distribution: " + distribution +
          "\n  threads: 1\n"
          "renders:\n"
@@ -67,8 +66,8 @@ std::vector<tessera_domain> dealt(const HeldDomains& held, Deal deal, int rank, 
 using Edit = std::function<void(int, tessera_mesh&, std::vector<tessera_domain>&)>;
 
 struct Run {
-  tessera_status status = TESSERA_OK;  ///< the same on every member (-1 if they differed)
-  std::string error;                   ///< rank 0's
+  tessera_status status = TESSERA_OK;   ///< the same on every member (-1 if they differed)
+  std::string error;                    ///< rank 0's
   std::optional<tessera::Image> image;  ///< rank 0's
 };
 
@@ -190,15 +189,30 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
     int execute_rank = -1;
   };
   const std::vector<Case> cases = {
-      {"rank 1's origin differs", [](int r, tessera_mesh& m, auto&) { if (r == 1) m.origin[2] += 1e-9; },
+      {"rank 1's origin differs",
+       [](int r, tessera_mesh& m, auto&) {
+         if (r == 1) m.origin[2] += 1e-9;
+       },
        "ranks disagree on the mesh"},
       {"rank 1's axis j is rectilinear (the same values)",
-       [](int r, tessera_mesh& m, auto&) { if (r == 1) m.coords[1] = coords.data(); }, "ranks disagree on the mesh"},
-      {"rank 1's mesh is cell data", [](int r, tessera_mesh& m, auto&) { if (r == 1) m.association = TESSERA_CELL; },
+       [](int r, tessera_mesh& m, auto&) {
+         if (r == 1) m.coords[1] = coords.data();
+       },
+       "ranks disagree on the mesh"},
+      {"rank 1's mesh is cell data",
+       [](int r, tessera_mesh& m, auto&) {
+         if (r == 1) m.association = TESSERA_CELL;
+       },
        "ranks disagree on the mesh"},
       {"rank 1's first domain overlaps another",
-       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) { if (r == 1) d[0].offset[1] -= 1; }, "overlap"},
-      {"rank 1 leaves out its domains: a gap", [](int r, tessera_mesh&, std::vector<tessera_domain>& d) { if (r == 1) d.clear(); },
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         if (r == 1) d[0].offset[1] -= 1;
+       },
+       "overlap"},
+      {"rank 1 leaves out its domains: a gap",
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         if (r == 1) d.clear();
+       },
        "cover"},
       {"rank 1's ghosts are larger than its array",
        [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
@@ -220,7 +234,11 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
          }
        },
        "different dtypes"},
-      {"rank 1's nlevels is 2", [](int r, tessera_mesh& m, auto&) { if (r == 1) m.nlevels = 2; }, "not yet"},
+      {"rank 1's nlevels is 2",
+       [](int r, tessera_mesh& m, auto&) {
+         if (r == 1) m.nlevels = 2;
+       },
+       "not yet"},
       {"rank 1 calls tessera_execute", {}, "tessera_execute", 1},
   };
   for (const Case& c : cases) {
