@@ -63,8 +63,8 @@ struct Outcome {
 
 Outcome run(const Tiny& t, int ndomains, const tessera_domain* domains) {
   TempDir dir;
-  const std::string cfg = dir.write(
-      "a.yaml", config_yaml(dir.file("out"), render_yaml("tiny", "{every: 1}", "", "density", 16, 1)));
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(dir.file("out"), render_yaml("tiny", "{every: 1}", "", "density", 16, 1)));
   tessera_adapter* a = nullptr;
   REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
   const auto t0 = Clock::now();
