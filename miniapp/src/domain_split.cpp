@@ -29,7 +29,8 @@ std::vector<tessera_domain> split_domains(const tessera_field& whole, const std:
     tessera_field& f = fields[static_cast<std::size_t>(d)];
     // Array element (lo + ghosts_lo - 1) along the axis: one plane below the slab (a
     // neighbour's real plane or the array's ghost) becomes the domain's low ghost
-    f.data = static_cast<const unsigned char*>(whole.data) + (lo + whole.ghosts_lo[axis] - 1) * whole.byte_strides[axis];
+    f.data =
+        static_cast<const unsigned char*>(whole.data) + (lo + whole.ghosts_lo[axis] - 1) * whole.byte_strides[axis];
     f.dims[axis] = hi - lo + 2;
     f.ghosts_lo[axis] = 1;
     f.ghosts_hi[axis] = 1;
