@@ -56,6 +56,19 @@ tessera_status Adapter::execute(std::int64_t step, double time, const tessera_gr
   return s;
 }
 
+tessera_status Adapter::execute_domains(std::int64_t step, double time, const tessera_mesh& mesh,
+                                        std::span<const tessera_domain> domains, bool final_step) {
+  if (!m_impl) return TESSERA_ERROR_CONFIG;  // moved from
+  GateCall inside(m_impl->m_gate);
+  if (inside.refusal() != CallGate::Refusal::None)
+    return refuse(m_impl.get(), inside.refusal(), final_step ? "execute_domains (final step)" : "execute_domains");
+  clear_refusal(m_impl.get());
+  const tessera_status s =
+      m_impl->execute_domains(step, time, &mesh, domains.data(), static_cast<std::int64_t>(domains.size()), final_step);
+  if (s != TESSERA_OK && m_impl->abort_mode()) throw AdapterError(s, m_impl->m_error);
+  return s;
+}
+
 tessera_status Adapter::field_unchanged(const std::string& field_name) noexcept {
   if (!m_impl) return TESSERA_ERROR_CONFIG;
   GateCall inside(m_impl->m_gate);

@@ -117,6 +117,26 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f, const 
 
 tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tessera_grid* grid,
                                       const tessera_field* fields, std::int64_t nfields, bool final_step) noexcept {
+  Publication pub;
+  pub.grid = grid;
+  pub.fields = fields;
+  pub.nfields = nfields;
+  return run_call(step, time, pub, final_step);
+}
+
+tessera_status Adapter::Impl::execute_domains(std::int64_t step, double time, const tessera_mesh* mesh,
+                                              const tessera_domain* domains, std::int64_t ndomains,
+                                              bool final_step) noexcept {
+  Publication pub;
+  pub.domains_call = true;
+  pub.mesh = mesh;
+  pub.domains = domains;
+  pub.ndomains = ndomains;
+  return run_call(step, time, pub, final_step);
+}
+
+tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Publication& pub,
+                                       bool final_step) noexcept {
   // The simulation's time since the last call, added on entry; on every return the clock
   // restarts, and a call in which a render fired starts the sum afresh
   if (m_sim_seconds >= 0.0)
@@ -166,7 +186,9 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     const std::span<const unsigned char> fired{reinterpret_cast<const unsigned char*>(m_decisions.data()),
                                                m_decisions.size()};
     double plan = m_budget ? m_budget->plan(step, std::max(0.0, m_sim_seconds), fired) : 1.0;
-    const CallView view{final_step ? CallKind::Final : CallKind::Execute, step, fired, m_config.renders, grid, plan};
+    CallView view{final_step ? CallKind::Final : CallKind::Execute, step, fired, m_config.renders, pub.grid, plan};
+    view.domains_call = pub.domains_call;
+    view.mesh = pub.mesh;
     if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view, kAgreementWarnSeconds, &plan)) {
       if (root) log_line(d->message);
       if (d->rank_closed) m_broken = d->message;
@@ -177,9 +199,13 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     // Renders that fire (or may: `when`), in config order
     m_call.step = step;
     m_call.time = time;
-    m_call.grid = grid;
-    m_call.fields = fields;
-    m_call.nfields = nfields;
+    m_call.grid = pub.grid;
+    m_call.fields = pub.fields;
+    m_call.nfields = pub.nfields;
+    m_call.domains_call = pub.domains_call;
+    m_call.mesh = pub.mesh;
+    m_call.domains = pub.domains;
+    m_call.ndomains = pub.ndomains;
     m_call.simulation_seconds = std::max(0.0, m_sim_seconds);
     m_call.budget_plan = plan;
     m_call.budget = m_budget ? &*m_budget : nullptr;
@@ -228,6 +254,8 @@ tessera_status Adapter::Impl::execute(std::int64_t step, double time, const tess
     // The descriptors are only valid during this call
     m_call.grid = nullptr;
     m_call.fields = nullptr;
+    m_call.mesh = nullptr;
+    m_call.domains = nullptr;
     m_call.assembled_key.reset();
     m_call.assembled = FieldView{};
     return status;

@@ -30,6 +30,10 @@ struct Adapter::Impl {
   /// fields/nfields as the C API receives them; checked only if a render fires.
   tessera_status execute(std::int64_t step, double time, const tessera_grid* grid, const tessera_field* fields,
                          std::int64_t nfields, bool final_step) noexcept;
+  /// tessera_execute_domains: mesh, domains and ndomains as the C API receives them; checked
+  /// only if a render fires (domain_binding.h, then the contexts' tiling check).
+  tessera_status execute_domains(std::int64_t step, double time, const tessera_mesh* mesh,
+                                 const tessera_domain* domains, std::int64_t ndomains, bool final_step) noexcept;
   /// Collective with MPI: the ranks agree that every one of them is closing (one allgather
   /// of the call record, rank_agreement.h), so a rank still inside an execute call that
   /// fires is told so, and so is this one: TESSERA_ERROR_CONFIG with m_error saying which
@@ -59,6 +63,18 @@ struct Adapter::Impl {
   CallGate m_gate;
 
  private:
+  /// What one call publishes: a grid and fields (tessera_execute) or a mesh and domains.
+  struct Publication {
+    const tessera_grid* grid = nullptr;
+    const tessera_field* fields = nullptr;
+    std::int64_t nfields = 0;
+    bool domains_call = false;
+    const tessera_mesh* mesh = nullptr;
+    const tessera_domain* domains = nullptr;
+    std::int64_t ndomains = 0;
+  };
+  tessera_status run_call(std::int64_t step, double time, const Publication& pub, bool final_step) noexcept;
+
   /// Read as bytes by the agreement (rank_agreement.h CallView::fired): keep these values.
   enum class Decision : unsigned char { Skip = 0, Fire = 1, WhenTrigger = 2 };
   std::vector<Decision> m_decisions;  ///< per render, sized at open: no allocation per call

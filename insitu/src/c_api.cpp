@@ -169,6 +169,20 @@ tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, dou
                  [&](tessera_adapter::Impl& impl) { return impl.execute(step, time, grid, fields, nfields, true); });
 }
 
+tessera_status tessera_execute_domains(tessera_adapter* adapter, int64_t step, double time, const tessera_mesh* mesh,
+                                       const tessera_domain* domains, int ndomains) {
+  return guarded(adapter, "tessera_execute_domains", [&](tessera_adapter::Impl& impl) {
+    return impl.execute_domains(step, time, mesh, domains, ndomains, false);
+  });
+}
+
+tessera_status tessera_execute_domains_final(tessera_adapter* adapter, int64_t step, double time,
+                                             const tessera_mesh* mesh, const tessera_domain* domains, int ndomains) {
+  return guarded(adapter, "tessera_execute_domains_final", [&](tessera_adapter::Impl& impl) {
+    return impl.execute_domains(step, time, mesh, domains, ndomains, true);
+  });
+}
+
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name) {
   return guarded(adapter, "tessera_field_unchanged",
                  [&](tessera_adapter::Impl& impl) { return impl.field_unchanged(field_name); });

@@ -22,8 +22,6 @@ static_assert(static_cast<int>(DType::UInt16) == TESSERA_UINT16, "tessera_dtype 
 static_assert(static_cast<int>(DType::Float32) == TESSERA_FLOAT32, "tessera_dtype and DType differ");
 static_assert(static_cast<int>(DType::Float64) == TESSERA_FLOAT64, "tessera_dtype and DType differ");
 
-std::string field_label(const tessera_field& f) { return std::string("field '") + (f.name ? f.name : "(null)") + "'"; }
-
 /// A double, short ("1e+308", "0.5"): never std::to_string's 300 digits or "0.000000".
 std::string num(double v) { return short_number(v); }
 
@@ -87,6 +85,15 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
 
 }  // namespace
 
+std::string field_label(const tessera_field& f) { return std::string("field '") + (f.name ? f.name : "(null)") + "'"; }
+
+bool FieldBinding::whole() const {
+  if (blocks.size() != 1) return false;
+  for (int a = 0; a < 3; ++a)
+    if (blocks[0].offset[a] != 0 || blocks[0].view.dims[a] != placement.global_dims[a]) return false;
+  return true;
+}
+
 int find_field(std::span<const tessera_field> fields, const std::string& field_name, const std::string& render_name) {
   for (std::size_t i = 0; i < fields.size(); ++i) {
     if (!fields[i].name) throw std::invalid_argument("fields[" + std::to_string(i) + "]: name is null");
@@ -108,9 +115,7 @@ int find_field(std::span<const tessera_field> fields, const std::string& field_n
                               "') is unknown: published fields are " + (names.empty() ? std::string("none") : names));
 }
 
-FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
-  const std::string label = field_label(f);
-
+FieldView bind_array(const tessera_field& f, const std::string& label) {
   // Descriptor of the whole array, ghosts included
   const int dt = static_cast<int>(f.dtype);
   if (dt < TESSERA_UINT8 || dt > TESSERA_FLOAT64)
@@ -142,10 +147,14 @@ FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
   }
   check_extent(label, f, dtype_size(dtype));  // first: validate() assumes no overflow
   full.validate(label);                       // zero or overlapping strides
+  return FieldView::with_ghosts(f.data, dtype, f.dims, f.byte_strides, f.ghosts_lo, f.ghosts_hi);
+}
 
-  // Real region and its place in the grid
+FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
+  const std::string label = field_label(f);
   FieldBinding b;
-  b.local = FieldView::with_ghosts(f.data, dtype, f.dims, f.byte_strides, f.ghosts_lo, f.ghosts_hi);
+  b.local = bind_array(f, label);
+  // Real region and its place in the grid
   check_grid(label, g, b.local.dims);
   for (int a = 0; a < 3; ++a) {
     b.placement.global_dims[a] = g.global_dims[a];
@@ -156,6 +165,10 @@ FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
   const Vec3 n(static_cast<double>(g.global_dims[0] - 1), static_cast<double>(g.global_dims[1] - 1),
                static_cast<double>(g.global_dims[2] - 1));
   b.global_bounds = Bounds{b.geometry.origin, b.geometry.origin + n * b.geometry.spacing};
+  FieldBlock block;
+  block.view = b.local;
+  for (int a = 0; a < 3; ++a) block.offset[a] = g.offset[a];
+  b.blocks.push_back(block);
   return b;
 }
 

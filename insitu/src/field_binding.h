@@ -13,15 +13,24 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 namespace tessera::insitu {
 
 /// A field bound for one execute call: valid only during that call.
+/// With tessera_execute_domains (domain_binding.h) a rank holds any number of blocks: `local`
+/// and `placement.offset` are then its largest block (the one distributed mode reads in
+/// place; data null when it holds none), and `blocks` lists them all, largest first.
 struct FieldBinding {
-  FieldView local;            ///< this rank's real vertices, in the simulation's memory
-  GlobalPlacement placement;  ///< where they sit in the global grid
-  VolumeGeometry geometry;    ///< world placement of global vertex (0,0,0) and the spacing
-  Bounds global_bounds;       ///< world bounds of the whole domain
+  FieldView local;                 ///< this rank's real vertices, in the simulation's memory
+  GlobalPlacement placement;       ///< where they sit in the global grid
+  VolumeGeometry geometry;         ///< world placement of global vertex (0,0,0) and the spacing
+  Bounds global_bounds;            ///< world bounds of the whole domain
+  std::vector<FieldBlock> blocks;  ///< every block of this rank (tessera_execute: one, domain -1)
+  bool domains = false;            ///< bound from tessera_execute_domains
+  /// The blocks are one block covering the whole grid (then the field is read in place on
+  /// one rank, with no replica).
+  bool whole() const;
 };
 
 /// Index of the field the render uses: `field_name`, or the only published field when the
@@ -33,6 +42,13 @@ int find_field(std::span<const tessera_field> fields, const std::string& field_n
 /// spacing finite and > 0, origin finite, global_dims >= 1, offset >= 0 and real extent +
 /// offset <= global_dims.
 FieldBinding bind_field(const tessera_field& field, const tessera_grid& grid);
+
+/// The descriptor checks of bind_field (dtype, data, dims, ghosts, strides) without the grid:
+/// the view of the field's real elements (ghosts skipped). Messages start with `label`.
+FieldView bind_array(const tessera_field& field, const std::string& label);
+
+/// "field 'NAME'" (or "field '(null)'").
+std::string field_label(const tessera_field& f);
 
 /// For a single rank: its real vertices must be the whole grid (offset 0, real dims ==
 /// global_dims).

@@ -55,7 +55,9 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   plan.limit = limit.bytes;
   plan.limit_text = std::move(limit.text);
   plan.cache_fraction = cfg.global.brick_cache;
-  if (ranks > 1) plan.replica_share = field_bytes(binding) / static_cast<std::uint64_t>(node_ranks);
+  // One rank reads a field held whole in place; several domains on one rank get a replica
+  const bool replica = ranks > 1 || (binding.domains && !binding.whole());
+  if (replica) plan.replica_share = field_bytes(binding) / static_cast<std::uint64_t>(node_ranks);
   switch (cfg.global.distribution) {
     case config::Distribution::Replicated: plan.distributed = false; break;
     case config::Distribution::Distributed: plan.distributed = ranks > 1; break;
@@ -64,6 +66,7 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   if (!plan.distributed) {
     MemoryEstimate e = plan.base;
     if (ranks > 1) e.add("field replica (this rank's share of its node's)", plan.replica_share);
+    else if (replica) e.add("field replica (the domains' copy)", plan.replica_share);
     if (e.total() > plan.limit) over_limit(e, plan);
   }
   return plan;

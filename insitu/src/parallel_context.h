@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -27,6 +28,15 @@ namespace tessera::insitu {
 struct GlobalPlacement {
   std::int64_t global_dims[3];
   std::int64_t offset[3];
+};
+
+/// One block of the global field this rank holds: its real elements, read in place.
+struct FieldBlock {
+  FieldView view;                      ///< real elements in the simulation's memory (validated)
+  std::int64_t offset[3] = {0, 0, 0};  ///< global index of view's element (0, 0, 0)
+  /// The caller's domain index (tessera_execute_domains), or -1 for tessera_execute's single
+  /// block (messages then say "rank r" instead of "rank r domain d").
+  int domain = -1;
 };
 
 /// The ranks' fields do not fit together: boxes of real vertices that overlap, leave a gap,
@@ -98,21 +108,46 @@ class ParallelContext {
   /// shared-memory window) and returns a view of it, valid until the next assemble() or the
   /// destruction of the context. All ranks must pass the same dtype and global dims; boxes
   /// that do not tile the global grid throw LayoutError.
-  virtual FieldView assemble(const FieldView& local, const GlobalPlacement& where) = 0;
+  /// (One block: assemble_blocks with that block.)
+  FieldView assemble(const FieldView& local, const GlobalPlacement& where) {
+    return assemble_blocks(one_block(local, where), where.global_dims, local.dtype);
+  }
+  /// As assemble(), from any number of blocks per rank (zero included), of dtype `dtype`
+  /// (every rank passes the same dtype and global_dims). One rank holding one block that
+  /// covers the grid: that view itself (zero copy). One rank with several blocks: a replica
+  /// the context owns (a copy), valid as above. The blocks of all ranks must tile the grid
+  /// (checked in O(N log N) for N blocks over all ranks): else LayoutError naming the ranks
+  /// and domains.
+  virtual FieldView assemble_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3],
+                                    DType dtype) = 0;
 
   /// Distributed mode (docs/mpi.md): the summary of the global field for macrocell edge `edge`
   /// from every rank's partial summary of its own block, combined by reductions (bit-identical
   /// to a summary of the whole field). Checks the boxes as assemble() does first.
-  virtual std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where,
-                                                        int edge) = 0;
+  std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where, int edge) {
+    return summarize_blocks(one_block(local, where), where.global_dims, local.dtype, edge);
+  }
+  /// As summarize(), from any number of blocks per rank: the partial summaries of every block
+  /// of every rank combined (exact in any order, so bit-identical to the whole field's). The
+  /// summary's recorded layout is the first block's (the one distribute_blocks reads in place).
+  virtual std::shared_ptr<const FieldSummary> summarize_blocks(std::span<const FieldBlock> blocks,
+                                                               const std::int64_t global_dims[3], DType dtype,
+                                                               int edge) = 0;
 
   /// Distributed mode: the field as this rank renders it without a replica: its own block read
   /// in place, every other vertex fetched from its owners brick by brick (bricks of 2^shift
   /// vertices) into a cache of `capacity` slots that the context owns (kept while the grid,
   /// dtype, shift and capacity are unchanged). Checks the boxes as assemble() does. Kernels may
   /// read the paged field only inside serve_while().
-  virtual PagedField distribute(const FieldView& local, const GlobalPlacement& where, int shift,
-                                std::size_t capacity) = 0;
+  PagedField distribute(const FieldView& local, const GlobalPlacement& where, int shift, std::size_t capacity) {
+    return distribute_blocks(one_block(local, where), where.global_dims, local.dtype, shift, capacity);
+  }
+  /// As distribute(), from any number of blocks per rank. The FIRST block (callers put the
+  /// largest first) is read in place by the kernels; the others of this rank are copied into
+  /// the cache's slots by this rank's brick service when a brick needs them (no message).
+  /// A brick may span blocks of several ranks: each owner sends its parts.
+  virtual PagedField distribute_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3],
+                                       DType dtype, int shift, std::size_t capacity) = 0;
 
   /// Runs fn (e.g. a prepare() that reads the field) on another thread while this one serves
   /// the other ranks' brick requests and fetches the bricks fn's kernels want, until fn has
@@ -127,6 +162,18 @@ class ParallelContext {
 
   /// Bytes moved between ranks by the last assemble() + render() (for benchmarks).
   virtual std::uint64_t bytes_moved() const = 0;
+
+ private:
+  struct OneBlock {
+    FieldBlock block;
+    operator std::span<const FieldBlock>() const { return {&block, 1}; }
+  };
+  static OneBlock one_block(const FieldView& local, const GlobalPlacement& where) {
+    OneBlock b;
+    b.block.view = local;
+    for (int a = 0; a < 3; ++a) b.block.offset[a] = where.offset[a];
+    return b;
+  }
 };
 
 }  // namespace tessera::insitu

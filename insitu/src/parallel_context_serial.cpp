@@ -1,9 +1,11 @@
 // ParallelContext without MPI: one rank, every collective is the identity.
+#include "block_ops.h"
 #include "parallel_context.h"
 
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace tessera::insitu {
 namespace {
@@ -22,24 +24,14 @@ class SerialContext final : public ParallelContext {
   }
   void broadcast(std::string&, int) override {}
 
-  FieldView assemble(const FieldView& local, const GlobalPlacement& where) override {
-    for (int a = 0; a < 3; ++a)
-      if (where.offset[a] != 0 || local.dims[a] != where.global_dims[a])
-        throw LayoutError("one rank must hold the whole grid: real vertices " + std::to_string(local.dims[0]) + "x" +
-                          std::to_string(local.dims[1]) + "x" + std::to_string(local.dims[2]) + " at offset (" +
-                          std::to_string(where.offset[0]) + ", " + std::to_string(where.offset[1]) + ", " +
-                          std::to_string(where.offset[2]) + ") do not cover global_dims " +
-                          std::to_string(where.global_dims[0]) + "x" + std::to_string(where.global_dims[1]) + "x" +
-                          std::to_string(where.global_dims[2]));
-    return local;
+  FieldView assemble_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3], DType dtype) override {
+    return assemble_one_rank(blocks, global, dtype, m_replica);
   }
-
-  std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where,
-                                                int edge) override {
-    assemble(local, where);
-    return FieldSummary::build(local, edge);
+  std::shared_ptr<const FieldSummary> summarize_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3],
+                                                       DType dtype, int edge) override {
+    return summarize_one_rank(blocks, global, dtype, edge);
   }
-  PagedField distribute(const FieldView&, const GlobalPlacement&, int, std::size_t) override {
+  PagedField distribute_blocks(std::span<const FieldBlock>, const std::int64_t*, DType, int, std::size_t) override {
     // The adapter renders one rank in replicated mode: its block is the whole field
     throw std::logic_error("distributed mode needs more than one rank");
   }
@@ -50,6 +42,9 @@ class SerialContext final : public ParallelContext {
   }
 
   std::uint64_t bytes_moved() const override { return 0; }
+
+ private:
+  std::vector<unsigned char> m_replica;  ///< several domains on one rank: their copy
 };
 
 }  // namespace

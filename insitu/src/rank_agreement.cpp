@@ -1,5 +1,7 @@
 #include "rank_agreement.h"
 
+#include "domain_binding.h"
+
 #include "error_policy.h"
 #include "hash64.h"
 
@@ -136,6 +138,8 @@ struct CallRecord {
   std::uint64_t origin_bits[3];
   std::uint64_t spacing_bits[3];
   std::int64_t global_dims[3];
+  std::uint64_t domains_call;  ///< 1: tessera_execute_domains (mesh_hash set), 0: tessera_execute
+  std::uint64_t mesh_hash;
   std::uint64_t plan_bits;  ///< the render-budget plan (a double): rank 0's is adopted, not compared
 };
 static_assert(std::is_trivially_copyable_v<CallRecord>);
@@ -155,7 +159,19 @@ CallRecord call_record(const CallView& call) {
   }
   rec.fired_hash = h;
   rec.plan_bits = std::bit_cast<std::uint64_t>(call.plan);
-  if (call.grid) {
+  rec.domains_call = call.domains_call ? 1 : 0;
+  if (call.domains_call) {
+    // A mesh that fails its own checks is reported by the bind phase, on every rank alike
+    if (mesh_valid(call.mesh)) {
+      rec.has_grid = 1;
+      for (int a = 0; a < 3; ++a) {
+        rec.origin_bits[a] = call.mesh->coords[a] ? 0 : std::bit_cast<std::uint64_t>(call.mesh->origin[a]);
+        rec.spacing_bits[a] = call.mesh->coords[a] ? 0 : std::bit_cast<std::uint64_t>(call.mesh->spacing[a]);
+        rec.global_dims[a] = call.mesh->global_dims[a];
+      }
+      rec.mesh_hash = mesh_hash(*call.mesh);
+    }
+  } else if (call.grid) {
     rec.has_grid = 1;
     for (int a = 0; a < 3; ++a) {
       rec.origin_bits[a] = std::bit_cast<std::uint64_t>(call.grid->origin[a]);
@@ -177,6 +193,9 @@ std::string grid_difference(const CallRecord& mine, const CallRecord& ref, int r
     for (int a = 0; a < 3; ++a) out[a] = std::bit_cast<double>(bits[a]);
   };
   const std::string who = rank_name(r);
+  if (mine.domains_call != ref.domains_call)
+    return who + " calls " + (mine.domains_call ? "tessera_execute_domains" : "tessera_execute") + ", rank 0 " +
+           (ref.domains_call ? "tessera_execute_domains" : "tessera_execute");
   if (!std::equal(mine.global_dims, mine.global_dims + 3, ref.global_dims))
     return who + " has global_dims " + vec3(mine.global_dims) + ", rank 0 has " + vec3(ref.global_dims);
   double a[3], b[3];
@@ -190,6 +209,8 @@ std::string grid_difference(const CallRecord& mine, const CallRecord& ref, int r
     doubles(ref.origin_bits, b);
     return who + " has origin " + vec3(a) + ", rank 0 has " + vec3(b);
   }
+  if (mine.mesh_hash != ref.mesh_hash)
+    return who + "'s mesh differs from rank 0's in its association, levels or rectilinear coordinates";
   return {};
 }
 
@@ -353,8 +374,9 @@ std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& 
   if (grids)
     for (int r = 1; r < n; ++r)
       if (std::string diff = grid_difference(all[r], ref, r); !diff.empty())
-        return Disagreement{TESSERA_ERROR_DATA,
-                            "ranks disagree on the grid at step " + std::to_string(ref.step) + ": " + diff};
+        return Disagreement{TESSERA_ERROR_DATA, std::string(ref.domains_call ? "ranks disagree on the mesh at step "
+                                                                             : "ranks disagree on the grid at step ") +
+                                                    std::to_string(ref.step) + ": " + diff};
   return std::nullopt;
 }
 

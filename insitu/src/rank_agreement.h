@@ -13,7 +13,9 @@
 ///     differing line.
 ///   at each execute call where a render fires (agree_on_call), before any other collective:
 ///     the kind of call (execute or execute_final), the step, which renders fire, and the
-///     global grid (origin, spacing, global_dims, doubles compared bit for bit). The same
+///     global grid (origin, spacing, global_dims, doubles compared bit for bit), or with
+///     tessera_execute_domains the mesh (the same, plus a hash of its association, levels
+///     and rectilinear coordinates). The same
 ///     record carries rank 0's render-budget plan (render_budget.h) to every rank: not
 ///     compared, adopted.
 ///   at close (agree_on_call with CallKind::Close): the same record, so that a rank still in
@@ -83,6 +85,11 @@ struct CallView {
   /// This rank's render-budget plan for the call (budget_planner.h; 1 without a budget).
   /// Not compared: every rank renders with rank 0's (agree_on_call's `rank0_plan`).
   double plan = 1.0;
+  /// tessera_execute_domains: the mesh instead of the grid (may be NULL or invalid: the bind
+  /// phase reports it). Compared: origin, spacing, global_dims as for a grid, and a hash of
+  /// the association, nlevels and rectilinear coordinates (domain_binding.h mesh_hash).
+  bool domains_call = false;
+  const tessera_mesh* mesh = nullptr;
 };
 
 /// Collective (one allgather of a fixed-size record). Returns the disagreement (status

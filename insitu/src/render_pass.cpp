@@ -1,5 +1,7 @@
 #include "render_pass.h"
 
+#include "block_ops.h"
+#include "domain_binding.h"
 #include "error_policy.h"
 #include "field_binding.h"
 #include "field_plan.h"
@@ -28,11 +30,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Global finite min/max of a field: this rank's finite values, then ParallelContext::range.
-/// A rank without finite values contributes nothing; with none anywhere, lo > hi.
-std::pair<double, double> global_range(ParallelContext& ctx, const FieldView& local) {
+/// Global finite min/max of a field: this rank's finite values (all its blocks), then
+/// ParallelContext::range. A rank without finite values contributes nothing; with none
+/// anywhere, lo > hi.
+std::pair<double, double> global_range(ParallelContext& ctx, std::span<const FieldBlock> blocks) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  const auto [lo, hi] = field_range(local).value_or(std::pair{kInf, -kInf});
+  const auto [lo, hi] = blocks_range(blocks).value_or(std::pair{kInf, -kInf});
   return ctx.range(lo, hi);
 }
 
@@ -67,18 +70,20 @@ class Pass {
     if (m_spp == 0 && !check_when) return skipped();
 
     // Bind: descriptors -> zero-copy view of this rank's real vertices
-    if (!phase(TESSERA_ERROR_DATA, [&] {
-          if (m_call.nfields < 0 || (m_call.nfields > 0 && !m_call.fields))
-            throw std::invalid_argument(
-                "field list is invalid (fields = " + std::string(m_call.fields ? "non-null" : "NULL") +
-                ", nfields = " + std::to_string(m_call.nfields) + ")");
-          if (!m_call.grid) throw std::invalid_argument("grid descriptor is NULL");
-          const std::span<const tessera_field> fields(m_call.fields, static_cast<std::size_t>(m_call.nfields));
-          const tessera_field& f = fields[find_field(fields, m_spec.field, m_spec.name)];
-          m_binding = bind_field(f, *m_call.grid);
-          if (m_ctx.size() == 1) require_whole_grid(f, m_binding);
-          m_field_name = f.name;
-        }))
+    if (m_call.domains_call) {
+      if (!bind_domains_phase()) return std::move(m_out);
+    } else if (!phase(TESSERA_ERROR_DATA, [&] {
+                 if (m_call.nfields < 0 || (m_call.nfields > 0 && !m_call.fields))
+                   throw std::invalid_argument(
+                       "field list is invalid (fields = " + std::string(m_call.fields ? "non-null" : "NULL") +
+                       ", nfields = " + std::to_string(m_call.nfields) + ")");
+                 if (!m_call.grid) throw std::invalid_argument("grid descriptor is NULL");
+                 const std::span<const tessera_field> fields(m_call.fields, static_cast<std::size_t>(m_call.nfields));
+                 const tessera_field& f = fields[find_field(fields, m_spec.field, m_spec.name)];
+                 m_binding = bind_field(f, *m_call.grid);
+                 if (m_ctx.size() == 1) require_whole_grid(f, m_binding);
+                 m_field_name = f.name;
+               }))
       return std::move(m_out);
 
     // Summaries carried from the last call: kept only if every rank may keep them
@@ -133,10 +138,12 @@ class Pass {
     if (!phase(TESSERA_ERROR_RENDER, [&] {
           if (m_plan.distributed) {
             m_call.assembled_key.reset();  // distribute() frees the replica
-            m_paged = m_ctx.distribute(m_binding.local, m_binding.placement, m_plan.shift, m_plan.capacity);
+            m_paged = m_ctx.distribute_blocks(m_binding.blocks, m_binding.placement.global_dims, m_binding.local.dtype,
+                                              m_plan.shift, m_plan.capacity);
           } else if (m_call.assembled_key != m_spec.field) {
             m_call.assembled_key.reset();
-            m_call.assembled = m_ctx.assemble(m_binding.local, m_binding.placement);
+            m_call.assembled =
+                m_ctx.assemble_blocks(m_binding.blocks, m_binding.placement.global_dims, m_binding.local.dtype);
             m_call.assembled_key = m_spec.field;
           }
         }))
@@ -195,6 +202,7 @@ class Pass {
  private:
   /// Runs fn on this rank, then agrees with the others; on any rank's failure records
   /// `status` and the message (this rank's own, or that another rank failed) and returns false.
+  /// The other ranks' message quotes the first failing rank's.
   /// A LayoutError on any rank (the ranks' boxes do not fit together) records
   /// TESSERA_ERROR_DATA instead, on every rank: a descriptor fault, whichever phase found it.
   template <class Fn>
@@ -221,15 +229,50 @@ class Pass {
     const bool root = m_ctx.rank() == 0;
     const bool any_layout = m_ctx.any(layout);
     const bool root_failed = m_ctx.any(root && !ok);
+    // The first failing rank's own message, for the others' (two more collectives)
+    const int first_failed = m_ctx.min(ok ? std::numeric_limits<int>::max() : m_ctx.rank());
+    std::string theirs = ok ? std::string() : fault;
+    m_ctx.broadcast(theirs, first_failed);
     m_out.report_here = root || (!ok && !root_failed);
     m_out.result.status = any_layout ? TESSERA_ERROR_DATA : status;
     // A long output_dir is quoted short (each time), and nothing prints raw
     fault = message_quoting(std::move(fault), m_cfg.global.output_dir);
     std::string where = "render '" + m_spec.name + "' at step " + std::to_string(m_call.step) + ": ";
-    if (ok) m_out.result.error = where + "failed on another rank";
+    if (ok)
+      m_out.result.error = where + "failed on another rank (rank " + std::to_string(first_failed) + ": " +
+                           message_quoting(std::move(theirs), m_cfg.global.output_dir) + ")";
     else if (m_ctx.size() > 1) m_out.result.error = where + "rank " + std::to_string(m_ctx.rank()) + ": " + fault;
     else m_out.result.error = where + fault;
     return false;
+  }
+
+  /// tessera_execute_domains: binds this rank's domains (domain_binding.h), then the ranks
+  /// agree on the field's dtype (a rank without domains learns it; ranks whose dtypes differ,
+  /// or no domain anywhere, fail alike on every rank with TESSERA_ERROR_DATA).
+  bool bind_domains_phase() {
+    if (!phase(TESSERA_ERROR_DATA, [&] {
+          m_binding = bind_domains(m_call.mesh, m_call.domains, m_call.ndomains, m_spec.field, m_spec.name);
+          m_field_name = m_spec.field;
+          if (!m_binding.blocks.empty()) {
+            const std::span<const tessera_field> fields(m_call.domains[0].fields,
+                                                        static_cast<std::size_t>(m_call.domains[0].nfields));
+            m_field_name = fields[find_field(fields, m_spec.field, m_spec.name)].name;
+          }
+        }))
+      return false;
+    return phase(TESSERA_ERROR_DATA, [&] {
+      constexpr int kNone = std::numeric_limits<int>::max();
+      const bool has = !m_binding.blocks.empty();
+      const int mine = has ? static_cast<int>(m_binding.local.dtype) : kNone;
+      const int lo = m_ctx.min(mine);
+      const int hi = -m_ctx.min(has ? -mine : kNone);  // the largest over the ranks with domains
+      if (lo == kNone)
+        throw LayoutError("no rank passed a domain (ndomains = 0 everywhere): the domains must cover the mesh");
+      if (lo != hi)
+        throw LayoutError("ranks publish field '" + m_field_name + "' with different dtypes (" +
+                          dtype_name(static_cast<DType>(lo)) + " and " + dtype_name(static_cast<DType>(hi)) + ")");
+      m_binding.local.dtype = static_cast<DType>(lo);
+    });
   }
 
   /// Throws the time-limit failure: the limit, the time taken, the tiles finished.
@@ -248,14 +291,16 @@ class Pass {
     // so all skip the reduction alike), or on one rank, where the global field is this
     // rank's view, the one this call made or makes now for prepare; else a pass here
     SummaryCache::Entry& entry = m_summaries.entry(m_field_name);
-    std::shared_ptr<const FieldSummary> s = entry.kept || m_ctx.size() == 1 ? entry.find(0) : nullptr;
-    if (!s && m_ctx.size() == 1) {
+    // (One rank with several domains: no summary of the whole field before the replica)
+    const bool whole = m_ctx.size() == 1 && m_binding.whole();
+    std::shared_ptr<const FieldSummary> s = entry.kept || whole ? entry.find(0) : nullptr;
+    if (!s && whole) {
       s = FieldSummary::build(m_binding.local, majorant_edge(m_binding.local, m_spec.integrator.desc));
       ++m_out.result.field_passes;
       entry.keep(s);
     }
     constexpr double kInf = std::numeric_limits<double>::infinity();
-    const auto range = !s                ? global_range(m_ctx, m_binding.local)
+    const auto range = !s                ? global_range(m_ctx, m_binding.blocks)
                        : s->has_finite() ? std::pair{s->value_min(), s->value_max()}
                                          : std::pair{kInf, -kInf};
     m_call.ranges.emplace_back(m_spec.field, range);
@@ -276,7 +321,9 @@ class Pass {
         for (int a = 0; a < 3; ++a) global.dims[a] = m_binding.placement.global_dims[a];
         const int edge = majorant_edge(global, scene.integrator);
         std::shared_ptr<const FieldSummary> summary = entry.find(edge);
-        if (!summary) summary = m_ctx.summarize(m_binding.local, m_binding.placement, edge);
+        if (!summary)
+          summary =
+              m_ctx.summarize_blocks(m_binding.blocks, m_binding.placement.global_dims, m_binding.local.dtype, edge);
         m_ctx.serve_while([&] { prepared = prepare(m_paged, scene, summary); });
       } else {
         prepared = prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));

@@ -49,6 +49,11 @@ struct CallData {
   const tessera_grid* grid = nullptr;
   const tessera_field* fields = nullptr;
   std::int64_t nfields = 0;
+  /// tessera_execute_domains: the mesh and this rank's domains (grid and fields unused).
+  bool domains_call = false;
+  const tessera_mesh* mesh = nullptr;
+  const tessera_domain* domains = nullptr;
+  std::int64_t ndomains = 0;
   /// The simulation's wall time since the last call that rendered (0 in the first call), this rank.
   double simulation_seconds = 0.0;
   /// tessera.budget: the plan every rank renders with (rank 0's, budget_planner.h); 1 (each

@@ -1,5 +1,9 @@
 #include "summary_cache.h"
 
+#include "hash64.h"
+
+#include <string_view>
+
 #include <utility>
 
 namespace tessera::insitu {
@@ -11,11 +15,25 @@ SummaryKey SummaryKey::of(const FieldBinding& binding) {
     k.offset[a] = binding.placement.offset[a];
     k.global_dims[a] = binding.placement.global_dims[a];
   }
+  k.blocks = binding.blocks.size();
+  std::uint64_t h = fnv1a64({});
+  for (const FieldBlock& b : binding.blocks) {
+    const FieldLayout l = FieldLayout::of(b.view);
+    const std::uint64_t words[12] = {
+        reinterpret_cast<std::uintptr_t>(l.data),      static_cast<std::uint64_t>(l.dtype),
+        static_cast<std::uint64_t>(l.dims[0]),         static_cast<std::uint64_t>(l.dims[1]),
+        static_cast<std::uint64_t>(l.dims[2]),         static_cast<std::uint64_t>(l.byte_strides[0]),
+        static_cast<std::uint64_t>(l.byte_strides[1]), static_cast<std::uint64_t>(l.byte_strides[2]),
+        static_cast<std::uint64_t>(b.offset[0]),       static_cast<std::uint64_t>(b.offset[1]),
+        static_cast<std::uint64_t>(b.offset[2]),       static_cast<std::uint64_t>(b.domain)};
+    h = fnv1a64(std::string_view(reinterpret_cast<const char*>(words), sizeof words), h);
+  }
+  k.blocks_hash = h;
   return k;
 }
 
 bool SummaryKey::operator==(const SummaryKey& o) const {
-  if (!(local == o.local)) return false;
+  if (!(local == o.local) || blocks != o.blocks || blocks_hash != o.blocks_hash) return false;
   for (int a = 0; a < 3; ++a)
     if (offset[a] != o.offset[a] || global_dims[a] != o.global_dims[a]) return false;
   return true;

@@ -30,6 +30,9 @@ struct SummaryKey {
   FieldLayout local;  ///< this rank's real vertices
   std::int64_t offset[3] = {0, 0, 0};
   std::int64_t global_dims[3] = {0, 0, 0};
+  /// Every block of this rank (tessera_execute_domains): their count and a hash of their
+  /// layouts and offsets.
+  std::uint64_t blocks = 0, blocks_hash = 0;
 
   static SummaryKey of(const FieldBinding& binding);
   bool operator==(const SummaryKey& o) const;

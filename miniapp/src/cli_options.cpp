@@ -1,5 +1,7 @@
 #include "cli_options.h"
 
+#include "domain_split.h"
+
 #include "busy_work.h"
 
 #include <charconv>
@@ -38,13 +40,14 @@ std::int64_t parse_int(std::string_view flag, const char* text, std::int64_t min
 std::string usage() {
   return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump "
          "FILE]\n"
-         "                    [--work-ms N]\n"
+         "                    [--work-ms N] [--domains-per-rank N]\n"
          "  --config FILE     Tessera YAML config (default: the project's configs/heat.yaml)\n"
          "  --steps N         time steps after the initial state (default 100)\n"
          "  --grid NX NY NZ   global grid vertices, each >= 3 (default 64 64 64)\n"
          "  --output-dir DIR  write images under DIR instead of the config's output_dir\n"
          "  --dump FILE       at the end, write the global field to FILE (raw float32, i fastest)\n"
-         "  --work-ms N       add N ms of computation to each step (0..60000, default 0): a slower simulation\n";
+         "  --work-ms N       add N ms of computation to each step (0..60000, default 0): a slower simulation\n"
+         "  --domains-per-rank N  publish each rank's array as N uneven domains (1..1024; zero copy)\n";
 }
 
 Options parse_options(int argc, const char* const* argv) {
@@ -73,6 +76,9 @@ Options parse_options(int argc, const char* const* argv) {
     } else if (a == "--work-ms") {
       need(1);
       o.work_ms = parse_int(a, argv[++i], 0, kMaxWorkMs);
+    } else if (a == "--domains-per-rank") {
+      need(1);
+      o.domains_per_rank = parse_int(a, argv[++i], 1, kMaxDomainsPerRank);
     } else if (a == "--dump") {
       need(1);
       o.dump = argv[++i];

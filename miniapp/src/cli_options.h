@@ -1,7 +1,7 @@
 #pragma once
 /// Command line of tessera-heat (docs/miniapp.md):
 ///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
-///                [--work-ms N]
+///                [--work-ms N] [--domains-per-rank N]
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -16,6 +16,9 @@ struct Options {
   std::optional<std::string> output_dir;         ///< overrides the config's tessera.output_dir
   std::optional<std::string> dump;               ///< raw float32 file of the final global field
   std::int64_t work_ms = 0;                      ///< computation added to each step, [0, kMaxWorkMs]
+  /// --domains-per-rank N: publish each rank's array as N uneven domains
+  /// (tessera_execute_domains); 0 = one block per rank through tessera_execute
+  std::int64_t domains_per_rank = 0;
   bool help = false;
 };
 

@@ -29,6 +29,26 @@ using Double3 = std::array<double, 3>;
 /// name, data address, dtype code, dims, byte strides, ghosts low, ghosts high
 using FieldTuple = std::tuple<std::string, std::uintptr_t, int, Int3, Int3, Int3, Int3>;
 
+/// The C descriptors of the fields (names point into `fields`).
+std::vector<tessera_field> descriptors(const std::vector<FieldTuple>& fields) {
+  std::vector<tessera_field> descs(fields.size());
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    const auto& [name, data, dtype, dims, strides, lo, hi] = fields[f];
+    tessera_field& d = descs[f];
+    require_no_nul(name, "field name");
+    d.name = name.c_str();
+    d.data = reinterpret_cast<const void*>(data);
+    d.dtype = static_cast<tessera_dtype>(dtype);
+    for (int a = 0; a < 3; ++a) {
+      d.dims[a] = dims[a];
+      d.byte_strides[a] = strides[a];
+      d.ghosts_lo[a] = lo[a];
+      d.ghosts_hi[a] = hi[a];
+    }
+  }
+  return descs;
+}
+
 class PyAdapter {
  public:
   /// Validates the config here first (a ConfigError with its key path), then opens.
@@ -59,24 +79,43 @@ class PyAdapter {
       grid.global_dims[a] = global_dims[a];
       grid.offset[a] = offset[a];
     }
-    std::vector<tessera_field> descs(fields.size());
-    for (std::size_t f = 0; f < fields.size(); ++f) {
-      const auto& [name, data, dtype, dims, strides, lo, hi] = fields[f];
-      tessera_field& d = descs[f];
-      require_no_nul(name, "field name");
-      d.name = name.c_str();
-      d.data = reinterpret_cast<const void*>(data);
-      d.dtype = static_cast<tessera_dtype>(dtype);
-      for (int a = 0; a < 3; ++a) {
-        d.dims[a] = dims[a];
-        d.byte_strides[a] = strides[a];
-        d.ghosts_lo[a] = lo[a];
-        d.ghosts_hi[a] = hi[a];
-      }
-    }
+    const std::vector<tessera_field> descs = descriptors(fields);
     try {
       nb::gil_scoped_release unlocked;
       return m_adapter.execute(step, time, grid, descs, final_step);
+    } catch (const insitu::AdapterError& e) {
+      throw error_for_status(e.status(), e.what());
+    }
+  }
+
+  /// execute_domains: the mesh (association 0 vertex / 1 cell, origin, spacing, per axis the
+  /// address of a float64 coordinate array or 0 for a uniform axis, whose length the caller has
+  /// checked, global_dims) and the domains (level, offset, fields as in execute()).
+  int execute_domains(std::int64_t step, double time, int association, Double3 origin, Double3 spacing,
+                      std::array<std::uintptr_t, 3> coords, Int3 global_dims,
+                      const std::vector<std::tuple<int, Int3, std::vector<FieldTuple>>>& domains, bool final_step) {
+    tessera_mesh mesh{};
+    mesh.association = static_cast<tessera_association>(association);
+    mesh.nlevels = 1;
+    for (int a = 0; a < 3; ++a) {
+      mesh.origin[a] = origin[a];
+      mesh.spacing[a] = spacing[a];
+      mesh.coords[a] = reinterpret_cast<const double*>(coords[a]);
+      mesh.global_dims[a] = global_dims[a];
+    }
+    std::vector<std::vector<tessera_field>> fields(domains.size());
+    std::vector<tessera_domain> descs(domains.size());
+    for (std::size_t d = 0; d < domains.size(); ++d) {
+      const auto& [level, offset, list] = domains[d];
+      fields[d] = descriptors(list);
+      descs[d].level = level;
+      for (int a = 0; a < 3; ++a) descs[d].offset[a] = offset[a];
+      descs[d].fields = fields[d].data();
+      descs[d].nfields = static_cast<int>(fields[d].size());
+    }
+    try {
+      nb::gil_scoped_release unlocked;
+      return m_adapter.execute_domains(step, time, mesh, descs, final_step);
     } catch (const insitu::AdapterError& e) {
       throw error_for_status(e.status(), e.what());
     }
@@ -157,6 +196,9 @@ void register_adapter(nb::module_& m) {
            nb::arg("is_text"), nb::arg("name"), nb::arg("comm_f"), nb::arg("output_dir"), nb::arg("quiet"))
       .def("execute", &PyAdapter::execute, nb::arg("step"), nb::arg("time"), nb::arg("origin"), nb::arg("spacing"),
            nb::arg("global_dims"), nb::arg("offset"), nb::arg("fields"), nb::arg("final_step"))
+      .def("execute_domains", &PyAdapter::execute_domains, nb::arg("step"), nb::arg("time"), nb::arg("association"),
+           nb::arg("origin"), nb::arg("spacing"), nb::arg("coords"), nb::arg("global_dims"), nb::arg("domains"),
+           nb::arg("final_step"))
       .def("close", &PyAdapter::close)
       .def("last_error", &PyAdapter::last_error)
       .def("is_open", &PyAdapter::is_open)

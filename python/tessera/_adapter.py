@@ -33,8 +33,8 @@ class Adapter:
         self.last_error = ""
         self.results = []
 
-    def execute(self, step, time, fields, *, spacing=1.0, origin=0.0, global_dims=None, offset=0,
-                ghosts=0, ghosts_hi=None, final=False):
+    def execute(self, step, time, fields=None, *, spacing=1.0, origin=0.0, global_dims=None, offset=0,
+                ghosts=0, ghosts_hi=None, final=False, domains=None, association="vertex", coords=None):
         """Renders what the triggers fire at ``step`` and returns ``{render name: image}``:
         float32 (height, width, 4) linear RGBA arrays of the renders that succeeded, on rank 0
         (an empty dict on other ranks and when nothing fired). The outputs the config asks for
@@ -47,6 +47,16 @@ class Adapter:
             one process owns everything); offset: global index of this rank's first real vertex.
         ghosts: ghost layers at the low end of each axis (and the high end unless ghosts_hi).
         final: the simulation's last step (``render_final_step`` renders every render).
+
+        Several blocks per rank (docs/data-model.md): instead of ``fields``, ``domains`` is a
+        list (empty allowed) of dicts ``{"fields": {name: 3D array}, "offset": (i, j, k),
+        "ghosts": g, "ghosts_hi": g}`` (offset, ghosts default 0, ghosts_hi defaults to ghosts),
+        one per block this rank holds; ``global_dims`` (required), ``spacing`` and ``origin``
+        then describe the whole mesh, the same on every rank; ``association`` is "vertex" or
+        "cell"; ``coords`` None or three entries, each None (a uniform axis) or a 1-D
+        contiguous float64 array of the axis' increasing coordinates (global_dims[a] values,
+        + 1 for cell data), read in place. Every domain publishes the same field names and
+        dtypes; their real elements tile the mesh.
 
         A failing render follows the config's ``on_error``: ``warn`` and ``disable`` issue a
         TesseraWarning and go on (last_status, last_error and results say what failed);
@@ -63,36 +73,105 @@ class Adapter:
             step_i = _checks.integer(step, "step")
             time_f = _checks.real(time, "time")
             final_b = _checks.flag(final, "final")
-            if not isinstance(fields, dict):
+            if domains is not None:
+                if fields is not None:
+                    raise TypeError("fields and domains: give one of them, not both")
+                call = self._domains_call(domains, spacing, origin, global_dims, association, coords)
+            elif not isinstance(fields, dict):
                 raise TypeError(f"fields: a dict {{name: array}} is needed, got {type(fields).__name__}")
-            lo = _checks.integer_triple(ghosts, "ghosts")
-            hi = lo if ghosts_hi is None else _checks.integer_triple(ghosts_hi, "ghosts_hi")
-            held, descs = [], []
-            for fname, array in fields.items():
-                fname = _checks.name(fname, "fields key")
-                a, address, code, dims, strides = field_descriptor(array, f"fields['{fname}']")
-                held.append(a)
-                descs.append((fname, address, code, dims, strides, lo, hi))
-            if global_dims is None:
-                first = descs[0][3] if descs else (1, 1, 1)
-                global_dims = tuple(first[a] - lo[a] - hi[a] for a in range(3))
-            grid = (_checks.real_triple(origin, "origin"), _checks.real_triple(spacing, "spacing"),
-                    _checks.integer_triple(global_dims, "global_dims"), _checks.integer_triple(offset, "offset"))
+            if domains is None:
+                call = self._fields_call(fields, spacing, origin, global_dims, offset, ghosts, ghosts_hi)
         except Exception:
             if self._comm is not None:
                 self._enter_without_fields(impl, step, time, final)
             raise
-        status = impl.execute(step_i, time_f, *grid, descs, final_b)
+        held, args = call
+        if domains is None:
+            status = impl.execute(step_i, time_f, *args, final_b)
+        else:
+            status = impl.execute_domains(step_i, time_f, *args, final_b)
         del held  # the arrays were read in place during the call
+        return self._outcome(impl, status, step)
+
+    @staticmethod
+    def _fields_call(fields, spacing, origin, global_dims, offset, ghosts, ghosts_hi):
+        """(arrays held, the binding's execute arguments but step, time, final)."""
+        lo = _checks.integer_triple(ghosts, "ghosts")
+        hi = lo if ghosts_hi is None else _checks.integer_triple(ghosts_hi, "ghosts_hi")
+        held, descs = [], []
+        for fname, array in fields.items():
+            fname = _checks.name(fname, "fields key")
+            a, address, code, dims, strides = field_descriptor(array, f"fields['{fname}']")
+            held.append(a)
+            descs.append((fname, address, code, dims, strides, lo, hi))
+        if global_dims is None:
+            first = descs[0][3] if descs else (1, 1, 1)
+            global_dims = tuple(first[a] - lo[a] - hi[a] for a in range(3))
+        grid = (_checks.real_triple(origin, "origin"), _checks.real_triple(spacing, "spacing"),
+                _checks.integer_triple(global_dims, "global_dims"), _checks.integer_triple(offset, "offset"))
+        return held, (*grid, descs)
+
+    @staticmethod
+    def _domains_call(domains, spacing, origin, global_dims, association, coords):
+        """(arrays held, the binding's execute_domains arguments but step, time, final)."""
+        if association not in ("vertex", "cell"):
+            raise ValueError(f"association: 'vertex' or 'cell' is needed, got {association!r}")
+        if global_dims is None:
+            raise TypeError("global_dims: required with domains (the whole mesh's elements)")
+        dims = _checks.integer_triple(global_dims, "global_dims")
+        if not isinstance(domains, (list, tuple)):
+            raise TypeError(f"domains: a list of dicts is needed, got {type(domains).__name__}")
+        held, addresses = [], [0, 0, 0]
+        if coords is not None:
+            if not isinstance(coords, (list, tuple)) or len(coords) != 3:
+                raise TypeError("coords: None or three entries (None or a 1-D float64 array each) are needed")
+            for a, c in enumerate(coords):
+                if c is None:
+                    continue
+                n = dims[a] + (1 if association == "cell" else 0)
+                ok = (getattr(c, "dtype", None) is not None and str(c.dtype) == "float64" and c.ndim == 1
+                      and c.flags["C_CONTIGUOUS"] and c.shape[0] == n)
+                if not ok:
+                    raise ValueError(f"coords[{a}]: a 1-D contiguous float64 array of {n} values is needed "
+                                     f"(global_dims[{a}] = {dims[a]}, {association} data)")
+                held.append(c)
+                addresses[a] = int(c.ctypes.data)
+        known = {"fields", "offset", "ghosts", "ghosts_hi", "level"}
+        blocks = []
+        for d, dom in enumerate(domains):
+            if not isinstance(dom, dict):
+                raise TypeError(f"domains[{d}]: a dict is needed, got {type(dom).__name__}")
+            unknown = sorted(set(dom) - known)
+            if unknown:
+                raise ValueError(f"domains[{d}]: unknown keys {unknown} (known: {sorted(known)})")
+            fields = dom.get("fields")
+            if not isinstance(fields, dict):
+                raise TypeError(f"domains[{d}]['fields']: a dict {{name: array}} is needed")
+            lo = _checks.integer_triple(dom.get("ghosts", 0), f"domains[{d}]['ghosts']")
+            hi = lo if dom.get("ghosts_hi") is None else _checks.integer_triple(dom["ghosts_hi"], f"domains[{d}]['ghosts_hi']")
+            descs = []
+            for fname, array in fields.items():
+                fname = _checks.name(fname, f"domains[{d}]['fields'] key")
+                a, address, code, fdims, strides = field_descriptor(array, f"domains[{d}]['fields']['{fname}']")
+                held.append(a)
+                descs.append((fname, address, code, fdims, strides, lo, hi))
+            level = _checks.integer(dom.get("level", 0), f"domains[{d}]['level']", bits=32)
+            blocks.append((level, _checks.integer_triple(dom.get("offset", 0), f"domains[{d}]['offset']"), descs))
+        args = (0 if association == "vertex" else 1, _checks.real_triple(origin, "origin"),
+                _checks.real_triple(spacing, "spacing"), tuple(addresses), dims, blocks)
+        return held, args
+
+    def _outcome(self, impl, status, step):
+        """Records the call's status, warns, and returns rank 0's images."""
         self.last_status = status
         self.last_error = impl.last_error()
         self.results = impl.results()
         if status != 0:
-            warnings.warn(f"tessera: step {step}: {self.last_error}", TesseraWarning, stacklevel=2)
+            warnings.warn(f"tessera: step {step}: {self.last_error}", TesseraWarning, stacklevel=3)
         images = {}
         for r in self.results:
             for w in r["warnings"]:
-                warnings.warn(f"render '{r['name']}' at step {step}: {w}", TesseraWarning, stacklevel=2)
+                warnings.warn(f"render '{r['name']}' at step {step}: {w}", TesseraWarning, stacklevel=3)
             if r["image"] is not None:
                 images[r["name"]] = r["image"]
         return images

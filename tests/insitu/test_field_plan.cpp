@@ -161,3 +161,27 @@ TEST_CASE("a distributed cache too small for the bricks the paths cross is warne
   CHECK_THAT(plan_for("1e-300").cache_warning, Catch::Contains("holds 1 of the field's"));
   CHECK(plan_for("1").cache_warning.empty());
 }
+
+TEST_CASE("one rank: one domain covering the mesh is read in place, several domains cost a replica",
+          "[insitu][distribution][domains]") {
+  const config::Config cfg = config_for("auto", 1024);
+  const auto& spec = cfg.renders[0];
+  FieldBinding whole = binding_for(256);  // 64 MiB
+  whole.domains = true;
+  whole.local.dims[2] = 256;
+  whole.blocks.push_back(FieldBlock{whole.local, {0, 0, 0}, 0});
+  CHECK(plan_field(cfg, spec, whole, 1, 1, true).replica_share == 0);
+  FieldBinding two = whole;
+  two.blocks[0].view.dims[2] = 100;
+  two.blocks.push_back(FieldBlock{whole.local, {0, 0, 100}, 1});
+  two.blocks[1].view.dims[2] = 156;
+  CHECK(plan_field(cfg, spec, two, 1, 1, true).replica_share == 64u << 20);
+  // ... and the replica counts against the limit
+  const config::Config small = config_for("auto", 48);
+  try {
+    plan_field(small, small.renders[0], two, 1, 1, true);
+    FAIL("no error");
+  } catch (const std::runtime_error& e) {
+    CHECK_THAT(e.what(), Catch::Contains("the domains' copy"));
+  }
+}

@@ -131,3 +131,45 @@ def test_mpi4py_an_array_one_rank_cannot_describe_fails_everywhere_without_a_han
     if shutil.which("mpirun") is None:
         pytest.skip("no mpirun")
     run_mpi(2, tmp_path, "bad-array-on-last-rank")  # the script asserts; timeout = hang
+
+
+def test_domains_cut_uneven_render_bit_identically(tmp_path):
+    """The same field as 1 or 5 uneven domains (with NaN ghosts, mixed layouts) gives the
+    image of execute(fields), and a zero-copy view of each domain is enough."""
+    data = field().T  # (20, 16, 12): u[i, j, k]
+    plain = step0(tmp_path, data)
+    nx, ny, nz = data.shape
+    cuts = [((0, 0, 0), (7, ny, nz)), ((7, 0, 0), (6, 9, nz)), ((7, 9, 0), (6, ny - 9, nz)),
+            ((13, 0, 0), (nx - 13, ny, 5)), ((13, 0, 5), (nx - 13, ny, nz - 5))]
+    domains = []
+    for n, ((i, j, k), (a, b, c)) in enumerate(cuts):
+        block = data[i:i + a, j:j + b, k:k + c]
+        if n % 2:
+            block = np.asfortranarray(block)
+        domains.append({"fields": {"temperature": with_ghosts(block, 1)}, "offset": (i, j, k), "ghosts": 1})
+    mesh = dict(global_dims=data.shape, **GRID)
+    for ds in ([{"fields": {"temperature": data}}], domains, domains[::-1]):
+        with tessera.Adapter(CONFIG, output_dir=tmp_path, quiet=True) as viz:
+            images = viz.execute(0, 0.0, domains=ds, **mesh)
+            assert viz.last_status == 0, viz.last_error
+        assert same_bits(plain, images["main"])
+
+
+def test_domains_bad_input_names_the_domain(tmp_path):
+    data = field().T
+    half = data[:10]
+    with tessera.Adapter(CONFIG, output_dir=tmp_path, quiet=True) as viz:
+        with pytest.warns(tessera.TesseraWarning, match="cover"):
+            viz.execute(0, 0.0, domains=[{"fields": {"temperature": half}}], global_dims=data.shape, **GRID)
+        assert viz.last_status == 2  # TESSERA_ERROR_DATA
+        with pytest.warns(tessera.TesseraWarning, match="domain 1.*overlap|overlap.*domain 1"):
+            viz.execute(0, 0.0, domains=[{"fields": {"temperature": data}}, {"fields": {"temperature": half}}],
+                        global_dims=data.shape, **GRID)
+        with pytest.raises(ValueError, match="unknown keys"):
+            viz.execute(0, 0.0, domains=[{"fields": {"temperature": data}, "offest": 0}], global_dims=data.shape)
+        with pytest.raises(TypeError, match="global_dims"):
+            viz.execute(0, 0.0, domains=[])
+        with pytest.raises(ValueError, match="coords\\[1\\]"):
+            viz.execute(0, 0.0, domains=[], global_dims=data.shape, coords=(None, np.zeros(3), None))
+        with pytest.raises(TypeError, match="not both"):
+            viz.execute(0, 0.0, {"temperature": data}, domains=[], global_dims=data.shape)

@@ -143,6 +143,14 @@ class Adapter {
   tessera_status execute(std::int64_t step, double time, const tessera_grid& grid,
                          std::span<const tessera_field> fields, bool final_step = false);
 
+  /// As execute(), for data held as several blocks (domains) per rank, zero included: `mesh`
+  /// describes the whole mesh (the same on every rank), `domains` this rank's blocks (the C
+  /// API's tessera_execute_domains and, with final_step, tessera_execute_domains_final; see
+  /// tessera.h for the checks and their TESSERA_ERROR_DATA). execute() is this call with one
+  /// vertex-centred, uniform domain.
+  tessera_status execute_domains(std::int64_t step, double time, const tessera_mesh& mesh,
+                                 std::span<const tessera_domain> domains, bool final_step = false);
+
   /// The simulation's promise that the values of the field called `field_name` (its
   /// tessera_field name) at the next execute() are bit-for-bit those it had at the last one
   /// (the C API's tessera_field_unchanged). That execute then reuses the field's summary (the

@@ -65,6 +65,56 @@ typedef struct {
   int64_t offset[3];              /* global index of this rank's first real vertex */
 } tessera_grid;
 
+/* ---- Several blocks per rank: a mesh and its domains (docs/data-model.md) ----------------
+ * The terms follow Conduit's Mesh Blueprint: a *domain* is one block of the mesh with its own
+ * arrays; a rank holds zero, one or many. tessera_execute is tessera_execute_domains with one
+ * vertex-centred, uniform, single-level domain. */
+
+/* What an array element is: a vertex (the value sits on the grid point) or a cell (the value
+ * sits at the cell's centre and the medium fills the cell's whole box). */
+typedef enum { TESSERA_VERTEX = 0, TESSERA_CELL = 1 } tessera_association;
+
+/* The whole mesh; the same on every rank (the ranks compare it, coordinates included, at each
+ * call where a render fires). */
+typedef struct {                      /* the whole mesh; the same on every rank */
+  tessera_association association;    /* what an array element is: a vertex or a cell */
+  double        origin[3];            /* world position of level 0's element (0,0,0): the vertex,
+                                         or the low corner of the cell */
+  double        spacing[3];           /* level 0 spacing (uniform axes) */
+  const double* coords[3];            /* per axis: NULL = uniform; else the level-0 vertex
+                                         coordinates along that axis, increasing (rectilinear):
+                                         global_dims[a] values for vertex data, + 1 for cell data */
+  int64_t       global_dims[3];       /* level-0 elements (vertices or cells) of the whole mesh */
+  int           nlevels;              /* 1 = single level; AMR: levels 0 (coarsest) .. nlevels-1 */
+  const int*    refinement;           /* nlevels-1 ratios (2 or 4): level l+1 splits each level-l
+                                         cell (or interval) into ratio^3 (NULL when nlevels = 1) */
+} tessera_mesh;
+/* Notes on tessera_mesh:
+ * - A rectilinear axis (coords[a] non-NULL) is read in place, never copied; its values must be
+ *   finite and strictly increasing, and spacing[a] is then ignored. A uniform axis needs a
+ *   finite spacing[a] > 0. origin must be finite.
+ * - nlevels must be 1 for now (refinement levels are not yet supported: TESSERA_ERROR_DATA). */
+
+/* One block this rank holds, never copied. */
+typedef struct {                      /* one block this rank holds, never copied */
+  int                  level;         /* 0 for single-level data */
+  int64_t              offset[3];     /* global index, at its level, of its first real element */
+  const tessera_field* fields;        /* its arrays, as in tessera_execute (dims incl. ghosts) */
+  int                  nfields;
+} tessera_domain;
+/* Notes on tessera_domain:
+ * - Every domain of every rank publishes the same fields: the same names with the same
+ *   dtypes (in any order); strides and ghosts may differ from domain to domain.
+ * - Ghost layers are skipped: the renderer reads every value from the domain that owns it
+ *   (replica or brick cache), so ghosts are never needed and never read.
+ * - Real (non-ghost) elements of all domains over all ranks may not overlap and must cover
+ *   the whole mesh (level 0). */
+
+/* The most domains one rank may pass in one call (a larger ndomains is TESSERA_ERROR_DATA).
+ * Checking how the domains of all ranks fit together costs O(N log N) time and about 128
+ * bytes per domain (N: domains over all ranks), on every rank, at each call that renders. */
+#define TESSERA_MAX_DOMAINS 1048576
+
 /* Loads and validates the config (errors name file:line:column and key path), creates
  * output_dir and writes output_dir/tessera_effective_config.yaml (rank 0). mpi_comm_f: a
  * Fortran communicator handle (MPI_Comm_c2f(comm)) or -1 for no MPI. On failure *out is set
@@ -96,6 +146,28 @@ tessera_status tessera_execute(tessera_adapter* adapter, int64_t step, double ti
 tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, double time,
                                      const tessera_grid* grid, const tessera_field* fields,
                                      int nfields);
+
+/* As tessera_execute, for data held as several blocks per rank (zero included): `mesh`
+ * describes the whole mesh (the same on every rank), `domains` this rank's ndomains blocks.
+ * Everything tessera_execute says holds (triggers, statuses, descriptors valid only during the
+ * call, field memory read only when a render fires). TESSERA_ERROR_DATA, on every rank alike
+ * and before anything is rendered or written, with a message naming the rank, domain, field
+ * and axis, for: a NULL mesh; NULL domains with ndomains > 0; ndomains < 0 or above
+ * TESSERA_MAX_DOMAINS; NULL fields with nfields > 0; domains whose field lists differ in names
+ * or dtypes; nlevels != 1 (not yet) or a domain level != 0; a non-finite origin; a uniform
+ * axis whose spacing is not finite and > 0; rectilinear coordinates that are not finite and
+ * strictly increasing; a mesh that differs between ranks; ghosts that leave no real element;
+ * a domain outside the mesh; real elements of two domains (of any ranks) that overlap, or
+ * that leave part of the mesh uncovered. The image does not depend on how the same data is
+ * cut into domains or spread over ranks: it is bit-identical. */
+tessera_status tessera_execute_domains(tessera_adapter* adapter, int64_t step, double time,
+                                       const tessera_mesh* mesh,
+                                       const tessera_domain* domains, int ndomains);
+
+/* As tessera_execute_domains, for the simulation's last step (see tessera_execute_final). */
+tessera_status tessera_execute_domains_final(tessera_adapter* adapter, int64_t step, double time,
+                                             const tessera_mesh* mesh,
+                                             const tessera_domain* domains, int ndomains);
 
 /* The simulation's promise that the values of the field named field_name (its tessera_field
  * name) at the next tessera_execute / tessera_execute_final are bit-for-bit those it had at

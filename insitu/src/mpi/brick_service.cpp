@@ -2,6 +2,7 @@
 // (brick_service.h says how).
 #include "mpi/brick_service.h"
 
+#include "block_ops.h"
 #include "mpi/mpi_check.h"
 #include "mpi/mpi_datatypes.h"
 
@@ -45,9 +46,27 @@ std::uint64_t box_bytes(const std::int64_t lo[3], const std::int64_t hi[3], DTyp
 
 }  // namespace
 
-BrickService::BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes, const FieldView& local,
-                           BrickCache& cache)
-    : m_comm(comm), m_rank(rank), m_boxes(boxes), m_local(local), m_cache(cache), m_fetches(kMaxInFlight) {}
+BrickService::BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes,
+                           const std::vector<FieldBlock>& own, BrickCache& cache)
+    : m_comm(comm), m_rank(rank), m_boxes(boxes), m_own(own), m_cache(cache), m_fetches(kMaxInFlight) {
+  while (m_first_own < m_boxes.size() && m_boxes[m_first_own].owner < m_rank) ++m_first_own;
+  // The blocks each brick touches: counted, then filled (CSR), in block order
+  const BrickGrid& g = m_cache.grid();
+  const int s = g.shift;
+  const auto bricks = static_cast<std::size_t>(g.brick_count());
+  m_brick_start.assign(bricks + 1, 0);
+  const auto each = [&](const BlockBox& b, auto&& fn) {
+    for (std::int64_t z = b.offset[2] >> s; z <= (b.offset[2] + b.dims[2] - 1) >> s; ++z)
+      for (std::int64_t y = b.offset[1] >> s; y <= (b.offset[1] + b.dims[1] - 1) >> s; ++y)
+        for (std::int64_t x = b.offset[0] >> s; x <= (b.offset[0] + b.dims[0] - 1) >> s; ++x) fn(g.index(x, y, z));
+  };
+  for (const BlockBox& b : m_boxes) each(b, [&](std::int64_t brick) { ++m_brick_start[brick + 1]; });
+  for (std::size_t n = 0; n < bricks; ++n) m_brick_start[n + 1] += m_brick_start[n];
+  m_brick_blocks.resize(static_cast<std::size_t>(m_brick_start[bricks]));
+  std::vector<std::int64_t> fill(m_brick_start.begin(), m_brick_start.end() - 1);
+  for (std::size_t n = 0; n < m_boxes.size(); ++n)
+    each(m_boxes[n], [&](std::int64_t brick) { m_brick_blocks[fill[brick]++] = static_cast<std::int64_t>(n); });
+}
 
 BrickService::~BrickService() {
   // Only after an MPI error: leave nothing pending that could write into freed memory
@@ -93,19 +112,28 @@ void BrickService::serve(int source, const std::int64_t message[2]) {
                              std::to_string(g.brick_count()) + " bricks");
   std::int64_t blo[3], bhi[3], lo[3], hi[3];
   g.box(brick, blo, bhi);
-  const BlockBox& me = m_boxes[static_cast<std::size_t>(m_rank)];
-  if (!intersect(blo, bhi, me, lo, hi))
+  // This rank's blocks the brick touches, in their order: one reply each (the requester
+  // posted its receives in the same order, and messages between two ranks on one tag arrive
+  // in order)
+  int parts = 0;
+  detail::TypeList keep;  // freeing a type in use by a pending send is allowed
+  for (std::int64_t at = m_brick_start[brick]; at < m_brick_start[brick + 1]; ++at) {
+    const auto n = static_cast<std::size_t>(m_brick_blocks[at]);
+    if (m_boxes[n].owner != m_rank || !intersect(blo, bhi, m_boxes[n], lo, hi)) continue;
+    const FieldBlock& mine = m_own[n - m_first_own];
+    const FieldView part = sub_view(mine.view, m_boxes[n].offset, lo, hi);
+    MPI_Request r = MPI_REQUEST_NULL;
+    check(MPI_Isend(part.data, 1, detail::strided_view_type(part, keep), source, kTagReply + static_cast<int>(id),
+                    m_comm, &r),
+          "MPI_Isend");
+    m_sends.push_back(r);
+    m_traffic.bytes_sent += box_bytes(lo, hi, mine.view.dtype);
+    ++parts;
+  }
+  if (parts == 0)
     throw std::runtime_error("rank " + std::to_string(source) + " asked for brick " + std::to_string(brick) +
                              ", which holds none of this rank's vertices");
-  const FieldView part = sub_view(m_local, me.offset, lo, hi);
-  detail::TypeList keep;  // freeing a type in use by a pending send is allowed
-  MPI_Request r = MPI_REQUEST_NULL;
-  check(MPI_Isend(part.data, 1, detail::strided_view_type(part, keep), source, kTagReply + static_cast<int>(id), m_comm,
-                  &r),
-        "MPI_Isend");
-  m_sends.push_back(r);
   ++m_traffic.requests_served;
-  m_traffic.bytes_sent += box_bytes(lo, hi, m_local.dtype);
 }
 
 bool BrickService::start_fetch(std::int64_t brick) {
@@ -132,26 +160,35 @@ bool BrickService::start_fetch(std::int64_t brick) {
   g.box(brick, blo, bhi);
   detail::TypeList keep;
   const std::int64_t slot_dims[3] = {B, B, B};
-  for (std::size_t r = 0; r < m_boxes.size(); ++r) {
-    if (!intersect(blo, bhi, m_boxes[r], lo, hi)) continue;
+  int asked = -1;  // the last owner a request went to (an owner's blocks are consecutive)
+  for (std::int64_t e = m_brick_start[brick]; e < m_brick_start[brick + 1]; ++e) {
+    const auto n = static_cast<std::size_t>(m_brick_blocks[e]);
+    const BlockBox& box = m_boxes[n];
+    if (!intersect(blo, bhi, box, lo, hi)) continue;
     std::int64_t at[3], dims[3];
     for (int a = 0; a < 3; ++a) {
       at[a] = lo[a] - blo[a];
       dims[a] = hi[a] - lo[a];
     }
-    // This rank's own part of the slot is never read: PagedFieldView::load reads the own
-    // block in place
-    if (static_cast<int>(r) == m_rank) continue;
+    if (box.owner == m_rank) {
+      // The first own block is never read from a slot (PagedFieldView::load reads it in
+      // place); the others are copied here, no message
+      if (n != m_first_own) copy_block(sub_view(m_own[n - m_first_own].view, box.offset, lo, hi), slot, slot_dims, at);
+      continue;
+    }
     // The receive is posted before the request leaves, so the reply always has a match
-    MPI_Request rr = MPI_REQUEST_NULL, rs = MPI_REQUEST_NULL;
-    check(MPI_Irecv(slot, 1, detail::replica_box_type(g.dtype, slot_dims, at, dims, keep), static_cast<int>(r),
-                    kTagReply + id, m_comm, &rr),
+    MPI_Request rr = MPI_REQUEST_NULL;
+    check(MPI_Irecv(slot, 1, detail::replica_box_type(g.dtype, slot_dims, at, dims, keep), box.owner, kTagReply + id,
+                    m_comm, &rr),
           "MPI_Irecv");
     f.requests.push_back(rr);
-    check(MPI_Isend(f.message, 2, MPI_INT64_T, static_cast<int>(r), kTagRequest, m_comm, &rs), "MPI_Isend");
+    m_traffic.bytes_received += box_bytes(lo, hi, g.dtype);
+    if (asked == box.owner) continue;
+    asked = box.owner;
+    MPI_Request rs = MPI_REQUEST_NULL;
+    check(MPI_Isend(f.message, 2, MPI_INT64_T, box.owner, kTagRequest, m_comm, &rs), "MPI_Isend");
     f.requests.push_back(rs);
     ++m_traffic.requests_sent;
-    m_traffic.bytes_received += box_bytes(lo, hi, g.dtype);
   }
   if (f.requests.empty()) {  // no other owner (not asked for in practice)
     m_cache.publish(brick);

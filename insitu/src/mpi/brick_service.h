@@ -22,6 +22,8 @@
 #include <tessera/brick_cache.h>
 #include <tessera/field_view.h>
 
+#include "parallel_context.h"
+
 #include <mpi.h>
 
 #include <chrono>
@@ -31,10 +33,11 @@
 
 namespace tessera::insitu {
 
-/// A rank's block in the global grid: vertices [offset, offset + dims).
+/// A block in the global grid: vertices [offset, offset + dims), held by rank `owner`.
 struct BlockBox {
   std::int64_t offset[3];
   std::int64_t dims[3];
+  int owner = 0;
 };
 
 /// Traffic of one BrickService (this rank), for reports and benchmarks.
@@ -51,9 +54,14 @@ class BrickService {
   static constexpr int kTagReply = 8000;
   static constexpr int kMaxInFlight = 64;
 
-  /// `boxes`: every rank's block, in rank order (already checked: disjoint, covering the grid);
-  /// `local`: this rank's view of its block. Holds references to all four.
-  BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes, const FieldView& local, BrickCache& cache);
+  /// `boxes`: every rank's blocks, in rank order (already checked: disjoint, covering the
+  /// grid); `own`: this rank's blocks, in the same order as its entries of `boxes` (the first
+  /// is read in place by the kernels, never fetched; the others are copied into the slots of
+  /// the bricks they touch, without a message). Holds references to all four. Builds an index
+  /// of the blocks each brick touches (one entry per block and brick it touches), so that a
+  /// request or a fetch looks only at those.
+  BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes, const std::vector<FieldBlock>& own,
+               BrickCache& cache);
   ~BrickService();
   BrickService(const BrickService&) = delete;
   BrickService& operator=(const BrickService&) = delete;
@@ -86,7 +94,10 @@ class BrickService {
   MPI_Comm m_comm;
   int m_rank;
   const std::vector<BlockBox>& m_boxes;
-  const FieldView& m_local;
+  const std::vector<FieldBlock>& m_own;
+  std::size_t m_first_own = 0;               ///< index in m_boxes of this rank's first block
+  std::vector<std::int64_t> m_brick_start;   ///< per brick: where its blocks begin in m_brick_blocks
+  std::vector<std::int64_t> m_brick_blocks;  ///< block indices (into m_boxes), brick by brick, in order
   BrickCache& m_cache;
   std::vector<Fetch> m_fetches;  ///< kMaxInFlight, by id; brick -1 = free
   int m_in_flight = 0;

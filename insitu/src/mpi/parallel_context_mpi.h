@@ -24,6 +24,7 @@
 /// (MPI_THREAD_FUNNELED suffices). Passive-target RMA on rank 0's counter relies on the MPI
 /// library progressing it while rank 0 renders; within a node Open MPI's osc/sm does this in
 /// hardware (shared-memory atomics).
+#include "block_layout.h"
 #include "mpi/brick_service.h"
 #include "parallel_context.h"
 
@@ -31,6 +32,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -88,10 +90,13 @@ class MpiParallelContext final : public ParallelContext {
   void allgather_waiting(const void* mine, std::size_t bytes, void* all, double warn_after,
                          const std::function<void(double)>& on_wait) override;
   void broadcast(std::string& text, int root) override;
-  FieldView assemble(const FieldView& local, const GlobalPlacement& where) override;
-  std::shared_ptr<const FieldSummary> summarize(const FieldView& local, const GlobalPlacement& where,
-                                                int edge) override;
-  PagedField distribute(const FieldView& local, const GlobalPlacement& where, int shift, std::size_t capacity) override;
+  FieldView assemble_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3],
+                            DType dtype) override;
+  std::shared_ptr<const FieldSummary> summarize_blocks(std::span<const FieldBlock> blocks,
+                                                       const std::int64_t global_dims[3], DType dtype,
+                                                       int edge) override;
+  PagedField distribute_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3], DType dtype,
+                               int shift, std::size_t capacity) override;
   void serve_while(const std::function<void()>& fn) override;
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override;
   /// This rank's bytes moved by the last assemble() + render() (see MpiRenderReport; sum
@@ -110,21 +115,16 @@ class MpiParallelContext final : public ParallelContext {
   void connect_nodes(int ranks_per_node);
 
   // Field replica (parallel_context_mpi_replica.cpp)
-  /// What each rank tells the others before an assemble: its box, dtype and whether its view
-  /// is usable (all int64 so that one MPI_Allgather moves it).
-  struct RankBox {
-    std::int64_t offset[3];
-    std::int64_t dims[3];
-    std::int64_t global[3];
-    std::int64_t dtype;
-    std::int64_t view_ok;
-  };
-  /// Allgathers every rank's box and checks the decomposition (one dtype, one global grid,
-  /// disjoint boxes covering it): throws alike on every rank. In rank order.
-  std::vector<RankBox> check_boxes(const FieldView& local, const GlobalPlacement& where);
+  /// Allgathers every rank's blocks (a fixed header, then the blocks themselves) and checks
+  /// the decomposition (valid views, one dtype, one global grid, blocks tiling it:
+  /// block_layout.h): throws LayoutError alike on every rank. In rank order, each rank's
+  /// blocks in its order; `counts` (if non-null) receives the blocks per rank.
+  std::vector<BlockRecord> check_boxes(std::span<const FieldBlock> blocks, const std::int64_t global[3], DType dtype,
+                                       std::vector<int>* counts = nullptr);
   void ensure_replica(std::uint64_t bytes);
   void free_replica();
-  void exchange_boxes(const FieldView& local, const std::vector<RankBox>& boxes);
+  void exchange_boxes(std::span<const FieldBlock> blocks, const std::vector<BlockRecord>& all,
+                      const std::vector<int>& counts, DType dtype);
 
   // Tile scheduler (parallel_context_mpi_tiles.cpp): render() with more than one rank is
   // share_film, render_grabbed_tiles, gather_film, reduce_stats, in that order on every rank.
@@ -164,6 +164,9 @@ class MpiParallelContext final : public ParallelContext {
   int m_node_rank = 0, m_node_size = 1, m_node_count = 1;
   std::vector<int> m_leader_of;  ///< per rank of m_comm: its node leader's rank
 
+  std::int64_t m_global[3] = {0, 0, 0};
+  std::vector<unsigned char>
+      m_local_replica;  ///< one rank with several domains: their copy  ///< global dims of the last checked decomposition
   MPI_Win m_replica_win = MPI_WIN_NULL;
   void* m_replica = nullptr;
   std::uint64_t m_replica_bytes = 0;
@@ -173,8 +176,8 @@ class MpiParallelContext final : public ParallelContext {
 
   // Distributed mode: this rank's view and every rank's block, the cache and its server;
   // m_service is non-null between distribute() and the next assemble()
-  FieldView m_paged_local;
-  std::vector<BlockBox> m_blocks;
+  std::vector<FieldBlock> m_paged_blocks;  ///< this rank's blocks (the first is read in place)
+  std::vector<BlockBox> m_blocks;          ///< every rank's blocks, in rank order
   std::unique_ptr<BrickCache> m_cache;
   std::unique_ptr<BrickService> m_service;
 

@@ -4,6 +4,8 @@
 #include "mpi/mpi_check.h"
 #include "mpi/parallel_context_mpi.h"
 
+#include "block_ops.h"
+
 #include <algorithm>
 #include <atomic>
 #include <climits>
@@ -33,14 +35,15 @@ constexpr std::chrono::microseconds kServeWait{100};
 
 }  // namespace
 
-std::shared_ptr<const FieldSummary> MpiParallelContext::summarize(const FieldView& local, const GlobalPlacement& where,
-                                                                  int edge) {
-  if (m_size == 1) {
-    assemble(local, where);  // the checks of one rank
-    return FieldSummary::build(local, edge);
-  }
-  check_boxes(local, where);
-  FieldSummary::Parts parts = FieldSummary::partial(local, where.offset, where.global_dims, edge);
+std::shared_ptr<const FieldSummary> MpiParallelContext::summarize_blocks(std::span<const FieldBlock> blocks,
+                                                                         const std::int64_t global[3], DType dtype,
+                                                                         int edge) {
+  FieldView primary;  // the block distribute_blocks reads in place (none: data null)
+  primary.dtype = dtype;
+  if (!blocks.empty()) primary = blocks[0].view;
+  if (m_size == 1) return summarize_one_rank(blocks, global, dtype, edge);  // no MPI call
+  check_boxes(blocks, global, dtype);
+  FieldSummary::Parts parts = partial_of_blocks(blocks, global, edge);
   // Exact in any order: min / max / or / sum (field_summary.h)
   allreduce_long(parts.lo.data(), parts.lo.size(), MPI_DOUBLE, MPI_MIN, m_comm);
   allreduce_long(parts.hi.data(), parts.hi.size(), MPI_DOUBLE, MPI_MAX, m_comm);
@@ -50,24 +53,27 @@ std::shared_ptr<const FieldSummary> MpiParallelContext::summarize(const FieldVie
   check(MPI_Allreduce(&nan, &parts.nan, 1, MPI_UINT64_T, MPI_SUM, m_comm), "MPI_Allreduce");
   check(MPI_Allreduce(&vmin, &parts.vmin, 1, MPI_DOUBLE, MPI_MIN, m_comm), "MPI_Allreduce");
   check(MPI_Allreduce(&vmax, &parts.vmax, 1, MPI_DOUBLE, MPI_MAX, m_comm), "MPI_Allreduce");
-  return FieldSummary::from_parts(std::move(parts), FieldLayout::of(local), edge);
+  return FieldSummary::from_parts(std::move(parts), FieldLayout::of(primary), edge);
 }
 
-PagedField MpiParallelContext::distribute(const FieldView& local, const GlobalPlacement& where, int shift,
-                                          std::size_t capacity) {
+PagedField MpiParallelContext::distribute_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3],
+                                                 DType dtype, int shift, std::size_t capacity) {
   if (m_size == 1) throw std::logic_error("distributed mode needs more than one rank");
-  const std::vector<RankBox> boxes = check_boxes(local, where);
+  std::vector<int> counts;
+  const std::vector<BlockRecord> all = check_boxes(blocks, global, dtype, &counts);
   // No replica in this mode: give its memory back (collective over the node, like assemble)
   m_service.reset();
   free_replica();
-  m_blocks.resize(boxes.size());
-  for (std::size_t r = 0; r < boxes.size(); ++r)
+  m_blocks.resize(all.size());
+  for (std::size_t r = 0; r < all.size(); ++r) {
     for (int a = 0; a < 3; ++a) {
-      m_blocks[r].offset[a] = boxes[r].offset[a];
-      m_blocks[r].dims[a] = boxes[r].dims[a];
+      m_blocks[r].offset[a] = all[r].offset[a];
+      m_blocks[r].dims[a] = all[r].dims[a];
     }
-  m_paged_local = local;
-  const BrickGrid grid = BrickGrid::make(where.global_dims, local.dtype, shift);
+    m_blocks[r].owner = all[r].rank;
+  }
+  m_paged_blocks.assign(blocks.begin(), blocks.end());
+  const BrickGrid grid = BrickGrid::make(global, dtype, shift);
   const bool same = m_cache && m_cache->capacity() == capacity && m_cache->grid().shift == grid.shift &&
                     m_cache->grid().dtype == grid.dtype && std::equal(grid.dims, grid.dims + 3, m_cache->grid().dims);
   if (same) {
@@ -76,18 +82,19 @@ PagedField MpiParallelContext::distribute(const FieldView& local, const GlobalPl
     m_cache.reset();
     m_cache = std::make_unique<BrickCache>(grid, capacity);
   }
-  m_service = std::make_unique<BrickService>(m_comm, m_rank, m_blocks, m_paged_local, *m_cache);
+  m_service = std::make_unique<BrickService>(m_comm, m_rank, m_blocks, m_paged_blocks, *m_cache);
   m_report.bricks = {};
   m_report.cache = {};
   m_report.cache_bytes = m_cache->allocated_bytes();
 
   PagedField f;
-  f.dtype = local.dtype;
-  for (int a = 0; a < 3; ++a) {
-    f.dims[a] = where.global_dims[a];
-    f.offset[a] = where.offset[a];
+  f.dtype = dtype;
+  for (int a = 0; a < 3; ++a) f.dims[a] = global[a];
+  f.local.dtype = dtype;
+  if (!m_paged_blocks.empty()) {
+    f.local = m_paged_blocks[0].view;
+    for (int a = 0; a < 3; ++a) f.offset[a] = m_paged_blocks[0].offset[a];
   }
-  f.local = local;
   f.cache = m_cache.get();
   return f;
 }

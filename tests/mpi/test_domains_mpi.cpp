@@ -1,0 +1,256 @@
+// tessera_execute_domains over MPI: the same global field cut into 1 or 7 uneven domains
+// (own arrays and layouts, NaN ghosts) spread over 1, 2, 3 (and 4) ranks, a rank holding
+// none, and every rank on its own pretend node, renders bit-identically to one rank's
+// tessera_execute of the whole field, in replicated and distributed mode, with single and
+// multiple scattering; ranks that disagree on the mesh, or whose domains do not fit together,
+// all get TESSERA_ERROR_DATA and none hangs. Parametric in the association (vertex data now;
+// cell data joins once the renderer supports it).
+#include "domain_cuts.h"
+#include "mpi_test_support.h"
+
+#include <tessera/adapter.h>
+#include <tessera/tessera.h>
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+using namespace tessera_mpi_test;
+using tessera_test::CutBox;
+using tessera_test::Dims;
+using tessera_test::HeldDomains;
+
+namespace {
+
+const Dims kG{29, 26, 24};
+
+std::string config_text(const std::string& output_dir, const std::string& distribution, const std::string& scattering) {
+  return "tessera:\n  output_dir: " + output_dir + "\n  distribution: " + distribution +
+         "\n  threads: 1\n"
+         "renders:\n"
+         "  - name: view\n"
+         "    field: density\n"
+         "    image: {width: 48, height: 36, spp: 3}\n"
+         "    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: 3.2}}, look_at: center, "
+         "up: [0, 0, 1], fov: 30}\n"
+         "    transfer_function: {range: auto, density_scale: 30, opacity: [[0, 0], [0.2, 0.1], [1, 1]], "
+         "diffuse: viridis, emission: [[0, [0, 0, 0]], [0.7, [0, 0, 0]], [1, [1, 0.4, 0.1]]]}\n"
+         "    lights: [{type: rect, position: [2, -1, 3], target: center, size: {relative: 1}, intensity: 8}]\n"
+         "    background: {type: constant, color: [0.1, 0.1, 0.15]}\n"
+         "    integrator: {scattering: " +
+         scattering +
+         ", max_bounces: 6, tile: 8, seed: 5}\n"
+         "    output: {file: \"{name}_{step:04d}\", formats: [exr]}\n";
+}
+
+/// Which domains a rank of n holds.
+enum class Deal { All, RoundRobin, NoneOnRank1 };
+
+std::vector<tessera_domain> dealt(const HeldDomains& held, Deal deal, int rank, int n) {
+  if (deal == Deal::All) return rank == 0 ? held.of_rank(0, 1) : std::vector<tessera_domain>{};
+  if (deal == Deal::RoundRobin || n < 3) return held.of_rank(rank, n);
+  // Rank 1 holds nothing; the others share the domains round robin
+  if (rank == 1) return {};
+  const int slot = rank == 0 ? 0 : rank - 1;
+  return held.of_rank(slot, n - 1);
+}
+
+/// Per-rank changes before the call (rank, mesh, domains); may replace the call by
+/// tessera_execute of a one-block field (returns true).
+using Edit = std::function<void(int, tessera_mesh&, std::vector<tessera_domain>&)>;
+
+struct Run {
+  tessera_status status = TESSERA_OK;   ///< the same on every member (-1 if they differed)
+  std::string error;                    ///< rank 0's
+  std::optional<tessera::Image> image;  ///< rank 0's
+};
+
+/// Step 4 on the first n ranks with `held` dealt out; `whole_execute`: rank 0 of one rank
+/// publishes domain 0 through tessera_execute instead (the reference).
+Run run_on(int n, const std::string& cfg, const HeldDomains& held, Deal deal, const Edit& edit = {},
+           tessera_association assoc = TESSERA_VERTEX, bool whole_execute = false, int execute_rank = -1) {
+  FirstRanks sub(n);
+  Run run;
+  int status = TESSERA_OK;
+  if (sub.member()) {
+    int r = 0;
+    MPI_Comm_rank(sub.comm(), &r);
+    tessera::insitu::Adapter ad;
+    status = ad.open(cfg, MPI_Comm_c2f(sub.comm()));
+    ad.set_quiet(true);
+    if (status == TESSERA_OK) {
+      tessera_mesh mesh = tessera_test::unit_mesh(kG, assoc);
+      std::vector<tessera_domain> domains = dealt(held, deal, r, n);
+      if (edit) edit(r, mesh, domains);
+      if (whole_execute || r == execute_rank) {
+        // tessera_execute of the first domain (the whole field when held has one box)
+        const tessera_domain d = held.of_rank(0, 1)[0];
+        tessera_grid g{};
+        for (int a = 0; a < 3; ++a) {
+          g.origin[a] = mesh.origin[a];
+          g.spacing[a] = mesh.spacing[a];
+          g.global_dims[a] = mesh.global_dims[a];
+          g.offset[a] = d.offset[a];
+        }
+        status = ad.execute(4, 0.25, g, std::span<const tessera_field>(d.fields, 1));
+      } else {
+        status = ad.execute_domains(4, 0.25, mesh, domains);
+      }
+      if (r == 0) {
+        run.error = ad.last_error();
+        if (const tessera::Image* img = ad.last_image("view")) run.image = *img;
+      }
+    }
+  }
+  int lo = status, hi = status;
+  const int big = sub.member() ? status : 1 << 20, small = sub.member() ? status : -1;
+  MPI_Allreduce(&big, &lo, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(&small, &hi, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  run.status = lo == hi ? static_cast<tessera_status>(hi) : static_cast<tessera_status>(-1);
+  return run;
+}
+
+bool same_image(const tessera::Image& a, const tessera::Image& b) {
+  return a.width == b.width && a.height == b.height && a.rgba.size() == b.rgba.size() &&
+         std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0;
+}
+
+std::string write_config(const SharedTempDir& dir, const std::string& name, const std::string& distribution,
+                         const std::string& scattering) {
+  const std::string out = dir.file(name);
+  if (world_rank() == 0) std::ofstream(out + ".yaml") << config_text(out, distribution, scattering);
+  MPI_Barrier(MPI_COMM_WORLD);
+  return out + ".yaml";
+}
+
+}  // namespace
+
+TEST_CASE("domains: 1 vs 7 uneven domains over 1, 2, 3 ranks give tessera_execute's image bit for bit, both modes",
+          "[mpi][domains][determinism]") {
+  SharedTempDir dir;
+  const HeldDomains whole(kG, {CutBox{{0, 0, 0}, kG}});
+  const HeldDomains seven(kG, tessera_test::seven_cuts(kG), 2);
+  for (const tessera_association assoc : {TESSERA_VERTEX}) {  // TESSERA_CELL: once the renderer has cell data
+    for (const std::string scattering : {"single", "multiple"}) {
+      for (const std::string mode : {"replicated", "distributed"}) {
+        const std::string cfg = write_config(dir, mode + "_" + scattering, mode, scattering);
+        // Vertex data: one rank's tessera_execute of the whole field; cell data: one domain
+        const Run ref = run_on(1, cfg, whole, Deal::All, {}, assoc, assoc == TESSERA_VERTEX);
+        REQUIRE(ref.status == TESSERA_OK);
+        bool ok = true;
+        const auto compare = [&](const Run& r, const std::string& what) {
+          INFO(mode << ", " << scattering << ": " << what << ": " << r.error);
+          REQUIRE(r.status == TESSERA_OK);
+          if (world_rank() == 0) {
+            const bool same = same_image(*ref.image, *r.image);
+            CHECK(same);
+            ok = ok && same;
+          }
+        };
+        compare(run_on(1, cfg, whole, Deal::All, {}, assoc), "1 domain, 1 rank");
+        for (int n : sizes_up_to_world()) {
+          compare(run_on(n, cfg, seven, Deal::RoundRobin, {}, assoc), "7 domains, " + std::to_string(n) + " ranks");
+          compare(run_on(n, cfg, whole, Deal::All, {}, assoc), "1 domain on rank 0 of " + std::to_string(n));
+          if (n >= 3)
+            compare(run_on(n, cfg, seven, Deal::NoneOnRank1, {}, assoc),
+                    "7 domains, none on rank 1 of " + std::to_string(n));
+        }
+        // Every rank on a pretend node of its own: the replica's inter-node exchange
+        if (world_size() > 1) {
+          setenv("TESSERA_MPI_RANKS_PER_NODE", "1", 1);
+          compare(run_on(world_size(), cfg, seven, Deal::RoundRobin, {}, assoc), "7 domains, one rank per node");
+          unsetenv("TESSERA_MPI_RANKS_PER_NODE");
+        }
+        REQUIRE(all_ranks(ok));
+      }
+    }
+  }
+}
+
+TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit, all fail with TESSERA_ERROR_DATA",
+          "[mpi][domains][errors]") {
+  if (world_size() < 2) return;  // needs two ranks
+  SharedTempDir dir;
+  const int n = world_size();
+  const HeldDomains seven(kG, tessera_test::seven_cuts(kG), 1);
+  static std::vector<double> coords;
+  coords.resize(static_cast<std::size_t>(kG[1]));
+  for (std::size_t q = 0; q < coords.size(); ++q) coords[q] = -0.5 + static_cast<double>(q) / (kG[1] - 1.0);
+  static tessera_field f64;  // rank 1's field with bad ghosts
+  struct Case {
+    const char* name;
+    Edit edit;
+    const char* words;
+    int execute_rank = -1;
+  };
+  const std::vector<Case> cases = {
+      {"rank 1's origin differs",
+       [](int r, tessera_mesh& m, auto&) {
+         if (r == 1) m.origin[2] += 1e-9;
+       },
+       "ranks disagree on the mesh"},
+      {"rank 1's axis j is rectilinear (the same values)",
+       [](int r, tessera_mesh& m, auto&) {
+         if (r == 1) m.coords[1] = coords.data();
+       },
+       "ranks disagree on the mesh"},
+      {"rank 1's mesh is cell data",
+       [](int r, tessera_mesh& m, auto&) {
+         if (r == 1) m.association = TESSERA_CELL;
+       },
+       "ranks disagree on the mesh"},
+      {"rank 1's first domain overlaps another",
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         if (r == 1) d[0].offset[1] -= 1;
+       },
+       "overlap"},
+      {"rank 1 leaves out its domains: a gap",
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         if (r == 1) d.clear();
+       },
+       "cover"},
+      {"rank 1's ghosts are larger than its array",
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         if (r != 1) return;
+         f64 = d[0].fields[0];
+         f64.ghosts_lo[1] = 500;
+         d[0].fields = &f64;
+       },
+       "rank 1"},
+      {"rank 1 publishes uint8",
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         if (r != 1) return;
+         static std::vector<tessera_field> bytes;
+         bytes.clear();
+         for (const tessera_domain& x : d) bytes.push_back(x.fields[0]);
+         for (std::size_t q = 0; q < d.size(); ++q) {
+           bytes[q].dtype = TESSERA_UINT8;  // (never read: the ranks' dtypes are compared first)
+           d[q].fields = &bytes[q];
+         }
+       },
+       "different dtypes"},
+      {"rank 1's nlevels is 2",
+       [](int r, tessera_mesh& m, auto&) {
+         if (r == 1) m.nlevels = 2;
+       },
+       "not yet"},
+      {"rank 1 calls tessera_execute", {}, "tessera_execute", 1},
+  };
+  for (const Case& c : cases) {
+    DYNAMIC_SECTION(c.name) {
+      const std::string cfg = write_config(dir, "bad", "auto", "single");
+      const Run r = run_on(n, cfg, seven, Deal::RoundRobin, c.edit, TESSERA_VERTEX, false, c.execute_rank);
+      INFO(r.error);
+      CHECK(r.status == TESSERA_ERROR_DATA);
+      if (world_rank() == 0) CHECK_THAT(r.error, Catch::Contains(c.words));
+      // The same communicator renders afterwards: nobody hangs
+      CHECK(run_on(n, cfg, seven, Deal::RoundRobin).status == TESSERA_OK);
+    }
+  }
+}
