@@ -1,13 +1,16 @@
 #pragma once
 /// Command line of tessera-heat (docs/miniapp.md):
 ///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
-///                [--work-ms N]
+///                [--work-ms N] [--domains-per-rank D] [--cell]
 #include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 
 namespace heat {
+
+/// The most blocks per rank tessera-heat accepts (--domains-per-rank).
+inline constexpr int kMaxBlocksPerRank = 64;
 
 struct Options {
   std::string config;                            ///< "" = default_config_path()
@@ -16,6 +19,8 @@ struct Options {
   std::optional<std::string> output_dir;         ///< overrides the config's tessera.output_dir
   std::optional<std::string> dump;               ///< raw float32 file of the final global field
   std::int64_t work_ms = 0;                      ///< computation added to each step, [0, kMaxWorkMs]
+  int domains_per_rank = 1;                      ///< blocks each rank publishes (published_blocks.h)
+  bool cell = false;                             ///< publish the values as cell data
   bool help = false;
 };
 

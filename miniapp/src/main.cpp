@@ -2,7 +2,7 @@
 // Tessera in situ adapter every step (docs/miniapp.md).
 //
 //   [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
-//                              [--work-ms N]
+//                              [--work-ms N] [--domains-per-rank D] [--cell]
 //
 // The simulation: heat_solver.h. The domain split and halo exchange: cart_decomposition.h,
 // halo_exchange.h. The adapter is used only through its public header <tessera/adapter.h>.
@@ -11,6 +11,7 @@
 #include "cli_options.h"
 #include "field_dump.h"
 #include "heat_solver.h"
+#include "published_blocks.h"
 
 #include <tessera/adapter.h>
 
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <string>
 
 namespace {
@@ -119,6 +121,20 @@ int run(int argc, char** argv) {
     grid.offset[a] = decomp->offset()[a];
   }
 
+  // --domains-per-rank / --cell: the same array as several blocks, or as cell data
+  std::unique_ptr<heat::PublishedBlocks> blocks;
+  if (opt.domains_per_rank > 1 || opt.cell) {
+    try {
+      blocks = std::make_unique<heat::PublishedBlocks>(*decomp, n, solver->spacing(), opt.domains_per_rank, opt.cell);
+    } catch (const std::invalid_argument& e) {
+      say(rank, std::string("tessera-heat: rank ") + std::to_string(rank) + ": " + e.what(), stderr);
+    }
+    // Every rank goes on or stops together (a rank whose block is too thin to cut)
+    int ok = blocks ? 1 : 0, all = 0;
+    MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (!all) return 2;
+  }
+
   double sim_seconds = 0.0, render_seconds = 0.0;
   int renders = 0, failures = 0, skipped = 0;
   // With a render budget: the budget, and the cost after the first call that rendered (whose
@@ -142,7 +158,10 @@ int run(int argc, char** argv) {
     const auto t0 = Clock::now();
     tessera_status status = TESSERA_OK;
     try {
-      status = adapter.execute(step, solver->time(), grid, {&field, 1}, step == opt.steps);
+      if (blocks)
+        status = adapter.execute_domains(step, solver->time(), blocks->mesh(), blocks->domains(solver->data()),
+                                         step == opt.steps);
+      else status = adapter.execute(step, solver->time(), grid, {&field, 1}, step == opt.steps);
     } catch (const tessera::insitu::AdapterError& e) {  // on_error: abort
       say(rank, "tessera-heat: step " + std::to_string(step) + ": " + e.what() + " (on_error: abort; stopping)",
           stderr);
