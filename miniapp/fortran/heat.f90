@@ -71,7 +71,11 @@ program heat
     ! through tessera_execute_final, which renders everything with render_final_step: true)
     if (ndomains > 1) then
       call publish_blocks()
-      st = tessera_execute_domains(viz, int(step, int64), step * dt, mesh, domains)
+      if (step < steps) then
+        st = tessera_execute_domains(viz, int(step, int64), step * dt, mesh, domains)
+      else
+        st = tessera_execute_domains_final(viz, int(step, int64), step * dt, mesh, domains)
+      end if
     else
       fields(1) = tessera_field_from("temperature", u(:, :, :, cur), ghosts=1)
       if (step < steps) then
