@@ -11,6 +11,10 @@
 !>     of being passed on cut (the refusal's message is kept by the module, see `refused`);
 !>   * a field's name is kept inside type(tessera_field); tessera_execute builds the C
 !>     descriptors, with NUL-terminated names in its own storage, for the duration of the call.
+!>   * several blocks per rank (domains), cell or vertex data and rectilinear axes:
+!>     type(tessera_mesh), tessera_mesh_coords, tessera_domain_from and
+!>     tessera_execute_domains (tessera_domains.inc), which also checks what C cannot: the
+!>     length and contiguity of each coordinate array.
 !> Field memory is read only during tessera_execute / tessera_execute_final, and only when a
 !> render fires; the array must stay allocated (not moved) from tessera_field_from until then.
 module tessera
@@ -28,6 +32,8 @@ module tessera
     TESSERA_FLOAT32 = 3, TESSERA_FLOAT64 = 4
   !> The communicator argument of tessera_open for a run without MPI.
   integer, parameter, public :: TESSERA_NO_MPI = -1
+  !> What an array element is, as tessera_association in C.
+  integer, parameter, public :: TESSERA_VERTEX = 0, TESSERA_CELL = 1
 
   !> An adapter handle (opaque). Set by tessera_open; not changed by tessera_close, so that a
   !> call after the close is refused with "adapter was closed" as in C.
@@ -55,6 +61,8 @@ module tessera
     integer(c_int64_t) :: ghosts_lo(3) = 0          !< ghost layers at the low end of each axis
     integer(c_int64_t) :: ghosts_hi(3) = 0          !< ... and at the high end
   end type tessera_field
+
+  include 'tessera_domain_types.inc'
 
   !> The C layout of tessera_field (built inside tessera_execute only).
   type, bind(C) :: c_tessera_field
@@ -88,7 +96,8 @@ module tessera
 
   public :: tessera_field_from, tessera_field_from_unsigned, tessera_execute, &
     tessera_execute_final, tessera_open, tessera_open_with_output_dir, tessera_close, &
-    tessera_field_unchanged, tessera_last_error
+    tessera_field_unchanged, tessera_last_error, tessera_mesh_coords, tessera_domain_from, &
+    tessera_execute_domains, tessera_execute_domains_final
 
   !> The last argument the module itself refused (a NUL inside a name or path): its message,
   !> and the handle it belongs to (null for an open). tessera_last_error returns it for that
@@ -267,17 +276,13 @@ contains
     type(c_tessera_field), allocatable, target :: cf(:)
     character(kind=c_char), allocatable, target :: names(:)
     type(c_ptr) :: first
-    integer :: i, j, n, pos, total
+    integer :: n, pos
     character(:), allocatable :: fault
-    character(len=16) :: index_text
 
     ! A name C would cut: the call goes on with no fields, then reports the name
     call forget_refusal(viz%handle)
-    do i = 1, size(fields)
-      if (.not. allocated(fields(i)%name)) cycle
-      write(index_text, '(i0)') i
-      fault = nul_fault('fields(' // trim(index_text) // ')%name', fields(i)%name)
-      if (len(fault) == 0) cycle
+    fault = names_fault(fields, 'fields')
+    if (len(fault) > 0) then
       if (final) then
         st = c_execute_final(viz%handle, step, time, grid, c_null_ptr, 0_c_int)
       else
@@ -287,35 +292,12 @@ contains
       st = TESSERA_ERROR_DATA
       call refuse(viz%handle, fault // '; the step was executed with no fields')
       return
-    end do
+    end if
 
-    ! Names: one buffer, each NUL-terminated (an unset name stays NULL: C reports it)
     n = size(fields)
-    total = 1
-    do i = 1, n
-      if (allocated(fields(i)%name)) total = total + len(fields(i)%name) + 1
-    end do
-    allocate(cf(n), names(total))
-
-    ! Descriptors, as the C struct
+    allocate(cf(n), names(names_length(fields)))
     pos = 1
-    do i = 1, n
-      cf(i)%data = fields(i)%data
-      cf(i)%dtype = int(fields(i)%dtype, c_int)
-      cf(i)%dims = fields(i)%dims
-      cf(i)%byte_strides = fields(i)%byte_strides
-      cf(i)%ghosts_lo = fields(i)%ghosts_lo
-      cf(i)%ghosts_hi = fields(i)%ghosts_hi
-      if (allocated(fields(i)%name)) then
-        do j = 1, len(fields(i)%name)
-          names(pos + j - 1) = fields(i)%name(j:j)
-        end do
-        names(pos + len(fields(i)%name)) = c_null_char
-        cf(i)%name = c_loc(names(pos))
-        pos = pos + len(fields(i)%name) + 1
-      end if
-    end do
-
+    call pack_fields(fields, cf, 1, names, pos)
     first = c_null_ptr
     if (n > 0) first = c_loc(cf(1))
     if (final) then
@@ -324,6 +306,65 @@ contains
       st = c_execute(viz%handle, step, time, grid, first, int(n, c_int))
     end if
   end function run_execute
+
+  !> "" when no name of fields(:) holds a NUL; else the fault of the first that does, named
+  !> as what(i)%name.
+  function names_fault(fields, what) result(fault)
+    type(tessera_field), intent(in) :: fields(:)
+    character(*), intent(in) :: what
+    character(:), allocatable :: fault
+    character(len=16) :: index_text
+    integer :: i
+    fault = ''
+    do i = 1, size(fields)
+      if (.not. allocated(fields(i)%name)) cycle
+      write(index_text, '(i0)') i
+      fault = nul_fault(what // '(' // trim(index_text) // ')%name', fields(i)%name)
+      if (len(fault) > 0) return
+    end do
+  end function names_fault
+
+  !> Characters the NUL-terminated names of fields(:) take (at least 1).
+  integer function names_length(fields) result(total)
+    type(tessera_field), intent(in) :: fields(:)
+    integer :: i
+    total = 1
+    do i = 1, size(fields)
+      if (allocated(fields(i)%name)) total = total + len(fields(i)%name) + 1
+    end do
+  end function names_length
+
+  !> The C descriptors of fields(:) into cf(at:), their names NUL-terminated into names(pos:)
+  !> (pos advanced past them). An unset name stays NULL: C reports it. cf and names must stay
+  !> in place until the C call that reads them returns.
+  subroutine pack_fields(fields, cf, at, names, pos)
+    type(tessera_field), intent(in) :: fields(:)
+    type(c_tessera_field), intent(inout), target :: cf(:)
+    integer, intent(in) :: at
+    character(kind=c_char), intent(inout), target :: names(:)
+    integer, intent(inout) :: pos
+    integer :: i, j, c
+    do i = 1, size(fields)
+      c = at + i - 1
+      cf(c)%name = c_null_ptr
+      cf(c)%data = fields(i)%data
+      cf(c)%dtype = int(fields(i)%dtype, c_int)
+      cf(c)%dims = fields(i)%dims
+      cf(c)%byte_strides = fields(i)%byte_strides
+      cf(c)%ghosts_lo = fields(i)%ghosts_lo
+      cf(c)%ghosts_hi = fields(i)%ghosts_hi
+      if (allocated(fields(i)%name)) then
+        do j = 1, len(fields(i)%name)
+          names(pos + j - 1) = fields(i)%name(j:j)
+        end do
+        names(pos + len(fields(i)%name)) = c_null_char
+        cf(c)%name = c_loc(names(pos))
+        pos = pos + len(fields(i)%name) + 1
+      end if
+    end do
+  end subroutine pack_fields
+
+  include 'tessera_domains.inc'
 
   ! ---- Field descriptors --------------------------------------------------------------------
   ! Each specific takes u as assumed shape with TARGET, never CONTIGUOUS: the dummy is then

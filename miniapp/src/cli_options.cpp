@@ -40,14 +40,15 @@ std::int64_t parse_int(std::string_view flag, const char* text, std::int64_t min
 std::string usage() {
   return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump "
          "FILE]\n"
-         "                    [--work-ms N] [--domains-per-rank N]\n"
+         "                    [--work-ms N] [--domains-per-rank N] [--cell]\n"
          "  --config FILE     Tessera YAML config (default: the project's configs/heat.yaml)\n"
          "  --steps N         time steps after the initial state (default 100)\n"
          "  --grid NX NY NZ   global grid vertices, each >= 3 (default 64 64 64)\n"
          "  --output-dir DIR  write images under DIR instead of the config's output_dir\n"
          "  --dump FILE       at the end, write the global field to FILE (raw float32, i fastest)\n"
          "  --work-ms N       add N ms of computation to each step (0..60000, default 0): a slower simulation\n"
-         "  --domains-per-rank N  publish each rank's array as N uneven domains (1..1024; zero copy)\n";
+         "  --domains-per-rank N  publish each rank's array as N uneven domains (1..1024; zero copy)\n"
+         "  --cell            publish the values as cell data (cells centred on the vertices)\n";
 }
 
 Options parse_options(int argc, const char* const* argv) {
@@ -76,6 +77,8 @@ Options parse_options(int argc, const char* const* argv) {
     } else if (a == "--work-ms") {
       need(1);
       o.work_ms = parse_int(a, argv[++i], 0, kMaxWorkMs);
+    } else if (a == "--cell") {
+      o.cell = true;
     } else if (a == "--domains-per-rank") {
       need(1);
       o.domains_per_rank = parse_int(a, argv[++i], 1, kMaxDomainsPerRank);

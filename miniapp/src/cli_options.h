@@ -1,7 +1,7 @@
 #pragma once
 /// Command line of tessera-heat (docs/miniapp.md):
 ///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
-///                [--work-ms N] [--domains-per-rank N]
+///                [--work-ms N] [--domains-per-rank N] [--cell]
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -19,6 +19,7 @@ struct Options {
   /// --domains-per-rank N: publish each rank's array as N uneven domains
   /// (tessera_execute_domains); 0 = one block per rank through tessera_execute
   std::int64_t domains_per_rank = 0;
+  bool cell = false;  ///< publish the values as cells centred on the vertices (through domains)
   bool help = false;
 };
 

@@ -2,7 +2,7 @@
 // Tessera in situ adapter every step (docs/miniapp.md).
 //
 //   [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
-//                              [--work-ms N] [--domains-per-rank N]
+//                              [--work-ms N] [--domains-per-rank N] [--cell]
 //
 // The simulation: heat_solver.h. The domain split and halo exchange: cart_decomposition.h,
 // halo_exchange.h. The adapter is used only through its public header <tessera/adapter.h>.
@@ -119,12 +119,14 @@ int run(int argc, char** argv) {
     grid.global_dims[a] = opt.grid[a];
     grid.offset[a] = decomp->offset()[a];
   }
-  // --domains-per-rank N: the same array as N uneven domains of the same mesh (zero copy)
+  // --domains-per-rank N: the same array as N uneven domains of the same mesh (zero copy);
+  // --cell: published as cells centred on the vertices (one domain unless N says more)
+  if (opt.cell && opt.domains_per_rank == 0) opt.domains_per_rank = 1;
   tessera_mesh mesh{};
-  mesh.association = TESSERA_VERTEX;
+  mesh.association = opt.cell ? TESSERA_CELL : TESSERA_VERTEX;
   mesh.nlevels = 1;
   for (int a = 0; a < 3; ++a) {
-    mesh.origin[a] = grid.origin[a];
+    mesh.origin[a] = opt.cell ? grid.origin[a] - 0.5 * grid.spacing[a] : grid.origin[a];
     mesh.spacing[a] = grid.spacing[a];
     mesh.global_dims[a] = grid.global_dims[a];
   }
