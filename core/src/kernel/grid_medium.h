@@ -1,12 +1,19 @@
 #pragma once
-/// GridMedium<T>: the heterogeneous medium seen by the kernels. Works in volume-local voxel
-/// coordinates p = (x - origin) / spacing, so vertex (i,j,k) sits at p = (i,j,k) whatever the
-/// world placement; world distances t stay the ray parameter.
+/// GridMedium<T>: the heterogeneous medium seen by the kernels. Works in volume-local
+/// coordinates p = (x - origin) / spacing per axis (the KernelScene's origin and inv_spacing):
+/// on a uniform axis sample i (a vertex, or a cell centre for cell data) sits at p = i
+/// whatever the world placement; on a rectilinear axis p is the world coordinate itself and
+/// the axis' AxisMap finds the segment. World distances t stay the ray parameter.
+///
+/// Cell data fills the cells' whole box: the box [box_lo, box_hi] reaches half a cell beyond
+/// the outermost centres, where the value is clamped to the nearest centre, and the outermost
+/// macrocells reach over that half cell (outer_half).
 #include <tessera/brick_cache.h>
 #include <tessera/field_view.h>
 #include <tessera/transfer_function.h>
 
 #include "field/majorant_grid.h"
+#include "kernel/axis_map.h"
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +53,14 @@ struct GridMedium {
   /// Extinction clamp, 1 / world unit (kMaxOpticalThicknessPerVoxel / smallest spacing):
   /// also catches density_scale * opacity overflowing to Inf
   double sigma_max = INFINITY;
+  /// Some axis is rectilinear: value, gradient and the macrocell walk take the general path
+  /// (per axis: uniform arithmetic, or the AxisMap); false keeps the uniform arithmetic only.
+  bool rectilinear = false;
+  /// Cell data: the outermost macrocells reach over the outer half cell to the box.
+  bool outer_half = false;
+  double box_lo[3] = {0.0, 0.0, 0.0};  ///< the medium's box in p: vertex data [0, n - 1]
+  double box_hi[3] = {0.0, 0.0, 0.0};
+  AxisMap axis[3];  ///< per axis; axis[a].coords == nullptr: uniform
 
   /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
   double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -56,18 +71,33 @@ struct GridMedium {
     return v;
   }
 
-  /// Trilinear value at voxel-space point p (clamped into the box).
+  /// Segment and fraction of p along a uniform axis a (clamped to the samples).
+  void locate_uniform(int a, double pa, std::int64_t* i0, std::int64_t* i1, double* f) const {
+    const double x = std::clamp(pa, 0.0, hi_index[a]);
+    std::int64_t i = static_cast<std::int64_t>(x);
+    if (i > n[a] - 2) i = std::max<std::int64_t>(0, n[a] - 2);
+    *i0 = i;
+    *i1 = std::min(i + 1, n[a] - 1);
+    *f = x - static_cast<double>(i);
+    if (*i1 == *i0) *f = 0.0;
+  }
+
+  /// Trilinear value at point p (clamped to the samples: over the outer half cell of cell
+  /// data, the nearest centre's value along each axis).
   double value(const Vec3& p) const {
     std::int64_t i0[3], i1[3];
     double f[3];
-    for (int a = 0; a < 3; ++a) {
-      const double x = std::clamp(p[a], 0.0, hi_index[a]);
-      std::int64_t i = static_cast<std::int64_t>(x);
-      if (i > n[a] - 2) i = std::max<std::int64_t>(0, n[a] - 2);
-      i0[a] = i;
-      i1[a] = std::min(i + 1, n[a] - 1);
-      f[a] = x - static_cast<double>(i);
-      if (i1[a] == i0[a]) f[a] = 0.0;
+    if (!rectilinear) {
+      for (int a = 0; a < 3; ++a) locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
+    } else {
+      for (int a = 0; a < 3; ++a) {
+        if (axis[a].coords) {
+          axis[a].locate(p[a], &i0[a], &f[a]);
+          i1[a] = std::min(i0[a] + 1, n[a] - 1);
+        } else {
+          locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
+        }
+      }
     }
     const double c000 = vertex(i0[0], i0[1], i0[2]), c100 = vertex(i1[0], i0[1], i0[2]);
     const double c010 = vertex(i0[0], i1[1], i0[2]), c110 = vertex(i1[0], i1[1], i0[2]);
@@ -96,14 +126,47 @@ struct GridMedium {
     }
     return g;
   }
+
+  /// The gradient of u where some axis is rectilinear: returns it per local sample interval
+  /// (a uniform axis as gradient_voxel; a rectilinear one by central differences one local
+  /// interval apart, times that interval) and sets *world to the world-space gradient
+  /// (inv_spacing: the scene's, for the uniform axes). Six field lookups.
+  Vec3 gradient_local(const Vec3& p, const Vec3& inv_spacing, Vec3* world) const {
+    Vec3 g(0.0), w(0.0);
+    for (int a = 0; a < 3; ++a) {
+      Vec3 pm = p, pp = p;
+      if (!axis[a].coords) {
+        pm[a] = std::clamp(p[a] - 1.0, 0.0, hi_index[a]);
+        pp[a] = std::clamp(p[a] + 1.0, 0.0, hi_index[a]);
+        const double h = pp[a] - pm[a];
+        if (h > 0.0) g[a] = (u(pp) - u(pm)) / h;
+        w[a] = g[a] * inv_spacing[a];
+      } else {
+        const AxisMap& m = axis[a];
+        const double local = m.local_spacing(p[a]);
+        pm[a] = std::clamp(p[a] - local, m.lo, m.hi);
+        pp[a] = std::clamp(p[a] + local, m.lo, m.hi);
+        const double h = pp[a] - pm[a];
+        if (h > 0.0) w[a] = (u(pp) - u(pm)) / h;
+        g[a] = w[a] * local;
+      }
+    }
+    *world = w;
+    return g;
+  }
 };
 
 /// Walks the macrocells a ray crosses between world distances t0 < t1, calling
 /// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
 /// Ray in voxel space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
 template <class T, class Fn>
+bool traverse_macrocells_rectilinear(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1,
+                                     Fn&& fn);
+
+template <class T, class Fn>
 bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Fn&& fn) {
   if (!(t0 < t1)) return false;
+  if (m.rectilinear) return traverse_macrocells_rectilinear(m, ov, dv, t0, t1, fn);
   const double E = m.cell_edge;
   std::int64_t c[3], step[3];
   double t_next[3], t_delta[3];
@@ -135,8 +198,72 @@ bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv,
     }
     if (t >= t1) return false;
     c[a] += step[a];
-    if (c[a] < 0 || c[a] >= m.nc[a]) return false;
+    if (c[a] < 0 || c[a] >= m.nc[a]) {
+      // Past the outermost macrocell: the end of the medium, or its outer half cell
+      if (!m.outer_half) return false;
+      c[a] -= step[a];
+      t_next[a] = INFINITY;
+      continue;
+    }
     t_next[a] += t_delta[a];
+  }
+}
+
+/// traverse_macrocells where some axis is rectilinear: a uniform axis steps as there, a
+/// rectilinear one from wall to wall of its AxisMap (p is the world coordinate there).
+template <class T, class Fn>
+bool traverse_macrocells_rectilinear(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1,
+                                     Fn&& fn) {
+  const double E = m.cell_edge;
+  const auto edge = static_cast<std::int64_t>(E);
+  std::int64_t c[3], step[3];
+  double t_next[3], t_delta[3];
+  const Vec3 p0 = ov + t0 * dv;
+  for (int a = 0; a < 3; ++a) {
+    const AxisMap& ax = m.axis[a];
+    if (ax.coords) {
+      std::int64_t seg;
+      double f;
+      ax.locate(p0[a], &seg, &f);
+      c[a] = std::clamp<std::int64_t>(seg / edge, 0, m.nc[a] - 1);
+    } else {
+      c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
+    }
+    const double lo = ax.coords ? ax.walls[c[a]] : c[a] * E;
+    const double hi = ax.coords ? ax.walls[c[a] + 1] : (c[a] + 1) * E;
+    if (dv[a] > 0.0) {
+      step[a] = 1;
+      t_next[a] = (hi - ov[a]) / dv[a];
+      t_delta[a] = E / dv[a];
+    } else if (dv[a] < 0.0) {
+      step[a] = -1;
+      t_next[a] = (lo - ov[a]) / dv[a];
+      t_delta[a] = -E / dv[a];
+    } else {
+      step[a] = 0;
+      t_next[a] = INFINITY;
+      t_delta[a] = INFINITY;
+    }
+  }
+  double t = t0;
+  for (;;) {
+    const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
+    const double t_exit = std::min(t_next[a], t1);
+    if (t_exit > t) {
+      const double maj = m.majorant[(c[2] * m.nc[1] + c[1]) * m.nc[0] + c[0]];
+      if (fn(t, t_exit, maj)) return true;
+      t = t_exit;
+    }
+    if (t >= t1) return false;
+    c[a] += step[a];
+    if (c[a] < 0 || c[a] >= m.nc[a]) {
+      if (!m.outer_half) return false;
+      c[a] -= step[a];
+      t_next[a] = INFINITY;
+      continue;
+    }
+    if (m.axis[a].coords) t_next[a] = (m.axis[a].walls[step[a] > 0 ? c[a] + 1 : c[a]] - ov[a]) / dv[a];
+    else t_next[a] += t_delta[a];
   }
 }
 

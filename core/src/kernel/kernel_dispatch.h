@@ -10,6 +10,7 @@
 /// "Kernel build cost").
 #include <tessera/field_view.h>
 
+#include "kernel/axis_map.h"
 #include "kernel/grid_medium.h"
 #include "kernel/kernel_scene.h"
 
@@ -42,7 +43,12 @@ GridMedium<T> make_medium(const KernelScene& ks) {
     m.n[a] = ks.field.dims[a];
     m.hi_index[a] = static_cast<double>(ks.field.dims[a] - 1);
     m.nc[a] = ks.cells[a];
+    m.box_lo[a] = ks.box_lo[a];
+    m.box_hi[a] = ks.box_hi[a];
+    m.axis[a] = ks.axis[a];
+    if (ks.axis[a].coords) m.rectilinear = true;
   }
+  m.outer_half = ks.outer_half;
   m.tf = ks.tf;
   m.sigma_max = ks.sigma_max;
   m.majorant = ks.majorant;
