@@ -45,7 +45,9 @@ std::vector<double> stretched(int count, double lo, double hi, double ratio) {
     total += w;
   }
   c[0] = lo;
-  for (int i = 1; i < count; ++i) c[static_cast<std::size_t>(i)] = c[static_cast<std::size_t>(i) - 1] + (hi - lo) * widths[static_cast<std::size_t>(i) - 1] / total;
+  for (int i = 1; i < count; ++i)
+    c[static_cast<std::size_t>(i)] =
+        c[static_cast<std::size_t>(i) - 1] + (hi - lo) * widths[static_cast<std::size_t>(i) - 1] / total;
   c.back() = hi;
   return c;
 }
@@ -216,7 +218,8 @@ TEST_CASE("cell data: Beer-Lambert through the whole cells' box, outer half cell
   std::vector<float> field(static_cast<std::size_t>(nx * ny * nz));
   for (std::int64_t k = 0; k < nz; ++k)
     for (std::int64_t j = 0; j < ny; ++j)
-      for (std::int64_t i = 0; i < nx; ++i) field[static_cast<std::size_t>((k * ny + j) * nx + i)] = static_cast<float>(k + 1);
+      for (std::int64_t i = 0; i < nx; ++i)
+        field[static_cast<std::size_t>((k * ny + j) * nx + i)] = static_cast<float>(k + 1);
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, nx, ny, nz);
   const double h = 0.5, s_scale = 0.3;
   const tessera::VolumeGeometry g{Vec3(1.0, -2.0, 0.25), Vec3(0.7, 0.6, h), Association::Cell};
@@ -249,7 +252,8 @@ TEST_CASE("cell data renders as the vertex field at its centres when the outer h
     for (std::int64_t j = 1; j + 1 < n; ++j)
       for (std::int64_t i = 1; i + 1 < n; ++i) {
         const double x = (i - 4.5) / 4.0, y = (j - 4.5) / 4.0, z = (k - 4.5) / 4.0;
-        field[static_cast<std::size_t>((k * n + j) * n + i)] = static_cast<float>(std::exp(-2.0 * (x * x + y * y + z * z)));
+        field[static_cast<std::size_t>((k * n + j) * n + i)] =
+            static_cast<float>(std::exp(-2.0 * (x * x + y * y + z * z)));
       }
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, n, n, n);
   const tessera::VolumeGeometry cell{Vec3(0.0), Vec3(0.1), Association::Cell};
@@ -279,7 +283,8 @@ TEST_CASE("a linear field on stretched rectilinear axes renders as on a uniform 
     for (int k = 0; k < nz; ++k)
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i)
-          f[static_cast<std::size_t>((k * ny + j) * nx + i)] = xs[static_cast<std::size_t>(i)] + 2.0 * j * hy + 3.0 * zs[static_cast<std::size_t>(k)];
+          f[static_cast<std::size_t>((k * ny + j) * nx + i)] =
+              xs[static_cast<std::size_t>(i)] + 2.0 * j * hy + 3.0 * zs[static_cast<std::size_t>(k)];
     return f;
   };
   std::vector<double> ux(nx), uz(nz);
@@ -329,7 +334,8 @@ TEST_CASE("transmittance along a rectilinear axis: exp(-integral of the linear f
     const std::vector<double> zs = stretched(nz, 0.0, D, 1.25);
     std::vector<float> f(static_cast<std::size_t>(nx * ny * nz));
     for (int k = 0; k < nz; ++k)
-      for (int i = 0; i < nx * ny; ++i) f[static_cast<std::size_t>(k * nx * ny + i)] = static_cast<float>(zs[static_cast<std::size_t>(k)]);
+      for (int i = 0; i < nx * ny; ++i)
+        f[static_cast<std::size_t>(k * nx * ny + i)] = static_cast<float>(zs[static_cast<std::size_t>(k)]);
     const FieldView view = FieldView::contiguous(f.data(), tessera::DType::Float32, nx, ny, nz);
     tessera::VolumeGeometry g;
     g.coords[0] = xs.data();
@@ -348,7 +354,8 @@ TEST_CASE("transmittance along a rectilinear axis: exp(-integral of the linear f
     std::vector<double> xb = stretched(nx + 1, -0.5, 0.5, 2.0), yb = stretched(ny + 1, 0.0, 0.8, 0.5);
     for (int k = 0; k < nz; ++k)
       for (int i = 0; i < nx * ny; ++i)
-        f[static_cast<std::size_t>(k * nx * ny + i)] = 0.5 * (zb[static_cast<std::size_t>(k)] + zb[static_cast<std::size_t>(k) + 1]);
+        f[static_cast<std::size_t>(k * nx * ny + i)] =
+            0.5 * (zb[static_cast<std::size_t>(k)] + zb[static_cast<std::size_t>(k) + 1]);
     const FieldView view = FieldView::contiguous(f.data(), tessera::DType::Float64, nx, ny, nz);
     tessera::VolumeGeometry g{Vec3(0.0), Vec3(1.0), Association::Cell};
     g.coords[0] = xb.data();
@@ -372,7 +379,8 @@ TEST_CASE("majorants bound the extinction along the walk under rectilinear axes 
     if (trial % 5 == 2) n[trial % 3] = 2;
     const std::vector<float> field = random_field(rng, n[0], n[1], n[2]);
     const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, n[0], n[1], n[2]);
-    tessera::VolumeGeometry g{Vec3(-0.3, 0.2, 1.0), Vec3(0.2, 0.35, 0.1), cell ? Association::Cell : Association::Vertex};
+    tessera::VolumeGeometry g{Vec3(-0.3, 0.2, 1.0), Vec3(0.2, 0.35, 0.1),
+                              cell ? Association::Cell : Association::Vertex};
     std::vector<double> coords[3];
     for (int a = 0; a < 3; ++a) {
       if ((trial >> (a % 2)) % 3 == 0 && a != 1) continue;  // some axes stay uniform
@@ -384,7 +392,8 @@ TEST_CASE("majorants bound the extinction along the walk under rectilinear axes 
     tessera::SceneDesc s;
     s.geometry = g;
     s.tf.density_scale = 0.5 + 20.0 * rng.uniform();
-    s.tf.opacity = tessera::ScalarTF({0.0, 0.3, 0.6, 1.0}, {rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()});
+    s.tf.opacity =
+        tessera::ScalarTF({0.0, 0.3, 0.6, 1.0}, {rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()});
     s.camera.position = Vec3(0.0, 0.0, -10.0);
     s.integrator.majorant = tessera::MajorantMode::Grid;
     s.integrator.macrocell = 1 + trial % 4;
@@ -454,7 +463,8 @@ TEST_CASE("bad coordinates are refused naming the axis and index", "[rectilinear
   CHECK(prepare_error(view, s).find("beyond 2^40 smallest spacings") != std::string::npos);
 }
 
-TEST_CASE("cell data on rectilinear axes: bit-identical across threads and tile sizes", "[cell][rectilinear][determinism]") {
+TEST_CASE("cell data on rectilinear axes: bit-identical across threads and tile sizes",
+          "[cell][rectilinear][determinism]") {
   tessera::Rng rng(3, 0, 0, 0);
   constexpr std::int64_t nx = 12, ny = 9, nz = 10;
   const std::vector<float> field = random_field(rng, nx, ny, nz);

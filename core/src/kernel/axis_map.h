@@ -12,14 +12,14 @@
 namespace tessera {
 
 struct AxisMap {
-  const double* coords = nullptr;  ///< the caller's coordinates; nullptr = uniform axis
-  bool cell = false;               ///< coords are n + 1 cell boundaries, knots their midpoints
-  std::int64_t n = 1;              ///< knots (samples) along the axis
-  double lo = 0.0, hi = 0.0;       ///< first and last knot, world units
+  const double* coords = nullptr;      ///< the caller's coordinates; nullptr = uniform axis
+  bool cell = false;                   ///< coords are n + 1 cell boundaries, knots their midpoints
+  std::int64_t n = 1;                  ///< knots (samples) along the axis
+  double lo = 0.0, hi = 0.0;           ///< first and last knot, world units
   const std::int64_t* bins = nullptr;  ///< nbins + 1 entries: the segment holding each bin's start
   std::int64_t nbins = 1;
-  double inv_bin = 0.0;             ///< bins per world unit
-  const double* walls = nullptr;    ///< macrocell c spans [walls[c], walls[c + 1]], world units
+  double inv_bin = 0.0;           ///< bins per world unit
+  const double* walls = nullptr;  ///< macrocell c spans [walls[c], walls[c + 1]], world units
 
   /// Position of knot i in [0, n), world units.
   double knot(std::int64_t i) const { return cell ? 0.5 * (coords[i] + coords[i + 1]) : coords[i]; }

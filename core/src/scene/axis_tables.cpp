@@ -53,7 +53,8 @@ void validate_axes(const FieldView& field, const VolumeGeometry& g) {
                              (g.association == Association::Cell ? " cell boundaries" : " vertex coordinates") + ")";
     for (std::int64_t i = 0; i < count; ++i) {
       if (!std::isfinite(c[i]))
-        throw std::invalid_argument(what + ": coordinate " + std::to_string(i) + " is " + short_number(c[i]) +
+        throw std::invalid_argument(what + ": coordinate " + std::to_string(i) + " is " +
+                                    (std::isnan(c[i]) ? std::string("NaN") : short_number(c[i])) +
                                     ", coordinates must be finite");
       if (i > 0 && !(c[i] > c[i - 1]))
         throw std::invalid_argument(what + ": coordinate " + std::to_string(i) + " (" + short_number(c[i]) +
@@ -84,7 +85,8 @@ double largest_spacing(const FieldView& field, const VolumeGeometry& g, int a) {
 double smallest_spacing(const FieldView& field, const VolumeGeometry& g) {
   // Uniform geometry: exactly today's min over the spacing
   if (!g.coords[0] && !g.coords[1] && !g.coords[2]) return std::min({g.spacing.x, g.spacing.y, g.spacing.z});
-  const double h = std::min({smallest_spacing(field, g, 0), smallest_spacing(field, g, 1), smallest_spacing(field, g, 2)});
+  const double h =
+      std::min({smallest_spacing(field, g, 0), smallest_spacing(field, g, 1), smallest_spacing(field, g, 2)});
   return std::isfinite(h) ? h : 1.0;
 }
 
