@@ -25,6 +25,24 @@ namespace tessera {
 /// The kernels' Value for a demand-paged field (brick_cache.h): the dtype is read per load.
 struct PagedValue {};
 
+/// The kernels' Value for a field with some rectilinear axis: T's loads (a dtype's C++ type
+/// or PagedValue) with the AxisMap lookups compiled in. Uniform fields use T itself, whose
+/// kernels hold none of that code (their arithmetic and inlining are those of uniform data).
+template <class T>
+struct Rectilinear {};
+
+/// A Value's load type and whether it carries rectilinear axes.
+template <class V>
+struct ValueTraits {
+  using base = V;
+  static constexpr bool kRectilinear = false;
+};
+template <class T>
+struct ValueTraits<Rectilinear<T>> {
+  using base = T;
+  static constexpr bool kRectilinear = true;
+};
+
 /// How a GridMedium<T> reads vertices: in place for a real dtype, through the brick cache
 /// for PagedValue.
 template <class T>
@@ -35,11 +53,14 @@ template <>
 struct FieldAccessor<PagedValue> {
   using type = PagedFieldView;
 };
+template <class T>
+struct FieldAccessor<Rectilinear<T>> : FieldAccessor<T> {};
 
 /// True when T's vertex values may be NaN or infinite (a float dtype, or a paged field of
 /// any dtype: the test is exact, never true, for integer values).
 template <class T>
-inline constexpr bool kMayBeNonFinite = std::is_floating_point_v<T> || std::is_same_v<T, PagedValue>;
+inline constexpr bool kMayBeNonFinite = std::is_floating_point_v<typename ValueTraits<T>::base> ||
+                                        std::is_same_v<typename ValueTraits<T>::base, PagedValue>;
 
 template <class T>
 struct GridMedium {
@@ -53,9 +74,10 @@ struct GridMedium {
   /// Extinction clamp, 1 / world unit (kMaxOpticalThicknessPerVoxel / smallest spacing):
   /// also catches density_scale * opacity overflowing to Inf
   double sigma_max = INFINITY;
-  /// Some axis is rectilinear: value, gradient and the macrocell walk take the general path
-  /// (per axis: uniform arithmetic, or the AxisMap); false keeps the uniform arithmetic only.
-  bool rectilinear = false;
+  /// A Rectilinear<> Value: value, gradient and the macrocell walk take the general path
+  /// (per axis: uniform arithmetic, or the AxisMap); otherwise only the uniform arithmetic
+  /// is compiled.
+  static constexpr bool kRectilinear = ValueTraits<T>::kRectilinear;
   /// Cell data: the outermost macrocells reach over the outer half cell to the box.
   bool outer_half = false;
   double box_lo[3] = {0.0, 0.0, 0.0};  ///< the medium's box in p: vertex data [0, n - 1]
@@ -85,20 +107,30 @@ struct GridMedium {
   /// Trilinear value at point p (clamped to the samples: over the outer half cell of cell
   /// data, the nearest centre's value along each axis).
   double value(const Vec3& p) const {
+    if constexpr (kRectilinear) return value_rectilinear(p);
     std::int64_t i0[3], i1[3];
     double f[3];
-    if (!rectilinear) {
-      for (int a = 0; a < 3; ++a) locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
-    } else {
-      for (int a = 0; a < 3; ++a) {
-        if (axis[a].coords) {
-          axis[a].locate(p[a], &i0[a], &f[a]);
-          i1[a] = std::min(i0[a] + 1, n[a] - 1);
-        } else {
-          locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
-        }
+    for (int a = 0; a < 3; ++a) locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
+    return blend(i0, i1, f);
+  }
+
+  /// value() where some axis is rectilinear: that axis' segment from its AxisMap.
+  double value_rectilinear(const Vec3& p) const {
+    std::int64_t i0[3], i1[3];
+    double f[3];
+    for (int a = 0; a < 3; ++a) {
+      if (axis[a].coords) {
+        axis[a].locate(p[a], &i0[a], &f[a]);
+        i1[a] = std::min(i0[a] + 1, n[a] - 1);
+      } else {
+        locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
       }
     }
+    return blend(i0, i1, f);
+  }
+
+  /// The trilinear blend of the 8 samples i0/i1 per axis with fractions f.
+  double blend(const std::int64_t i0[3], const std::int64_t i1[3], const double f[3]) const {
     const double c000 = vertex(i0[0], i0[1], i0[2]), c100 = vertex(i1[0], i0[1], i0[2]);
     const double c010 = vertex(i0[0], i1[1], i0[2]), c110 = vertex(i1[0], i1[1], i0[2]);
     const double c001 = vertex(i0[0], i0[1], i1[2]), c101 = vertex(i1[0], i0[1], i1[2]);
@@ -156,30 +188,40 @@ struct GridMedium {
   }
 };
 
+/// The macrocell holding p along a rectilinear axis (its AxisMap's segment / edge, clamped).
+[[gnu::noinline]] inline std::int64_t rectilinear_cell(const AxisMap& ax, double p, std::int64_t edge,
+                                                       std::int64_t nc) {
+  std::int64_t seg;
+  double f;
+  ax.locate(p, &seg, &f);
+  return std::clamp<std::int64_t>(seg / edge, 0, nc - 1);
+}
+
 /// Walks the macrocells a ray crosses between world distances t0 < t1, calling
 /// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
-/// Ray in voxel space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
-template <class T, class Fn>
-bool traverse_macrocells_rectilinear(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1,
-                                     Fn&& fn);
-
+/// Ray in the medium's p space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
+/// A uniform axis steps E at a time; a rectilinear one from wall to wall of its AxisMap. For
+/// cell data the outermost macrocells reach on to the box (the outer half cell).
 template <class T, class Fn>
 bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Fn&& fn) {
   if (!(t0 < t1)) return false;
-  if (m.rectilinear) return traverse_macrocells_rectilinear(m, ov, dv, t0, t1, fn);
   const double E = m.cell_edge;
   std::int64_t c[3], step[3];
   double t_next[3], t_delta[3];
   const Vec3 p0 = ov + t0 * dv;
+  constexpr bool rectilinear = GridMedium<T>::kRectilinear;  // a uniform Value tests no AxisMap
   for (int a = 0; a < 3; ++a) {
-    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
+    const AxisMap& ax = m.axis[a];
+    const bool rect = rectilinear && ax.coords != nullptr;
+    c[a] = rect ? rectilinear_cell(ax, p0[a], static_cast<std::int64_t>(E), m.nc[a])
+                : std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
     if (dv[a] > 0.0) {
       step[a] = 1;
-      t_next[a] = ((c[a] + 1) * E - ov[a]) / dv[a];
+      t_next[a] = ((rect ? ax.walls[c[a] + 1] : (c[a] + 1) * E) - ov[a]) / dv[a];
       t_delta[a] = E / dv[a];
     } else if (dv[a] < 0.0) {
       step[a] = -1;
-      t_next[a] = (c[a] * E - ov[a]) / dv[a];
+      t_next[a] = ((rect ? ax.walls[c[a]] : c[a] * E) - ov[a]) / dv[a];
       t_delta[a] = -E / dv[a];
     } else {
       step[a] = 0;
@@ -205,64 +247,7 @@ bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv,
       t_next[a] = INFINITY;
       continue;
     }
-    t_next[a] += t_delta[a];
-  }
-}
-
-/// traverse_macrocells where some axis is rectilinear: a uniform axis steps as there, a
-/// rectilinear one from wall to wall of its AxisMap (p is the world coordinate there).
-template <class T, class Fn>
-bool traverse_macrocells_rectilinear(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1,
-                                     Fn&& fn) {
-  const double E = m.cell_edge;
-  const auto edge = static_cast<std::int64_t>(E);
-  std::int64_t c[3], step[3];
-  double t_next[3], t_delta[3];
-  const Vec3 p0 = ov + t0 * dv;
-  for (int a = 0; a < 3; ++a) {
-    const AxisMap& ax = m.axis[a];
-    if (ax.coords) {
-      std::int64_t seg;
-      double f;
-      ax.locate(p0[a], &seg, &f);
-      c[a] = std::clamp<std::int64_t>(seg / edge, 0, m.nc[a] - 1);
-    } else {
-      c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
-    }
-    const double lo = ax.coords ? ax.walls[c[a]] : c[a] * E;
-    const double hi = ax.coords ? ax.walls[c[a] + 1] : (c[a] + 1) * E;
-    if (dv[a] > 0.0) {
-      step[a] = 1;
-      t_next[a] = (hi - ov[a]) / dv[a];
-      t_delta[a] = E / dv[a];
-    } else if (dv[a] < 0.0) {
-      step[a] = -1;
-      t_next[a] = (lo - ov[a]) / dv[a];
-      t_delta[a] = -E / dv[a];
-    } else {
-      step[a] = 0;
-      t_next[a] = INFINITY;
-      t_delta[a] = INFINITY;
-    }
-  }
-  double t = t0;
-  for (;;) {
-    const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
-    const double t_exit = std::min(t_next[a], t1);
-    if (t_exit > t) {
-      const double maj = m.majorant[(c[2] * m.nc[1] + c[1]) * m.nc[0] + c[0]];
-      if (fn(t, t_exit, maj)) return true;
-      t = t_exit;
-    }
-    if (t >= t1) return false;
-    c[a] += step[a];
-    if (c[a] < 0 || c[a] >= m.nc[a]) {
-      if (!m.outer_half) return false;
-      c[a] -= step[a];
-      t_next[a] = INFINITY;
-      continue;
-    }
-    if (m.axis[a].coords) t_next[a] = (m.axis[a].walls[step[a] > 0 ? c[a] + 1 : c[a]] - ov[a]) / dv[a];
+    if (rectilinear && m.axis[a].coords) t_next[a] = (m.axis[a].walls[step[a] > 0 ? c[a] + 1 : c[a]] - ov[a]) / dv[a];
     else t_next[a] += t_delta[a];
   }
 }

@@ -94,11 +94,13 @@ class PathTracer {
       Vec3 normal(0.0);
       if (m_s.shading != Shading::Phase) {
         Vec3 gw_local(0.0);  // world-space grad u where some axis is rectilinear
-        const Vec3 gv = m_m.rectilinear ? m_m.gradient_local(pv, m_s.inv_spacing, &gw_local) : m_m.gradient_voxel(pv);
+        Vec3 gv;
+        if constexpr (GridMedium<V>::kRectilinear) gv = m_m.gradient_local(pv, m_s.inv_spacing, &gw_local);
+        else gv = m_m.gradient_voxel(pv);
         k.gradient_lookups += 6;
         const double gmag = glm::length(gv);
         if (gmag > 0.0) {
-          const Vec3 gw = m_m.rectilinear ? gw_local : gv * m_s.inv_spacing;  // world-space direction of grad u
+          const Vec3 gw = GridMedium<V>::kRectilinear ? gw_local : gv * m_s.inv_spacing;  // world-space grad u
           const double gwl = glm::length(gw);
           if (gwl > 0.0) {
             normal = -gw / gwl;
