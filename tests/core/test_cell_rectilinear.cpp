@@ -17,6 +17,7 @@
 
 #include "kernel/kernel_dispatch.h"
 #include "sampling/rng.h"
+#include "scene/axis_tables.h"
 #include "scene/prepared_scene_impl.h"
 #include "test_support.h"
 
@@ -503,5 +504,58 @@ TEST_CASE("cell data on rectilinear axes: bit-identical across threads and tile 
       INFO("threads " << threads << ", tile " << tile);
       REQUIRE(px.size() == ref.size());
       CHECK(std::memcmp(px.data(), ref.data(), px.size() * sizeof(tessera::PixelSums)) == 0);
+    }
+}
+
+TEST_CASE("an axis lookup finds the segment a search would, the bin table capped or not", "[rectilinear][axis]") {
+  // Against std::upper_bound over the knots, for mild and extreme stretching (a 1e-6 interval
+  // next to unit ones, or intervals growing 1.1x per knot, cap the bin table at 4 (n - 1) + 64
+  // entries, so a bin may hold many knots and the lookup searches inside it), vertex and cell
+  // data, and points on the knots.
+  tessera::Rng rng(17, 0, 0, 0);
+  for (const bool cell : {false, true})
+    for (const double ratio : {1.0, 1.005, 0.985, 1.1, 1e-6}) {  // interval i: ratio^i (1e-6: see below)
+      const std::int64_t n = 200;                                // knots
+      std::vector<double> c(static_cast<std::size_t>(n + (cell ? 1 : 0)));
+      double x = -3.0;
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        c[i] = x;
+        x += ratio == 1e-6 ? (i % 50 == 7 ? 1e-6 : 1.0) : std::pow(ratio, double(i));
+      }
+      std::vector<float> field(static_cast<std::size_t>(n), 0.0f);
+      const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, n, 1, 1);
+      tessera::VolumeGeometry g{Vec3(0.0), Vec3(1.0), cell ? Association::Cell : Association::Vertex};
+      g.coords[0] = c.data();
+      const std::int64_t nc[3] = {(n - 1 + 3) / 4, 1, 1};
+      tessera::AxisTables tables;
+      tables.build(view, g, 4, nc);
+      const tessera::AxisMap& m = tables.map(0);
+      REQUIRE(m.coords == c.data());  // read in place
+      std::vector<double> knots(static_cast<std::size_t>(n));
+      for (std::int64_t i = 0; i < n; ++i) knots[static_cast<std::size_t>(i)] = m.knot(i);
+      // Capped tables: 1e-6 intervals (vertex data; cell centres stay 0.5 apart), and 1.1^i
+      // (1.7e8 between the smallest and largest interval: the first bin holds most knots)
+      if ((ratio == 1e-6 && !cell) || ratio == 1.1) CHECK(m.nbins == 4 * (n - 1) + 64);
+      CHECK(tables.bytes() <= tessera::axis_table_bytes(view, g, 4));
+      int wrong = 0;
+      for (int k = 0; k < 20000; ++k) {
+        double p = knots.front() + (knots.back() - knots.front()) * rng.uniform();
+        if (k % 5 == 0) p = knots[static_cast<std::size_t>(rng.uniform() * n)];  // on a knot
+        if (k % 97 == 0) p = knots.front() - 1.0;                                // clamped
+        std::int64_t seg;
+        double f;
+        m.locate(p, &seg, &f);
+        const double pc = std::clamp(p, knots.front(), knots.back());
+        auto it = std::upper_bound(knots.begin(), knots.end(), pc);
+        std::int64_t want = std::clamp<std::int64_t>((it - knots.begin()) - 1, 0, n - 2);
+        const double fw = (pc - knots[static_cast<std::size_t>(want)]) /
+                          (knots[static_cast<std::size_t>(want) + 1] - knots[static_cast<std::size_t>(want)]);
+        // A point on a knot is the end of one segment or the start of the next: same value
+        const bool ok = (seg == want && std::fabs(f - fw) <= 1e-12) ||
+                        (seg == want - 1 && pc == knots[static_cast<std::size_t>(want)] && f == 1.0);
+        wrong += ok ? 0 : 1;
+      }
+      INFO((cell ? "cell" : "vertex") << ", ratio " << ratio << ", bins " << m.nbins);
+      CHECK(wrong == 0);
     }
 }
