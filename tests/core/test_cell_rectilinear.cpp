@@ -11,6 +11,7 @@
 // Statistics: every comparison is a two-sided z-test with |z| < 4 (per-test false-alarm
 // probability 6.3e-5); standard errors from the film's per-pixel sample variance (two
 // independent renders: sqrt(se1^2 + se2^2)). Seeds are fixed, so outcomes are reproducible.
+#include <tessera/memory_estimate.h>
 #include <tessera/render.h>
 
 #include <catch2/catch.hpp>
@@ -558,4 +559,35 @@ TEST_CASE("an axis lookup finds the segment a search would, the bin table capped
       INFO((cell ? "cell" : "vertex") << ", ratio " << ratio << ", bins " << m.nbins);
       CHECK(wrong == 0);
     }
+}
+
+TEST_CASE("the memory estimate counts the rectilinear axes' tables as prepare builds them", "[rectilinear][memory]") {
+  const std::vector<float> field(static_cast<std::size_t>(40 * 1 * 9), 0.0f);
+  const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, 40, 1, 9);
+  std::vector<double> x(41), y(2), z(10);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = 0.01 * static_cast<double>(i * i);
+  y = {0.0, 1.0};
+  for (std::size_t i = 0; i < z.size(); ++i) z[i] = static_cast<double>(i);
+  for (const bool cell : {false, true}) {
+    tessera::VolumeGeometry g{Vec3(0.0), Vec3(1.0), cell ? Association::Cell : Association::Vertex};
+    g.coords[0] = x.data();
+    g.coords[1] = cell ? y.data() : nullptr;  // one cell: two boundaries
+    g.coords[2] = z.data();
+    tessera::RenderFootprint f;
+    f.width = f.height = 8;
+    for (int a = 0; a < 3; ++a) {
+      f.field_dims[a] = view.dims[a];
+      f.rectilinear[a] = g.coords[a] != nullptr;
+    }
+    f.macrocell_edge = 4;
+    std::uint64_t part = 0;
+    for (const auto& p : tessera::estimate_render_memory(f).parts)
+      if (p.name == "axis tables") part = p.bytes;
+    CHECK(part == tessera::axis_table_bytes(view, g, 4));
+    const std::int64_t nc[3] = {10, 1, 2};
+    tessera::AxisTables tables;
+    tables.build(view, g, 4, nc);
+    CHECK(tables.bytes() > 0);
+    CHECK(tables.bytes() <= part);
+  }
 }

@@ -129,7 +129,7 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
       if (!f.rectilinear[a]) continue;
       const u64 n = nonneg(f.field_dims[a] - 1);
       axes = sum(axes, mul(sum(mul(4, n), 65), sizeof(std::int64_t)));
-      axes = sum(axes, mul((n + c - 1) / c + 1, sizeof(double)));
+      axes = sum(axes, mul(std::max<u64>(1, (n + c - 1) / c) + 1, sizeof(double)));
     }
     e.add("axis tables", axes);
   }
