@@ -30,6 +30,8 @@ inline const EnumName<DType> kDTypeNames[] = {{dtype_name(DType::UInt8), DType::
 inline constexpr EnumName<Distribution> kDistributionNames[] = {
     {"replicated", Distribution::Replicated}, {"distributed", Distribution::Distributed}, {"auto", Distribution::Auto}};
 inline constexpr EnumName<ByteOrder> kByteOrderNames[] = {{"little", ByteOrder::Little}, {"big", ByteOrder::Big}};
+inline constexpr EnumName<Association> kAssociationNames[] = {{"vertex", Association::Vertex},
+                                                              {"cell", Association::Cell}};
 /// The `type:` word of each light kind, one row per alternative of LightSpec in its order; a
 /// row's value is that kind's spec with its defaults, which parse_light fills in.
 inline constexpr EnumName<LightSpec> kLightTypeNames[] = {{"rect", RectLightSpec{}}, {"sphere", SphereLightSpec{}}};

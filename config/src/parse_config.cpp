@@ -111,7 +111,8 @@ GlobalOptions parse_global(const Value& v) {
 }
 
 VolumeSpec parse_volume(const Value& v) {
-  const Map m = v.map_with_keys({"file", "dims", "dtype", "spacing", "origin", "byte_order", "header_bytes"});
+  const Map m =
+      v.map_with_keys({"file", "dims", "dtype", "spacing", "origin", "byte_order", "header_bytes", "association"});
   VolumeSpec s;
   s.file = resolve_existing_file(m.require("file", "a file name, relative to this YAML file"));
 
@@ -127,11 +128,14 @@ VolumeSpec parse_volume(const Value& v) {
   // Spacing and origin within the bounds that keep a voxel resolvable (tessera/loop_bounds.h)
   s.spacing = m.vec3_or("spacing", s.spacing, Range::closed(kMinSpacing, kMaxSpacing));
   s.origin = m.vec3_or("origin", s.origin);
+  s.association = m.choice_or("association", s.association, kAssociationNames);
   {
     const double h = std::min({s.spacing.x, s.spacing.y, s.spacing.z});
     const double lim = kMaxCoordinateVoxels * h;
     Vec3 far = s.origin;
-    for (int a = 0; a < 3; ++a) far[a] += static_cast<double>(s.dims[a] - 1) * s.spacing[a];
+    // The far corner of the vertices, or of the cells (one spacing further)
+    const std::int64_t last = s.association == Association::Cell ? 0 : 1;
+    for (int a = 0; a < 3; ++a) far[a] += static_cast<double>(s.dims[a] - last) * s.spacing[a];
     const auto max_abs = [](const Vec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); };
     if (!(max_abs(s.origin) <= lim) || !(max_abs(far) <= lim)) {
       const std::string why = "puts the data (far corner [" + format_number(far.x) + ", " + format_number(far.y) +

@@ -148,6 +148,7 @@ void write(YAML::Emitter& out, const VolumeSpec& v) {
   field(out, "origin", v.origin);
   field(out, "byte_order", name_of(detail::kByteOrderNames, v.byte_order));
   field(out, "header_bytes", v.header_bytes);
+  field(out, "association", name_of(detail::kAssociationNames, v.association));
   out << YAML::EndMap;
 }
 

@@ -275,3 +275,27 @@ TEST_CASE("image.denoise must be a boolean", "[config]") {
   CHECK_THAT(e, Contains("scene.yaml:5:13: renders[0].image.denoise: 3 is not a boolean") &&
                     Contains("(allowed: true or false)"));
 }
+
+TEST_CASE("volume.association: vertex by default, cell on request, the far corner of the cells checked", "[config]") {
+  TempDir dir;
+  dir.write("v.raw", "");
+  const std::string renders = "renders:\n  - name: a\n    camera: {position: [0, 0, 5]}\n"
+                              "    transfer_function: {opacity: [[0, 1]]}\n";
+  const auto load = [&](const std::string& volume) {
+    return load_config(
+        dir.write("scene.yaml", "volume: {file: v.raw, dims: [4, 3, 2], dtype: uint8" + volume + "}\n" + renders));
+  };
+  CHECK(load("").volume->association == Association::Vertex);
+  const Config c = load(", association: cell");
+  CHECK(c.volume->association == Association::Cell);
+  CHECK(c.volume->geometry().association == Association::Cell);
+  CHECK(load_config(dir.write("again.yaml", to_yaml(c))).volume->association == Association::Cell);
+  CHECK_THROWS_WITH(load(", association: face"),
+                    Contains("volume.association") && Contains("vertex") && Contains("cell"));
+  // dims 4 along x: vertices reach origin + 3, cells origin + 4 spacings; 2^40 spacings of 1
+  // from 0 is 1099511627776
+  CHECK_NOTHROW(load(", origin: [1099511627772, 0, 0]"));
+  CHECK_NOTHROW(load(", origin: [1099511627772, 0, 0], association: vertex"));
+  CHECK_THROWS_WITH(load(", origin: [1099511627773, 0, 0], association: cell"),
+                    Contains("beyond 2^40 smallest spacings"));
+}

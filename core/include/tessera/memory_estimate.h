@@ -31,11 +31,14 @@ struct RenderFootprint {
   /// Formats written, no repeats (where this rank writes: rank 0, or the CLI); each adds the
   /// buffers its row of image_format.h names
   std::vector<ImageFormat> formats{ImageFormat::Exr, ImageFormat::Png};
-  bool writes = true;                                ///< this rank resolves and writes the image
-  bool keeps_last_image = false;                     ///< the image is kept after the write (adapter rank 0)
-  int views = 0;                                     ///< Cinema views rendered after the main image (0 = none)
-  std::int64_t field_dims[3] = {0, 0, 0};            ///< vertices of the rendered field; 0 = not counted
-  int macrocell_edge = 16;                           ///< majorant_edge() of the field and integrator
+  bool writes = true;                      ///< this rank resolves and writes the image
+  bool keeps_last_image = false;           ///< the image is kept after the write (adapter rank 0)
+  int views = 0;                           ///< Cinema views rendered after the main image (0 = none)
+  std::int64_t field_dims[3] = {0, 0, 0};  ///< vertices of the rendered field; 0 = not counted
+  int macrocell_edge = 16;                 ///< majorant_edge() of the field and integrator
+  /// Rectilinear axes of the field (VolumeGeometry::coords set): each adds its lookup tables,
+  /// at most 4 (field_dims[a] - 1) + 65 bin entries and a wall per macrocell (8 bytes each)
+  bool rectilinear[3] = {false, false, false};
   std::int64_t envmap_width = 0, envmap_height = 0;  ///< envmap texels; 0 = no envmap
 };
 

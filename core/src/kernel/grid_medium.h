@@ -1,12 +1,19 @@
 #pragma once
-/// GridMedium<T>: the heterogeneous medium seen by the kernels. Works in volume-local voxel
-/// coordinates p = (x - origin) / spacing, so vertex (i,j,k) sits at p = (i,j,k) whatever the
-/// world placement; world distances t stay the ray parameter.
+/// GridMedium<T>: the heterogeneous medium seen by the kernels. Works in volume-local
+/// coordinates p = (x - origin) / spacing per axis (the KernelScene's origin and inv_spacing):
+/// on a uniform axis sample i (a vertex, or a cell centre for cell data) sits at p = i
+/// whatever the world placement; on a rectilinear axis p is the world coordinate itself and
+/// the axis' AxisMap finds the segment. World distances t stay the ray parameter.
+///
+/// Cell data fills the cells' whole box: the box [box_lo, box_hi] reaches half a cell beyond
+/// the outermost centres, where the value is clamped to the nearest centre, and the outermost
+/// macrocells reach over that half cell (outer_half).
 #include <tessera/brick_cache.h>
 #include <tessera/field_view.h>
 #include <tessera/transfer_function.h>
 
 #include "field/majorant_grid.h"
+#include "kernel/axis_map.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +25,24 @@ namespace tessera {
 /// The kernels' Value for a demand-paged field (brick_cache.h): the dtype is read per load.
 struct PagedValue {};
 
+/// The kernels' Value for a field with some rectilinear axis: T's loads (a dtype's C++ type
+/// or PagedValue) with the AxisMap lookups compiled in. Uniform fields use T itself, whose
+/// kernels hold none of that code (their arithmetic and inlining are those of uniform data).
+template <class T>
+struct Rectilinear {};
+
+/// A Value's load type and whether it carries rectilinear axes.
+template <class V>
+struct ValueTraits {
+  using base = V;
+  static constexpr bool kRectilinear = false;
+};
+template <class T>
+struct ValueTraits<Rectilinear<T>> {
+  using base = T;
+  static constexpr bool kRectilinear = true;
+};
+
 /// How a GridMedium<T> reads vertices: in place for a real dtype, through the brick cache
 /// for PagedValue.
 template <class T>
@@ -28,11 +53,14 @@ template <>
 struct FieldAccessor<PagedValue> {
   using type = PagedFieldView;
 };
+template <class T>
+struct FieldAccessor<Rectilinear<T>> : FieldAccessor<T> {};
 
 /// True when T's vertex values may be NaN or infinite (a float dtype, or a paged field of
 /// any dtype: the test is exact, never true, for integer values).
 template <class T>
-inline constexpr bool kMayBeNonFinite = std::is_floating_point_v<T> || std::is_same_v<T, PagedValue>;
+inline constexpr bool kMayBeNonFinite = std::is_floating_point_v<typename ValueTraits<T>::base> ||
+                                        std::is_same_v<typename ValueTraits<T>::base, PagedValue>;
 
 template <class T>
 struct GridMedium {
@@ -46,6 +74,15 @@ struct GridMedium {
   /// Extinction clamp, 1 / world unit (kMaxOpticalThicknessPerVoxel / smallest spacing):
   /// also catches density_scale * opacity overflowing to Inf
   double sigma_max = INFINITY;
+  /// A Rectilinear<> Value: value, gradient and the macrocell walk take the general path
+  /// (per axis: uniform arithmetic, or the AxisMap); otherwise only the uniform arithmetic
+  /// is compiled.
+  static constexpr bool kRectilinear = ValueTraits<T>::kRectilinear;
+  /// Cell data: the outermost macrocells reach over the outer half cell to the box.
+  bool outer_half = false;
+  double box_lo[3] = {0.0, 0.0, 0.0};  ///< the medium's box in p: vertex data [0, n - 1]
+  double box_hi[3] = {0.0, 0.0, 0.0};
+  AxisMap axis[3];  ///< per axis; axis[a].coords == nullptr: uniform
 
   /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
   double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -56,19 +93,44 @@ struct GridMedium {
     return v;
   }
 
-  /// Trilinear value at voxel-space point p (clamped into the box).
+  /// Segment and fraction of p along a uniform axis a (clamped to the samples).
+  void locate_uniform(int a, double pa, std::int64_t* i0, std::int64_t* i1, double* f) const {
+    const double x = std::clamp(pa, 0.0, hi_index[a]);
+    std::int64_t i = static_cast<std::int64_t>(x);
+    if (i > n[a] - 2) i = std::max<std::int64_t>(0, n[a] - 2);
+    *i0 = i;
+    *i1 = std::min(i + 1, n[a] - 1);
+    *f = x - static_cast<double>(i);
+    if (*i1 == *i0) *f = 0.0;
+  }
+
+  /// Trilinear value at point p (clamped to the samples: over the outer half cell of cell
+  /// data, the nearest centre's value along each axis).
   double value(const Vec3& p) const {
+    if constexpr (kRectilinear) return value_rectilinear(p);
+    std::int64_t i0[3], i1[3];
+    double f[3];
+    for (int a = 0; a < 3; ++a) locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
+    return blend(i0, i1, f);
+  }
+
+  /// value() where some axis is rectilinear: that axis' segment from its AxisMap.
+  double value_rectilinear(const Vec3& p) const {
     std::int64_t i0[3], i1[3];
     double f[3];
     for (int a = 0; a < 3; ++a) {
-      const double x = std::clamp(p[a], 0.0, hi_index[a]);
-      std::int64_t i = static_cast<std::int64_t>(x);
-      if (i > n[a] - 2) i = std::max<std::int64_t>(0, n[a] - 2);
-      i0[a] = i;
-      i1[a] = std::min(i + 1, n[a] - 1);
-      f[a] = x - static_cast<double>(i);
-      if (i1[a] == i0[a]) f[a] = 0.0;
+      if (axis[a].coords) {
+        axis[a].locate(p[a], &i0[a], &f[a]);
+        i1[a] = std::min(i0[a] + 1, n[a] - 1);
+      } else {
+        locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
+      }
     }
+    return blend(i0, i1, f);
+  }
+
+  /// The trilinear blend of the 8 samples i0/i1 per axis with fractions f.
+  double blend(const std::int64_t i0[3], const std::int64_t i1[3], const double f[3]) const {
     const double c000 = vertex(i0[0], i0[1], i0[2]), c100 = vertex(i1[0], i0[1], i0[2]);
     const double c010 = vertex(i0[0], i1[1], i0[2]), c110 = vertex(i1[0], i1[1], i0[2]);
     const double c001 = vertex(i0[0], i0[1], i1[2]), c101 = vertex(i1[0], i0[1], i1[2]);
@@ -96,11 +158,50 @@ struct GridMedium {
     }
     return g;
   }
+
+  /// The gradient of u where some axis is rectilinear: returns it per local sample interval
+  /// (a uniform axis as gradient_voxel; a rectilinear one by central differences one local
+  /// interval apart, times that interval) and sets *world to the world-space gradient
+  /// (inv_spacing: the scene's, for the uniform axes). Six field lookups.
+  Vec3 gradient_local(const Vec3& p, const Vec3& inv_spacing, Vec3* world) const {
+    Vec3 g(0.0), w(0.0);
+    for (int a = 0; a < 3; ++a) {
+      Vec3 pm = p, pp = p;
+      if (!axis[a].coords) {
+        pm[a] = std::clamp(p[a] - 1.0, 0.0, hi_index[a]);
+        pp[a] = std::clamp(p[a] + 1.0, 0.0, hi_index[a]);
+        const double h = pp[a] - pm[a];
+        if (h > 0.0) g[a] = (u(pp) - u(pm)) / h;
+        w[a] = g[a] * inv_spacing[a];
+      } else {
+        const AxisMap& m = axis[a];
+        const double local = m.local_spacing(p[a]);
+        pm[a] = std::clamp(p[a] - local, m.lo, m.hi);
+        pp[a] = std::clamp(p[a] + local, m.lo, m.hi);
+        const double h = pp[a] - pm[a];
+        if (h > 0.0) w[a] = (u(pp) - u(pm)) / h;
+        g[a] = w[a] * local;
+      }
+    }
+    *world = w;
+    return g;
+  }
 };
+
+/// The macrocell holding p along a rectilinear axis (its AxisMap's segment / edge, clamped).
+[[gnu::noinline]] inline std::int64_t rectilinear_cell(const AxisMap& ax, double p, std::int64_t edge,
+                                                       std::int64_t nc) {
+  std::int64_t seg;
+  double f;
+  ax.locate(p, &seg, &f);
+  return std::clamp<std::int64_t>(seg / edge, 0, nc - 1);
+}
 
 /// Walks the macrocells a ray crosses between world distances t0 < t1, calling
 /// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
-/// Ray in voxel space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
+/// Ray in the medium's p space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
+/// A uniform axis steps E at a time; a rectilinear one from wall to wall of its AxisMap. For
+/// cell data the outermost macrocells reach on to the box (the outer half cell).
 template <class T, class Fn>
 bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Fn&& fn) {
   if (!(t0 < t1)) return false;
@@ -108,15 +209,19 @@ bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv,
   std::int64_t c[3], step[3];
   double t_next[3], t_delta[3];
   const Vec3 p0 = ov + t0 * dv;
+  constexpr bool rectilinear = GridMedium<T>::kRectilinear;  // a uniform Value tests no AxisMap
   for (int a = 0; a < 3; ++a) {
-    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
+    const AxisMap& ax = m.axis[a];
+    const bool rect = rectilinear && ax.coords != nullptr;
+    c[a] = rect ? rectilinear_cell(ax, p0[a], static_cast<std::int64_t>(E), m.nc[a])
+                : std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
     if (dv[a] > 0.0) {
       step[a] = 1;
-      t_next[a] = ((c[a] + 1) * E - ov[a]) / dv[a];
+      t_next[a] = ((rect ? ax.walls[c[a] + 1] : (c[a] + 1) * E) - ov[a]) / dv[a];
       t_delta[a] = E / dv[a];
     } else if (dv[a] < 0.0) {
       step[a] = -1;
-      t_next[a] = (c[a] * E - ov[a]) / dv[a];
+      t_next[a] = ((rect ? ax.walls[c[a]] : c[a] * E) - ov[a]) / dv[a];
       t_delta[a] = -E / dv[a];
     } else {
       step[a] = 0;
@@ -135,8 +240,15 @@ bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv,
     }
     if (t >= t1) return false;
     c[a] += step[a];
-    if (c[a] < 0 || c[a] >= m.nc[a]) return false;
-    t_next[a] += t_delta[a];
+    if (c[a] < 0 || c[a] >= m.nc[a]) {
+      // Past the outermost macrocell: the end of the medium, or its outer half cell
+      if (!m.outer_half) return false;
+      c[a] -= step[a];
+      t_next[a] = INFINITY;
+      continue;
+    }
+    if (rectilinear && m.axis[a].coords) t_next[a] = (m.axis[a].walls[step[a] > 0 ? c[a] + 1 : c[a]] - ov[a]) / dv[a];
+    else t_next[a] += t_delta[a];
   }
 }
 

@@ -10,6 +10,7 @@
 /// "Kernel build cost").
 #include <tessera/field_view.h>
 
+#include "kernel/axis_map.h"
 #include "kernel/grid_medium.h"
 #include "kernel/kernel_scene.h"
 
@@ -24,25 +25,34 @@ struct TypeTag {
 };
 
 /// Calls fn(TypeTag<V>{}) with V the kernels' Value for the scene: PagedValue when the field
-/// is paged (ks.paged.cache set), else the C++ type of the field's dtype.
+/// is paged (ks.paged.cache set), else the C++ type of the field's dtype; wrapped in
+/// Rectilinear<> when some axis is rectilinear.
 template <class Fn>
 decltype(auto) with_value(const KernelScene& ks, Fn&& fn) {
-  if (ks.paged.cache != nullptr) return fn(TypeTag<PagedValue>{});
-  return dispatch_dtype(
-      ks.field, [&](auto view) -> decltype(auto) { return fn(TypeTag<typename decltype(view)::value_type>{}); });
+  const bool rect = ks.axis[0].coords || ks.axis[1].coords || ks.axis[2].coords;
+  if (ks.paged.cache != nullptr) return rect ? fn(TypeTag<Rectilinear<PagedValue>>{}) : fn(TypeTag<PagedValue>{});
+  return dispatch_dtype(ks.field, [&](auto view) -> decltype(auto) {
+    using T = typename decltype(view)::value_type;
+    return rect ? fn(TypeTag<Rectilinear<T>>{}) : fn(TypeTag<T>{});
+  });
 }
 
 /// The kernels' medium over the scene's field (trivially copyable; points into ks).
 template <class T>
 GridMedium<T> make_medium(const KernelScene& ks) {
   GridMedium<T> m;
-  if constexpr (std::is_same_v<T, PagedValue>) m.field = ks.paged;
-  else m.field = typed<T>(ks.field);
+  using Base = typename ValueTraits<T>::base;
+  if constexpr (std::is_same_v<Base, PagedValue>) m.field = ks.paged;
+  else m.field = typed<Base>(ks.field);
   for (int a = 0; a < 3; ++a) {
     m.n[a] = ks.field.dims[a];
     m.hi_index[a] = static_cast<double>(ks.field.dims[a] - 1);
     m.nc[a] = ks.cells[a];
+    m.box_lo[a] = ks.box_lo[a];
+    m.box_hi[a] = ks.box_hi[a];
+    m.axis[a] = ks.axis[a];
   }
+  m.outer_half = ks.outer_half;
   m.tf = ks.tf;
   m.sigma_max = ks.sigma_max;
   m.majorant = ks.majorant;

@@ -13,6 +13,7 @@
 #include <tessera/tiles.h>
 #include <tessera/transfer_function.h>
 
+#include "kernel/axis_map.h"
 #include "lights/light_set.h"
 
 #include <cstddef>
@@ -34,8 +35,15 @@ struct KernelScene {
   FieldView field;       ///< paged: the global dims and dtype, data null (never read)
   PagedFieldView paged;  ///< paged mode (brick_cache.h) when paged.cache is set
   const TransferFunction* tf = nullptr;
-  Vec3 origin{0.0};                  ///< world position of vertex (0, 0, 0)
-  Vec3 inv_spacing{1.0};             ///< 1 / spacing, per axis
+  /// The medium's p space (grid_medium.h): p = (x - origin) * inv_spacing per axis. Uniform
+  /// axis: origin the world position of sample 0 (a vertex, or the first cell's centre),
+  /// inv_spacing 1 / spacing; rectilinear axis: origin 0 and inv_spacing 1 (p = x).
+  Vec3 origin{0.0};
+  Vec3 inv_spacing{1.0};
+  double box_lo[3] = {0.0, 0.0, 0.0};  ///< the medium's box in p (the cells' box for cell data)
+  double box_hi[3] = {0.0, 0.0, 0.0};
+  AxisMap axis[3];                   ///< per axis; coords == nullptr: uniform (axis_tables.h builds them)
+  bool outer_half = false;           ///< cell data: the outermost macrocells reach over the outer half cell
   const double* majorant = nullptr;  ///< per macrocell, 1 / world unit, x fastest
   std::int64_t cells[3] = {1, 1, 1};
   int cell_edge = 1;          ///< macrocell edge in voxels

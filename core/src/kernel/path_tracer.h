@@ -93,11 +93,14 @@ class PathTracer {
       bool surface = false;
       Vec3 normal(0.0);
       if (m_s.shading != Shading::Phase) {
-        const Vec3 gv = m_m.gradient_voxel(pv);
+        Vec3 gw_local(0.0);  // world-space grad u where some axis is rectilinear
+        Vec3 gv;
+        if constexpr (GridMedium<V>::kRectilinear) gv = m_m.gradient_local(pv, m_s.inv_spacing, &gw_local);
+        else gv = m_m.gradient_voxel(pv);
         k.gradient_lookups += 6;
         const double gmag = glm::length(gv);
         if (gmag > 0.0) {
-          const Vec3 gw = gv * m_s.inv_spacing;  // world-space direction of grad u
+          const Vec3 gw = GridMedium<V>::kRectilinear ? gw_local : gv * m_s.inv_spacing;  // world-space grad u
           const double gwl = glm::length(gw);
           if (gwl > 0.0) {
             normal = -gw / gwl;
@@ -165,16 +168,16 @@ class PathTracer {
 
   Vec3 to_voxel(const Vec3& x) const { return (x - m_s.origin) * m_s.inv_spacing; }
 
-  /// Ray/box clip in voxel space; returns false if the ray misses the box or it is degenerate.
+  /// Ray/box clip in the medium's p space (its box: the cells' box for cell data); returns false if the ray misses the box or it is degenerate.
   bool clip(const Vec3& ov, const Vec3& dv, double* t0, double* t1) const {
     double a = 0.0, b = INFINITY;
     for (int ax = 0; ax < 3; ++ax) {
-      const double hi = m_m.hi_index[ax];
+      const double lo = m_m.box_lo[ax], hi = m_m.box_hi[ax];
       if (dv[ax] == 0.0) {
-        if (ov[ax] < 0.0 || ov[ax] > hi) return false;
+        if (ov[ax] < lo || ov[ax] > hi) return false;
         continue;
       }
-      double ta = (0.0 - ov[ax]) / dv[ax], tb = (hi - ov[ax]) / dv[ax];
+      double ta = (lo - ov[ax]) / dv[ax], tb = (hi - ov[ax]) / dv[ax];
       if (ta > tb) std::swap(ta, tb);
       a = std::max(a, ta);
       b = std::min(b, tb);

@@ -1,6 +1,6 @@
 #pragma once
-/// The kernels of one field Value (a dtype's C++ type, or PagedValue), each Value's compiled in
-/// its own translation unit (tile_kernel_<value>.cpp) so that they build in parallel.
+/// The kernels of one field Value (a dtype's C++ type, or PagedValue, each also as
+/// Rectilinear<>), each Value's compiled in its own translation unit (tile_kernel_<value>.cpp) so that they build in parallel.
 /// tile_kernel() / preview_kernel() (tile_kernel.cpp) pick the Value.
 #include "kernel/grid_medium.h"
 #include "kernels/tile_kernel.h"
@@ -31,5 +31,18 @@ extern template PreviewKernel preview_kernel_for<std::uint16_t>();
 extern template PreviewKernel preview_kernel_for<float>();
 extern template PreviewKernel preview_kernel_for<double>();
 extern template PreviewKernel preview_kernel_for<PagedValue>();
+// With some rectilinear axis (grid_medium.h), in the same translation units
+extern template TileKernel tile_kernel_for<Rectilinear<std::uint8_t>>();
+extern template PreviewKernel preview_kernel_for<Rectilinear<std::uint8_t>>();
+extern template TileKernel tile_kernel_for<Rectilinear<std::int16_t>>();
+extern template PreviewKernel preview_kernel_for<Rectilinear<std::int16_t>>();
+extern template TileKernel tile_kernel_for<Rectilinear<std::uint16_t>>();
+extern template PreviewKernel preview_kernel_for<Rectilinear<std::uint16_t>>();
+extern template TileKernel tile_kernel_for<Rectilinear<float>>();
+extern template PreviewKernel preview_kernel_for<Rectilinear<float>>();
+extern template TileKernel tile_kernel_for<Rectilinear<double>>();
+extern template PreviewKernel preview_kernel_for<Rectilinear<double>>();
+extern template TileKernel tile_kernel_for<Rectilinear<PagedValue>>();
+extern template PreviewKernel preview_kernel_for<Rectilinear<PagedValue>>();
 
 }  // namespace tessera

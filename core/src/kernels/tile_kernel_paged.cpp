@@ -3,4 +3,5 @@
 
 namespace tessera {
 TESSERA_INSTANTIATE_TILE_KERNELS(PagedValue);
+TESSERA_INSTANTIATE_TILE_KERNELS(Rectilinear<PagedValue>);
 }  // namespace tessera

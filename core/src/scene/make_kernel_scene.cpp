@@ -17,8 +17,14 @@ KernelScene make_kernel_scene(const PreparedSceneImpl& p) {
   // Medium
   k.field = p.field;
   k.tf = &d.tf;
-  k.origin = d.geometry.origin;
+  k.origin = p.origin;
   k.inv_spacing = p.inv_spacing;
+  for (int a = 0; a < 3; ++a) {
+    k.box_lo[a] = p.box_lo[a];
+    k.box_hi[a] = p.box_hi[a];
+    k.axis[a] = p.axes.map(a);
+  }
+  k.outer_half = d.geometry.association == Association::Cell;
   k.majorant = p.grid.majorants();
   for (int a = 0; a < 3; ++a) k.cells[a] = p.grid.cells()[a];
   k.cell_edge = p.grid.edge();

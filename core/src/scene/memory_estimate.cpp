@@ -123,6 +123,15 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
     u64 cells = 1;
     for (int a = 0; a < 3; ++a) cells = mul(cells, std::max<u64>(1, (nonneg(f.field_dims[a] - 1) + c - 1) / c));
     e.add("majorant grid", mul(cells, sizeof(CellRange) + sizeof(double)));
+    // Rectilinear axes: the bin table and macrocell walls of each (axis_tables.h)
+    u64 axes = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (!f.rectilinear[a]) continue;
+      const u64 n = nonneg(f.field_dims[a] - 1);
+      axes = sum(axes, mul(sum(mul(4, n), 65), sizeof(std::int64_t)));
+      axes = sum(axes, mul(std::max<u64>(1, (n + c - 1) / c) + 1, sizeof(double)));
+    }
+    e.add("axis tables", axes);
   }
 
   // Environment map: the float image read (RGBA + optional layers), the texels as doubles

@@ -4,6 +4,7 @@
 #include <tessera/number_text.h>
 
 #include "scene/adaptive_preview.h"
+#include "scene/axis_tables.h"
 #include "scene/prepared_scene_impl.h"
 #include "scene/tile_culling.h"
 
@@ -77,16 +78,29 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
   require(is_finite(b.hi) && is_finite(b.hi - b.lo) && std::isfinite(glm::length(b.hi - b.lo)),
           "volume spacing " + vec(g.spacing) + " with origin " + vec(g.origin) + " and dims " + dims +
               " makes the data bounds overflow (their corner or diagonal is not finite)");
-  require(std::min({g.spacing.x, g.spacing.y, g.spacing.z}) >= kMinSpacing &&
-              std::max({g.spacing.x, g.spacing.y, g.spacing.z}) <= kMaxSpacing,
-          "volume spacing " + vec(g.spacing) + " is outside [1e-100, 1e100] on some axis");
-  const double h = std::min({g.spacing.x, g.spacing.y, g.spacing.z});
+  const bool rectilinear = g.coords[0] || g.coords[1] || g.coords[2];
+  if (!rectilinear) {
+    require(std::min({g.spacing.x, g.spacing.y, g.spacing.z}) >= kMinSpacing &&
+                std::max({g.spacing.x, g.spacing.y, g.spacing.z}) <= kMaxSpacing,
+            "volume spacing " + vec(g.spacing) + " is outside [1e-100, 1e100] on some axis");
+  } else {
+    for (int a = 0; a < 3; ++a) {
+      const double lo = smallest_spacing(field, g, a), hi = largest_spacing(field, g, a);
+      require(!(lo < kMinSpacing) && !(hi > kMaxSpacing),
+              std::string(g.coords[a] ? "rectilinear axis " : "volume spacing along ") + axis_name(a) +
+                  ": spacings from " + num(lo) + " to " + num(hi) + " are outside [1e-100, 1e100]");
+    }
+  }
+  // The smallest spacing of every axis, a rectilinear axis' smallest interval included
+  const double h = smallest_spacing(field, g);
   const double lim = kMaxCoordinateVoxels * h;
   const std::string why =
       " beyond 2^40 smallest spacings (" + num(lim) + ") from 0, where a double no longer resolves a voxel";
   const auto near = [&](const Vec3& p) { return max_abs(p) <= lim; };
-  require(near(g.origin) && near(b.hi),
-          "volume origin " + vec(g.origin) + " puts the data (far corner " + vec(b.hi) + ")" + why);
+  if (!rectilinear)
+    require(near(g.origin) && near(b.hi),
+            "volume origin " + vec(g.origin) + " puts the data (far corner " + vec(b.hi) + ")" + why);
+  else require(near(b.lo) && near(b.hi), "the data's box from " + vec(b.lo) + " to " + vec(b.hi) + " lies" + why);
   // Camera
   const CameraDesc& c = s.camera;
   require(is_finite(c.position), "camera.position " + vec(c.position) + " is not finite");
@@ -131,12 +145,16 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
 /// The scene's checks against the field's geometry (dims, dtype); reads no value.
 void validate_scene(const FieldView& field, const SceneDesc& s) {
   const VolumeGeometry& g = s.geometry;
-  require(is_finite(g.origin), "volume origin " + vec(g.origin) + " must be finite");
-  require(is_finite(g.spacing) && g.spacing.x > 0 && g.spacing.y > 0 && g.spacing.z > 0,
-          "volume spacing " + vec(g.spacing) + " must be finite and > 0 on every axis");
-  require(g.association == Association::Vertex, "cell-centred data: not yet supported by the renderer");
-  require(g.coords[0] == nullptr && g.coords[1] == nullptr && g.coords[2] == nullptr,
-          "rectilinear axes: not yet supported by the renderer");
+  // Origin and spacing place the uniform axes only (a rectilinear axis has its coordinates)
+  require(g.association == Association::Vertex || g.association == Association::Cell,
+          "volume association " + std::to_string(static_cast<int>(g.association)) + " is neither vertex nor cell");
+  for (int a = 0; a < 3; ++a) {
+    if (g.coords[a]) continue;
+    require(std::isfinite(g.origin[a]), "volume origin " + vec(g.origin) + " must be finite");
+    require(std::isfinite(g.spacing[a]) && g.spacing[a] > 0,
+            "volume spacing " + vec(g.spacing) + " must be finite and > 0 on every axis");
+  }
+  validate_axes(field, g);
   const TransferFunction& tf = s.tf;
   // hi - lo must be finite too: u = (v - lo) / (hi - lo) is NaN for v near hi otherwise.
   require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi && std::isfinite(tf.hi - tf.lo),
@@ -208,9 +226,21 @@ void validate_paged(const PagedField& f) {
 double Bounds::radius() const { return 0.5 * glm::length(hi - lo); }
 
 Bounds field_bounds(const FieldView& field, const VolumeGeometry& g) {
-  const Vec3 n(static_cast<double>(field.dims[0] - 1), static_cast<double>(field.dims[1] - 1),
-               static_cast<double>(field.dims[2] - 1));
-  return Bounds{g.origin, g.origin + n * g.spacing};
+  const bool cell = g.association == Association::Cell;
+  Bounds b;
+  for (int a = 0; a < 3; ++a) {
+    const double* c = g.coords[a];
+    // Vertex data: the vertices' box; cell data: the cells' box (one more boundary than cells)
+    const std::int64_t last = field.dims[a] - (cell ? 0 : 1);
+    if (c) {
+      b.lo[a] = c[0];
+      b.hi[a] = c[last];
+    } else {
+      b.lo[a] = g.origin[a];
+      b.hi[a] = g.origin[a] + static_cast<double>(last) * g.spacing[a];
+    }
+  }
+  return b;
 }
 
 std::optional<std::pair<double, double>> field_range(const FieldView& field) {
@@ -253,16 +283,37 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
                   std::shared_ptr<const FieldSummary> summary, const PagedFieldView* paged) {
   p.desc = scene;
   p.field = field;
-  p.bounds = field_bounds(field, scene.geometry);
+  const VolumeGeometry& g = scene.geometry;
+  p.bounds = field_bounds(field, g);
   p.camera = Camera(scene.camera, scene.image.width, scene.image.height);
-  p.inv_spacing = 1.0 / scene.geometry.spacing;
-  p.march_step =
-      scene.integrator.step * std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
+  const double h_min = smallest_spacing(field, g);  // a rectilinear axis' smallest interval included
+  p.march_step = scene.integrator.step * h_min;
   p.grid.set_summary(std::move(summary));
+  // The medium's p space (grid_medium.h): sample i at p = i on a uniform axis (a cell's
+  // centre half a spacing in from its low corner), p = x on a rectilinear one
+  p.origin = g.origin;
+  p.inv_spacing = 1.0 / g.spacing;
+  const bool cell = g.association == Association::Cell;
+  for (int a = 0; a < 3; ++a) {
+    const double hi_index = static_cast<double>(field.dims[a] - 1);
+    if (g.coords[a]) {
+      p.origin[a] = 0.0;
+      p.inv_spacing[a] = 1.0;
+      p.box_lo[a] = p.bounds.lo[a];
+      p.box_hi[a] = p.bounds.hi[a];
+    } else if (cell) {
+      p.origin[a] = g.origin[a] + 0.5 * g.spacing[a];
+      p.box_lo[a] = -0.5;
+      p.box_hi[a] = hi_index + 0.5;
+    } else {
+      p.box_lo[a] = 0.0;
+      p.box_hi[a] = hi_index;
+    }
+  }
+  p.axes.build(field, g, p.grid.edge(), p.grid.cells());
   // Extinction clamp: beyond kMaxOpticalThicknessPerVoxel per smallest spacing the medium is
   // opaque at sub-voxel scale in double precision (loop_bounds.h)
-  p.sigma_max = kMaxOpticalThicknessPerVoxel /
-                std::min({scene.geometry.spacing.x, scene.geometry.spacing.y, scene.geometry.spacing.z});
+  p.sigma_max = kMaxOpticalThicknessPerVoxel / h_min;
   p.grid.update(scene.tf, p.sigma_max);
   p.env = Environment(scene.background);
   p.lights = make_lights(scene, &p.env);

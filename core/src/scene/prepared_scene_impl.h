@@ -8,6 +8,7 @@
 #include "kernel/kernel_scene.h"
 #include "lights/environment.h"
 #include "lights/light_set.h"
+#include "scene/axis_tables.h"
 
 #include <vector>
 
@@ -23,7 +24,12 @@ struct PreparedSceneImpl {
   std::vector<Light> lights;  ///< every light, in LightSet order (light_set.h)
   std::vector<Tile> tiles;
   std::vector<std::uint8_t> tile_culled;  ///< per tile: 1 = nothing to trace (tile_culling.h)
+  /// The medium's p space and box (kernel_scene.h), and the rectilinear axes' tables
+  Vec3 origin{0.0};
   Vec3 inv_spacing{1.0};
+  double box_lo[3] = {0.0, 0.0, 0.0};
+  double box_hi[3] = {0.0, 0.0, 0.0};
+  AxisTables axes;
   double march_step = 0.5;  ///< raymarch step in world units
   double sigma_max = 0.0;   ///< extinction clamp, 1 / world unit (loop_bounds.h)
   bool has_emission = false;

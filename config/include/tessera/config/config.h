@@ -66,8 +66,10 @@ struct VolumeSpec {
   Vec3 origin{0.0};
   ByteOrder byte_order = ByteOrder::Little;
   std::int64_t header_bytes = 0;  ///< >= 0, skipped at the start of the file
+  /// What a value is: a vertex's, or a cell's (at its centre; the medium fills the cells' box)
+  Association association = Association::Vertex;
 
-  VolumeGeometry geometry() const { return VolumeGeometry{origin, spacing}; }
+  VolumeGeometry geometry() const { return VolumeGeometry{origin, spacing, association}; }
 };
 
 struct Config {
