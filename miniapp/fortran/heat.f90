@@ -33,7 +33,8 @@ program heat
   call parallel_start()
   call read_arguments(config, output_dir, steps, nx, ny, nz, ndomains)
   call slab_of(nz, k0, nk)
-  cuts = uneven_cuts(ny, ndomains)
+  allocate(cuts(0:ndomains))
+  cuts(:) = uneven_cuts(ny, ndomains)   ! (assigned into 0:ndomains: a function result is 1-based)
   allocate(domains(ndomains))
 
   ! This rank's slab: real vertices 1..nx, 1..ny, 1..nk; layer 0 and n+1 are ghosts (the
