@@ -21,8 +21,8 @@ const Range kFraction{0.0, 1.0, true, false};  // (0, 1]
 std::string pattern(const Value& v) {
   const std::string p = v.string(true);
   if (p.size() > kMaxAnnotationPattern)
-    v.fail("text of " + std::to_string(p.size()) + " bytes (allowed: at most " +
-           std::to_string(kMaxAnnotationPattern) + ")");
+    v.fail("text of " + std::to_string(p.size()) + " bytes (allowed: at most " + std::to_string(kMaxAnnotationPattern) +
+           ")");
   try {
     validate_text_pattern(p);
   } catch (const std::invalid_argument& e) {
@@ -68,8 +68,7 @@ std::string font_file(const Map& m, const Value& block) {
 }  // namespace
 
 AnnotationsSpec parse_annotations(const Value& v, const RenderSpec& r) {
-  const Map m =
-      v.map_with_keys({"colorbar", "text", "text_corner", "title", "title_corner", "font", "font_size"});
+  const Map m = v.map_with_keys({"colorbar", "text", "text_corner", "title", "title_corner", "font", "font_size"});
   AnnotationsSpec a;
   if (const auto c = m.get("colorbar")) parse_colorbar(*c, a);
   if (const auto t = m.get("text")) a.text = pattern(*t);

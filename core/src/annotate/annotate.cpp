@@ -48,9 +48,9 @@ struct Plan {
 struct Item {
   Corner corner = Corner::TopLeft;
   int w = 0, h = 0;
-  std::vector<PlacedText> texts;   ///< relative
+  std::vector<PlacedText> texts;           ///< relative
   PixelBox bar, color_band, opacity_band;  ///< relative; empty for a text
-  std::vector<PixelBox> marks;     ///< relative
+  std::vector<PixelBox> marks;             ///< relative
   bool is_bar = false;
 };
 
@@ -356,7 +356,8 @@ std::string tick_label(double v, double step, double largest) {
   if (!(step > 0.0) || !std::isfinite(step)) {
     std::snprintf(buf, sizeof buf, "%.6g", v);
   } else if (scientific) {
-    const int digits = std::clamp(static_cast<int>(std::floor(std::log10(largest)) - std::floor(std::log10(step))), 0, 6);
+    const int digits =
+        std::clamp(static_cast<int>(std::floor(std::log10(largest)) - std::floor(std::log10(step))), 0, 6);
     std::snprintf(buf, sizeof buf, "%.*e", digits, v);
   } else {
     const int digits = step >= 1.0 ? 0 : std::clamp(static_cast<int>(std::ceil(-std::log10(step) - 1e-9)), 0, 10);

@@ -49,8 +49,8 @@ Font::Font(const std::string& path) : m_path(path) {
   if (err != 0) {
     FT_Done_FreeType(m_library);
     const char* why = FT_Error_String(err);
-    throw std::runtime_error("cannot load font '" + path + "': " +
-                             (why ? std::string(why) : "FreeType error " + std::to_string(err)) +
+    throw std::runtime_error("cannot load font '" + path +
+                             "': " + (why ? std::string(why) : "FreeType error " + std::to_string(err)) +
                              " (allowed: a TrueType or OpenType font file)");
   }
   if (!FT_IS_SCALABLE(m_face)) {

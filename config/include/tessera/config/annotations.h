@@ -31,9 +31,9 @@ inline constexpr std::size_t kMaxAnnotationPattern = 256;
 struct ColorBarSpec {
   Corner corner = Corner::BottomRight;
   BarOrientation orientation = BarOrientation::Vertical;
-  double length = 0.4;       ///< (0, 1]: fraction of the edge the bar runs along
-  double thickness = 0.04;   ///< (0, 1]: fraction of the smaller edge
-  int ticks = 5;             ///< [2, 10]
+  double length = 0.4;               ///< (0, 1]: fraction of the edge the bar runs along
+  double thickness = 0.04;           ///< (0, 1]: fraction of the smaller edge
+  int ticks = 5;                     ///< [2, 10]
   std::optional<std::string> label;  ///< absent: the render's `field` (none if that is empty)
 };
 
@@ -44,7 +44,7 @@ struct AnnotationsSpec {
   Corner text_corner = Corner::TopLeft;
   std::string title;  ///< pattern; "" = none
   Corner title_corner = Corner::TopLeft;
-  std::string font;  ///< absolute path of an existing font file FreeType opens (resolved at load)
+  std::string font;         ///< absolute path of an existing font file FreeType opens (resolved at load)
   double font_size = 0.03;  ///< (0, 1]
 };
 
