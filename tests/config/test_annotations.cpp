@@ -117,8 +117,8 @@ TEST_CASE("annotations: bad values are load-time errors with their position", "[
   CHECK_THAT(err("      colour_bar: true\n"), Contains("colour_bar") && Contains("colorbar"));
   CHECK_THAT(err("      colorbar: maybe\n"), Contains("true or false"));
   // A colour bar larger than the image, with its labels
-  CHECK_THAT(err("      colorbar: {length: 1}\n"), StartsWith("scene.yaml:6:5: renders[0].annotations:") &&
-                                                        Contains("the colour bar with its labels needs"));
+  CHECK_THAT(err("      colorbar: {length: 1}\n"),
+             StartsWith("scene.yaml:6:5: renders[0].annotations:") && Contains("the colour bar with its labels needs"));
   CHECK_THAT(err("      colorbar: true\n", 16, 16), Contains("more than the 16x16 image has"));
   CHECK_THAT(err("      text: \"" + std::string(200, 'W') + "\"\n      font_size: 1\n", 64, 64),
              Contains("text 1 needs"));

@@ -7,8 +7,8 @@
 #include <tessera/image_io.h>
 
 #include <catch2/catch.hpp>
-#include <png.h>
 
+#include "read_png.h"
 #include "temp_dir.h"
 
 #include <chrono>
@@ -20,6 +20,7 @@
 
 using namespace tessera;
 using Catch::Matchers::Contains;
+using tessera_test::read_png_rgba;
 
 namespace {
 
@@ -67,18 +68,6 @@ const std::uint8_t* at(const std::vector<std::uint8_t>& px, int w, int x, int y)
 
 bool same_pixel(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int w, int x, int y) {
   return std::equal(at(a, w, x, y), at(a, w, x, y) + 4, at(b, w, x, y));
-}
-
-std::vector<std::uint8_t> read_png_rgba(const std::string& path, int& w, int& h) {
-  png_image reader{};
-  reader.version = PNG_IMAGE_VERSION;
-  REQUIRE(png_image_begin_read_from_file(&reader, path.c_str()) != 0);
-  reader.format = PNG_FORMAT_RGBA;
-  std::vector<std::uint8_t> px(PNG_IMAGE_SIZE(reader));
-  REQUIRE(png_image_finish_read(&reader, nullptr, px.data(), 0, nullptr) != 0);
-  w = static_cast<int>(reader.width);
-  h = static_cast<int>(reader.height);
-  return px;
 }
 
 std::string bytes_of(const std::string& path) {
@@ -250,7 +239,8 @@ TEST_CASE("annotation values out of range and unreadable fonts are errors", "[an
   CHECK_THAT(why, Contains("the colour bar with its labels needs"));
 }
 
-TEST_CASE("write_png draws annotations into the PNG only, and without them the bytes are as before", "[annotate][image_io]") {
+TEST_CASE("write_png draws annotations into the PNG only, and without them the bytes are as before",
+          "[annotate][image_io]") {
   tessera_test::TempDir dir;
   Image img;
   img.width = 200;
