@@ -188,6 +188,29 @@ TEST_CASE("annotations change pixels only inside their boxes, in the configured 
   }
 }
 
+TEST_CASE("tick labels never overlap, on short bars fewer of them", "[annotate]") {
+  for (const int size : {256, 2048})
+    for (const BarOrientation o : {BarOrientation::Vertical, BarOrientation::Horizontal})
+      for (const double length : {0.1, 0.25, 0.4, 1.0}) {
+        AnnotationDesc d = desc_with(Corner::BottomLeft, o);
+        d.texts.clear();
+        d.bar.length = length;
+        d.bar.ticks = 10;
+        d.tf = red_to_blue(-1234.5, 98765.4);
+        const AnnotationLayout l = layout_annotations(size, size, d);
+        INFO("size " << size << ", length " << length);
+        // A bar too short for two labels keeps one; longer bars keep more
+        CHECK(l.tick_labels.size() >= (length < 0.2 ? 1u : 2u));
+        if (size == 2048 && length >= 0.4 && o == BarOrientation::Vertical) CHECK(l.tick_labels.size() >= 5u);
+        for (std::size_t i = 1; i < l.tick_labels.size(); ++i) {
+          const PixelBox& a = l.tick_labels[i - 1];
+          const PixelBox& b = l.tick_labels[i];
+          const bool apart = a.x1 <= b.x0 || b.x1 <= a.x0 || a.y1 <= b.y0 || b.y1 <= a.y0;
+          CHECK(apart);
+        }
+      }
+}
+
 TEST_CASE("text items in one corner stack without overlapping", "[annotate]") {
   AnnotationDesc d;
   d.font_path = kFont;

@@ -37,7 +37,8 @@ inline constexpr std::size_t kMaxAnnotationTexts = 8;
 /// bands: the colour itself (the outer half: left of a vertical bar, top of a horizontal
 /// one) and the colour with alpha = opacity / (the opacity's maximum) over a grey checker.
 /// Tick labels in data units at "nice" values (1, 2 or 5 x 10^k) right of (vertical) or
-/// below (horizontal) the bar; `label` (the field name) above it.
+/// below (horizontal) the bar, fewer than `ticks` where neighbouring labels would touch;
+/// `label` (the field name) above it.
 struct ColorBarDesc {
   Corner corner = Corner::BottomRight;
   BarOrientation orientation = BarOrientation::Vertical;
@@ -72,10 +73,11 @@ struct PixelBox {
 /// reaching outside the image does not fit (annotations_fit).
 struct AnnotationLayout {
   int font_pixels = 0;
-  std::vector<PixelBox> boxes;  ///< one per drawn item (texts, then the bar): everything drawn lies inside
-  PixelBox bar;                 ///< the bar itself (both bands), empty without a colour bar
-  PixelBox color_band;          ///< the plain-colour band of the bar
-  PixelBox opacity_band;        ///< the opacity band of the bar
+  std::vector<PixelBox> boxes;        ///< one per drawn item (texts, then the bar): everything drawn lies inside
+  PixelBox bar;                       ///< the bar itself (both bands), empty without a colour bar
+  PixelBox color_band;                ///< the plain-colour band of the bar
+  PixelBox opacity_band;              ///< the opacity band of the bar
+  std::vector<PixelBox> tick_labels;  ///< each tick label's text, first value first
 };
 
 /// Throws std::invalid_argument naming the fault for values out of range (font_size,

@@ -51,6 +51,7 @@ struct Item {
   std::vector<PlacedText> texts;           ///< relative
   PixelBox bar, color_band, opacity_band;  ///< relative; empty for a text
   std::vector<PixelBox> marks;             ///< relative
+  std::vector<PixelBox> labels;            ///< relative: the tick labels' masks
   bool is_bar = false;
 };
 
@@ -88,15 +89,34 @@ Item bar_item(const Font& font, const Metrics& m, const AnnotationDesc& d, int w
   const int tick = std::max(2, thick / 4);
   const int line = font.line_height();
 
-  // Tick labels, measured
-  const std::vector<double> values = colorbar_ticks(d.tf.lo, d.tf.hi, b.ticks);
-  const double step = values.size() >= 2 ? values[1] - values[0] : d.tf.hi - d.tf.lo;
-  const double largest = std::max(std::abs(d.tf.lo), std::abs(d.tf.hi));
+  const auto along = [&](double v) {  // pixel index along the bar of a data value
+    const double u = (v - d.tf.lo) / (d.tf.hi - d.tf.lo);
+    return static_cast<int>(std::lround(std::clamp(u, 0.0, 1.0) * (length - 1)));
+  };
+
+  // Tick labels, measured; fewer ticks while neighbouring labels would touch (a short bar):
+  // nice ticks for targets down to 2, then the range's two ends, then its first value alone
+  std::vector<double> values;
   std::vector<TextMask> labels;
   int label_w = 0;
-  for (const double v : values) {
-    labels.push_back(font.render(tick_label(v, step, largest), width));
-    label_w = std::max(label_w, labels.back().width);
+  const double largest = std::max(std::abs(d.tf.lo), std::abs(d.tf.hi));
+  for (int target = b.ticks; target >= 0; --target) {
+    values = target >= 2   ? colorbar_ticks(d.tf.lo, d.tf.hi, target)
+             : target == 1 ? std::vector<double>{d.tf.lo, d.tf.hi}
+                           : std::vector<double>{d.tf.lo};
+    const double step = values.size() >= 2 ? values[1] - values[0] : d.tf.hi - d.tf.lo;
+    labels.clear();
+    label_w = 0;
+    for (const double v : values) {
+      labels.push_back(font.render(tick_label(v, step, largest), width));
+      label_w = std::max(label_w, labels.back().width);
+    }
+    bool crowded = false;
+    for (std::size_t i = 1; i < values.size(); ++i) {
+      const int need = vertical ? line : (labels[i - 1].width + labels[i].width) / 2 + m.gap;
+      crowded = crowded || along(values[i]) - along(values[i - 1]) < need;
+    }
+    if (!crowded) break;
   }
   TextMask title = font.render(b.label, std::max(1, width - 2 * m.margin - 2 * m.pad));
   const int title_h = b.label.empty() ? 0 : line + m.gap;
@@ -104,10 +124,6 @@ Item bar_item(const Font& font, const Metrics& m, const AnnotationDesc& d, int w
   Item it;
   it.corner = b.corner;
   it.is_bar = true;
-  const auto along = [&](double v) {  // pixel index along the bar of a data value
-    const double u = (v - d.tf.lo) / (d.tf.hi - d.tf.lo);
-    return static_cast<int>(std::lround(std::clamp(u, 0.0, 1.0) * (length - 1)));
-  };
   if (vertical) {
     const int x0 = m.pad, y0 = m.pad + title_h + line / 2;
     it.bar = {x0, y0, x0 + thick, y0 + length};
@@ -117,6 +133,7 @@ Item bar_item(const Font& font, const Metrics& m, const AnnotationDesc& d, int w
       const int y = y0 + length - 1 - along(values[i]);
       it.marks.push_back({x0 + thick, y, x0 + thick + tick, y + 1});
       PlacedText p{std::move(labels[i]), x0 + thick + tick + m.gap, y - line / 2};
+      it.labels.push_back({p.x, p.y, p.x + p.mask.width, p.y + p.mask.height});
       it.texts.push_back(std::move(p));
     }
     it.w = std::max(thick + tick + m.gap + label_w, title.width) + 2 * m.pad;
@@ -131,6 +148,7 @@ Item bar_item(const Font& font, const Metrics& m, const AnnotationDesc& d, int w
       it.marks.push_back({x, y0 + thick, x + 1, y0 + thick + tick});
       const int lw = labels[i].width;
       PlacedText p{std::move(labels[i]), x - lw / 2, y0 + thick + tick + m.gap};
+      it.labels.push_back({p.x, p.y, p.x + p.mask.width, p.y + p.mask.height});
       it.texts.push_back(std::move(p));
     }
     it.w = std::max(length + label_w, title.width) + 2 * m.pad;
@@ -165,6 +183,7 @@ Plan plan(int width, int height, const AnnotationDesc& d, const Font& font, cons
       p.layout.boxes[i] = {x, y, x + it.w, y + it.h};
       for (PlacedText& t : it.texts) p.texts.push_back({std::move(t.mask), t.x + x, t.y + y});
       for (const PixelBox& mk : it.marks) p.tick_marks.push_back(shifted(mk, x, y));
+      for (const PixelBox& lb : it.labels) p.layout.tick_labels.push_back(shifted(lb, x, y));
       if (it.is_bar) {
         p.layout.bar = shifted(it.bar, x, y);
         p.layout.color_band = shifted(it.color_band, x, y);
