@@ -236,6 +236,12 @@ TEST_CASE("runaway text is cut at the glyph cap and the image width, in bounded 
   const AnnotationLayout l = layout_annotations(w, h, d);
   CHECK(l.boxes[0].x1 <= w);
   CHECK(annotations_fit(w, h, l));
+  // The largest font size: capped in pixels
+  d.texts = {{"W", Corner::TopLeft}};
+  d.font_size = 1.0;
+  std::vector<std::uint8_t> big = pattern(2048, 2048);
+  draw_annotations(2048, 2048, big.data(), d);
+  CHECK(layout_annotations(2048, 2048, d).font_pixels == kMaxFontPixels);
   // Not a timing assertion: a generous bound that only an unbounded loop would pass
   CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60));
 }

@@ -8,7 +8,7 @@
 /// Layout: every item sits in one of the four corners, inset by a margin; items sharing a
 /// corner stack in the order given (texts, then the colour bar), first item nearest the top.
 /// Sizes scale with the image: the font is font_size * min(width, height) pixels, at least
-/// kMinFontPixels. Drawing is clipped to the image and bounded in time whatever the text:
+/// kMinFontPixels and at most kMaxFontPixels. Drawing is clipped to the image and bounded in time whatever the text:
 /// each text is cut at kMaxAnnotationGlyphs glyphs and at the image width.
 ///
 /// Thread-safety: every function is safe to call concurrently (each call opens its own
@@ -27,6 +27,8 @@ enum class BarOrientation { Vertical, Horizontal };
 
 /// Smallest font, in pixels, whatever the image size (legible at 256 px images).
 inline constexpr int kMinFontPixels = 11;
+/// Largest font, in pixels (a font_size on a huge image): bounds the drawing's cost.
+inline constexpr int kMaxFontPixels = 1024;
 /// Glyphs drawn per text at most; the rest of a longer text is not drawn.
 inline constexpr std::size_t kMaxAnnotationGlyphs = 256;
 /// Texts per picture at most (more are refused by validate_annotations).
@@ -55,7 +57,7 @@ struct AnnotationText {
 
 struct AnnotationDesc {
   std::string font_path;    ///< a TrueType/OpenType file FreeType opens
-  double font_size = 0.03;  ///< fraction of min(width, height), (0, 1]; at least kMinFontPixels
+  double font_size = 0.03;  ///< fraction of min(width, height), (0, 1]; kMinFontPixels .. kMaxFontPixels
   std::vector<AnnotationText> texts;
   bool colorbar = false;
   ColorBarDesc bar;

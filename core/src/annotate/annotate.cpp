@@ -17,6 +17,10 @@ namespace {
 using annotate::Font;
 using annotate::TextMask;
 
+/// The outline around glyphs grows with the font up to this many pixels: wide enough to read
+/// at any size, and the dilation's cost per pixel stays bounded.
+constexpr int kMaxOutline = 5;
+
 /// Sizes derived from the font size, all in pixels.
 struct Metrics {
   int font = 0;     ///< em size
@@ -29,7 +33,7 @@ struct Metrics {
         margin(std::max(4, px / 2)),
         pad(std::max(3, px / 3)),
         gap(std::max(2, px / 4)),
-        outline(std::max(1, px / 14)) {}
+        outline(std::clamp(px / 14, 1, kMaxOutline)) {}
 };
 
 struct PlacedText {
@@ -197,7 +201,7 @@ Plan plan(int width, int height, const AnnotationDesc& d, const Font& font, cons
 
 int font_pixels(int width, int height, double font_size) {
   const double px = std::round(font_size * std::min(width, height));
-  return static_cast<int>(std::clamp(px, static_cast<double>(kMinFontPixels), 4096.0));
+  return static_cast<int>(std::clamp(px, static_cast<double>(kMinFontPixels), static_cast<double>(kMaxFontPixels)));
 }
 
 /// Pixels of the picture, blended with straight alpha, clipped to the image.
