@@ -55,14 +55,17 @@ void parse_colorbar(const Value& v, AnnotationsSpec& a) {
   }
 }
 
-/// `font:` as given (must exist), else the default; either way FreeType must open it.
+/// `font:` as given (must exist), else the first default that exists; either way FreeType
+/// must open it (checked by the caller).
 std::string font_file(const Map& m, const Value& block) {
   if (const auto f = m.get("font")) return resolve_existing_file(*f);
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(kDefaultFontPath, ec))
-    block.fail(std::string("no font: the default ") + kDefaultFontPath +
-               " is missing (allowed: install fonts-dejavu-core, or give font: a TrueType/OpenType file)");
-  return kDefaultFontPath;
+  if (std::filesystem::is_regular_file(kDefaultFontPath, ec)) return kDefaultFontPath;
+  for (const char* path : kFallbackFontPaths)
+    if (std::filesystem::is_regular_file(path, ec)) return path;
+  block.fail(std::string("no font: DejaVu Sans is not installed (looked for ") + kDefaultFontPath +
+             " and where other distributions put it) (allowed: install fonts-dejavu-core, or give font: a "
+             "TrueType/OpenType file)");
 }
 
 }  // namespace

@@ -67,6 +67,9 @@ TEST_CASE("annotations: defaults and every key", "[config][annotations]") {
   CHECK(to_yaml(b) == text);
   CHECK(b.renders[0].annotations->text == f.text);
   CHECK(*b.renders[0].annotations->bar.label == "T [K]");
+  CHECK(b.renders[0].annotations->bar.orientation == BarOrientation::Horizontal);
+  CHECK(b.renders[0].annotations->bar.corner == Corner::TopRight);
+  CHECK(b.renders[0].annotations->font == f.font);
 }
 
 TEST_CASE("annotations: text patterns expand like output patterns", "[config][annotations]") {

@@ -8,7 +8,7 @@
 ///     text_corner: top-left
 ///     title: "Heat"             # a pattern too; text and title in one corner stack, title first
 ///     title_corner: top-left
-///     font: fonts/My.ttf        # default: kDefaultFontPath
+///     font: fonts/My.ttf        # default: kDefaultFontPath (then kFallbackFontPaths)
 ///     font_size: 0.03           # fraction of the image's smaller edge
 ///
 /// `text` and `title` are patterns with the placeholders and format specs of output file
@@ -23,8 +23,13 @@
 
 namespace tessera::config {
 
-/// The font used when `font:` is not given: DejaVu Sans where Debian's fonts-dejavu-core puts it.
+/// The font used when `font:` is not given: DejaVu Sans where Debian's fonts-dejavu-core puts it,
+/// else the first of kFallbackFontPaths that exists (DejaVu Sans where Fedora, Arch and
+/// openSUSE put it); none: a load-time error asking for `font:`.
 inline constexpr const char* kDefaultFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+inline constexpr const char* kFallbackFontPaths[] = {"/usr/share/fonts/dejavu-sans-fonts/DejaVuSans.ttf",
+                                                     "/usr/share/fonts/TTF/DejaVuSans.ttf",
+                                                     "/usr/share/fonts/truetype/DejaVuSans.ttf"};
 /// Longest `text` / `title` pattern and longest `label`, in bytes.
 inline constexpr std::size_t kMaxAnnotationPattern = 256;
 
