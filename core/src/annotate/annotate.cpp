@@ -212,8 +212,9 @@ struct Canvas {
     if (x < 0 || y < 0 || x >= width || y >= height || !(a > 0.0)) return;
     a = std::min(a, 1.0);
     std::uint8_t* p = rgba + (static_cast<std::size_t>(y) * width + x) * 4;
-    for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>(std::lround(p[c] * (1.0 - a) + rgb[c] * 255.0 * a));
-    p[3] = static_cast<std::uint8_t>(std::lround(255.0 * a + p[3] * (1.0 - a)));
+    // Rounded to nearest (the values are in [0, 255], so + 0.5 and truncation does it)
+    for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint8_t>(p[c] * (1.0 - a) + rgb[c] * 255.0 * a + 0.5);
+    p[3] = static_cast<std::uint8_t>(255.0 * a + p[3] * (1.0 - a) + 0.5);
   }
   void fill(const PixelBox& b, const double rgb[3], double a) {
     for (int y = std::max(0, b.y0); y < std::min(height, b.y1); ++y)
