@@ -18,6 +18,9 @@ for exe in tessera-synth tessera-render; do
 done
 "$build/bin/tessera-synth" /tmp/ramp.raw --dims 32 32 32 --kind linear
 "$build/bin/tessera-render" docs/images/distance_fit.yaml -o docs/images/distance_fit --quiet
+# Annotations: a title, a text line and a colour bar on synthetic blobs (annotations.yaml)
+"$build/bin/tessera-synth" /tmp/blobs.raw --dims 64 64 64 --kind blobs
+"$build/bin/tessera-render" docs/images/annotations.yaml --step 120 -o docs/images/annotations.png --quiet
 # Moving cameras: the orbit at azimuth 0, 45, 90 and 135 (1.5 degrees a step); the keyframes
 # at steps 0, 30 and 60, and halfway between them
 for n in 0 30 60 90; do

@@ -60,6 +60,12 @@ inline constexpr EnumName<CameraInterpolation> kCameraInterpolationNames[] = {{"
 inline constexpr EnumName<TileOrder> kTileOrderNames[] = {{"row", TileOrder::RowMajor}, {"morton", TileOrder::Morton}};
 inline constexpr EnumName<ToneMap::Curve> kToneMapNames[] = {
     {"aces", ToneMap::Curve::Aces}, {"reinhard", ToneMap::Curve::Reinhard}, {"clamp", ToneMap::Curve::Clamp}};
+inline constexpr EnumName<Corner> kCornerNames[] = {{"top-left", Corner::TopLeft},
+                                                    {"top-right", Corner::TopRight},
+                                                    {"bottom-left", Corner::BottomLeft},
+                                                    {"bottom-right", Corner::BottomRight}};
+inline constexpr EnumName<BarOrientation> kOrientationNames[] = {{"vertical", BarOrientation::Vertical},
+                                                                 {"horizontal", BarOrientation::Horizontal}};
 
 /// The name of `value` in `table`: rows with .name and .value (EnumName, ImageFormatInfo).
 /// Every value of an enum has a row; "" would mean a table is missing one.

@@ -1,4 +1,5 @@
 // Output file name patterns: {name} {step} {time} {rank} with fmt-like specs.
+#include <tessera/config/annotations.h>
 #include <tessera/config/output_path.h>
 
 #include "yaml_reader.h"
@@ -21,11 +22,28 @@ struct Spec {
   char type = 0;
 };
 
+/// Output file names, or annotation text (no file-name rules, no {rank}).
+enum class Use { File, Text };
+
+constexpr std::string_view kFilePrefix = "bad output pattern", kTextPrefix = "bad text pattern";
+
 [[noreturn]] void bad(const std::string& pattern, const std::string& what) {
-  throw std::invalid_argument("bad output pattern \"" + detail::cut_for_message(pattern) + "\": " + what);
+  throw std::invalid_argument(std::string(kFilePrefix) + " \"" + detail::cut_for_message(pattern) + "\": " + what);
 }
 
-Spec parse_spec(const std::string& pattern, std::string_view placeholder, Field field, std::string_view s) {
+/// Runs f(); a fault it reports is reported as one of a text pattern.
+template <class F>
+void as_text(F&& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    const std::string_view m = e.what();
+    if (m.substr(0, kFilePrefix.size()) != kFilePrefix) throw;
+    throw std::invalid_argument(std::string(kTextPrefix) + std::string(m.substr(kFilePrefix.size())));
+  }
+}
+
+Spec parse_spec(const std::string& pattern, std::string_view placeholder, Field field, std::string_view s, Use use) {
   Spec spec;
   std::size_t i = 0;
   const auto digits = [&](int& out) {
@@ -93,7 +111,7 @@ std::string format_time(double t, const Spec& spec) {
 
 /// Walks the pattern; with `out` set, writes the result there.
 void expand(const std::string& pattern, const std::string& name, std::int64_t step, double time, int rank,
-            std::string* out) {
+            std::string* out, Use use = Use::File) {
   for (std::size_t i = 0; i < pattern.size(); ++i) {
     const char c = pattern[i];
     if (c == '}') {
@@ -124,10 +142,11 @@ void expand(const std::string& pattern, const std::string& name, std::int64_t st
     if (key == "name") field = Field::Name;
     else if (key == "step") field = Field::Step;
     else if (key == "time") field = Field::Time;
-    else if (key == "rank") field = Field::Rank;
+    else if (key == "rank" && use == Use::File) field = Field::Rank;
     else
-      bad(pattern, "unknown placeholder {" + detail::cut_for_message(key) + "} (allowed: {name} {step} {time} {rank})");
-    const Spec spec = parse_spec(pattern, inner, field, spec_text);
+      bad(pattern, "unknown placeholder {" + detail::cut_for_message(key) + "} (allowed: {name} {step} {time}" +
+                       (use == Use::File ? " {rank})" : ")"));
+    const Spec spec = parse_spec(pattern, inner, field, spec_text, use);
     if (out) {
       switch (field) {
         case Field::Name: *out += pad(name, spec, true); break;
@@ -171,6 +190,18 @@ void require_inside(const std::string& pattern, const std::string& name) {
   }
 }
 
+/// Text patterns: printable, one line, known placeholders (faults as output patterns').
+void check_text_pattern(const std::string& pattern) {
+  for (std::size_t i = 0; i < pattern.size(); ++i) {
+    const auto c = static_cast<unsigned char>(pattern[i]);
+    if (c < 0x20 || c == 0x7f) {
+      bad(pattern, "control character " + detail::cut_for_message(std::string(1, pattern[i])) + " at position " +
+                       std::to_string(i + 1) + " (allowed: printable characters, one line)");
+    }
+  }
+  expand(pattern, {}, 0, 0.0, 0, nullptr, Use::Text);
+}
+
 }  // namespace
 
 void validate_output_pattern(const std::string& pattern) {
@@ -203,6 +234,19 @@ std::string format_output_path(const std::string& pattern, const std::string& na
   std::string out;
   expand(pattern, name, step, time, rank, &out);
   require_inside(pattern, out);  // the real name, step and time, checked again
+  return out;
+}
+
+void validate_text_pattern(const std::string& pattern) {
+  as_text([&] { check_text_pattern(pattern); });
+}
+
+std::string format_text_pattern(const std::string& pattern, const std::string& name, std::int64_t step, double time) {
+  std::string out;
+  as_text([&] {
+    check_text_pattern(pattern);
+    expand(pattern, name, step, time, 0, &out, Use::Text);
+  });
   return out;
 }
 

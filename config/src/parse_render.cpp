@@ -207,7 +207,7 @@ OutputSpec parse_output(const Value& v) {
 
 RenderSpec parse_render(const Value& v) {
   const Map m = v.map_with_keys({"name", "field", "trigger", "image", "camera", "transfer_function", "lights",
-                                 "background", "integrator", "output"});
+                                 "background", "integrator", "output", "annotations"});
   RenderSpec r;
   const Value name = m.require("name", "a name of 1 to 128 letters, digits, _ and -");
   r.name = name.string();
@@ -238,6 +238,7 @@ RenderSpec parse_render(const Value& v) {
   if (const auto b = m.get("background")) r.background = parse_background(*b);
   if (const auto i = m.get("integrator")) r.integrator = parse_integrator(*i);
   if (const auto o = m.get("output")) r.output = parse_output(*o);
+  if (const auto a = m.get("annotations")) r.annotations = parse_annotations(*a, r);
   return r;
 }
 

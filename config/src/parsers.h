@@ -15,6 +15,9 @@ RenderSpec parse_render(const Value& v);
 TriggerSpec parse_trigger(const Value& v);
 CameraSpec parse_camera(const Value& v);
 OutputSpec parse_output(const Value& v);
+/// `annotations:` of render `r` (its image, field and TF already parsed): also checks that
+/// everything fits in the image, with the font, at load time.
+AnnotationsSpec parse_annotations(const Value& v, const RenderSpec& r);
 /// `allow_fit`: whether an orbit may say `distance: fit` (camera.position only).
 PointSpec parse_point(const Value& v, bool allow_fit = false);
 /// A number or `{relative: r}`, resolving to > 0 (strictly_positive) or >= 0.

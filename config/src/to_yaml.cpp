@@ -311,6 +311,31 @@ void write(YAML::Emitter& out, const OutputSpec& o) {
   out << YAML::EndMap;
 }
 
+void write(YAML::Emitter& out, const AnnotationsSpec& a) {
+  out << YAML::BeginMap;
+  key(out, "colorbar");
+  if (!a.colorbar) {
+    out << false;
+  } else {
+    const ColorBarSpec& b = a.bar;
+    out << YAML::BeginMap;
+    field(out, "corner", name_of(detail::kCornerNames, b.corner));
+    field(out, "orientation", name_of(detail::kOrientationNames, b.orientation));
+    field(out, "length", b.length);
+    field(out, "thickness", b.thickness);
+    field(out, "ticks", b.ticks);
+    if (b.label) field(out, "label", *b.label);
+    out << YAML::EndMap;
+  }
+  if (!a.text.empty()) field(out, "text", a.text);
+  field(out, "text_corner", name_of(detail::kCornerNames, a.text_corner));
+  if (!a.title.empty()) field(out, "title", a.title);
+  field(out, "title_corner", name_of(detail::kCornerNames, a.title_corner));
+  field(out, "font", a.font);
+  field(out, "font_size", a.font_size);
+  out << YAML::EndMap;
+}
+
 void write(YAML::Emitter& out, const RenderSpec& r) {
   out << YAML::BeginMap;
   field(out, "name", r.name);
@@ -329,6 +354,10 @@ void write(YAML::Emitter& out, const RenderSpec& r) {
   field(out, "background", r.background);
   field(out, "integrator", r.integrator);
   field(out, "output", r.output);
+  if (r.annotations) {
+    key(out, "annotations");
+    write(out, *r.annotations);
+  }
   out << YAML::EndMap;
 }
 

@@ -26,12 +26,12 @@ void ensure_directory(const std::string& dir) {
 }
 
 void write_image_files(const std::string& base, const config::OutputSpec& output, const Image& img,
-                       std::vector<std::string>& files) {
+                       std::vector<std::string>& files, const AnnotationDesc* annotations) {
   ensure_directory(fs::path(base).parent_path().string());
   for (const ImageFormat f : output.formats) {
     const ImageFormatInfo& format = image_format(f);
     const std::string path = base + format.extension;
-    format.write(path, img, output.tone_map());
+    format.write(path, img, output.tone_map(), annotations);
     files.push_back(path);
   }
 }

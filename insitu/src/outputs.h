@@ -19,8 +19,9 @@ std::string output_base(const std::string& output_dir, const config::RenderSpec&
 /// output's exposure and curve), creating the parent directory. Appends each path written to
 /// `files`, in the order of spec.output.formats. Throws std::runtime_error naming the path and
 /// the fault.
+/// With `annotations`, they are drawn into the PNG (never the EXR).
 void write_image_files(const std::string& base, const config::OutputSpec& output, const Image& img,
-                       std::vector<std::string>& files);
+                       std::vector<std::string>& files, const AnnotationDesc* annotations = nullptr);
 
 /// Writes `text` to `path` through AtomicOutputFile (every byte checked, nothing under `path`
 /// unless complete), creating the parent directory. Throws like the above.

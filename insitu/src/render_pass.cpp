@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -171,8 +172,9 @@ class Pass {
     if (!resolve_image(film, img)) return std::move(m_out);
     if (!phase(TESSERA_ERROR_IO, [&] {
           if (!root) return;
+          const std::optional<AnnotationDesc> notes = annotations(scene);
           write_image_files(output_base(m_cfg.global.output_dir, m_spec, m_call.step, m_call.time, 0), m_spec.output,
-                            img, m_out.result.files);
+                            img, m_out.result.files, notes ? &*notes : nullptr);
           m_render.last_image = std::move(img);
         }))
       return std::move(m_out);
@@ -372,6 +374,14 @@ class Pass {
     });
   }
 
+  /// The render's annotations at this call's step and time (the colour bar of the scene's
+  /// TF, range resolved), or none.
+  std::optional<AnnotationDesc> annotations(const SceneDesc& scene) const {
+    if (!m_spec.annotations) return std::nullopt;
+    return config::build_annotations(*m_spec.annotations, m_spec.name, m_spec.field, scene.tf, m_call.step,
+                                     m_call.time);
+  }
+
   bool run_cinema(const SceneDesc& scene, const std::vector<CinemaView>& views) {
     const bool root = m_ctx.rank() == 0;
     const std::string dir = (std::filesystem::path(m_cfg.global.output_dir) / (m_spec.name + ".cdb")).string();
@@ -392,7 +402,9 @@ class Pass {
             if (!root) return;
             const std::string rel = cinema_file_base(m_spec, m_call.step, m_call.time, view);
             const std::size_t first = m_out.result.files.size();
-            write_image_files((std::filesystem::path(dir) / rel).string(), m_spec.output, img, m_out.result.files);
+            const std::optional<AnnotationDesc> notes = annotations(scene);
+            write_image_files((std::filesystem::path(dir) / rel).string(), m_spec.output, img, m_out.result.files,
+                              notes ? &*notes : nullptr);
             // FILE column: the file Cinema viewers show as it is (the PNG) when written, else
             // the first; write_image_files appended one file per format, in formats' order
             const std::vector<ImageFormat>& formats = m_spec.output.formats;

@@ -49,7 +49,8 @@ std::vector<OutputTarget> output_targets(const config::GlobalOptions& global, co
   return targets;
 }
 
-void write_outputs(const std::vector<OutputTarget>& targets, const Image& image, const config::OutputSpec& output) {
+void write_outputs(const std::vector<OutputTarget>& targets, const Image& image, const config::OutputSpec& output,
+                   const AnnotationDesc* annotations) {
   for (const OutputTarget& t : targets) {
     const fs::path p(t.path);
     if (p.has_parent_path()) {
@@ -57,7 +58,7 @@ void write_outputs(const std::vector<OutputTarget>& targets, const Image& image,
       fs::create_directories(p.parent_path(), ec);
       if (ec) throw std::runtime_error("cannot create directory " + p.parent_path().string() + ": " + ec.message());
     }
-    image_format(t.format).write(t.path, image, output.tone_map());
+    image_format(t.format).write(t.path, image, output.tone_map(), annotations);
   }
 }
 

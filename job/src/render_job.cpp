@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 namespace tessera::job {
@@ -103,7 +104,11 @@ void check_volume_memory(const config::Config& cfg) {
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec, VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress) {
   RenderedImage r = render_image(cfg, spec, volume, args, targets, show_progress);
-  write_outputs(targets, r.image, spec.output);
+  // Annotations: step from --step, time 0 (a CLI render has no simulation time)
+  std::optional<AnnotationDesc> annotations;
+  if (spec.annotations)
+    annotations = config::build_annotations(*spec.annotations, spec.name, spec.field, r.tf, args.step, 0.0);
+  write_outputs(targets, r.image, spec.output, annotations ? &*annotations : nullptr);
   for (const auto& t : targets) r.record.outputs.push_back(t.path);
   return std::move(r.record);
 }
@@ -168,7 +173,7 @@ RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& 
     denoise(image);  // the PNG shows it, the EXR gains denoised.R/G/B; RGBA stays as rendered
     rec.denoise_seconds = std::chrono::duration<double>(Clock::now() - t_denoise).count();
   }
-  return RenderedImage{std::move(rec), std::move(image)};
+  return RenderedImage{std::move(rec), std::move(image), scene.tf};
 }
 
 }  // namespace tessera::job

@@ -1,6 +1,7 @@
 // tessera-render end to end, on a small synthetic volume written by the test: outputs, -o,
 // flag overrides, --stats, and one-line errors with exit status 1.
 #include "../config/test_support.h"
+#include "read_png.h"
 
 #include <tessera/image_io.h>
 #include <tessera/tessera.h>
@@ -327,4 +328,38 @@ renders:
   REQUIRE(run_cli(dir, "s.yaml --quiet").status == 0);  // step 0: other random numbers
   CHECK(tessera::read_exr(dir.file("out/r_0000.exr")).rgba != from_adapter.rgba);
   CHECK_THAT(run_cli(dir, "s.yaml --step x").err, Contains("--step: \"x\" is not an integer"));
+}
+
+TEST_CASE("tessera-render draws annotations into the PNG only, and refuses ones larger than the image",
+          "[cli][annotate]") {
+  TempDir dir;
+  write_scene(dir);
+  const std::string original = slurp(dir.path() / "scene.yaml");
+  const auto with = [](std::string s, const std::string& from, const std::string& to) {
+    const std::size_t p = s.find(from);
+    REQUIRE(p != std::string::npos);
+    return s.replace(p, from.size(), to);
+  };
+  const std::string notes = "    annotations: {colorbar: true, text: \"{name} step {step}\"}\n  - name: side";
+  const std::string plain = with(original, "{width: 24, height: 16, spp: 2}", "{width: 128, height: 96, spp: 1}");
+  dir.write("plain.yaml", plain);
+  dir.write("noted.yaml", with(with(plain, "  - name: side", notes), "output_dir: results", "output_dir: noted"));
+  Run r = run_cli(dir, "plain.yaml --render front --step 3 --quiet");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  r = run_cli(dir, "noted.yaml --render front --step 3 --quiet");
+  REQUIRE(r.status == 0);
+  CHECK(slurp(dir.path() / "results/front_000003.exr") == slurp(dir.path() / "noted/front_000003.exr"));
+  int w = 0, h = 0;
+  const auto a = tessera_test::read_png_rgba(dir.file("results/front_000003.png"), w, h);
+  const auto b = tessera_test::read_png_rgba(dir.file("noted/front_000003.png"), w, h);
+  CHECK(w == 128);
+  CHECK(a != b);
+
+  // The 24x16 image of the original scene has no room for them: a load-time error
+  dir.write("tiny.yaml", with(original, "  - name: side", notes));
+  r = run_cli(dir, "tiny.yaml --check");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err,
+             Contains("tiny.yaml:") && Contains("renders[0].annotations") && Contains("more than the 24x16 image has"));
 }

@@ -72,6 +72,8 @@ TEST_CASE("every enum name round-trips through the parser and to_yaml", "[config
                    [&](const Config& c) { return integrator(c).tile_order; });
   check_round_trip("output", "tonemap", cfg::kToneMapNames,
                    [](const Config& c) { return c.renders[0].output.tonemap; });
+  check_round_trip("annotations", "text_corner", cfg::kCornerNames,
+                   [](const Config& c) { return c.renders[0].annotations->text_corner; });
   TempDir dir;
   Image env;
   env.width = 4;

@@ -89,6 +89,14 @@ renders:
       variance: true
       samples: true
       cinema: {azimuth: [0, 90], elevation: [-30, 30]}
+    annotations:
+      colorbar: {corner: top-right, orientation: horizontal, length: 0.5, thickness: 0.05, ticks: 4, label: "T [K]"}
+      text: "{name}  step {step:05d}  t = {time:.3g}"
+      text_corner: bottom-left
+      title: "Close view"
+      title_corner: top-left
+      font: /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
+      font_size: 0.04
   - name: wide-2
     trigger: {at: [0, 5, 100]}
     camera:

@@ -29,7 +29,7 @@ TEST_CASE("image formats: one row per format, each writer writes what its reader
     CHECK(extensions.insert(row.extension).second);
     CHECK(std::string(row.extension) == std::string(".") + row.name);
     const std::string path = dir.file(std::string("img") + row.extension);
-    row.write(path, img, ToneMap{});
+    row.write(path, img, ToneMap{}, nullptr);
     std::ifstream in(path, std::ios::binary);
     std::string head(4, '\0');
     in.read(head.data(), 4);

@@ -28,10 +28,12 @@ struct ImageFormatInfo {
   /// The writer's buffers, in scanlines of every float channel it writes (EXR: OpenEXR's
   /// 16-scanline blocks, raw and compressed: 32).
   std::uint64_t buffered_scanlines;
-  /// Writes `image` to `path` in this format (PNG through `tone_map`; EXR linear, with the
-  /// channels the image has). Atomic and signal-safe like every writer of image_io.h; throws
-  /// std::runtime_error naming the path and the fault.
-  void (*write)(const std::string& path, const Image& image, const ToneMap& tone_map);
+  /// Writes `image` to `path` in this format (PNG through `tone_map`, with `annotations`
+  /// drawn when not null; EXR linear, with the channels the image has, never annotated).
+  /// Atomic and signal-safe like every writer of image_io.h; throws std::runtime_error naming
+  /// the path and the fault.
+  void (*write)(const std::string& path, const Image& image, const ToneMap& tone_map,
+                const AnnotationDesc* annotations);
 };
 
 /// Every format, in the order messages list them (exr, png). Valid for the whole program.

@@ -11,8 +11,11 @@
 #include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace tessera {
+
+struct AnnotationDesc;  // annotate.h
 
 /// EXR, float32 channels R G B A, plus "variance", "samples" and the layer "denoised.R/G/B"
 /// when the image has them (R G B A stay the unbiased estimate).
@@ -46,8 +49,15 @@ struct ToneMap {
   bool alpha = false;
 };
 /// 8-bit sRGB PNG, RGBA (alpha from A when tm.alpha, else opaque); RGB from img.denoised
-/// when the image has it. Tone map as documented in docs/physics.md.
-void write_png(const std::string& path, const Image& img, const ToneMap& tm = {});
+/// when the image has it. Tone map as documented in docs/physics.md. With `annotations`, they
+/// are drawn into the 8-bit pixels after the tone map (annotate.h); a font that cannot be
+/// loaded throws before anything is written.
+void write_png(const std::string& path, const Image& img, const ToneMap& tm = {},
+               const AnnotationDesc* annotations = nullptr);
+
+/// The 8-bit RGBA pixels write_png encodes (before any annotation), width*height*4 bytes,
+/// row 0 at the top. Throws std::invalid_argument when the buffers do not match the size.
+std::vector<std::uint8_t> png_pixels(const Image& img, const ToneMap& tm = {});
 
 /// Apply exposure + curve + sRGB OETF to one linear value; result in [0, 1].
 double tonemap_channel(double v, const ToneMap& tm);

@@ -5,10 +5,13 @@
 namespace tessera {
 namespace {
 
-void write_exr_file(const std::string& path, const Image& image, const ToneMap&) { write_exr(path, image); }
+void write_exr_file(const std::string& path, const Image& image, const ToneMap&, const AnnotationDesc*) {
+  write_exr(path, image);
+}
 
-void write_png_file(const std::string& path, const Image& image, const ToneMap& tone_map) {
-  write_png(path, image, tone_map);
+void write_png_file(const std::string& path, const Image& image, const ToneMap& tone_map,
+                    const AnnotationDesc* annotations) {
+  write_png(path, image, tone_map, annotations);
 }
 
 /// Row i is ImageFormat i (checked below), so image_format() indexes it.

@@ -4,6 +4,7 @@
 /// temporary file is verified (size; an EXR's header and offset table read back) before the
 /// rename, and on any failure nothing new appears under the final name and a
 /// std::runtime_error names the path and the fault.
+#include <tessera/annotate.h>
 #include <tessera/atomic_output.h>
 #include <tessera/image_io.h>
 #include <tessera/regular_file.h>
@@ -314,19 +315,43 @@ double tonemap_channel(double v, const ToneMap& tm) {
   return std::clamp(s, 0.0, 1.0);
 }
 
-void write_png(const std::string& path, const Image& img, const ToneMap& tm) {
-  validate("write_png", path, img);
+namespace {
 
-  // Quantise: rgb (the denoised one when the image has it) through the tone map, alpha
-  // linear and clamped
+/// Tone map and quantise: rgb (the denoised one when the image has it) through the tone map,
+/// alpha linear and clamped. The image is valid (validate).
+std::vector<std::uint8_t> quantise(const Image& img, const ToneMap& tm) {
   const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
-  std::vector<unsigned char> rgba8(n * 4);
+  std::vector<std::uint8_t> rgba8(n * 4);
   const bool denoised = !img.denoised.empty();
   for (std::size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c)
       rgba8[i * 4 + c] = to_byte(tonemap_channel(denoised ? img.denoised[i * 3 + c] : img.rgba[i * 4 + c], tm));
     const double a = tm.alpha ? img.rgba[i * 4 + 3] : 1.0;
     rgba8[i * 4 + 3] = to_byte(a > 0.0 ? std::min(a, 1.0) : 0.0);
+  }
+  return rgba8;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> png_pixels(const Image& img, const ToneMap& tm) {
+  try {
+    validate("png_pixels", "image", img);
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
+  }
+  return quantise(img, tm);
+}
+
+void write_png(const std::string& path, const Image& img, const ToneMap& tm, const AnnotationDesc* annotations) {
+  validate("write_png", path, img);
+  std::vector<std::uint8_t> rgba8 = quantise(img, tm);
+  if (annotations) {
+    try {
+      draw_annotations(img.width, img.height, rgba8.data(), *annotations);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("write_png: cannot write '" + path + "': annotations: " + e.what());
+    }
   }
 
   // Encode in memory, then one checked write

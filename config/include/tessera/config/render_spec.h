@@ -1,5 +1,6 @@
 #pragma once
 /// RenderSpec: one entry of `renders:`, as written in the config, fully validated.
+#include <tessera/config/annotations.h>
 #include <tessera/config/light_spec.h>
 #include <tessera/config/point_spec.h>
 #include <tessera/config/transfer_function_spec.h>
@@ -97,6 +98,8 @@ struct RenderSpec {
   BackgroundSpec background;
   IntegratorSpec integrator;
   OutputSpec output;
+  /// `annotations:`: a colour bar and text drawn into the PNG (never the EXR); absent = none.
+  std::optional<AnnotationsSpec> annotations;
 };
 
 }  // namespace tessera::config

@@ -24,8 +24,9 @@ std::vector<OutputTarget> output_targets(const config::GlobalOptions& global, co
                                          const std::optional<std::string>& out_flag, bool several,
                                          std::int64_t step = 0);
 
-/// Writes the image to every target (EXR linear; PNG through the render's tone map),
-/// creating directories as needed.
-void write_outputs(const std::vector<OutputTarget>& targets, const Image& image, const config::OutputSpec& output);
+/// Writes the image to every target (EXR linear; PNG through the render's tone map, with
+/// `annotations` drawn when not null), creating directories as needed.
+void write_outputs(const std::vector<OutputTarget>& targets, const Image& image, const config::OutputSpec& output,
+                   const AnnotationDesc* annotations = nullptr);
 
 }  // namespace tessera::job

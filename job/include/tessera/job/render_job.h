@@ -59,7 +59,8 @@ RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spe
 /// One render's image and its record (outputs empty): run_render without the writing.
 struct RenderedImage {
   RenderRecord record;
-  Image image;  ///< film.resolve(output.variance, output.samples): what the EXR holds
+  Image image;          ///< film.resolve(output.variance, output.samples): what the EXR holds
+  TransferFunction tf;  ///< the render's TF, range resolved: what a colour bar shows
 };
 
 /// Everything run_render does before writing: the memory check (against `targets`' formats;
