@@ -29,11 +29,10 @@ const Dims kG{23, 19, 17};
 
 std::string domains_config(const TempDir& dir, const std::string& out, const std::string& scattering) {
   return dir.write("cfg_" + out + ".yaml",
-                   config_yaml(dir.file(out),
-                               render_yaml("view", "{every: 1}",
-                                           "    integrator: {scattering: " + scattering +
-                                               ", max_bounces: 4, tile: 8, seed: 3}\n",
-                                           "density", 28, 3)));
+                   config_yaml(dir.file(out), render_yaml("view", "{every: 1}",
+                                                          "    integrator: {scattering: " + scattering +
+                                                              ", max_bounces: 4, tile: 8, seed: 3}\n",
+                                                          "density", 28, 3)));
 }
 
 struct Outcome {
@@ -175,4 +174,3 @@ TEST_CASE("domains: the C API's argument checks (NULL mesh, NULL domains, ndomai
   CHECK(tessera_execute_domains_final(a, 2, 0.0, &mesh, d.data(), 7) == TESSERA_OK);
   CHECK(tessera_close(a) == TESSERA_OK);
 }
-
