@@ -3,14 +3,18 @@
 #   "distance: fit"   docs/images/distance_fit_{wide,square,tall}.png   (distance_fit.yaml)
 #   "Moving cameras"  docs/images/moving_turn_NNNN.png, a turning orbit, and
 #                     docs/images/moving_fly_NNNN.png, a keyframed fly-in (moving_cameras.yaml)
-# Both render a linear ramp that tessera-synth writes to /tmp/ramp.raw. Builds tessera-synth
-# and tessera-render first when they are missing. Takes a few seconds.
+#   "annotations:"    docs/images/annotations.png (annotations.yaml, on synthetic blobs)
+#   README.md         docs/images/heat_annotated.png: tessera-heat with configs/heat_movie.yaml
+#                     (turning camera, title, step text, colour bar), its frame of step 80
+# The first two render a linear ramp that tessera-synth writes to /tmp/ramp.raw. Builds
+# tessera-synth, tessera-render and tessera-heat first when they are missing. Takes about
+# twenty seconds.
 #
 #   scripts/make_doc_images.sh          environment: BUILD_DIR (default build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${BUILD_DIR:-build}"
-for exe in tessera-synth tessera-render; do
+for exe in tessera-synth tessera-render tessera-heat; do
   if [ ! -x "$build/bin/$exe" ]; then
     cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
     cmake --build "$build" -j"$(nproc)" --target "$exe"
@@ -31,4 +35,11 @@ for n in 0 15 30 45 60; do
   "$build/bin/tessera-render" docs/images/moving_cameras.yaml --render fly --step "$n" \
     -o "docs/images/moving_fly_$(printf %04d "$n")" --quiet
 done
+# The README's frame: the heat demo's movie config, 80 steps on 2 ranks (bit-identical for any
+# rank count), the frame of step 80
+export OMPI_ALLOW_RUN_AS_ROOT="${OMPI_ALLOW_RUN_AS_ROOT:-1}" OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="${OMPI_ALLOW_RUN_AS_ROOT_CONFIRM:-1}"
+rm -rf /tmp/tessera_heat_frame
+mpirun --oversubscribe -n 2 "$build/bin/tessera-heat" --config configs/heat_movie.yaml --steps 80 \
+  --output-dir /tmp/tessera_heat_frame >/dev/null
+cp /tmp/tessera_heat_frame/heat_turn_000080.png docs/images/heat_annotated.png
 ls -l docs/images/*.png
