@@ -16,23 +16,25 @@ Volume synthetic_volume(int n) {
         const double x = (i + 0.5) / n - 0.5, y = (j + 0.5) / n - 0.5, z = (k + 0.5) / n - 0.5;
         const double r = std::sqrt(x * x + y * y + 1.4 * z * z);
         double val = r < 0.42 ? 1000.0 + 80.0 * std::sin(40.0 * x) * std::cos(30.0 * y) : 0.0;  // tissue
-        if (r > 0.36 && r < 0.40) val = 1700.0;                                                   // a shell of "bone"
+        if (r > 0.36 && r < 0.40) val = 1700.0;                                                 // a shell of "bone"
         const double rb = std::sqrt((x - 0.1) * (x - 0.1) + (y + 0.12) * (y + 0.12) + z * z);
-        if (rb < 0.08) val = 1900.0;                                                              // a dense inclusion
-        val += 20.0 * (unit_open0(next_u32(rng)) - 0.5);                                          // noise
+        if (rb < 0.08) val = 1900.0;                      // a dense inclusion
+        val += 20.0 * (unit_open0(next_u32(rng)) - 0.5);  // noise
         v.data[(std::size_t(k) * n + j) * n + i] = float(std::max(0.0, val));
       }
   return v;
 }
 
-Setup make_setup(const Volume& v, int rays) {
+Setup make_setup(const Volume& v, int rays, float ramp_lo, float ramp_hi) {
   Setup s;
-  s.tf_lo = 0.0f;
-  s.tf_hi = 2000.0f;
+  const auto [mn, mx] = std::minmax_element(v.data.begin(), v.data.end());
+  s.tf_lo = *mn;
+  s.tf_hi = *mx > *mn ? *mx : *mn + 1.0f;
   s.sigma.resize(kTableSize + 1);
   for (int i = 0; i <= kTableSize; ++i) {
-    const float u = float(i) / kTableSize;  // opacity: nothing below 0.75, a steep ramp to 0.9
-    s.sigma[i] = u < 0.75f ? 0.002f * u : (u < 0.9f ? 0.0015f + (u - 0.75f) / 0.15f * 0.5f : 0.5f);
+    const float u = float(i) / kTableSize;  // opacity: a faint haze, then a steep ramp ("bone")
+    s.sigma[i] =
+        u < ramp_lo ? 0.002f * u : (u < ramp_hi ? 0.002f * ramp_lo + (u - ramp_lo) / (ramp_hi - ramp_lo) * 0.5f : 0.5f);
   }
   s.majorant = *std::max_element(s.sigma.begin(), s.sigma.end());
   const int side = std::max(1, int(std::sqrt(double(rays))));

@@ -25,16 +25,17 @@ struct Ray {
 };
 
 struct Setup {
-  std::vector<Ray> rays;      ///< coherent: a pinhole camera's pixels, row by row
-  std::vector<float> sigma;   ///< opacity table over [tf_lo, tf_hi], kTableSize + 1 entries, per voxel
-  float tf_lo = 0, tf_hi = 1;
-  float majorant = 0;         ///< max of the table: a global majorant per voxel
+  std::vector<Ray> rays;       ///< coherent: a pinhole camera's pixels, row by row
+  std::vector<float> sigma;    ///< opacity table over [tf_lo, tf_hi], kTableSize + 1 entries, per voxel
+  float tf_lo = 0, tf_hi = 1;  ///< the volume's value range
+  float majorant = 0;          ///< max of the table: a global majorant per voxel
 };
 inline constexpr int kTableSize = 256;
 
 /// Rays through the volume's box from a camera at 1.6 box diagonals, and a CT-like opacity
-/// transfer function (a sharp ramp at the "bone" values).
-Setup make_setup(const Volume& v, int rays);
+/// transfer function over the volume's value range: a faint haze, then a sharp ramp between
+/// the fractions ramp_lo < ramp_hi of the range (the "bone"), opaque above.
+Setup make_setup(const Volume& v, int rays, float ramp_lo, float ramp_hi);
 
 enum class Variant { ScalarDouble, ScalarFloat, Simd8Float };
 const char* variant_name(Variant v);

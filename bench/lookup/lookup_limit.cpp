@@ -4,7 +4,10 @@
 // delta tracking against a constant majorant). It is the ceiling beside which the renderer's
 // achieved lookups per second (bench/perf/perf.py, "lookups/s") is read.
 //
-//   lookup_limit [--raw FILE NX NY NZ int16|float32] [--grid N] [--rays R] [--reps K] [--csv FILE]
+//   lookup_limit [--raw FILE NX NY NZ int16|float32] [--grid N] [--rays R] [--reps K]
+//                [--ramp LO HI] [--csv FILE]
+// --ramp: where the opacity ramps up, as fractions of the value range (default 0.75 0.9; the
+// invesalius head CT of scripts/fetch_ct.sh: 0.4 0.55, about 600 to 1200 HU).
 //
 // Variants, each over the same rays, steps and volume:
 //   scalar-double  one ray at a time, double coordinates and interpolation (as the kernel today)
@@ -30,6 +33,7 @@ struct Args {
   std::string raw, raw_dtype = "int16", csv;
   int dims[3] = {0, 0, 0};
   int grid = 256, rays = 1 << 14, reps = 3;
+  float ramp_lo = 0.75f, ramp_hi = 0.9f;
 };
 
 Args parse(int argc, char** argv) {
@@ -56,6 +60,10 @@ Args parse(int argc, char** argv) {
     } else if (s == "--reps") {
       need(1);
       a.reps = std::atoi(argv[++i]);
+    } else if (s == "--ramp") {
+      need(2);
+      a.ramp_lo = float(std::atof(argv[++i]));
+      a.ramp_hi = float(std::atof(argv[++i]));
     } else if (s == "--csv") {
       need(1);
       a.csv = argv[++i];
@@ -64,8 +72,9 @@ Args parse(int argc, char** argv) {
       std::exit(2);
     }
   }
-  if (a.grid < 4 || a.grid > 1024 || a.rays < 8 || a.reps < 1) {
-    std::fprintf(stderr, "need --grid in [4, 1024], --rays >= 8, --reps >= 1\n");
+  if (a.grid < 4 || a.grid > 1024 || a.rays < 8 || a.reps < 1 ||
+      !(0 <= a.ramp_lo && a.ramp_lo < a.ramp_hi && a.ramp_hi <= 1)) {
+    std::fprintf(stderr, "need --grid in [4, 1024], --rays >= 8, --reps >= 1, 0 <= ramp LO < HI <= 1\n");
     std::exit(2);
   }
   return a;
@@ -93,7 +102,8 @@ Volume load(const Args& a) {
     if (!in.read(reinterpret_cast<char*>(raw.data()), std::streamsize(n * 2))) throw std::runtime_error("short file");
     for (std::size_t i = 0; i < n; ++i) v.data[i] = raw[i];
   } else if (a.raw_dtype == "float32") {
-    if (!in.read(reinterpret_cast<char*>(v.data.data()), std::streamsize(n * 4))) throw std::runtime_error("short file");
+    if (!in.read(reinterpret_cast<char*>(v.data.data()), std::streamsize(n * 4)))
+      throw std::runtime_error("short file");
   } else {
     throw std::runtime_error("--raw dtype must be int16 or float32");
   }
@@ -106,7 +116,7 @@ Volume load(const Args& a) {
 int main(int argc, char** argv) try {
   const Args a = parse(argc, argv);
   const Volume vol = load(a);
-  const Setup setup = make_setup(vol, a.rays);
+  const Setup setup = make_setup(vol, a.rays, a.ramp_lo, a.ramp_hi);
   std::printf("lookup_limit: %s, %d rays, majorant %.4g per voxel, TF range [%g, %g], %s\n", vol.name.c_str(), a.rays,
               setup.majorant, setup.tf_lo, setup.tf_hi, simd_gathers() ? "AVX2 gathers" : "no AVX2: scalar gathers");
   std::FILE* csv = a.csv.empty() ? nullptr : std::fopen(a.csv.c_str(), "w");
@@ -124,8 +134,8 @@ int main(int argc, char** argv) try {
     std::printf("  %-14s %12llu lookups  %8.3f s  %7.2f M lookups/s per core  checksum %.6g\n", variant_name(var),
                 static_cast<unsigned long long>(r.lookups), best, rate * 1e-6, r.checksum);
     if (csv)
-      std::fprintf(csv, "%s,%llu,%.6f,%.6g,%.9g\n", variant_name(var), static_cast<unsigned long long>(r.lookups),
-                   best, rate, r.checksum);
+      std::fprintf(csv, "%s,%llu,%.6f,%.6g,%.9g\n", variant_name(var), static_cast<unsigned long long>(r.lookups), best,
+                   rate, r.checksum);
   }
   if (csv) std::fclose(csv);
   return 0;

@@ -5,6 +5,5 @@
 #include <immintrin.h>
 
 #define RUN_NAME run_simd8_avx2
-#define GATHER8(base, index) \
-  (vf) _mm256_i32gather_ps((base), (__m256i)(index), 4)
+#define GATHER8(base, index) (vf) _mm256_i32gather_ps((base), (__m256i)(index), 4)
 #include "lookup_simd.inc"
