@@ -59,7 +59,8 @@ int run(int argc, const char* const* argv) {
   const auto renders = select_renders(cfg, args);
   const bool several = renders.size() > 1;
   std::vector<std::vector<OutputTarget>> targets;
-  for (const auto* r : renders) targets.push_back(output_targets(cfg.global, *r, args.output, several, args.step));
+  for (const auto* r : renders)
+    targets.push_back(output_targets(cfg.global, *r, args.output, several, args.step, args.time));
   // image.denoise: the library is found (or the run fails) before anything is read or rendered
   for (const auto* r : renders) {
     if (!args.denoise.value_or(r->image.denoise)) continue;

@@ -3,6 +3,7 @@
 #include <tessera/scene.h>
 
 #include <charconv>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string_view>
@@ -37,12 +38,21 @@ double to_seconds(const std::string& flag, const std::string& text) {
   return v;
 }
 
+/// A finite number (--time), as the adapter's time argument.
+double to_finite(const std::string& flag, const std::string& text) {
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty() || !std::isfinite(v))
+    throw std::runtime_error(flag + ": \"" + text.substr(0, 40) + "\" is not a finite number");
+  return v;
+}
+
 }  // namespace
 
 const char* usage() {
   return "usage: tessera-render SCENE.yaml [--render NAME] [-o OUT] [--spp N]\n"
          "                      [--width W --height H] [--tile N | --scanline] [--threads N]\n"
-         "                      [--seed N] [--step N] [--time-limit SECONDS] [--stats FILE.json]\n"
+         "                      [--seed N] [--step N] [--time T] [--time-limit SECONDS] [--stats FILE.json]\n"
          "                      [--denoise | --no-denoise] [--progress | --quiet] [--check]\n"
          "\n"
          "Renders every entry of `renders:` in SCENE.yaml (or only --render NAME) from the\n"
@@ -61,6 +71,8 @@ const char* usage() {
          "  --step N           render as the adapter does at simulation step N: that step's\n"
          "                     random numbers, camera (moving orbit, keyframes) and {step}\n"
          "                     in output names (default 0)\n"
+         "  --time T           the simulation time of that step: {time} in output names and\n"
+         "                     annotation text (default 0)\n"
          "  --time-limit S     seconds each render may take (0 = none; default\n"
          "                     tessera.time_limit); past it: error, no output file\n"
          "  --denoise          denoise the PNG with Open Image Denoise (image.denoise: true)\n"
@@ -120,6 +132,7 @@ Args parse_args(int argc, const char* const* argv) {
     else if (arg == "--step")
       a.step = to_number<std::int64_t>(arg, value(), std::numeric_limits<std::int64_t>::min(),
                                        std::numeric_limits<std::int64_t>::max());
+    else if (arg == "--time") a.time = to_finite(arg, value());
     else if (arg == "--stats") a.stats = value();
     else if (arg == "--time-limit") a.time_limit = to_seconds(arg, value());
     else if (arg == "--progress") {

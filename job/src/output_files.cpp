@@ -25,11 +25,12 @@ std::optional<ImageFormat> format_of_extension(const fs::path& p) {
 }  // namespace
 
 std::vector<OutputTarget> output_targets(const config::GlobalOptions& global, const config::RenderSpec& spec,
-                                         const std::optional<std::string>& out_flag, bool several, std::int64_t step) {
+                                         const std::optional<std::string>& out_flag, bool several, std::int64_t step,
+                                         double time) {
   std::vector<OutputTarget> targets;
   if (!out_flag) {
     const fs::path stem =
-        fs::path(global.output_dir) / config::format_output_path(spec.output.file, spec.name, step, 0.0, 0);
+        fs::path(global.output_dir) / config::format_output_path(spec.output.file, spec.name, step, time, 0);
     for (const ImageFormat f : spec.output.formats) targets.push_back({stem.string() + image_format(f).extension, f});
     return targets;
   }

@@ -104,10 +104,10 @@ void check_volume_memory(const config::Config& cfg) {
 RenderRecord run_render(const config::Config& cfg, const config::RenderSpec& spec, VolumeInfo& volume, const Args& args,
                         const std::vector<OutputTarget>& targets, bool show_progress) {
   RenderedImage r = render_image(cfg, spec, volume, args, targets, show_progress);
-  // Annotations: step from --step, time 0 (a CLI render has no simulation time)
+  // Annotations: step and time from --step and --time (as the adapter's call gives them)
   std::optional<AnnotationDesc> annotations;
   if (spec.annotations)
-    annotations = config::build_annotations(*spec.annotations, spec.name, spec.field, r.tf, args.step, 0.0);
+    annotations = config::build_annotations(*spec.annotations, spec.name, spec.field, r.tf, args.step, args.time);
   write_outputs(targets, r.image, spec.output, annotations ? &*annotations : nullptr);
   for (const auto& t : targets) r.record.outputs.push_back(t.path);
   return std::move(r.record);

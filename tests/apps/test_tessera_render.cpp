@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -328,6 +329,31 @@ renders:
   REQUIRE(run_cli(dir, "s.yaml --quiet").status == 0);  // step 0: other random numbers
   CHECK(tessera::read_exr(dir.file("out/r_0000.exr")).rgba != from_adapter.rgba);
   CHECK_THAT(run_cli(dir, "s.yaml --step x").err, Contains("--step: \"x\" is not an integer"));
+}
+
+TEST_CASE("tessera-render --time T fills {time} in output names as the adapter's time argument does", "[cli]") {
+  TempDir dir;
+  std::vector<float> v(27, 0.5f);
+  std::ofstream(dir.file("v.raw"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(float)));
+  dir.write("s.yaml", R"(tessera: {output_dir: out}
+volume: {file: v.raw, dims: [3, 3, 3], dtype: float32}
+renders:
+  - name: r
+    image: {width: 8, height: 6, spp: 1}
+    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: fit}}}
+    transfer_function: {range: [0, 1], opacity: [[0, 0], [1, 1]]}
+    output: {file: "{name}_{step:03d}_{time:.2f}", formats: [exr]}
+)");
+  const Run r = run_cli(dir, "s.yaml --step 4 --time 1.25 --quiet");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(std::filesystem::exists(dir.file("out/r_004_1.25.exr")));
+  REQUIRE(run_cli(dir, "s.yaml --quiet").status == 0);  // default time 0
+  CHECK(std::filesystem::exists(dir.file("out/r_000_0.00.exr")));
+  CHECK_THAT(run_cli(dir, "s.yaml --time nan").err, Contains("--time: \"nan\" is not a finite number"));
+  CHECK_THAT(run_cli(dir, "s.yaml --time 1e999").err, Contains("is not a finite number"));
+  CHECK(run_cli(dir, "s.yaml --time").status != 0);
 }
 
 TEST_CASE("tessera-render draws annotations into the PNG only, and refuses ones larger than the image",

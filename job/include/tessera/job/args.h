@@ -16,6 +16,9 @@ struct Args {
   /// --step N: render as the adapter does at simulation step N (frame N's random numbers,
   /// {step} = N in output names); default 0.
   std::int64_t step = 0;
+  /// --time T: the simulation time of that step, for {time} in output names and annotation
+  /// text (the adapter's `time` argument); finite, default 0.
+  double time = 0.0;
   std::optional<std::string> stats;  ///< --stats FILE.json
   std::optional<double> time_limit;  ///< --time-limit SECONDS (overrides tessera.time_limit)
   std::optional<bool> denoise;       ///< --denoise / --no-denoise (overrides image.denoise)

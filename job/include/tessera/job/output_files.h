@@ -15,14 +15,14 @@ struct OutputTarget {
   ImageFormat format;
 };
 
-/// Without -o: output_dir / format_output_path(output.file, name, `step`, time 0, rank 0)
+/// Without -o: output_dir / format_output_path(output.file, name, `step`, `time`, rank 0)
 /// plus .exr / .png for each of output.formats.
 /// With -o OUT: OUT.exr / OUT.png per output.formats, or only OUT itself when it ends in .exr
 /// or .png (any case). With several renders (`several`), _NAME goes before the extension:
 /// OUT_NAME.exr.
 std::vector<OutputTarget> output_targets(const config::GlobalOptions& global, const config::RenderSpec& spec,
                                          const std::optional<std::string>& out_flag, bool several,
-                                         std::int64_t step = 0);
+                                         std::int64_t step = 0, double time = 0.0);
 
 /// Writes the image to every target (EXR linear; PNG through the render's tone map, with
 /// `annotations` drawn when not null), creating directories as needed.
