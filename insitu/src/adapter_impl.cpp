@@ -199,13 +199,7 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
     // Renders that fire (or may: `when`), in config order
     m_call.step = step;
     m_call.time = time;
-    m_call.grid = pub.grid;
-    m_call.fields = pub.fields;
-    m_call.nfields = pub.nfields;
-    m_call.domains_call = pub.domains_call;
-    m_call.mesh = pub.mesh;
-    m_call.domains = pub.domains;
-    m_call.ndomains = pub.ndomains;
+    m_call.pub = pub;
     m_call.simulation_seconds = std::max(0.0, m_sim_seconds);
     m_call.budget_plan = plan;
     m_call.budget = m_budget ? &*m_budget : nullptr;
@@ -252,10 +246,7 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
                 " consecutive failures (on_error: disable)";
     }
     // The descriptors are only valid during this call
-    m_call.grid = nullptr;
-    m_call.fields = nullptr;
-    m_call.mesh = nullptr;
-    m_call.domains = nullptr;
+    m_call.pub = Publication{};
     m_call.assembled_key.reset();
     m_call.assembled = FieldView{};
     return status;

@@ -63,16 +63,6 @@ struct Adapter::Impl {
   CallGate m_gate;
 
  private:
-  /// What one call publishes: a grid and fields (tessera_execute) or a mesh and domains.
-  struct Publication {
-    const tessera_grid* grid = nullptr;
-    const tessera_field* fields = nullptr;
-    std::int64_t nfields = 0;
-    bool domains_call = false;
-    const tessera_mesh* mesh = nullptr;
-    const tessera_domain* domains = nullptr;
-    std::int64_t ndomains = 0;
-  };
   tessera_status run_call(std::int64_t step, double time, const Publication& pub, bool final_step) noexcept;
 
   /// Read as bytes by the agreement (rank_agreement.h CallView::fired): keep these values.

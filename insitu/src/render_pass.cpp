@@ -71,17 +71,18 @@ class Pass {
     if (m_spp == 0 && !check_when) return skipped();
 
     // Bind: descriptors -> zero-copy view of this rank's real vertices
-    if (m_call.domains_call) {
+    if (m_call.pub.domains_call) {
       if (!bind_domains_phase()) return std::move(m_out);
     } else if (!phase(TESSERA_ERROR_DATA, [&] {
-                 if (m_call.nfields < 0 || (m_call.nfields > 0 && !m_call.fields))
+                 if (m_call.pub.nfields < 0 || (m_call.pub.nfields > 0 && !m_call.pub.fields))
                    throw std::invalid_argument(
-                       "field list is invalid (fields = " + std::string(m_call.fields ? "non-null" : "NULL") +
-                       ", nfields = " + std::to_string(m_call.nfields) + ")");
-                 if (!m_call.grid) throw std::invalid_argument("grid descriptor is NULL");
-                 const std::span<const tessera_field> fields(m_call.fields, static_cast<std::size_t>(m_call.nfields));
+                       "field list is invalid (fields = " + std::string(m_call.pub.fields ? "non-null" : "NULL") +
+                       ", nfields = " + std::to_string(m_call.pub.nfields) + ")");
+                 if (!m_call.pub.grid) throw std::invalid_argument("grid descriptor is NULL");
+                 const std::span<const tessera_field> fields(m_call.pub.fields,
+                                                             static_cast<std::size_t>(m_call.pub.nfields));
                  const tessera_field& f = fields[find_field(fields, m_spec.field, m_spec.name)];
-                 m_binding = bind_field(f, *m_call.grid);
+                 m_binding = bind_field(f, *m_call.pub.grid);
                  if (m_ctx.size() == 1) require_whole_grid(f, m_binding);
                  m_field_name = f.name;
                }))
@@ -253,11 +254,11 @@ class Pass {
   /// or no domain anywhere, fail alike on every rank with TESSERA_ERROR_DATA).
   bool bind_domains_phase() {
     if (!phase(TESSERA_ERROR_DATA, [&] {
-          m_binding = bind_domains(m_call.mesh, m_call.domains, m_call.ndomains, m_spec.field, m_spec.name);
+          m_binding = bind_domains(m_call.pub.mesh, m_call.pub.domains, m_call.pub.ndomains, m_spec.field, m_spec.name);
           m_field_name = m_spec.field;
           if (!m_binding.blocks.empty()) {
-            const std::span<const tessera_field> fields(m_call.domains[0].fields,
-                                                        static_cast<std::size_t>(m_call.domains[0].nfields));
+            const std::span<const tessera_field> fields(m_call.pub.domains[0].fields,
+                                                        static_cast<std::size_t>(m_call.pub.domains[0].nfields));
             m_field_name = fields[find_field(fields, m_spec.field, m_spec.name)].name;
           }
         }))

@@ -41,19 +41,24 @@ struct RenderState {
   int budget_skips = 0;                    ///< calls in a row the render budget skipped it
 };
 
+/// What one call publishes, valid during that call only: a grid and fields (tessera_execute)
+/// or, for tessera_execute_domains, the mesh and this rank's domains (grid and fields unused).
+struct Publication {
+  const tessera_grid* grid = nullptr;
+  const tessera_field* fields = nullptr;
+  std::int64_t nfields = 0;
+  bool domains_call = false;
+  const tessera_mesh* mesh = nullptr;
+  const tessera_domain* domains = nullptr;
+  std::int64_t ndomains = 0;
+};
+
 /// What one execute call derives from its descriptors, shared by its renders. Everything is
 /// keyed by the render's `field:` name, which is the same on every rank.
 struct CallData {
   std::int64_t step = 0;
   double time = 0.0;
-  const tessera_grid* grid = nullptr;
-  const tessera_field* fields = nullptr;
-  std::int64_t nfields = 0;
-  /// tessera_execute_domains: the mesh and this rank's domains (grid and fields unused).
-  bool domains_call = false;
-  const tessera_mesh* mesh = nullptr;
-  const tessera_domain* domains = nullptr;
-  std::int64_t ndomains = 0;
+  Publication pub;  ///< the call's descriptors
   /// The simulation's wall time since the last call that rendered (0 in the first call), this rank.
   double simulation_seconds = 0.0;
   /// tessera.budget: the plan every rank renders with (rank 0's, budget_planner.h); 1 (each
