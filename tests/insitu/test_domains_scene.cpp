@@ -41,7 +41,8 @@ struct Outcome {
 Outcome run(const TempDir& dir, const std::string& name, const std::string& extra, const tessera_mesh& mesh,
             std::span<const tessera_domain> domains, const std::string& global = "", int size = 24) {
   Adapter ad;
-  const std::string renders = render_yaml("view", "{every: 1}", extra + "    integrator: {seed: 3}\n", "density", size, 2);
+  const std::string renders =
+      render_yaml("view", "{every: 1}", extra + "    integrator: {seed: 3}\n", "density", size, 2);
   REQUIRE(ad.open(dir.write(name + ".yaml", config_yaml(dir.file(name), renders, global))) == TESSERA_OK);
   ad.set_quiet(true);
   Outcome o;
@@ -73,9 +74,8 @@ std::string exact(const tessera::Vec3& v) {
 std::string camera_fit_over(const tessera::Bounds& box) {
   using tessera::config::PointSpec;
   const tessera::Vec3 up(0, 0, 1);
-  const tessera::Vec3 p =
-      tessera::config::resolve_point(PointSpec::on_orbit_fit(30.0, 25.0), box, up,
-                                     tessera::config::fit_distance(40.0, 24, 24));
+  const tessera::Vec3 p = tessera::config::resolve_point(PointSpec::on_orbit_fit(30.0, 25.0), box, up,
+                                                         tessera::config::fit_distance(40.0, 24, 24));
   return "    camera: {position: " + exact(p) + ", look_at: " + exact(box.center()) + ", up: [0, 0, 1], fov: 40}\n";
 }
 
@@ -185,12 +185,11 @@ TEST_CASE("domains: range: auto covers every element of cell data and rectilinea
       INFO((assoc == TESSERA_CELL ? "cell" : "vertex") << " data, " << tessera_test::axes_name(axes));
       const tessera_test::TestMesh mesh(kG, assoc, axes);
       const std::string tag = std::to_string(assoc) + std::to_string(static_cast<int>(axes));
-      const Outcome automatic =
-          run(dir, "auto" + tag, "    transfer_function: {range: auto, " + tf, mesh.mesh(), one);
-      const Outcome fixed = run(dir, "fixed" + tag, "    transfer_function: {range: [" + exact(lo) + ", 400], " + tf,
-                                mesh.mesh(), one);
-      const Outcome short_range = run(dir, "short" + tag, "    transfer_function: {range: [" + exact(lo) + ", 250], " + tf,
-                                      mesh.mesh(), one);
+      const Outcome automatic = run(dir, "auto" + tag, "    transfer_function: {range: auto, " + tf, mesh.mesh(), one);
+      const Outcome fixed =
+          run(dir, "fixed" + tag, "    transfer_function: {range: [" + exact(lo) + ", 400], " + tf, mesh.mesh(), one);
+      const Outcome short_range =
+          run(dir, "short" + tag, "    transfer_function: {range: [" + exact(lo) + ", 250], " + tf, mesh.mesh(), one);
       REQUIRE(automatic.status == TESSERA_OK);
       REQUIRE(fixed.status == TESSERA_OK);
       CHECK(same_image(*automatic.image, *fixed.image));
