@@ -274,8 +274,13 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pa
 
   // Camera; its up also orients every orbit point
   const Vec3 up = spec.camera.up;
-  // (a spacing outside its range is prepare()'s error to report, not the camera's)
-  const double h = std::min({geom.spacing.x, geom.spacing.y, geom.spacing.z});
+  // (a spacing outside its range is prepare()'s error to report, not the camera's). The
+  // uniform axes' smallest spacing: a rectilinear axis' spacing is not its intervals, and its
+  // smallest interval needs the field's dims, so prepare() checks it exactly (this check is
+  // then the looser one, never refusing what prepare accepts; none if every axis is rectilinear)
+  double h = INFINITY;
+  for (int a = 0; a < 3; ++a)
+    if (!geom.coords[a]) h = std::min(h, geom.spacing[a]);
   const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
   if (spec.camera.keyframes.empty()) {
     const double fit_radii = fit_distance(spec.camera.fov, spec.image.width, spec.image.height);

@@ -9,7 +9,8 @@
 namespace tessera::config {
 
 RenderFootprint render_footprint(const RenderSpec& spec, const RenderOptions& options,
-                                 std::span<const ImageFormat> formats, const FieldView& field, int ranks_on_node) {
+                                 std::span<const ImageFormat> formats, const FieldView& field, int ranks_on_node,
+                                 const VolumeGeometry& geometry) {
   RenderFootprint f;
   f.width = spec.image.width;
   f.height = spec.image.height;
@@ -21,7 +22,10 @@ RenderFootprint render_footprint(const RenderSpec& spec, const RenderOptions& op
   f.samples = spec.output.samples;
   f.denoise = spec.image.denoise;
   f.formats.assign(formats.begin(), formats.end());
-  for (int a = 0; a < 3; ++a) f.field_dims[a] = field.dims[a];
+  for (int a = 0; a < 3; ++a) {
+    f.field_dims[a] = field.dims[a];
+    f.rectilinear[a] = geometry.coords[a] != nullptr;
+  }
   f.macrocell_edge = majorant_edge(field, spec.integrator.desc);
   if (spec.background.type == BackgroundType::EnvMap) {
     const auto [w, h] = read_exr_size(spec.background.file);  // the header only

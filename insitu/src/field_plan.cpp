@@ -38,10 +38,10 @@ int brick_shift(const std::int64_t global_dims[3]) {
 FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding, int ranks,
                      int ranks_on_node, bool root) {
   const int node_ranks = std::max(1, ranks_on_node);
-  FieldView global;  // dims only: what the footprint reads
+  FieldView global;  // dims only: what the footprint reads (and which axes are rectilinear)
   for (int a = 0; a < 3; ++a) global.dims[a] = binding.placement.global_dims[a];
   RenderFootprint f = config::render_footprint(spec, config::build_render_options(spec, cfg.global),
-                                               spec.output.formats, global, node_ranks);
+                                               spec.output.formats, global, node_ranks, binding.geometry);
   // What the adapter adds: rank 0 writes every image and keeps the last one; the Cinema views
   f.writes = root;
   f.keeps_last_image = root;

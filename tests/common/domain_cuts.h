@@ -3,8 +3,8 @@
 /// simulation holds them. Each domain has its own float32 array with ghost layers on every
 /// side, in a layout of its own (i fastest, or k fastest), and its ghost values are NaN: the
 /// renderer never reads ghosts, so a ghost read would change the image (and the NaN count).
-/// Values are small integers (exact in float32). The mesh may be vertex or cell data: the
-/// harness is the same for both (the cell case renders once the core supports it).
+/// Values are small integers (exact in float32). The mesh may be vertex or cell data, with
+/// uniform or stretched (rectilinear) axes: the harness is the same for all of them.
 #include <tessera/tessera.h>
 
 #include <array>
@@ -62,6 +62,46 @@ inline tessera_mesh unit_mesh(const Dims& g, tessera_association assoc) {
   }
   return m;
 }
+
+/// The axes of a test mesh: all uniform, y stretched, or all three stretched.
+enum class Axes { Uniform, StretchedY, StretchedAll };
+
+inline const char* axes_name(Axes axes) {
+  return axes == Axes::Uniform ? "uniform" : axes == Axes::StretchedY ? "y stretched" : "xyz stretched";
+}
+
+/// `count` strictly increasing coordinates over [-0.5, 0.5], bunched at one end: t + s t^2 (1 - t)
+/// at t = q / (count - 1), whose slope 1 + s (2t - 3t^2) stays above 0 for s in (-3, 1).
+inline std::vector<double> stretched_axis(std::int64_t count, double s) {
+  std::vector<double> c(static_cast<std::size_t>(count));
+  for (std::size_t q = 0; q < c.size(); ++q) {
+    const double t = count > 1 ? static_cast<double>(q) / static_cast<double>(count - 1) : 0.0;
+    c[q] = -0.5 + t + s * t * t * (1.0 - t);
+  }
+  c.back() = 0.5;
+  return c;
+}
+
+/// unit_mesh() with `axes` stretched over the same box [-0.5, 0.5]^3: the coordinates live
+/// here (the mesh points into them), so an object of this class outlives its meshes.
+class TestMesh {
+ public:
+  TestMesh(const Dims& g, tessera_association assoc, Axes axes) : m_mesh(unit_mesh(g, assoc)) {
+    static constexpr double kStretch[3] = {0.6, -0.5, 0.8};
+    for (int a = 0; a < 3; ++a) {
+      if (axes == Axes::Uniform || (axes == Axes::StretchedY && a != 1)) continue;
+      m_coords[a] = stretched_axis(g[a] + (assoc == TESSERA_CELL ? 1 : 0), kStretch[a]);
+      m_mesh.coords[a] = m_coords[a].data();
+    }
+  }
+  TestMesh(const TestMesh&) = delete;
+  TestMesh& operator=(const TestMesh&) = delete;
+  const tessera_mesh& mesh() const { return m_mesh; }
+
+ private:
+  tessera_mesh m_mesh;
+  std::array<std::vector<double>, 3> m_coords;
+};
 
 /// Domains as a simulation holds them (addresses stable: the descriptors point into them).
 class HeldDomains {

@@ -201,3 +201,29 @@ TEST_CASE("range: auto of a constant field stays non-empty for huge values", "[c
   }
   CHECK(resolve_range(automatic, {5.0, 5.0}) == std::pair(4.5, 5.5));  // unchanged where 0.5 shows
 }
+
+TEST_CASE("the early 2^40-smallest-spacings check reads the spacing of uniform axes only", "[config][scene]") {
+  // A rectilinear axis' spacing is not its intervals (prepare() checks its smallest interval
+  // exactly): a tiny value there refuses nothing; on a uniform axis it still does
+  const Config c = parse_config(R"(renders:
+  - name: a
+    camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: 3}}}
+    transfer_function: {opacity: [[0, 1]]}
+)",
+                                "s.yaml", "");
+  const Bounds b{Vec3(-0.5), Vec3(0.5)};
+  const double coords[3] = {-0.5, 0.1, 0.5};  // never read here
+  VolumeGeometry g;
+  g.spacing = Vec3(0.5, 1e-20, 0.5);
+  CHECK_THROWS_WITH(build_scene(c.renders[0], b, {0, 1}, g, nullptr),
+                    Contains("camera.position [") && Contains("lies beyond 2^40 smallest spacings"));
+  g.coords[1] = coords;
+  const SceneDesc s = build_scene(c.renders[0], b, {0, 1}, g, nullptr);
+  CHECK(glm::length(s.camera.position) > 1.0);
+  // Every axis rectilinear: no early check at all; one uniform axis: its spacing counts
+  g.spacing = Vec3(1e-20);
+  g.coords[0] = g.coords[2] = coords;
+  CHECK_NOTHROW(build_scene(c.renders[0], b, {0, 1}, g, nullptr));
+  g.coords[2] = nullptr;
+  CHECK_THROWS_WITH(build_scene(c.renders[0], b, {0, 1}, g, nullptr), Contains("lies beyond 2^40 smallest spacings"));
+}

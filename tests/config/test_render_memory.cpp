@@ -55,6 +55,17 @@ TEST_CASE("render_footprint: image, layers, formats, tile, threads and macrocell
   const int hardware = static_cast<int>(std::thread::hardware_concurrency());
   CHECK(render_footprint(spec, options, png, field, 1).threads == std::max(1, hardware));
   CHECK(render_footprint(spec, options, png, field, 1 << 20).threads == 1);
+  // Rectilinear axes: from the geometry (its coordinates are not read); uniform by default
+  for (int a = 0; a < 3; ++a) CHECK_FALSE(f.rectilinear[a]);
+  VolumeGeometry g;
+  const double never_read = 0.0;
+  g.coords[2] = &never_read;
+  const RenderFootprint r = render_footprint(spec, options, png, field, 4, g);
+  CHECK_FALSE(r.rectilinear[0]);
+  CHECK_FALSE(r.rectilinear[1]);
+  CHECK(r.rectilinear[2]);
+  CHECK_THAT(estimate_render_memory(r).describe(), Contains("axis tables"));
+  CHECK_THAT(estimate_render_memory(f).describe(), !Contains("axis tables"));
 }
 
 TEST_CASE("memory_limit: tessera.memory_limit_mb, or the default for a process or a node's ranks",

@@ -7,7 +7,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 using namespace tessera;
 using namespace tessera::insitu;
@@ -184,4 +186,27 @@ TEST_CASE("one rank: one domain covering the mesh is read in place, several doma
   } catch (const std::runtime_error& e) {
     CHECK_THAT(e.what(), Catch::Contains("the domains' copy"));
   }
+}
+
+TEST_CASE("the plan's estimate counts the axis tables of a rectilinear mesh, and only of its rectilinear axes",
+          "[insitu][distribution][rectilinear]") {
+  const config::Config cfg = config_for("replicated", 1024);
+  const auto& spec = cfg.renders[0];
+  const auto axis_part = [](const MemoryEstimate& e) {
+    for (const MemoryEstimate::Part& p : e.parts)
+      if (p.name == "axis tables") return p.bytes;
+    return std::uint64_t{0};
+  };
+  FieldBinding b = binding_for(200);
+  CHECK(axis_part(plan_field(cfg, spec, b, 1, 1, true).base) == 0);  // uniform: no part
+  const std::vector<double> y(200, 0.0);  // never read: only which axes are rectilinear counts
+  b.geometry.coords[1] = y.data();
+  const std::uint64_t one = axis_part(plan_field(cfg, spec, b, 1, 1, true).base);
+  // At most 4 (n - 1) + 65 bin entries and a wall per macrocell, 8 bytes each: more than the
+  // bins' 4 (n - 1) entries alone
+  CHECK(one >= 8 * 4 * 199);
+  CHECK(one <= 8 * (4 * 199 + 65 + 200 + 1));
+  b.geometry.coords[0] = b.geometry.coords[2] = y.data();
+  CHECK(axis_part(plan_field(cfg, spec, b, 1, 1, true).base) == 3 * one);
+  CHECK_THAT(plan_field(cfg, spec, b, 1, 1, true).base.describe(), Catch::Contains("axis tables"));
 }

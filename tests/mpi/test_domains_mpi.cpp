@@ -3,8 +3,8 @@
 // none, and every rank on its own pretend node, renders bit-identically to one rank's
 // tessera_execute of the whole field, in replicated and distributed mode, with single and
 // multiple scattering; ranks that disagree on the mesh, or whose domains do not fit together,
-// all get TESSERA_ERROR_DATA and none hangs. Parametric in the association (vertex data now;
-// cell data joins once the renderer supports it).
+// all get TESSERA_ERROR_DATA and none hangs. For vertex and cell data, on uniform and
+// stretched (rectilinear) axes.
 #include "domain_cuts.h"
 #include "mpi_test_support.h"
 
@@ -71,10 +71,16 @@ struct Run {
   std::optional<tessera::Image> image;  ///< rank 0's
 };
 
-/// Step 4 on the first n ranks with `held` dealt out; `whole_execute`: rank 0 of one rank
-/// publishes domain 0 through tessera_execute instead (the reference).
+const tessera_test::TestMesh& uniform_vertex_mesh() {
+  static const tessera_test::TestMesh m(kG, TESSERA_VERTEX, tessera_test::Axes::Uniform);
+  return m;
+}
+
+/// Step 4 on the first n ranks with `held` dealt out on `base` (the mesh every rank passes
+/// before `edit`); `whole_execute`: rank 0 of one rank publishes domain 0 through
+/// tessera_execute instead (the reference; a uniform vertex mesh).
 Run run_on(int n, const std::string& cfg, const HeldDomains& held, Deal deal, const Edit& edit = {},
-           tessera_association assoc = TESSERA_VERTEX, bool whole_execute = false, int execute_rank = -1) {
+           const tessera_mesh& base = uniform_vertex_mesh().mesh(), bool whole_execute = false, int execute_rank = -1) {
   FirstRanks sub(n);
   Run run;
   int status = TESSERA_OK;
@@ -85,7 +91,7 @@ Run run_on(int n, const std::string& cfg, const HeldDomains& held, Deal deal, co
     status = ad.open(cfg, MPI_Comm_c2f(sub.comm()));
     ad.set_quiet(true);
     if (status == TESSERA_OK) {
-      tessera_mesh mesh = tessera_test::unit_mesh(kG, assoc);
+      tessera_mesh mesh = base;
       std::vector<tessera_domain> domains = dealt(held, deal, r, n);
       if (edit) edit(r, mesh, domains);
       if (whole_execute || r == execute_rank) {
@@ -136,38 +142,54 @@ TEST_CASE("domains: 1 vs 7 uneven domains over 1, 2, 3 ranks give tessera_execut
   SharedTempDir dir;
   const HeldDomains whole(kG, {CutBox{{0, 0, 0}, kG}});
   const HeldDomains seven(kG, tessera_test::seven_cuts(kG), 2);
-  for (const tessera_association assoc : {TESSERA_VERTEX}) {  // TESSERA_CELL: once the renderer has cell data
-    for (const std::string scattering : {"single", "multiple"}) {
-      for (const std::string mode : {"replicated", "distributed"}) {
-        const std::string cfg = write_config(dir, mode + "_" + scattering, mode, scattering);
-        // Vertex data: one rank's tessera_execute of the whole field; cell data: one domain
-        const Run ref = run_on(1, cfg, whole, Deal::All, {}, assoc, assoc == TESSERA_VERTEX);
-        REQUIRE(ref.status == TESSERA_OK);
-        bool ok = true;
-        const auto compare = [&](const Run& r, const std::string& what) {
-          INFO(mode << ", " << scattering << ": " << what << ": " << r.error);
-          REQUIRE(r.status == TESSERA_OK);
-          if (world_rank() == 0) {
-            const bool same = same_image(*ref.image, *r.image);
-            CHECK(same);
-            ok = ok && same;
+  using tessera_test::Axes;
+  for (const tessera_association assoc : {TESSERA_VERTEX, TESSERA_CELL}) {
+    for (const Axes axes : {Axes::Uniform, Axes::StretchedY, Axes::StretchedAll}) {
+      const tessera_test::TestMesh mesh(kG, assoc, axes);
+      const tessera_mesh& m = mesh.mesh();
+      const std::string what =
+          std::string(assoc == TESSERA_CELL ? "cell" : "vertex") + " data, " + tessera_test::axes_name(axes);
+      for (const std::string scattering : {"single", "multiple"}) {
+        for (const std::string mode : {"replicated", "distributed"}) {
+          const std::string cfg = write_config(dir, mode + "_" + scattering, mode, scattering);
+          // Uniform vertex data: one rank's tessera_execute of the whole field; else one domain
+          const bool plain = assoc == TESSERA_VERTEX && axes == Axes::Uniform;
+          const Run ref = run_on(1, cfg, whole, Deal::All, {}, m, plain);
+          REQUIRE(ref.status == TESSERA_OK);
+          bool ok = true;
+          const auto compare = [&](const Run& r, const std::string& how) {
+            INFO(what << ", " << mode << ", " << scattering << ": " << how << ": " << r.error);
+            REQUIRE(r.status == TESSERA_OK);
+            if (world_rank() == 0) {
+              const bool same = same_image(*ref.image, *r.image);
+              CHECK(same);
+              ok = ok && same;
+            }
+          };
+          if (plain) compare(run_on(1, cfg, whole, Deal::All, {}, m), "1 domain, 1 rank");
+          for (int n : sizes_up_to_world()) {
+            // The other meshes (to keep the suite's time in check): 1, 2 and all ranks, and
+            // the rank without domains on all of them
+            if (!plain && n > 2 && n < world_size()) continue;
+            compare(run_on(n, cfg, seven, Deal::RoundRobin, {}, m), "7 domains, " + std::to_string(n) + " ranks");
+            if (plain) compare(run_on(n, cfg, whole, Deal::All, {}, m), "1 domain on rank 0 of " + std::to_string(n));
+            if (n >= 3)
+              compare(run_on(n, cfg, seven, Deal::NoneOnRank1, {}, m),
+                      "7 domains, none on rank 1 of " + std::to_string(n));
           }
-        };
-        compare(run_on(1, cfg, whole, Deal::All, {}, assoc), "1 domain, 1 rank");
-        for (int n : sizes_up_to_world()) {
-          compare(run_on(n, cfg, seven, Deal::RoundRobin, {}, assoc), "7 domains, " + std::to_string(n) + " ranks");
-          compare(run_on(n, cfg, whole, Deal::All, {}, assoc), "1 domain on rank 0 of " + std::to_string(n));
-          if (n >= 3)
-            compare(run_on(n, cfg, seven, Deal::NoneOnRank1, {}, assoc),
-                    "7 domains, none on rank 1 of " + std::to_string(n));
+          // Every rank on a pretend node of its own: the replica's inter-node exchange
+          if (world_size() > 1) {
+            setenv("TESSERA_MPI_RANKS_PER_NODE", "1", 1);
+            compare(run_on(world_size(), cfg, seven, Deal::RoundRobin, {}, m), "7 domains, one rank per node");
+            unsetenv("TESSERA_MPI_RANKS_PER_NODE");
+          }
+          // Another mesh renders another image: the stretch and the association reach the renderer
+          if (!plain) {
+            const Run other = run_on(1, cfg, whole, Deal::All, {}, uniform_vertex_mesh().mesh(), true);
+            if (world_rank() == 0) CHECK_FALSE(same_image(*ref.image, *other.image));
+          }
+          REQUIRE(all_ranks(ok));
         }
-        // Every rank on a pretend node of its own: the replica's inter-node exchange
-        if (world_size() > 1) {
-          setenv("TESSERA_MPI_RANKS_PER_NODE", "1", 1);
-          compare(run_on(world_size(), cfg, seven, Deal::RoundRobin, {}, assoc), "7 domains, one rank per node");
-          unsetenv("TESSERA_MPI_RANKS_PER_NODE");
-        }
-        REQUIRE(all_ranks(ok));
       }
     }
   }
@@ -245,7 +267,8 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
   for (const Case& c : cases) {
     DYNAMIC_SECTION(c.name) {
       const std::string cfg = write_config(dir, "bad", "auto", "single");
-      const Run r = run_on(n, cfg, seven, Deal::RoundRobin, c.edit, TESSERA_VERTEX, false, c.execute_rank);
+      const Run r =
+          run_on(n, cfg, seven, Deal::RoundRobin, c.edit, uniform_vertex_mesh().mesh(), false, c.execute_rank);
       INFO(r.error);
       CHECK(r.status == TESSERA_ERROR_DATA);
       if (world_rank() == 0) CHECK_THAT(r.error, Catch::Contains(c.words));

@@ -1,6 +1,10 @@
 """Run by test_adapter.py under mpirun -n 1 and -n 2: the conftest field split along k across
 the ranks of an mpi4py communicator, each rank's block with one ghost layer (NaN where there is
-no neighbour), published through tessera.Adapter. Rank 0 saves the image to argv[1]."""
+no neighbour), published through tessera.Adapter. Rank 0 saves the image to argv[1].
+argv[3] "domains": the field as cell data on a stretched y axis, cut into test_adapter's five
+uneven domains dealt round robin over the ranks (zero-copy views, every other one Fortran
+ordered), rendered replicated and distributed; rank 0 saves both images."""
+import copy
 import sys
 
 import numpy as np
@@ -8,7 +12,7 @@ from mpi4py import MPI
 
 import tessera
 from conftest import field
-from test_adapter import CONFIG
+from test_adapter import CONFIG, DOMAIN_CUTS, GRID, stretched_y
 
 comm = MPI.COMM_WORLD
 data = field().T.astype(np.float64)  # (nx, ny, nz): vertex (i, j, k)
@@ -41,6 +45,26 @@ if len(sys.argv) > 3 and sys.argv[3] == "bad-array-on-last-rank":
         assert viz.last_status == 0, viz.last_error
     if comm.rank == 0:
         np.save(sys.argv[1], np.zeros(1))
+    sys.exit(0)
+
+if len(sys.argv) > 3 and sys.argv[3] == "domains":
+    mine = []
+    for n, ((i, j, k), (a, b, c)) in enumerate(DOMAIN_CUTS):
+        if n % comm.size == comm.rank:
+            view = data[i:i + a, j:j + b, k:k + c]
+            mine.append({"fields": {"temperature": np.asfortranarray(view) if n % 2 else view},
+                         "offset": (i, j, k)})
+    images = []
+    for mode in ("replicated", "distributed"):
+        config = copy.deepcopy(CONFIG)
+        config["tessera"]["distribution"] = mode
+        with tessera.Adapter(config, comm, output_dir=sys.argv[2], quiet=True) as viz:
+            out = viz.execute(0, 0.0, domains=mine, global_dims=data.shape, association="cell",
+                              coords=(None, stretched_y(data.shape[1]), None), **GRID)
+            assert viz.last_status == 0, viz.last_error
+        images.append(out.get("main"))
+    if comm.rank == 0:
+        np.save(sys.argv[1], np.stack(images))
     sys.exit(0)
 
 with tessera.Adapter(CONFIG, comm, output_dir=sys.argv[2], quiet=True) as viz:

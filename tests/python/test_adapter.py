@@ -27,6 +27,14 @@ CONFIG = {
     }],
 }
 GRID = {"spacing": (1.0, 1.5, 2.0), "origin": (-3, 0, 1)}
+# Five uneven boxes ((offset), (size)) tiling the conftest field's (20, 16, 12) elements
+DOMAIN_CUTS = [((0, 0, 0), (7, 16, 12)), ((7, 0, 0), (6, 9, 12)), ((7, 9, 0), (6, 7, 12)),
+               ((13, 0, 0), (7, 16, 5)), ((13, 0, 5), (7, 16, 7))]
+
+
+def stretched_y(ny):
+    """The ny + 1 cell boundaries of a stretched y axis over [0, 24]."""
+    return 24.0 * np.linspace(0.0, 1.0, ny + 1) ** 1.5
 
 
 def with_ghosts(xyz, g=1, fill=np.nan):
@@ -131,6 +139,25 @@ def test_mpi4py_an_array_one_rank_cannot_describe_fails_everywhere_without_a_han
     if shutil.which("mpirun") is None:
         pytest.skip("no mpirun")
     run_mpi(2, tmp_path, "bad-array-on-last-rank")  # the script asserts; timeout = hang
+
+
+def test_mpi4py_cell_domains_on_a_stretched_axis_two_ranks_bit_identical_to_one(tmp_path):
+    """Cell data on a stretched y axis, cut into 5 uneven domains dealt over the ranks of an
+    mpi4py communicator (mpi_adapter_run.py "domains"): 1 and 2 ranks, replicated and
+    distributed, give the image of one process passing the whole field as one domain."""
+    pytest.importorskip("mpi4py")
+    if shutil.which("mpirun") is None:
+        pytest.skip("no mpirun")
+    data = field().T.astype(np.float64)
+    with tessera.Adapter(CONFIG, output_dir=tmp_path, quiet=True) as viz:
+        plain = viz.execute(0, 0.0, domains=[{"fields": {"temperature": data}}], global_dims=data.shape,
+                            association="cell", coords=(None, stretched_y(data.shape[1]), None), **GRID)["main"]
+        assert viz.last_status == 0, viz.last_error
+    assert plain[..., 3].max() > 0.1
+    assert not same_bits(plain, step0(tmp_path, data))  # not the uniform vertex mesh's image
+    one, two = run_mpi(1, tmp_path, "domains"), run_mpi(2, tmp_path, "domains")
+    for image in (*one, *two):  # replicated, then distributed
+        assert same_bits(plain, image)
 
 
 def test_domains_cut_uneven_render_bit_identically(tmp_path):

@@ -21,12 +21,14 @@ namespace tessera::config {
 /// layers of output (variance, samples), `options` (tile; threads, where 0 stands for the
 /// machine's hardware threads shared by the `ranks_on_node` ranks of this node, at least one),
 /// the `formats` this process writes (none: no writer's buffers), the field rendered (`field`:
-/// only its dims are read, for the macrocells of spec.integrator) and the envmap's size, read
-/// from the file's header. It describes a process that writes the image, keeps no copy of it
+/// only its dims are read, for the macrocells of spec.integrator), its `geometry` (which axes
+/// are rectilinear: each adds its axis tables; the coordinates are not read) and the envmap's
+/// size, read from the file's header. It describes a process that writes the image, keeps no copy of it
 /// and renders no Cinema views (writes, keeps_last_image, views): the adapter sets those.
 /// Throws like read_exr_size for an envmap it cannot read.
 RenderFootprint render_footprint(const RenderSpec& spec, const RenderOptions& options,
-                                 std::span<const ImageFormat> formats, const FieldView& field, int ranks_on_node);
+                                 std::span<const ImageFormat> formats, const FieldView& field, int ranks_on_node,
+                                 const VolumeGeometry& geometry = {});
 
 struct MemoryLimit {
   std::uint64_t bytes = 0;
