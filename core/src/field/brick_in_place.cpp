@@ -105,7 +105,8 @@ void BrickCache::set_in_place(std::span<const InPlaceBlock> blocks) {
                   t.cells[0] +
               static_cast<std::uint64_t>(x - c0[0]));
           if (cell[at] >= 0)
-            fail(d, "at " + box_text(blk.offset, blk.view.dims) + " overlaps in-place block " + std::to_string(cell[at]));
+            fail(d,
+                 "at " + box_text(blk.offset, blk.view.dims) + " overlaps in-place block " + std::to_string(cell[at]));
           cell[at] = static_cast<std::int32_t>(d);
           std::int64_t v = 1;
           for (int a = 0; a < 3; ++a) {
