@@ -1,7 +1,8 @@
 // Distributed mode, core side (brick_cache.h): a scene rendered through a demand-paged field
 // (own block in place, the rest fetched brick by brick by a service thread into a bounded
 // cache) gives the plain render's pixel sums and counters bit for bit, whatever the block,
-// the brick size, the cache capacity (1 slot: a flush at nearly every miss) and the threads.
+// the brick size, the cache capacity (1 slot: a flush at nearly every miss) and the threads;
+// several own blocks are read in place (BrickCache::set_in_place), never fetched.
 #include <tessera/brick_cache.h>
 #include <tessera/render.h>
 

@@ -5,8 +5,9 @@
 // bit-identical (every PixelSums byte, every counter) to a one-rank core render of the whole
 // field, single and multiple scattering, with shadows crossing blocks and a light inside
 // another rank's block; the global summary from per-rank parts equals the whole field's; no
-// rank allocates a replica and the cache stays at its slots; a rank that stops mid-render
-// (its deadline) makes every rank fail, none hangs.
+// rank allocates a replica and the cache stays at its slots; several own domains per rank are
+// read in place (none of their bricks becomes resident) with the replicated image; a rank that
+// stops mid-render (its deadline) makes every rank fail, none hangs.
 #include "mpi/parallel_context_mpi.h"
 
 #include "mpi_render_support.h"
