@@ -142,9 +142,12 @@ class ParallelContext {
   PagedField distribute(const FieldView& local, const GlobalPlacement& where, int shift, std::size_t capacity) {
     return distribute_blocks(one_block(local, where), where.global_dims, local.dtype, shift, capacity);
   }
-  /// As distribute(), from any number of blocks per rank. The FIRST block (callers put the
-  /// largest first) is read in place by the kernels; the others of this rank are copied into
-  /// the cache's slots by this rank's brick service when a brick needs them (no message).
+  /// As distribute(), from any number of blocks per rank. Every block of this rank is read in
+  /// place by the kernels: the FIRST (callers put the largest first) vertex by vertex, each
+  /// brick wholly inside another one through the cache's in-place table (one table load, no
+  /// search: BrickCache::set_in_place). Only bricks that straddle blocks or ranks use slots;
+  /// their parts in this rank's blocks (but the first) are copied into the slot by this
+  /// rank's brick service (no message).
   /// A brick may span blocks of several ranks: each owner sends its parts.
   virtual PagedField distribute_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3],
                                        DType dtype, int shift, std::size_t capacity) = 0;

@@ -12,6 +12,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -167,8 +168,12 @@ bool same_film(const tessera::Film& a, const tessera::Film& b) {
 
 /// The parts of the blocks of `f` cut at the given planes along each axis (each list starts
 /// with 0 and ends with dims), combined as the MPI reductions would, in reverse block order.
-std::shared_ptr<const FieldSummary> from_blocks(const FieldView& f, int edge, const std::vector<std::int64_t> cuts[3]) {
+/// `merged`: instead, every block accumulated into one set of parts (FieldSummary::accumulate),
+/// in reverse block order.
+std::shared_ptr<const FieldSummary> from_blocks(const FieldView& f, int edge, const std::vector<std::int64_t> cuts[3],
+                                                bool merged = false) {
   std::vector<FieldSummary::Parts> parts;
+  std::vector<std::pair<FieldView, std::array<std::int64_t, 3>>> blocks;
   for (std::size_t z = 0; z + 1 < cuts[2].size(); ++z)
     for (std::size_t y = 0; y + 1 < cuts[1].size(); ++y)
       for (std::size_t x = 0; x + 1 < cuts[0].size(); ++x) {
@@ -179,8 +184,16 @@ std::shared_ptr<const FieldSummary> from_blocks(const FieldView& f, int edge, co
         b.dims[0] = cuts[0][x + 1] - off[0];
         b.dims[1] = cuts[1][y + 1] - off[1];
         b.dims[2] = cuts[2][z + 1] - off[2];
-        parts.push_back(FieldSummary::partial(b, off, f.dims, edge));
+        if (merged) blocks.push_back({b, {off[0], off[1], off[2]}});
+        else parts.push_back(FieldSummary::partial(b, off, f.dims, edge));
       }
+  if (merged) {
+    const std::int64_t zero[3] = {0, 0, 0};
+    FieldSummary::Parts all = FieldSummary::partial(FieldView{}, zero, f.dims, edge);
+    for (std::size_t n = blocks.size(); n-- > 0;)
+      FieldSummary::accumulate(all, blocks[n].first, blocks[n].second.data(), f.dims, edge);
+    return FieldSummary::from_parts(std::move(all), tessera::FieldLayout::of(f), edge);
+  }
   FieldSummary::Parts all = parts.back();
   for (std::size_t p = parts.size() - 1; p-- > 0;) {
     const FieldSummary::Parts& q = parts[p];
@@ -212,23 +225,26 @@ void check_parts(std::uint64_t seed) {
       for (const auto& sy : splits_y)
         for (const auto& sz : splits_z) {
           const std::vector<std::int64_t> cuts[3] = {sx, sy, sz};
-          const auto combined = from_blocks(f, edge, cuts);
-          const FieldSummary whole(f, edge);
-          INFO("dtype " << tessera::dtype_name(dt) << " edge " << edge << " blocks " << sx.size() - 1 << "x"
-                        << sy.size() - 1 << "x" << sz.size() - 1);
-          REQUIRE(combined->cell_count() == whole.cell_count());
-          int bad = 0;
-          for (std::size_t c = 0; c < whole.ranges().size(); ++c) {
-            const CellRange &x = combined->ranges()[c], &y = whole.ranges()[c];
-            bad += !same_bits(x.lo, y.lo) || !same_bits(x.hi, y.hi) || x.nan != y.nan || x.pos_inf != y.pos_inf ||
-                   x.neg_inf != y.neg_inf;
+          for (const bool merged : {false, true}) {
+            const auto combined = from_blocks(f, edge, cuts, merged);
+            const FieldSummary whole(f, edge);
+            INFO((merged ? "accumulated, " : "")
+                 << "dtype " << tessera::dtype_name(dt) << " edge " << edge << " blocks " << sx.size() - 1 << "x"
+                 << sy.size() - 1 << "x" << sz.size() - 1);
+            REQUIRE(combined->cell_count() == whole.cell_count());
+            int bad = 0;
+            for (std::size_t c = 0; c < whole.ranges().size(); ++c) {
+              const CellRange &x = combined->ranges()[c], &y = whole.ranges()[c];
+              bad += !same_bits(x.lo, y.lo) || !same_bits(x.hi, y.hi) || x.nan != y.nan || x.pos_inf != y.pos_inf ||
+                     x.neg_inf != y.neg_inf;
+            }
+            REQUIRE(bad == 0);
+            REQUIRE(combined->nan_vertices() == whole.nan_vertices());
+            REQUIRE(same_bits(combined->value_min(), whole.value_min()));
+            REQUIRE(same_bits(combined->value_max(), whole.value_max()));
+            REQUIRE(combined->has_finite() == whole.has_finite());
+            REQUIRE(combined->matches(f, edge));
           }
-          REQUIRE(bad == 0);
-          REQUIRE(combined->nan_vertices() == whole.nan_vertices());
-          REQUIRE(same_bits(combined->value_min(), whole.value_min()));
-          REQUIRE(same_bits(combined->value_max(), whole.value_max()));
-          REQUIRE(combined->has_finite() == whole.has_finite());
-          REQUIRE(combined->matches(f, edge));
         }
 }
 

@@ -1,7 +1,8 @@
 // Distributed mode, core side (brick_cache.h): a scene rendered through a demand-paged field
 // (own block in place, the rest fetched brick by brick by a service thread into a bounded
 // cache) gives the plain render's pixel sums and counters bit for bit, whatever the block,
-// the brick size, the cache capacity (1 slot: a flush at nearly every miss) and the threads.
+// the brick size, the cache capacity (1 slot: a flush at nearly every miss) and the threads;
+// several own blocks are read in place (BrickCache::set_in_place), never fetched.
 #include <tessera/brick_cache.h>
 #include <tessera/render.h>
 
@@ -357,4 +358,153 @@ TEST_CASE("prepare(PagedField) checks the cache, the block and the summary", "[p
   g.cache = nullptr;
   REQUIRE_THROWS_WITH(tessera::prepare(g, s, tessera::FieldSummary::build(whole, edge)),
                       Catch::Contains("no brick cache"));
+}
+
+namespace {
+
+/// A box of global vertices [lo, hi).
+struct VBox {
+  std::int64_t lo[3], hi[3];
+};
+
+FieldView sub_view(const FieldView& whole, const VBox& b) {
+  FieldView v = whole;
+  v.data = static_cast<const unsigned char*>(whole.data) + b.lo[0] * whole.byte_strides[0] +
+           b.lo[1] * whole.byte_strides[1] + b.lo[2] * whole.byte_strides[2];
+  for (int a = 0; a < 3; ++a) v.dims[a] = b.hi[a] - b.lo[a];
+  return v;
+}
+
+/// Renders through a paged field whose own blocks are `boxes` (the first as PagedField::local,
+/// the others through BrickCache::set_in_place), the rest served by the fake service.
+Result render_blocks(const FieldView& whole, tessera::SceneDesc s, const std::vector<VBox>& boxes, int shift,
+                     std::size_t capacity, tessera::BrickCacheStats& cs, std::uint64_t* in_place_vertices = nullptr) {
+  s.options.threads = 2;
+  const std::int64_t dims[3] = {NX, NY, NZ};
+  tessera::BrickCache cache(tessera::BrickGrid::make(dims, whole.dtype, shift), capacity);
+  tessera::PagedField f;
+  f.dtype = whole.dtype;
+  for (int a = 0; a < 3; ++a) f.dims[a] = dims[a];
+  f.local = sub_view(whole, boxes[0]);
+  for (int a = 0; a < 3; ++a) f.offset[a] = boxes[0].lo[a];
+  std::vector<tessera::InPlaceBlock> others;
+  for (std::size_t n = 1; n < boxes.size(); ++n) {
+    tessera::InPlaceBlock& b = others.emplace_back();
+    b.view = sub_view(whole, boxes[n]);
+    for (int a = 0; a < 3; ++a) b.offset[a] = boxes[n].lo[a];
+  }
+  cache.set_in_place(others);
+  if (in_place_vertices) *in_place_vertices = cache.in_place_vertices();
+  f.cache = &cache;
+  const int edge = tessera::majorant_edge(whole, s.integrator);
+  Result r;
+  {
+    tessera_test::FakeBrickService service(cache, whole);
+    const tessera::PreparedScene ps = tessera::prepare(f, s, combined_summary(whole, edge));
+    r.px = tessera_test::render_film(ps, &r.stats).pixels();
+  }
+  REQUIRE_FALSE(cache.failed());
+  cs = cache.stats();
+  return r;
+}
+
+/// The whole grid cut at k = kz and, above it, at i = ix and j = jy: four blocks, the
+/// largest first.
+std::vector<VBox> four_blocks(std::int64_t kz, std::int64_t ix, std::int64_t jy) {
+  return {VBox{{0, 0, 0}, {NX, NY, kz}}, VBox{{0, 0, kz}, {ix, jy, NZ}}, VBox{{ix, 0, kz}, {NX, jy, NZ}},
+          VBox{{0, jy, kz}, {NX, NY, NZ}}};
+}
+
+}  // namespace
+
+TEST_CASE("paged render with several own blocks reads them in place, bit for bit", "[paged][domains]") {
+  // Every vertex in one of the own blocks: cuts on even vertices (the table's cells are 2
+  // vertices wide on this small grid) leave nothing to fetch, so the cache is never asked;
+  // odd cuts leave straddling cells, fetched through the cache, with the same image
+  for (DType dt : {DType::UInt8, DType::Float32, DType::Float64}) {
+    const auto bytes = make_field(dt);
+    const FieldView whole = view_of(bytes, dt);
+    const tessera::SceneDesc s = scene_for(dt, Variant{});
+    const Result plain = render_plain(whole, s);
+    INFO("dtype " << tessera::dtype_name(dt));
+    tessera::BrickCacheStats even, odd, alone;
+    std::uint64_t in_place = 0;
+    require_same(plain, render_blocks(whole, s, four_blocks(6, 8, 10), 3, 4, even, &in_place));
+    CHECK(in_place == static_cast<std::uint64_t>(NX * NY * (NZ - 6)));  // every other block's vertex
+    CHECK(even.fetched == 0);
+    CHECK(even.misses == 0);
+    require_same(plain, render_blocks(whole, s, four_blocks(7, 9, 11), 3, 4, odd));
+    CHECK(odd.fetched > 0);
+    // Only the first block in place (the others through the cache): far more fetches
+    require_same(plain, render_blocks(whole, s, {VBox{{0, 0, 0}, {NX, NY, 7}}}, 3, 4, alone));
+    CHECK(alone.fetched > odd.fetched);
+  }
+}
+
+TEST_CASE("paged render: own blocks read in place through negative strides", "[paged][domains]") {
+  // The same values stored with j mirrored (a negative j stride), cut on even vertices
+  const auto bytes = make_field(DType::Float32);
+  const FieldView whole = view_of(bytes, DType::Float32);
+  std::vector<unsigned char> mirrored(bytes.size());
+  const std::size_t row = static_cast<std::size_t>(NX) * 4;
+  for (std::int64_t k = 0; k < NZ; ++k)
+    for (std::int64_t j = 0; j < NY; ++j)
+      std::memcpy(mirrored.data() + static_cast<std::size_t>((k * NY + (NY - 1 - j))) * row,
+                  bytes.data() + static_cast<std::size_t>((k * NY + j)) * row, row);
+  FieldView flipped = whole;
+  flipped.data = mirrored.data() + static_cast<std::size_t>(NY - 1) * row;
+  flipped.byte_strides[1] = -static_cast<std::int64_t>(row);
+  const tessera::SceneDesc s = scene_for(DType::Float32, Variant{});
+  const Result plain = render_plain(whole, s);
+  tessera::BrickCacheStats cs;
+  require_same(plain, render_blocks(flipped, s, four_blocks(4, 10, 6), 2, 8, cs));
+  CHECK(cs.fetched == 0);
+}
+
+TEST_CASE("BrickCache::set_in_place checks its blocks", "[paged][domains]") {
+  const auto bytes = make_field(DType::Float32);
+  const FieldView whole = view_of(bytes, DType::Float32);
+  const std::int64_t dims[3] = {NX, NY, NZ};
+  tessera::BrickCache cache(tessera::BrickGrid::make(dims, DType::Float32, 3), 4);
+  tessera::InPlaceBlock b;
+  b.view = sub_view(whole, VBox{{0, 0, 0}, {4, 4, 4}});
+  std::vector<tessera::InPlaceBlock> blocks{b};
+  blocks[0].offset[2] = NZ - 3;
+  REQUIRE_THROWS_WITH(cache.set_in_place(blocks),
+                      Catch::Contains("in-place block 0") && Catch::Contains("not inside the grid"));
+  blocks[0].offset[2] = 0;
+  blocks.push_back(b);
+  blocks[1].offset[0] = 2;  // overlaps block 0 on whole cells
+  REQUIRE_THROWS_WITH(cache.set_in_place(blocks),
+                      Catch::Contains("in-place block 1") && Catch::Contains("overlaps in-place block 0"));
+  CHECK(cache.in_place().cell == nullptr);  // a failed call leaves none
+  blocks.pop_back();
+  std::vector<double> wide(64);
+  blocks[0].view = FieldView::contiguous(wide.data(), DType::Float64, 4, 4, 4);
+  REQUIRE_THROWS_WITH(cache.set_in_place(blocks), Catch::Contains("is float64"));
+  blocks[0].view = b.view;
+  cache.set_in_place(blocks);
+  CHECK(cache.in_place_count() == 1);
+  CHECK(cache.in_place_vertices() == 64);
+  CHECK(cache.in_place().cell != nullptr);
+  cache.set_in_place({});
+  CHECK(cache.in_place().cell == nullptr);
+  // The table's entries are bounded and counted by bytes_for
+  CHECK(tessera::BrickCache::in_place_entries(cache.grid()) == (std::uint64_t{1} << 18));
+  CHECK(tessera::BrickCache::bytes_for(cache.grid(), 0) >= (std::uint64_t{4} << 18));
+}
+
+TEST_CASE("BrickCache::set_in_place takes the finest cells that fit", "[paged][domains]") {
+  // 160^3 vertices: cells of 2 would need 80^3 > 2^18 entries, cells of 4 need 40^3. A block
+  // of z in [0, 81) then holds the cells up to z = 80 whole (the values are never read here)
+  const std::int64_t dims[3] = {160, 160, 160};
+  tessera::BrickCache cache(tessera::BrickGrid::make(dims, DType::UInt8, 5), 1);
+  std::vector<unsigned char> one(1);
+  tessera::InPlaceBlock b;
+  b.view = FieldView::contiguous(one.data(), DType::UInt8, 160, 160, 81);
+  const tessera::InPlaceBlock blocks[] = {b};
+  cache.set_in_place(blocks);
+  CHECK(cache.in_place().shift == 2);
+  CHECK(cache.in_place().cells[2] == 21);  // the box [0, 81) in cells of 4
+  CHECK(cache.in_place_vertices() == 160u * 160u * 80u);
 }

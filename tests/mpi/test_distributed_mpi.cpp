@@ -5,8 +5,9 @@
 // bit-identical (every PixelSums byte, every counter) to a one-rank core render of the whole
 // field, single and multiple scattering, with shadows crossing blocks and a light inside
 // another rank's block; the global summary from per-rank parts equals the whole field's; no
-// rank allocates a replica and the cache stays at its slots; a rank that stops mid-render
-// (its deadline) makes every rank fail, none hangs.
+// rank allocates a replica and the cache stays at its slots; several own domains per rank are
+// read in place (none of their bricks becomes resident) with the replicated image; a rank that
+// stops mid-render (its deadline) makes every rank fail, none hangs.
 #include "mpi/parallel_context_mpi.h"
 
 #include "mpi_render_support.h"
@@ -16,6 +17,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <string>
@@ -219,4 +221,104 @@ TEST_CASE("a rank that stops mid-render in distributed mode fails every rank and
   tessera::Film film2(good.image.width, good.image.height);
   ctx.render(again, film2, stats);
   REQUIRE(all_ranks(ctx.rank() != 0 || same_pixels(film2, ref)));
+}
+
+namespace {
+
+/// `box` cut into three slabs along its longest axis at even global vertices (the in-place
+/// table's cells are 2 vertices wide on this grid), the longest slab first.
+std::vector<Box> three_slabs(const Box& box) {
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (box.dims[a] > box.dims[axis]) axis = a;
+  const std::int64_t lo = box.offset[axis], len = box.dims[axis];
+  const std::int64_t cuts[4] = {lo, (lo + len / 3) & ~std::int64_t{1}, (lo + 2 * len / 3) & ~std::int64_t{1}, lo + len};
+  std::vector<Box> slabs;
+  for (int s = 0; s < 3; ++s) {
+    Box b = box;
+    b.offset[axis] = cuts[s];
+    b.dims[axis] = cuts[s + 1] - cuts[s];
+    slabs.push_back(b);
+  }
+  std::stable_sort(slabs.begin(), slabs.end(), [&](const Box& a, const Box& b) { return a.dims[axis] > b.dims[axis]; });
+  return slabs;
+}
+
+}  // namespace
+
+TEST_CASE("several own domains per rank are read in place in distributed mode, bit for bit",
+          "[mpi][distributed][domains][determinism]") {
+  // Each rank's box as three slabs (own arrays, different layouts): the distributed render
+  // equals the replicated one and a one-rank render of the whole field, and no brick that lies
+  // wholly in this rank's slabs ever becomes resident in its cache (the own slabs are read in
+  // place, not copied into slots), with a cache large enough never to evict
+  const auto value = blobs(kGlobal);
+  const std::vector<unsigned char> global = global_bytes(kGlobal, DType::Float32, value);
+  const tessera::SceneDesc scene = scene_for(tessera::Scattering::Multiple, 2);
+  const tessera::PreparedScene ref_prepared = tessera::prepare(whole_view(global), scene);
+  tessera::Film ref(scene.image.width, scene.image.height);
+  tessera::RenderStats ref_stats;
+  tessera::render(ref_prepared, ref, ref_stats);
+  constexpr int kShift = 2;
+  const Layout layouts[3] = {Layout::StructMember, Layout::MirroredJ, Layout::FortranPadded};
+  for (int n : sizes_up_to_world()) {
+    if (n < 2) continue;
+    FirstRanks sub(n);
+    bool ok = true;
+    std::string what;
+    if (sub.member()) {
+      MpiParallelContext ctx(sub.comm(), 0);
+      const std::vector<Box> slabs = three_slabs(block(n, ctx.rank()));
+      std::vector<LocalArray> arrays;
+      std::vector<tessera::insitu::FieldBlock> blocks;
+      for (std::size_t s = 0; s < slabs.size(); ++s) arrays.emplace_back(slabs[s], DType::Float32, layouts[s], value);
+      for (std::size_t s = 0; s < slabs.size(); ++s) {
+        tessera::insitu::FieldBlock& b = blocks.emplace_back();
+        b.view = arrays[s].view();
+        for (int a = 0; a < 3; ++a) b.offset[a] = slabs[s].offset[a];
+        b.domain = static_cast<int>(s);
+      }
+      tessera::FieldView dims_only;
+      for (int a = 0; a < 3; ++a) dims_only.dims[a] = kGlobal[a];
+      const int edge = tessera::majorant_edge(dims_only, scene.integrator);
+      const tessera::BrickGrid g = tessera::BrickGrid::make(kGlobal.data(), DType::Float32, kShift);
+      const auto capacity = static_cast<std::size_t>(g.brick_count());
+      // Distributed
+      const tessera::PagedField paged = ctx.distribute_blocks(blocks, kGlobal.data(), DType::Float32, kShift, capacity);
+      const auto summary = ctx.summarize_blocks(blocks, kGlobal.data(), DType::Float32, edge);
+      tessera::PreparedScene prepared;
+      ctx.serve_while([&] { prepared = tessera::prepare(paged, scene, summary); });
+      tessera::Film film(scene.image.width, scene.image.height);
+      tessera::RenderStats stats;
+      ctx.render(prepared, film, stats);
+      if (ctx.rank() == 0 && !same_pixels(film, ref)) ok = false, what += " distributed pixels";
+      if (ctx.rank() == 0 && !same_counters(stats, ref_stats)) ok = false, what += " distributed counters";
+      if (paged.cache->in_place_count() != 2) ok = false, what += " in-place blocks";
+      const Box mine = block(n, ctx.rank());
+      std::int64_t own_bricks = 0, resident_own = 0;
+      for (std::int64_t b = 0; b < g.brick_count(); ++b) {
+        std::int64_t lo[3], hi[3];
+        g.box(b, lo, hi);
+        bool inside = true;
+        for (int a = 0; a < 3; ++a)
+          inside = inside && lo[a] >= mine.offset[a] && hi[a] <= mine.offset[a] + mine.dims[a];
+        if (!inside) continue;
+        ++own_bricks;
+        if (paged.cache->find(b) != nullptr) ++resident_own;
+      }
+      if (own_bricks == 0) ok = false, what += " no own brick";
+      if (resident_own != 0) ok = false, what += " " + std::to_string(resident_own) + " own bricks resident";
+      if (ctx.report().cache.flushes != 0) ok = false, what += " flushed";
+      if (ctx.report().cache.fetched == 0) ok = false, what += " nothing fetched";  // other ranks' bricks do travel
+      // Replicated, from the same blocks
+      const tessera::FieldView whole = ctx.assemble_blocks(blocks, kGlobal.data(), DType::Float32);
+      const tessera::PreparedScene rp = tessera::prepare(whole, scene);
+      tessera::Film rfilm(scene.image.width, scene.image.height);
+      tessera::RenderStats rstats;
+      ctx.render(rp, rfilm, rstats);
+      if (ctx.rank() == 0 && !same_pixels(rfilm, film)) ok = false, what += " replicated != distributed";
+    }
+    INFO("ranks " << n << ":" << what);
+    REQUIRE(all_ranks(ok));
+  }
 }

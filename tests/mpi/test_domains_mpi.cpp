@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -276,4 +277,32 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
       CHECK(run_on(n, cfg, seven, Deal::RoundRobin).status == TESSERA_OK);
     }
   }
+}
+
+TEST_CASE(
+    "domains: ten thousand one-vertex domains per rank render in distributed mode as in replicated, in bounded time",
+    "[mpi][domains][distributed]") {
+  // 25x20x40 one-vertex domains dealt round robin over 2 ranks (every brick spans both): the
+  // summaries, the tiling checks, the in-place table and the brick service each cost per
+  // domain, not domains x macrocells
+  if (world_size() < 2) return;
+  const Dims g{25, 20, 40};
+  std::vector<CutBox> boxes;
+  for (std::int64_t k = 0; k < g[2]; ++k)
+    for (std::int64_t j = 0; j < g[1]; ++j)
+      for (std::int64_t i = 0; i < g[0]; ++i) boxes.push_back(CutBox{{i, j, k}, {1, 1, 1}});
+  const HeldDomains tiny(g, boxes, 0);
+  SharedTempDir dir;
+  std::optional<tessera::Image> images[2];
+  int m = 0;
+  for (const std::string mode : {"replicated", "distributed"}) {
+    const std::string cfg = write_config(dir, "tiny_" + mode, mode, "single");
+    const auto t0 = std::chrono::steady_clock::now();
+    const Run r = run_on(2, cfg, tiny, Deal::RoundRobin, {}, tessera_test::unit_mesh(g, TESSERA_VERTEX));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    INFO(mode << ": " << r.error << " (" << seconds << " s)");
+    REQUIRE(r.status == TESSERA_OK);  // (the time is reported, not asserted: CTest's timeout bounds it)
+    images[m++] = r.image;
+  }
+  if (world_rank() == 0) CHECK(same_image(*images[0], *images[1]));
 }

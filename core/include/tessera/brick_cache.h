@@ -11,7 +11,9 @@
 ///
 /// Who does what:
 /// - The kernels (any number of worker threads) read vertices with PagedFieldView::load: the
-///   rank's own block straight from the caller's array, other vertices from their brick's slot.
+///   rank's own block straight from the caller's array, every brick wholly inside another own
+///   block (a rank may hold several: BrickCache::set_in_place) straight from that block's array,
+///   other vertices from their brick's slot.
 ///   A brick that is not resident is asked for with BrickCache::acquire, which blocks the
 ///   worker until the brick is there. No virtual call, lock or allocation on a hit.
 /// - One service thread (in situ: the thread that talks MPI) takes the wanted bricks, fills
@@ -33,6 +35,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -59,6 +62,34 @@ struct BrickGrid {
   std::size_t slot_bytes() const { return (std::size_t{1} << (3 * shift)) * dtype_size(dtype); }
 };
 
+/// An own block other than PagedField::local, as given to BrickCache::set_in_place: its
+/// elements (validated, the cache's dtype) and the global vertex of its element (0, 0, 0).
+struct InPlaceBlock {
+  FieldView view;
+  std::int64_t offset[3] = {0, 0, 0};
+};
+
+/// How a kernel reads a vertex of an own block in place: global vertex (i, j, k) of the
+/// block is the element at byte address origin + i s0 + j s1 + k s2 (the block's data minus
+/// its offset times its strides, so no per-lookup offset). Plain values.
+struct InPlaceAddress {
+  std::intptr_t origin = 0;
+  std::int64_t byte_strides[3] = {0, 0, 0};
+};
+
+/// The rank's other own blocks as the kernels find them (BrickCache::set_in_place): cells of
+/// 2^shift vertices per edge (aligned to multiples of 2^shift, the last one along an axis
+/// clipped at the grid) over the blocks' bounding box; each cell's entry is the index into
+/// `at` of the block that holds the whole cell, or -1 (the cell straddles blocks or ranks:
+/// read through the cache). Plain values, pointing into the cache.
+struct InPlaceTable {
+  const std::int32_t* cell = nullptr;  ///< cells[0] x cells[1] x cells[2], x fastest; null: none
+  const InPlaceAddress* at = nullptr;
+  std::int64_t lo[3] = {0, 0, 0};  ///< global vertex of cell (0, 0, 0)
+  std::uint64_t cells[3] = {0, 0, 0};
+  int shift = 0;
+};
+
 /// Counters of one render's paging (for stats and benchmarks).
 struct BrickCacheStats {
   std::uint64_t fetched = 0;        ///< bricks filled and published
@@ -79,10 +110,36 @@ class BrickCache {
 
   const BrickGrid& grid() const { return m_grid; }
   std::size_t capacity() const { return m_capacity; }
-  /// Directory + state + slot pool, in bytes.
+  /// Directory + state + in-place table + slot pool, in bytes (without set_in_place's
+  /// addresses: in_place_bytes()).
   std::uint64_t allocated_bytes() const;
-  /// Bytes the cache would allocate for `grid` and `capacity` (for memory estimates).
+  /// Bytes the cache would allocate for `grid` and `capacity` (for memory estimates), the
+  /// in-place table included; add in_place_bytes() per own block.
   static std::uint64_t bytes_for(const BrickGrid& grid, std::size_t capacity);
+  /// Bytes set_in_place keeps per own block given.
+  static constexpr std::uint64_t in_place_bytes() { return sizeof(InPlaceAddress); }
+  /// Entries of the in-place table (4 bytes each): max(bricks, 2^18), so at most 1 MiB beyond
+  /// one entry per brick.
+  static std::uint64_t in_place_entries(const BrickGrid& grid);
+
+  // ---- setup: between renders, no worker or service active ----
+
+  /// The rank's own blocks other than PagedField::local (disjoint from it and from each other,
+  /// inside the grid, of its dtype): from now on PagedFieldView::load reads every vertex of a
+  /// table cell that lies wholly inside one of them in place, never through a slot. The cells
+  /// are the finest (edge 2^t, 1 <= t <= the brick shift) whose table over the blocks' bounding
+  /// box fits in_place_entries(); cells that straddle blocks or ranks still come through the
+  /// slots. Replaces the previous call's blocks (an empty span: none); reset() keeps them.
+  /// Cost O(table cells + cells each block touches). Throws std::invalid_argument naming the
+  /// block for a block of another dtype, outside the grid, invalid, or covering a cell another
+  /// block covers wholly.
+  void set_in_place(std::span<const InPlaceBlock> blocks);
+  /// The table the kernels use (cell null when no blocks are set).
+  InPlaceTable in_place() const { return m_table; }
+  /// Blocks of the last set_in_place call.
+  std::size_t in_place_count() const { return m_in_place.size(); }
+  /// Vertices the last set_in_place call made readable in place (those of its cells).
+  std::uint64_t in_place_vertices() const { return m_in_place_vertices; }
 
   // ---- worker side: any thread, inside a render ----
 
@@ -128,11 +185,15 @@ class BrickCache {
   BrickGrid m_grid;
   std::size_t m_capacity = 0;
   std::unique_ptr<std::atomic<const unsigned char*>[]> m_dir;
+  std::unique_ptr<std::int32_t[]> m_in_place_cells;  ///< in_place_entries(grid) (set_in_place)
+  std::vector<InPlaceAddress> m_in_place;
+  InPlaceTable m_table;
+  std::uint64_t m_in_place_vertices = 0;
   std::atomic<bool> m_failed{false};
   std::unique_ptr<State> m_state;  ///< mutex, condition variables, slot pool, queues, counters
 };
 
-/// What the kernels read in distributed mode: the rank's own block in place, other vertices
+/// What the kernels read in distributed mode: the rank's own blocks in place, other vertices
 /// through the cache. Trivially copyable; a part of the KernelScene.
 struct PagedFieldView {
   DType dtype = DType::Float32;
@@ -143,11 +204,14 @@ struct PagedFieldView {
   int shift = 5;
   std::int64_t bricks[3] = {0, 0, 0};
   BrickCache* cache = nullptr;
+  /// The rank's other own blocks (BrickCache::set_in_place); cell null when it has none.
+  InPlaceTable in_place;
 
   /// Vertex (i, j, k) of the global field (inside dims) as double, exactly as
   /// TypedFieldView::load of the same vertex in a whole-field view gives it. Inline (the
-  /// kernels' hot path): a vertex of the own block is one strided load, another one a
-  /// directory load (BrickCache::find) and a load from its slot; only a miss calls out.
+  /// kernels' hot path): a vertex of `local` is one strided load; a vertex of a table cell
+  /// wholly inside another own block one table load and one strided load (no search); another
+  /// one a directory load (BrickCache::find) and a load from its slot; only a miss calls out.
   double load(std::int64_t i, std::int64_t j, std::int64_t k) const;
 };
 
@@ -205,7 +269,23 @@ inline double PagedFieldView::load(std::int64_t i, std::int64_t j, std::int64_t 
                     lj * local.byte_strides[1] + lk * local.byte_strides[2];
     return detail::load_as_double(dtype, p);
   }
-  // Another rank's: its brick's slot, fetched on a miss
+  // A table cell wholly inside another own block, in place (a vertex outside the table's box
+  // wraps to a huge cell index, as above)
+  if (in_place.cell) {
+    const std::uint64_t cx = static_cast<std::uint64_t>(i - in_place.lo[0]) >> in_place.shift;
+    const std::uint64_t cy = static_cast<std::uint64_t>(j - in_place.lo[1]) >> in_place.shift;
+    const std::uint64_t cz = static_cast<std::uint64_t>(k - in_place.lo[2]) >> in_place.shift;
+    if (cx < in_place.cells[0] && cy < in_place.cells[1] && cz < in_place.cells[2]) {
+      const std::int32_t d = in_place.cell[(cz * in_place.cells[1] + cy) * in_place.cells[0] + cx];
+      if (d >= 0) {
+        const InPlaceAddress& at = in_place.at[d];
+        const std::intptr_t p = at.origin + static_cast<std::intptr_t>(i * at.byte_strides[0] + j * at.byte_strides[1] +
+                                                                       k * at.byte_strides[2]);
+        return detail::load_as_double(dtype, reinterpret_cast<const unsigned char*>(p));
+      }
+    }
+  }
+  // Another rank's (or a cell straddling blocks): its brick's slot, fetched on a miss
   const std::int64_t b = ((k >> shift) * bricks[1] + (j >> shift)) * bricks[0] + (i >> shift);
   const unsigned char* slot = cache->find(b);
   if (!slot) [[unlikely]]
@@ -222,7 +302,9 @@ struct PagedField {
   std::int64_t dims[3] = {0, 0, 0};    ///< global vertices
   FieldView local;                     ///< own block, validated; may be empty (data null)
   std::int64_t offset[3] = {0, 0, 0};  ///< global vertex of local's (0, 0, 0)
-  BrickCache* cache = nullptr;         ///< non-null, grid dims and dtype as above
+  /// Non-null, grid dims and dtype as above; its in-place blocks (set_in_place), if any, are
+  /// read in place too
+  BrickCache* cache = nullptr;
 };
 
 }  // namespace tessera

@@ -74,6 +74,12 @@ class FieldSummary {
   /// field gives `edge`); cells the block does not touch are left empty.
   static Parts partial(const FieldView& block, const std::int64_t offset[3], const std::int64_t global_dims[3],
                        int edge);
+  /// Merges one block's part into `parts` (made by partial() for the same global_dims and
+  /// edge), exactly as combining partial() of the block would, at the cost of the block's own
+  /// vertices and the cells it touches: the way to summarise many small blocks of one rank.
+  /// Throws std::invalid_argument as partial() does, or when `parts` has other cells.
+  static void accumulate(Parts& parts, const FieldView& block, const std::int64_t offset[3],
+                         const std::int64_t global_dims[3], int edge);
   /// The summary of combined parts (of the whole field); `layout` is recorded for matches().
   static std::shared_ptr<const FieldSummary> from_parts(Parts&& parts, const FieldLayout& layout, int edge);
 

@@ -77,8 +77,10 @@ void BrickGrid::box(std::int64_t b, std::int64_t lo[3], std::int64_t hi[3]) cons
 
 std::uint64_t BrickCache::bytes_for(const BrickGrid& grid, std::size_t capacity) {
   const std::uint64_t n = static_cast<std::uint64_t>(grid.brick_count());
+  // directory pointer, state byte, waiter count; the in-place table
   const std::uint64_t per_brick = sizeof(std::atomic<const unsigned char*>) + 1 + sizeof(std::uint32_t);
-  return n * per_brick + (static_cast<std::uint64_t>(capacity) + 1) * grid.slot_bytes() +
+  return n * per_brick + in_place_entries(grid) * sizeof(std::int32_t) +
+         (static_cast<std::uint64_t>(capacity) + 1) * grid.slot_bytes() +
          static_cast<std::uint64_t>(capacity) * (sizeof(std::int64_t) + sizeof(std::size_t));
 }
 
@@ -87,6 +89,7 @@ BrickCache::BrickCache(const BrickGrid& grid, std::size_t capacity)
   if (capacity < 1) throw std::invalid_argument("brick cache capacity must be >= 1 slot");
   const auto n = static_cast<std::size_t>(grid.brick_count());
   m_dir = std::make_unique<std::atomic<const unsigned char*>[]>(n);
+  m_in_place_cells.reset(new std::int32_t[in_place_entries(grid)]);  // filled by set_in_place
   State& s = *m_state;
   s.pool.reset(new unsigned char[capacity * grid.slot_bytes()]);
   s.zero.assign(grid.slot_bytes(), 0);

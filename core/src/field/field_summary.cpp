@@ -222,7 +222,22 @@ FieldSummary::Parts FieldSummary::partial(const FieldView& block, const std::int
   parts.lo.assign(n, kInf);
   parts.hi.assign(n, -kInf);
   parts.flags.assign(n, 0);
-  if (block.data == nullptr) return parts;
+  accumulate(parts, block, offset, global_dims, edge);
+  return parts;
+}
+
+void FieldSummary::accumulate(Parts& parts, const FieldView& block, const std::int64_t offset[3],
+                              const std::int64_t global_dims[3], int edge) {
+  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
+  std::int64_t n = 1;
+  for (int a = 0; a < 3; ++a) n *= parts.cells[a];
+  for (int a = 0; a < 3; ++a)
+    if (parts.cells[a] != cells_along(global_dims[a], edge) || parts.lo.size() != static_cast<std::size_t>(n) ||
+        parts.hi.size() != parts.lo.size() || parts.flags.size() != parts.lo.size())
+      throw std::invalid_argument("summary parts of " + std::to_string(parts.cells[0]) + "x" +
+                                  std::to_string(parts.cells[1]) + "x" + std::to_string(parts.cells[2]) +
+                                  " cells do not fit the field with edge " + std::to_string(edge));
+  if (block.data == nullptr) return;
   block.validate("block");
   for (int a = 0; a < 3; ++a)
     if (offset[a] < 0 || offset[a] + block.dims[a] > global_dims[a])
@@ -267,9 +282,8 @@ FieldSummary::Parts FieldSummary::partial(const FieldView& block, const std::int
               }
         }
   });
-  parts.vmin = total.lo;
-  parts.vmax = total.hi;
-  return parts;
+  parts.vmin = std::min(parts.vmin, total.lo);
+  parts.vmax = std::max(parts.vmax, total.hi);
 }
 
 std::shared_ptr<const FieldSummary> FieldSummary::from_parts(Parts&& parts, const FieldLayout& layout, int edge) {

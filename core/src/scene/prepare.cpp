@@ -365,6 +365,7 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shar
     view.hi[a] = field.local.data ? field.offset[a] + field.local.dims[a] : 0;
   }
   view.cache = field.cache;
+  view.in_place = field.cache->in_place();  // the rank's other own blocks (BrickCache::set_in_place)
   PreparedScene ps;
   PreparedSceneImpl& p = *ps.m_impl;
   p.summary_reused = true;  // never a pass over the values here

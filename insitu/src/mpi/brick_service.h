@@ -55,9 +55,9 @@ class BrickService {
   static constexpr int kMaxInFlight = 64;
 
   /// `boxes`: every rank's blocks, in rank order (already checked: disjoint, covering the
-  /// grid); `own`: this rank's blocks, in the same order as its entries of `boxes` (the first
-  /// is read in place by the kernels, never fetched; the others are copied into the slots of
-  /// the bricks they touch, without a message). Holds references to all four. Builds an index
+  /// grid); `own`: this rank's blocks, in the same order as its entries of `boxes` (the kernels
+  /// read the first in place, and every brick wholly inside another; a straddling brick's
+  /// parts in the others are copied into its slot, without a message). Holds references to all four. Builds an index
   /// of the blocks each brick touches (one entry per block and brick it touches), so that a
   /// request or a fetch looks only at those.
   BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes, const std::vector<FieldBlock>& own,

@@ -1,6 +1,6 @@
 // MpiParallelContext, distributed mode: the global summary from per-rank partial summaries,
-// the demand-paged field (every rank keeps its own block, other bricks are fetched on first
-// touch into a bounded cache) and the serving of bricks while kernels run (docs/mpi.md).
+// the demand-paged field (every rank reads its own blocks in place, other bricks are fetched
+// on first touch into a bounded cache) and the serving of bricks while kernels run (docs/mpi.md).
 #include "mpi/mpi_check.h"
 #include "mpi/parallel_context_mpi.h"
 
@@ -82,6 +82,16 @@ PagedField MpiParallelContext::distribute_blocks(std::span<const FieldBlock> blo
     m_cache.reset();
     m_cache = std::make_unique<BrickCache>(grid, capacity);
   }
+  // Every own block but the first (read in place through PagedField::local) is read in place
+  // brick by brick wherever a brick lies wholly inside it; only straddling bricks are copied
+  std::vector<InPlaceBlock> others;
+  others.reserve(m_paged_blocks.empty() ? 0 : m_paged_blocks.size() - 1);
+  for (std::size_t d = 1; d < m_paged_blocks.size(); ++d) {
+    InPlaceBlock& b = others.emplace_back();
+    b.view = m_paged_blocks[d].view;
+    for (int a = 0; a < 3; ++a) b.offset[a] = m_paged_blocks[d].offset[a];
+  }
+  m_cache->set_in_place(others);
   m_service = std::make_unique<BrickService>(m_comm, m_rank, m_blocks, m_paged_blocks, *m_cache);
   m_report.bricks = {};
   m_report.cache = {};
