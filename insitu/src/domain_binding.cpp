@@ -32,7 +32,16 @@ std::string axis(int a) {
 
 [[noreturn]] void fail(const std::string& fault) { throw std::invalid_argument(fault); }
 
-bool cell_data(const tessera_mesh& m) { return m.association == TESSERA_CELL; }
+/// The association as the int the caller stored: a C caller may store any int in the enum,
+/// and loading an out-of-range value as tessera_association is undefined (UBSan says so).
+int association_value(const tessera_mesh& m) {
+  int v;
+  static_assert(sizeof v == sizeof m.association);
+  std::memcpy(&v, &m.association, sizeof v);
+  return v;
+}
+
+bool cell_data(const tessera_mesh& m) { return association_value(m) == TESSERA_CELL; }
 
 /// Coordinates along rectilinear axis a: global_dims (vertex) or global_dims + 1 (cell).
 std::int64_t coord_count(const tessera_mesh& m, int a) { return m.global_dims[a] + (cell_data(m) ? 1 : 0); }
@@ -45,7 +54,7 @@ std::string dtype_text(tessera_dtype t) {
 }  // namespace
 
 void check_mesh(const tessera_mesh& m) {
-  const int assoc = static_cast<int>(m.association);
+  const int assoc = association_value(m);
   if (assoc != TESSERA_VERTEX && assoc != TESSERA_CELL)
     fail("mesh: association " + std::to_string(assoc) + " is neither TESSERA_VERTEX (0) nor TESSERA_CELL (1)");
   if (m.nlevels != 1)
@@ -103,7 +112,7 @@ bool mesh_valid(const tessera_mesh* mesh) noexcept {
 }
 
 std::uint64_t mesh_hash(const tessera_mesh& m) {
-  std::uint64_t words[3] = {static_cast<std::uint64_t>(m.association), static_cast<std::uint64_t>(m.nlevels), 0};
+  std::uint64_t words[3] = {static_cast<std::uint64_t>(association_value(m)), static_cast<std::uint64_t>(m.nlevels), 0};
   for (int a = 0; a < 3; ++a) words[2] |= (m.coords[a] ? 1u : 0u) << a;
   std::uint64_t h = fnv1a64(std::string_view(reinterpret_cast<const char*>(words), sizeof words));
   for (int a = 0; a < 3; ++a)
