@@ -94,7 +94,7 @@ program heat
   if (parallel_rank() == 0) write(output_unit, '(a, i0, a, f0.3, a, f0.3, a)') 'tessera-heat-fortran: ', &
     steps, ' steps, simulation ', real(ticks_sim, real64) / rate, ' s, rendering ', &
     real(ticks_viz, real64) / rate, ' s'
-  deallocate(u)
+  deallocate(u, cuts, domains)   ! (a main program's allocatables are not freed at its end)
   call parallel_stop()
 
 contains
