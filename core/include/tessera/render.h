@@ -9,6 +9,7 @@
 /// The one pass over the field's values that prepare() needs (the FieldSummary: macrocell
 /// value ranges, NaN count, finite min/max) can be carried from one prepare to the next of
 /// the same, unchanged field: prepare(field, scene, reuse) and PreparedScene::summary().
+#include <tessera/amr.h>
 #include <tessera/brick_cache.h>
 #include <tessera/field_summary.h>
 #include <tessera/field_view.h>
@@ -46,6 +47,7 @@ class PreparedScene {
  private:
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
+  friend PreparedScene prepare(const AmrField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   /// The prepared data, for core's own sources (core/src/scene/prepared_scene_impl.h).
   friend const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
   std::unique_ptr<PreparedSceneImpl> m_impl;
@@ -109,6 +111,17 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene, std::share
 /// and render_tiles returns normally; the caller must check field.cache->failed() and
 /// discard the film.
 PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary);
+
+/// Refinement levels (amr.h): prepares the scene over a hierarchy whose patches are all
+/// readable here (replicated: the caller's own arrays and a replica of the others').
+/// scene.geometry places level 0 (origin, spacing, association); rectilinear axes are not
+/// supported with levels yet (std::invalid_argument). `summary`: amr_summary() of this
+/// hierarchy at majorant_edge() of level 0, reused as it is (the caller's promise that the
+/// values are unchanged), or null to build it. Checks the hierarchy (check_amr) and the scene
+/// as prepare(FieldView) does; builds the level tables (amr_table_bytes()). Validation,
+/// bounds, warnings, majorants, tiles and culling are those of a field of level 0's dims.
+/// The image does not depend on how the levels are cut into patches, nor on their order.
+PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary);
 
 /// Render the tiles with the given indices into `film` (which must be width x height), with
 /// TBB over tiles. Adds spp samples to each pixel, continuing each pixel's sample indices.
