@@ -22,7 +22,9 @@
 #include <tessera/field_view.h>
 #include <tessera/scene.h>
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -57,6 +59,19 @@ struct AmrField {
   /// R_l: level-0 cells per level-l cell along an axis is 1 / R_l.
   std::int64_t scale(int l) const;
 };
+
+/// A patch's box alone (what ranks tell each other): level, offset and real element counts.
+struct AmrBox {
+  int level = 0;
+  std::int64_t offset[3] = {0, 0, 0};
+  std::int64_t dims[3] = {0, 0, 0};
+};
+
+/// check_amr on boxes alone (the views are not looked at; `meta.patches` is ignored): for
+/// callers that know every rank's boxes but only their own arrays. `name(n)` names box n in
+/// messages ("rank 1 domain 4"). Same checks and cost as check_amr.
+void check_amr_boxes(const AmrField& meta, Association assoc, std::span<const AmrBox> boxes,
+                     const std::function<std::string(std::size_t)>& name);
 
 /// The hierarchy's structural checks, in O(N log N + N_l N_{l+1} / bins) for N patches:
 /// nlevels in [1, kMaxAmrLevels]; ratios 2 or 4; every patch's view valid, of the dtype, at a
