@@ -40,7 +40,7 @@ std::int64_t parse_int(std::string_view flag, const char* text, std::int64_t min
 std::string usage() {
   return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump "
          "FILE]\n"
-         "                    [--work-ms N] [--domains-per-rank N] [--cell]\n"
+         "                    [--work-ms N] [--domains-per-rank N] [--cell] [--amr [--levels 2|3] [--ratio 2|4]]\n"
          "  --config FILE     Tessera YAML config (default: the project's configs/heat.yaml)\n"
          "  --steps N         time steps after the initial state (default 100)\n"
          "  --grid NX NY NZ   global grid vertices, each >= 3 (default 64 64 64)\n"
@@ -48,11 +48,15 @@ std::string usage() {
          "  --dump FILE       at the end, write the global field to FILE (raw float32, i fastest)\n"
          "  --work-ms N       add N ms of computation to each step (0..60000, default 0): a slower simulation\n"
          "  --domains-per-rank N  publish each rank's array as N uneven domains (1..1024; zero copy)\n"
-         "  --cell            publish the values as cell data (cells centred on the vertices)\n";
+         "  --cell            publish the values as cell data (cells centred on the vertices)\n"
+         "  --amr             add refined levels that follow a moving heat source (docs/miniapp.md)\n"
+         "  --levels L        with --amr: levels in all, 2 or 3 (default 2)\n"
+         "  --ratio R         with --amr: refinement ratio between levels, 2 or 4 (default 2)\n";
 }
 
 Options parse_options(int argc, const char* const* argv) {
   Options o;
+  bool levels_given = false;
   for (int i = 1; i < argc; ++i) {
     const std::string_view a = argv[i];
     const auto need = [&](int n) {
@@ -79,6 +83,17 @@ Options parse_options(int argc, const char* const* argv) {
       o.work_ms = parse_int(a, argv[++i], 0, kMaxWorkMs);
     } else if (a == "--cell") {
       o.cell = true;
+    } else if (a == "--amr") {
+      o.amr = true;
+    } else if (a == "--levels") {
+      need(1);
+      o.levels = static_cast<int>(parse_int(a, argv[++i], 2, 3));
+      levels_given = true;
+    } else if (a == "--ratio") {
+      need(1);
+      o.ratio = static_cast<int>(parse_int(a, argv[++i], 2, 4));
+      if (o.ratio == 3) throw std::invalid_argument("--ratio needs 2 or 4, got '3'");
+      levels_given = true;
     } else if (a == "--domains-per-rank") {
       need(1);
       o.domains_per_rank = parse_int(a, argv[++i], 1, kMaxDomainsPerRank);
@@ -90,6 +105,7 @@ Options parse_options(int argc, const char* const* argv) {
       throw std::invalid_argument("unknown argument '" + std::string(a) + "'");
     }
   }
+  if (levels_given && !o.amr) throw std::invalid_argument("--levels and --ratio need --amr");
   return o;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 /// Command line of tessera-heat (docs/miniapp.md):
 ///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
-///                [--work-ms N] [--domains-per-rank N] [--cell]
+///                [--work-ms N] [--domains-per-rank N] [--cell] [--amr [--levels 2|3] [--ratio 2|4]]
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -20,6 +20,10 @@ struct Options {
   /// (tessera_execute_domains); 0 = one block per rank through tessera_execute
   std::int64_t domains_per_rank = 0;
   bool cell = false;  ///< publish the values as cells centred on the vertices (through domains)
+  /// --amr: refined levels following a heat source (amr_levels.h), through domains
+  bool amr = false;
+  int levels = 2;  ///< --levels: 2 or 3 (with --amr)
+  int ratio = 2;   ///< --ratio: 2 or 4 (with --amr)
   bool help = false;
 };
 

@@ -27,6 +27,14 @@ struct HeatSource {
 std::array<double, 3> source_centre(const HeatSource& s, double t);
 double source_amplitude(const HeatSource& s, double t);
 
+/// The source's steady free-space temperature excess at x (K): the solution of
+///   alpha laplacian(u) = -q_s(x)   with u -> 0 far away,
+/// for the source frozen at time t (its centre and amplitude then):
+///   u(r) = Q / (4 pi alpha r) erf(r / (sqrt(2) sigma)),  Q = A (2 pi)^(3/2) sigma^3,
+/// r = |x - c_s(t)|; u(0) = A sigma^2 / alpha. tessera-heat --amr uses it for the detail of the
+/// source below the coarse grid's resolution (amr_levels.h).
+double steady_excess(const HeatSource& s, double t, double alpha, const std::array<double, 3>& x);
+
 /// The demo's sources: two blobs orbiting the vertical axis in opposite directions at
 /// different heights, and a slowly pulsing one near the floor.
 std::vector<HeatSource> demo_sources();

@@ -2,10 +2,12 @@
 // Tessera in situ adapter every step (docs/miniapp.md).
 //
 //   [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
-//                              [--work-ms N] [--domains-per-rank N] [--cell]
+//                              [--work-ms N] [--domains-per-rank N] [--cell] [--amr [--levels L] [--ratio R]]
 //
 // The simulation: heat_solver.h. The domain split and halo exchange: cart_decomposition.h,
-// halo_exchange.h. The adapter is used only through its public header <tessera/adapter.h>.
+// halo_exchange.h. The refined levels of --amr: amr_levels.h. The adapter is used only through its public header <tessera/adapter.h>.
+#include "amr_levels.h"
+#include "amr_publish.h"
 #include "busy_work.h"
 #include "cart_decomposition.h"
 #include "cli_options.h"
@@ -120,17 +122,31 @@ int run(int argc, char** argv) {
     grid.offset[a] = decomp->offset()[a];
   }
   // --domains-per-rank N: the same array as N uneven domains of the same mesh (zero copy);
-  // --cell: published as cells centred on the vertices (one domain unless N says more)
-  if (opt.cell && opt.domains_per_rank == 0) opt.domains_per_rank = 1;
+  // --cell: published as cells centred on the vertices (one domain unless N says more);
+  // --amr: level 0 as domains, and the refined levels around the first demo source
+  if ((opt.cell || opt.amr) && opt.domains_per_rank == 0) opt.domains_per_rank = 1;
+  std::unique_ptr<heat::AmrLevels> amr;
+  std::vector<int> refinement;
+  if (opt.amr) {
+    heat::AmrSettings settings;
+    settings.levels = opt.levels;
+    settings.ratio = opt.ratio;
+    settings.cell = opt.cell;
+    amr = std::make_unique<heat::AmrLevels>(*decomp, params, settings, params.sources.front());
+    refinement.assign(static_cast<std::size_t>(opt.levels - 1), opt.ratio);
+    say(rank, "tessera-heat: --amr: " + std::to_string(opt.levels) + " levels, ratio " + std::to_string(opt.ratio) +
+                  ", refined boxes follow the first heat source");
+  }
   tessera_mesh mesh{};
   mesh.association = opt.cell ? TESSERA_CELL : TESSERA_VERTEX;
-  mesh.nlevels = 1;
+  mesh.nlevels = amr ? opt.levels : 1;
+  mesh.refinement = amr ? refinement.data() : nullptr;
   for (int a = 0; a < 3; ++a) {
     mesh.origin[a] = opt.cell ? grid.origin[a] - 0.5 * grid.spacing[a] : grid.origin[a];
     mesh.spacing[a] = grid.spacing[a];
     mesh.global_dims[a] = grid.global_dims[a];
   }
-  std::vector<tessera_field> domain_fields;
+  std::vector<tessera_field> domain_fields, amr_fields;
   std::vector<tessera_domain> domains;
   bool split_ok = true;
   std::string split_error;
@@ -178,6 +194,10 @@ int run(int argc, char** argv) {
         // (the solver swaps its buffers: the domains point into this step's array)
         domains = heat::split_domains(field, {grid.offset[0], grid.offset[1], grid.offset[2]}, opt.domains_per_rank,
                                       domain_fields);
+        if (amr) {  // (re-gridded around the source at this step's time, from this step's level 0)
+          amr->update(*solver);
+          heat::append_amr_domains(amr->patches(), field, amr_fields, domains);
+        }
         status = adapter.execute_domains(step, solver->time(), mesh, domains, step == opt.steps);
       } else {
         status = adapter.execute(step, solver->time(), grid, {&field, 1}, step == opt.steps);
