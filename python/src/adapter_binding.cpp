@@ -90,13 +90,18 @@ class PyAdapter {
 
   /// execute_domains: the mesh (association 0 vertex / 1 cell, origin, spacing, per axis the
   /// address of a float64 coordinate array or 0 for a uniform axis, whose length the caller has
-  /// checked, global_dims) and the domains (level, offset, fields as in execute()).
+  /// checked, global_dims, nlevels and the nlevels - 1 refinement ratios, whose count the
+  /// caller has checked) and the domains (level, offset, fields as in execute()).
   int execute_domains(std::int64_t step, double time, int association, Double3 origin, Double3 spacing,
-                      std::array<std::uintptr_t, 3> coords, Int3 global_dims,
+                      std::array<std::uintptr_t, 3> coords, Int3 global_dims, int nlevels,
+                      const std::vector<int>& refinement,
                       const std::vector<std::tuple<int, Int3, std::vector<FieldTuple>>>& domains, bool final_step) {
+    if (nlevels < 1 || refinement.size() != static_cast<std::size_t>(nlevels - 1))
+      throw nb::value_error("refinement: nlevels - 1 ratios are needed");
     tessera_mesh mesh{};
     mesh.association = static_cast<tessera_association>(association);
-    mesh.nlevels = 1;
+    mesh.nlevels = nlevels;
+    mesh.refinement = refinement.empty() ? nullptr : refinement.data();
     for (int a = 0; a < 3; ++a) {
       mesh.origin[a] = origin[a];
       mesh.spacing[a] = spacing[a];
@@ -197,8 +202,8 @@ void register_adapter(nb::module_& m) {
       .def("execute", &PyAdapter::execute, nb::arg("step"), nb::arg("time"), nb::arg("origin"), nb::arg("spacing"),
            nb::arg("global_dims"), nb::arg("offset"), nb::arg("fields"), nb::arg("final_step"))
       .def("execute_domains", &PyAdapter::execute_domains, nb::arg("step"), nb::arg("time"), nb::arg("association"),
-           nb::arg("origin"), nb::arg("spacing"), nb::arg("coords"), nb::arg("global_dims"), nb::arg("domains"),
-           nb::arg("final_step"))
+           nb::arg("origin"), nb::arg("spacing"), nb::arg("coords"), nb::arg("global_dims"), nb::arg("nlevels"),
+           nb::arg("refinement"), nb::arg("domains"), nb::arg("final_step"))
       .def("close", &PyAdapter::close)
       .def("last_error", &PyAdapter::last_error)
       .def("is_open", &PyAdapter::is_open)

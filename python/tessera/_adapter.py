@@ -6,6 +6,8 @@ from ._arrays import field_descriptor
 from ._config import config_source
 from ._errors import TesseraError, TesseraWarning
 
+MAX_LEVELS = 8  # the most refinement levels a mesh may have
+
 
 class Adapter:
     """Opens the adapter at construction (collective over ``comm``), renders in execute(),
@@ -34,7 +36,8 @@ class Adapter:
         self.results = []
 
     def execute(self, step, time, fields=None, *, spacing=1.0, origin=0.0, global_dims=None, offset=0,
-                ghosts=0, ghosts_hi=None, final=False, domains=None, association="vertex", coords=None):
+                ghosts=0, ghosts_hi=None, final=False, domains=None, association="vertex", coords=None,
+                nlevels=1, refinement=None):
         """Renders what the triggers fire at ``step`` and returns ``{render name: image}``:
         float32 (height, width, 4) linear RGBA arrays of the renders that succeeded, on rank 0
         (an empty dict on other ranks and when nothing fired). The outputs the config asks for
@@ -58,6 +61,12 @@ class Adapter:
         + 1 for cell data), read in place. Every domain publishes the same field names and
         dtypes; their real elements tile the mesh.
 
+        Refinement levels (AMR, docs/data-model.md): ``nlevels`` levels (1 .. 8), level 0 the
+        mesh above; ``refinement`` a list of nlevels - 1 integer ratios (2 or 4), level l + 1
+        splitting each level-l cell into ``refinement[l]`` parts per axis; each domain's
+        ``"level"`` (default 0) says its level, its ``"offset"`` is then an index of that
+        level. Only with ``domains``.
+
         A failing render follows the config's ``on_error``: ``warn`` and ``disable`` issue a
         TesseraWarning and go on (last_status, last_error and results say what failed);
         ``abort`` raises (DataError, RenderError, OutputError, DisabledError).
@@ -76,7 +85,10 @@ class Adapter:
             if domains is not None:
                 if fields is not None:
                     raise TypeError("fields and domains: give one of them, not both")
-                call = self._domains_call(domains, spacing, origin, global_dims, association, coords)
+                call = self._domains_call(domains, spacing, origin, global_dims, association, coords, nlevels,
+                                          refinement)
+            elif nlevels != 1 or refinement is not None:
+                raise TypeError("nlevels and refinement: refinement levels need domains (each with its level)")
             elif not isinstance(fields, dict):
                 raise TypeError(f"fields: a dict {{name: array}} is needed, got {type(fields).__name__}")
             if domains is None:
@@ -112,8 +124,24 @@ class Adapter:
         return held, (*grid, descs)
 
     @staticmethod
-    def _domains_call(domains, spacing, origin, global_dims, association, coords):
+    def _domains_call(domains, spacing, origin, global_dims, association, coords, nlevels, refinement):
         """(arrays held, the binding's execute_domains arguments but step, time, final)."""
+        levels = _checks.integer(nlevels, "nlevels", bits=32)
+        if not 1 <= levels <= MAX_LEVELS:
+            raise ValueError(f"nlevels: 1 .. {MAX_LEVELS} levels are allowed, got {levels}")
+        if refinement is None:
+            if levels > 1:
+                raise TypeError(f"refinement: {levels - 1} ratio(s) are needed for nlevels = {levels} (a list "
+                                f"of 2s or 4s), got None")
+            ratios = []
+        else:
+            if not isinstance(refinement, (list, tuple)):
+                raise TypeError(f"refinement: a list of {levels - 1} integer ratio(s) is needed, got "
+                                f"{type(refinement).__name__}")
+            if len(refinement) != levels - 1:
+                raise ValueError(f"refinement: nlevels - 1 = {levels - 1} ratio(s) are needed, got "
+                                 f"{len(refinement)}")
+            ratios = [_checks.integer(r, f"refinement[{n}]", bits=32) for n, r in enumerate(refinement)]
         if association not in ("vertex", "cell"):
             raise ValueError(f"association: 'vertex' or 'cell' is needed, got {association!r}")
         if global_dims is None:
@@ -158,7 +186,7 @@ class Adapter:
             level = _checks.integer(dom.get("level", 0), f"domains[{d}]['level']", bits=32)
             blocks.append((level, _checks.integer_triple(dom.get("offset", 0), f"domains[{d}]['offset']"), descs))
         args = (0 if association == "vertex" else 1, _checks.real_triple(origin, "origin"),
-                _checks.real_triple(spacing, "spacing"), tuple(addresses), dims, blocks)
+                _checks.real_triple(spacing, "spacing"), tuple(addresses), dims, levels, ratios, blocks)
         return held, args
 
     def _outcome(self, impl, status, step):
