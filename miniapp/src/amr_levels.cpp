@@ -156,13 +156,13 @@ void AmrLevels::fill(const HeatSolver& solver, AmrPatch& p) const {
   for (const AxisSample& sz : axis[2])
     for (const AxisSample& sy : axis[1])
       for (const AxisSample& sx : axis[0]) {
-        const std::size_t tc = static_cast<std::size_t>(((sz.i0 - off[2] + 1) * adims[1] + (sy.i0 - off[1] + 1)) *
-                                                            adims[0] +
-                                                        (sx.i0 - off[0] + 1));
+        const std::size_t tc = static_cast<std::size_t>(
+            ((sz.i0 - off[2] + 1) * adims[1] + (sy.i0 - off[1] + 1)) * adims[0] + (sx.i0 - off[0] + 1));
         const std::size_t uc =
             static_cast<std::size_t>(((sz.i0 - cmin[2]) * uy + (sy.i0 - cmin[1])) * ux + (sx.i0 - cmin[0]));
         const double coarse = trilinear(T, tc, tsy, tsz, sx.frac, sy.frac, sz.frac);
-        const double detail = excess({sx.x, sy.x, sz.x}) - trilinear(U0.data(), uc, usy, usz, sx.frac, sy.frac, sz.frac);
+        const double detail =
+            excess({sx.x, sy.x, sz.x}) - trilinear(U0.data(), uc, usy, usz, sx.frac, sy.frac, sz.frac);
         p.values[out++] = coarse + detail;
       }
 }

@@ -60,9 +60,8 @@ TEST_CASE("refined boxes nest in the mesh and in each other, and follow the sour
   const std::array<double, 3> h{1.0 / 23, 1.0 / 19, 1.0 / 15};
   for (bool cell : {false, true}) {
     // A centre inside, one near a corner (clipped) and one outside the mesh (still a box)
-    for (const std::array<double, 3>& c :
-         {std::array<double, 3>{0.5, 0.4, 0.6}, std::array<double, 3>{0.02, 0.97, 0.5},
-          std::array<double, 3>{-0.5, 1.5, 0.5}}) {
+    for (const std::array<double, 3>& c : {std::array<double, 3>{0.5, 0.4, 0.6}, std::array<double, 3>{0.02, 0.97, 0.5},
+                                           std::array<double, 3>{-0.5, 1.5, 0.5}}) {
       const std::vector<AmrBox> boxes = heat::refined_boxes(g, h, cell, c, {0.15, 0.075});
       REQUIRE(boxes.size() == 2);
       for (int a = 0; a < 3; ++a) {
