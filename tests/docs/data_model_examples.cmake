@@ -1,4 +1,4 @@
-# The complete C and Fortran examples of docs/data-model.md (its `<!-- file: NAME -->` blocks)
+# The complete C and Fortran examples of docs/data-model.md (and its AMR example in C) (its `<!-- file: NAME -->` blocks)
 # are extracted at configure time, built with the tree and run against their config (label
 # "docs"): the page cannot drift from what compiles and renders.
 include(${PROJECT_SOURCE_DIR}/cmake/TesseraDocFiles.cmake)
@@ -6,8 +6,8 @@ set(_dm_doc ${PROJECT_SOURCE_DIR}/docs/data-model.md)
 set(_dm_dir ${CMAKE_CURRENT_BINARY_DIR}/data_model)
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_dm_doc})
 tessera_doc_files(${_dm_doc} ${_dm_dir} _dm_names)
-if(NOT _dm_names STREQUAL "domains_example.yaml;domains_example.c;domains_example.f90")
-  message(FATAL_ERROR "${_dm_doc}: expected the blocks domains_example.yaml, .c, .f90; found: ${_dm_names}")
+if(NOT _dm_names STREQUAL "domains_example.yaml;domains_example.c;domains_example.f90;amr_example.c")
+  message(FATAL_ERROR "${_dm_doc}: expected the blocks domains_example.yaml, .c, .f90, amr_example.c; found: ${_dm_names}")
 endif()
 
 # Each program runs in its own folder holding the config; it must write both steps' PNGs
@@ -26,6 +26,10 @@ if(TARGET tessera_insitu)
   add_executable(tessera_docs_domains_c ${_dm_dir}/domains_example.c)
   target_link_libraries(tessera_docs_domains_c PRIVATE tessera::insitu m)
   _tessera_data_model_test(c tessera_docs_domains_c)
+  # The AMR example: two levels of cell data, the same config
+  add_executable(tessera_docs_amr_c ${_dm_dir}/amr_example.c)
+  target_link_libraries(tessera_docs_amr_c PRIVATE tessera::insitu m)
+  _tessera_data_model_test(amr_c tessera_docs_amr_c)
 endif()
 if(TARGET tessera_fortran)
   add_executable(tessera_docs_domains_fortran ${_dm_dir}/domains_example.f90)
