@@ -6,6 +6,8 @@
 #   "annotations:"    docs/images/annotations.png (annotations.yaml, on synthetic blobs)
 #   README.md         docs/images/heat_annotated.png: tessera-heat with configs/heat_movie.yaml
 #                     (turning camera, title, step text, colour bar), its frame of step 80
+#   docs/miniapp.md   docs/images/heat_amr.png: tessera-heat --amr --levels 3 with
+#                     configs/heat_amr.yaml on 2 ranks, its image of step 40
 # The first two render a linear ramp that tessera-synth writes to /tmp/ramp.raw. Builds
 # tessera-synth, tessera-render and tessera-heat first when they are missing. Takes about
 # twenty seconds.
@@ -42,4 +44,9 @@ rm -rf /tmp/tessera_heat_frame
 mpirun --oversubscribe -n 2 "$build/bin/tessera-heat" --config configs/heat_movie.yaml --steps 80 \
   --output-dir /tmp/tessera_heat_frame >/dev/null
 cp /tmp/tessera_heat_frame/heat_turn_000080.png docs/images/heat_annotated.png
+# The refining miniapp's picture: three levels around the first source, step 40
+rm -rf /tmp/tessera_heat_amr
+mpirun --oversubscribe -n 2 "$build/bin/tessera-heat" --config configs/heat_amr.yaml --amr --levels 3 \
+  --steps 40 --grid 32 32 32 --output-dir /tmp/tessera_heat_amr >/dev/null
+cp /tmp/tessera_heat_amr/heat_amr_000040.png docs/images/heat_amr.png
 ls -l docs/images/*.png

@@ -7,11 +7,14 @@
 # two cores). Each step of the first run does WORK_MS ms of extra computation (tessera-heat
 # --work-ms), standing for a real simulation's step, so that the budget (a quarter of the
 # simulation's time) pays for images.
+# Then the refining run: tessera-heat --amr --levels 3 (refined boxes follow a heat source,
+# their patches spread over the ranks) on 32^3 vertices for 40 steps with
+# configs/heat_amr.yaml, images in OUT_DIR/amr/ (a few seconds; AMR=0 skips it).
 # Builds tessera-heat first if it is missing.
 #
 #   scripts/run_heat_demo.sh [OUT_DIR] [extra tessera-heat flags...]
 #   environment: RANKS (default 2), STEPS (default 100), GRID (default "64 64 64"),
-#                WORK_MS (default 50), BUILD_DIR (default build), MOVIE (default 1)
+#                WORK_MS (default 50), BUILD_DIR (default build), MOVIE (default 1), AMR (default 1)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-out/heat}"
@@ -28,6 +31,12 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 mpirun --oversubscribe -n "${RANKS:-2}" "$exe" --config configs/heat.yaml \
   --steps "${STEPS:-100}" --grid ${GRID:-64 64 64} --work-ms "${WORK_MS:-50}" --output-dir "$out" "$@"
 echo "run_heat_demo: images in $out/"
+# Refinement levels (docs/miniapp.md): three levels, ratio 2, around the first heat source
+if [ "${AMR:-1}" != 0 ]; then
+  mpirun --oversubscribe -n "${RANKS:-2}" "$exe" --config configs/heat_amr.yaml --amr --levels 3 \
+    --steps 40 --grid 32 32 32 --output-dir "$out/amr" "$@"
+  echo "run_heat_demo: refinement-level images in $out/amr/"
+fi
 # The turning camera (configs/heat_movie.yaml): no extra work per step and no render budget,
 # so that every second step renders and the movie has all its frames.
 if [ "${MOVIE:-1}" != 0 ]; then
