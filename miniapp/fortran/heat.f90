@@ -6,12 +6,17 @@
 !> as `temperature` every step; tessera reads it in place, skipping the ghosts.
 !>
 !>   [mpirun -n P] tessera-heat-fortran [--config FILE] [--steps N] [--grid NX NY NZ]
-!>                                      [--output-dir DIR] [--domains-per-rank D]
+!>                                      [--output-dir DIR] [--domains-per-rank D] [--amr]
 !> --config defaults to configs/heat.yaml (relative to the working directory).
 !> --domains-per-rank D (default 1): each rank publishes its slab as D blocks of uneven
 !> widths along j through tessera_execute_domains, every block a section of the same array
 !> (its neighbours' planes as its ghosts), still without a copy. The images are bit-identical
 !> for any number of ranks and of blocks. An adapter error is reported and the run goes on.
+!> --amr: a second level, refined by 2, over a box around the first heat source (its radius
+!> and as much again on every side, clipped at the walls): each rank publishes the part of
+!> the box over its own slab, the trilinear prolongation of its level-0 values (the
+!> renderer's reconstruction, so the image matches level 0 alone up to rounding), as one more
+!> domain with level 1; level 0 then goes through tessera_execute_domains too.
 program heat
   use, intrinsic :: iso_fortran_env, only: int64, real64, error_unit, output_unit
   use tessera
@@ -19,6 +24,9 @@ program heat
   implicit none
   character(len=4096) :: config, output_dir
   integer :: nx, ny, nz, steps, ndomains
+  logical :: amr
+  real(real64), allocatable, target :: fine(:, :, :)
+  integer :: box_lo(3), box_hi(3)   ! --amr: the level-1 box, level-1 vertex indices (0-based)
   real(real64), allocatable, target :: u(:, :, :, :)
   type(tessera_adapter) :: viz
   type(tessera_grid) :: grid
@@ -26,16 +34,16 @@ program heat
   type(tessera_mesh) :: mesh
   type(tessera_domain), allocatable :: domains(:)
   integer, allocatable :: cuts(:)
-  integer :: k0, nk, cur, step, st
+  integer :: k0, nk, nd, cur, step, st
   integer(int64) :: t0, t1, rate, ticks_sim, ticks_viz
   real(real64), parameter :: dt = 1.0_real64 / 7.0_real64   ! stable: < 1/6 for unit spacing
 
   call parallel_start()
-  call read_arguments(config, output_dir, steps, nx, ny, nz, ndomains)
+  call read_arguments(config, output_dir, steps, nx, ny, nz, ndomains, amr)
   call slab_of(nz, k0, nk)
   allocate(cuts(0:ndomains))
   cuts(:) = uneven_cuts(ny, ndomains)   ! (assigned into 0:ndomains: a function result is 1-based)
-  allocate(domains(ndomains))
+  allocate(domains(ndomains + merge(1, 0, amr)))
 
   ! This rank's slab: real vertices 1..nx, 1..ny, 1..nk; layer 0 and n+1 are ghosts (the
   ! neighbouring slab's plane, or the 300 K wall at the domain's ends)
@@ -52,6 +60,11 @@ program heat
   grid%offset = [0, 0, k0]
   mesh%spacing = grid%spacing
   mesh%global_dims = grid%global_dims
+  if (amr) then
+    mesh%nlevels = 2
+    mesh%refinement = [2]
+    call refined_box()
+  end if
 
   ticks_sim = 0
   ticks_viz = 0
@@ -70,12 +83,12 @@ program heat
 
     ! Visualization: describe the current level in place and hand it over (the last step
     ! through tessera_execute_final, which renders everything with render_final_step: true)
-    if (ndomains > 1) then
+    if (ndomains > 1 .or. amr) then
       call publish_blocks()
       if (step < steps) then
-        st = tessera_execute_domains(viz, int(step, int64), step * dt, mesh, domains)
+        st = tessera_execute_domains(viz, int(step, int64), step * dt, mesh, domains(1:nd))
       else
-        st = tessera_execute_domains_final(viz, int(step, int64), step * dt, mesh, domains)
+        st = tessera_execute_domains_final(viz, int(step, int64), step * dt, mesh, domains(1:nd))
       end if
     else
       fields(1) = tessera_field_from("temperature", u(:, :, :, cur), ghosts=1)
@@ -95,6 +108,8 @@ program heat
     steps, ' steps, simulation ', real(ticks_sim, real64) / rate, ' s, rendering ', &
     real(ticks_viz, real64) / rate, ' s'
   deallocate(u, cuts, domains)   ! (a main program's allocatables are not freed at its end)
+  if (allocated(fine)) deallocate(fine)
+  if (allocated(mesh%refinement)) deallocate(mesh%refinement)
   call parallel_stop()
 
 contains
@@ -108,7 +123,66 @@ contains
       fields(1) = tessera_field_from("temperature", u(:, cuts(d - 1):cuts(d) + 1, :, cur), ghosts=1)
       domains(d) = tessera_domain_from([0_int64, int(cuts(d - 1), int64), int(k0, int64)], fields)
     end do
+    nd = ndomains
+    if (amr) then
+      if (publish_fine(domains(ndomains + 1))) nd = ndomains + 1
+    end if
   end subroutine publish_blocks
+
+  !> --amr: the level-1 box around the first held source (the same on every rank), in level-1
+  !> vertex indices: the source's centre +- twice its radius, in level-0 vertices rounded
+  !> outward and clipped at the walls, times 2.
+  subroutine refined_box()
+    real(real64) :: centre(3), r
+    integer :: n(3), a
+    n = [nx, ny, nz]
+    centre = [0.5_real64, 0.5_real64, 0.35_real64] * (n - 1)
+    r = 2.0_real64 * max(2.0_real64, min(nx, ny, nz) / 6.0_real64)
+    do a = 1, 3
+      box_lo(a) = 2 * max(0, floor(centre(a) - r))
+      box_hi(a) = 2 * min(n(a) - 1, ceiling(centre(a) + r))
+    end do
+  end subroutine refined_box
+
+  !> --amr: this rank's part of the level-1 box (the level-1 vertices whose level-0 position
+  !> lies in its slab), filled with the trilinear prolongation of the current level 0 (its
+  !> ghost planes refreshed first: collective), as a level-1 domain d. False when the rank's
+  !> slab misses the box (it then has no level-1 domain).
+  logical function publish_fine(d) result(has)
+    type(tessera_domain), intent(inout) :: d
+    integer :: klo, khi, i, j, k, i0, j0, c0
+    real(real64) :: fi, fj, fk
+    call exchange_k_halos(u(:, :, :, cur), nx, ny, nk)
+    klo = max(box_lo(3), 2 * k0)
+    khi = min(box_hi(3), 2 * (k0 + nk) - 1)
+    has = klo <= khi
+    if (.not. has) return
+    if (allocated(fine)) deallocate(fine)
+    allocate(fine(box_lo(1):box_hi(1), box_lo(2):box_hi(2), klo:khi))
+    do k = klo, khi
+      c0 = k / 2 - k0 + 1                 ! local plane of level-0 vertex k / 2
+      fk = 0.5_real64 * mod(k, 2)
+      do j = box_lo(2), box_hi(2)
+        j0 = j / 2 + 1
+        fj = 0.5_real64 * mod(j, 2)
+        do i = box_lo(1), box_hi(1)
+          i0 = i / 2 + 1
+          fi = 0.5_real64 * mod(i, 2)
+          fine(i, j, k) = lerp(lerp(lerp(u(i0, j0, c0, cur), u(i0 + 1, j0, c0, cur), fi), &
+                                    lerp(u(i0, j0 + 1, c0, cur), u(i0 + 1, j0 + 1, c0, cur), fi), fj), &
+                               lerp(lerp(u(i0, j0, c0 + 1, cur), u(i0 + 1, j0, c0 + 1, cur), fi), &
+                                    lerp(u(i0, j0 + 1, c0 + 1, cur), u(i0 + 1, j0 + 1, c0 + 1, cur), fi), fj), fk)
+        end do
+      end do
+    end do
+    fields(1) = tessera_field_from("temperature", fine)
+    d = tessera_domain_from(int([box_lo(1), box_lo(2), klo], int64), fields, level=1)
+  end function publish_fine
+
+  pure real(real64) function lerp(a, b, t)
+    real(real64), intent(in) :: a, b, t
+    lerp = a + t * (b - a)
+  end function lerp
 
   !> n planes cut into d blocks of uneven widths (the boundaries grow as (p / d)^1.3), each at
   !> least one plane: cuts(0) = 0 < cuts(1) < ... < cuts(d) = n.
@@ -170,9 +244,10 @@ contains
       ' failed: ', message
   end subroutine report
 
-  subroutine read_arguments(config, output_dir, steps, nx, ny, nz, ndomains)
+  subroutine read_arguments(config, output_dir, steps, nx, ny, nz, ndomains, amr)
     character(*), intent(out) :: config, output_dir
     integer, intent(out) :: steps, nx, ny, nz, ndomains
+    logical, intent(out) :: amr
     character(len=4096) :: arg
     integer :: i
     config = 'configs/heat.yaml'
@@ -182,6 +257,7 @@ contains
     ny = 32
     nz = 32
     ndomains = 1
+    amr = .false.
     i = 1
     do while (i <= command_argument_count())
       call get_command_argument(i, arg)
@@ -195,6 +271,9 @@ contains
       case ('--steps')
         steps = int_argument(i + 1)
         i = i + 2
+      case ('--amr')
+        amr = .true.
+        i = i + 1
       case ('--domains-per-rank')
         ndomains = int_argument(i + 1)
         i = i + 2
@@ -206,7 +285,7 @@ contains
       case default
         write(error_unit, '(3a)') 'tessera-heat-fortran: unknown argument ', trim(arg), &
           ' (usage: [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR]' // &
-          ' [--domains-per-rank D])'
+          ' [--domains-per-rank D] [--amr])'
         error stop 2
       end select
     end do
