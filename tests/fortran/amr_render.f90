@@ -44,7 +44,7 @@ program amr_render
   call write_text('amr.yaml', 'tessera: {output_dir: out, threads: 2}' // new_line('a') // 'renders:' // &
     new_line('a') // '  - {name: r, field: t, trigger: {every: 1}, image: {width: 32, height: 24, spp: 4},' // &
     ' camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: fit}}},' // &
-    ' transfer_function: {range: [-1.2, 2.2], density_scale: 2.0, opacity: [[0, 0], [1, 1]]},' // &
+    ' transfer_function: {range: [-1.2, 2.2], density_scale: 0.1, opacity: [[0, 0], [1, 1]]},' // &
     ' integrator: {seed: 7, tile: 8}, output: {file: "r_{step}", formats: [exr]}}' // new_line('a'))
 
   ! One domain per level
