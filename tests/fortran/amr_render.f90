@@ -86,7 +86,7 @@ program amr_render
     st = tessera_close(viz)
   end block
 
-  deallocate(a0, a1)
+  deallocate(a0, a1, mesh%refinement)   ! (a main program's allocatables are not freed at its end)
   if (failures > 0) then
     write(error_unit, '(i0, a)') failures, ' check(s) failed'
     error stop 1
