@@ -185,6 +185,15 @@ int run(int argc, char** argv) {
       sim_seconds += s;
       if (rendered_once) sim_after_first += s;
     }
+    // --amr: re-grid around the source at this step's time and fill the fine levels from this
+    // step's level 0 (simulation work: the adapter reads them only when a render fires)
+    if (amr) {
+      const auto ta = Clock::now();
+      amr->update(*solver);
+      const double s = seconds_since(ta);
+      sim_seconds += s;
+      if (rendered_once) sim_after_first += s;
+    }
     // Publish; every rank gets the same status
     field.data = solver->data();
     const auto t0 = Clock::now();
@@ -194,10 +203,7 @@ int run(int argc, char** argv) {
         // (the solver swaps its buffers: the domains point into this step's array)
         domains = heat::split_domains(field, {grid.offset[0], grid.offset[1], grid.offset[2]}, opt.domains_per_rank,
                                       domain_fields);
-        if (amr) {  // (re-gridded around the source at this step's time, from this step's level 0)
-          amr->update(*solver);
-          heat::append_amr_domains(amr->patches(), field, amr_fields, domains);
-        }
+        if (amr) heat::append_amr_domains(amr->patches(), field, amr_fields, domains);
         status = adapter.execute_domains(step, solver->time(), mesh, domains, step == opt.steps);
       } else {
         status = adapter.execute(step, solver->time(), grid, {&field, 1}, step == opt.steps);
