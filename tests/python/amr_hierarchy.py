@@ -32,10 +32,11 @@ def level(l, lo=(0, 0, 0), n=None, fn=smooth):
     return np.ascontiguousarray(fn(u, v, w).astype(np.float64))
 
 
-def whole(fn=smooth):
-    """The hierarchy as two domains (one per level)."""
+def whole(fn=smooth, lo=BOX_LO, n=BOX_N, fine_offset=0.0):
+    """The hierarchy as two domains (one per level); level 1 covers level-1 vertices
+    [lo, lo + n) and holds fn + fine_offset."""
     return [{"fields": {"temperature": level(0, fn=fn)}},
-            {"fields": {"temperature": level(1, BOX_LO, BOX_N, fn=fn)}, "offset": BOX_LO, "level": 1}]
+            {"fields": {"temperature": level(1, lo, n, fn=fn) + fine_offset}, "offset": lo, "level": 1}]
 
 
 def patches(fn=smooth):

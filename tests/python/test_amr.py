@@ -2,6 +2,7 @@
 for any cut into patches and any rank count (mpi4py, -n 1 and -n 2), a linear field at two
 levels gives the single level's image within noise (z-test), and bad level arguments get
 clear errors."""
+import copy
 import os
 import shutil
 import subprocess
@@ -50,23 +51,33 @@ def test_two_levels_any_cut_and_rank_count_bit_identical(tmp_path):
 
 def test_linear_field_at_two_levels_matches_one_level(tmp_path):
     """A field linear in x, y, z has the same value at every level, so the two-level image and
-    the single-level one differ by noise only: over the image's pixels, the mean difference of
-    opacity (alpha: the config has no lights) is within 4 standard errors of 0 (z-test, 99.99%
-    two-sided; seed 7, 64 spp)."""
+    the single-level one have the same expectation. Level 1 covers most of the volume (level-0
+    vertices [1, 19] x [1, 15] x [1, 11]); the two renders use different seeds (independent
+    noise), and over the image's pixels the mean difference of opacity (alpha; the config has
+    no lights) is within 4 standard errors of 0 (z-test, 99.99% two-sided; seeds 7 and 8,
+    64 spp, density scale 0.1 so that alpha is far from 0 and 1). The test's power: the same
+    fine level offset by +0.3 (9% of the transfer function's range) gives |z| > 4."""
     def linear(u, v, w):
         return 0.15 * u - 0.1 * v + 0.2 * w - 0.5
 
-    config = {**AMR_CONFIG, "renders": [dict(AMR_CONFIG["renders"][0])]}
-    config["renders"][0]["image"] = {"width": 48, "height": 36, "spp": 64}
-    hier = render(tmp_path, whole(linear), config)
-    single = render(tmp_path, whole(linear)[:1], config, global_dims=DIMS0, **GRID)
-    alpha = [img[..., 3].astype(np.float64) for img in (hier, single)]
-    assert 0.05 < alpha[1].mean() < 0.95  # neither blank nor opaque
-    d = (alpha[0] - alpha[1]).ravel()
-    if np.all(d == 0):
-        return  # identical images: the same values read from either level
-    z = d.mean() / (d.std(ddof=1) / np.sqrt(d.size))
-    assert abs(z) < 4.0, f"z = {z:.2f}: the two-level image is biased against the single level"
+    def config(seed):
+        c = copy.deepcopy(AMR_CONFIG)
+        c["renders"][0]["image"] = {"width": 48, "height": 36, "spp": 64}
+        c["renders"][0]["integrator"] = {"seed": seed, "tile": 8}
+        c["renders"][0]["transfer_function"]["density_scale"] = 0.1
+        return c
+
+    def z(a, b):
+        d = (a[..., 3].astype(np.float64) - b[..., 3].astype(np.float64)).ravel()
+        return d.mean() / (d.std(ddof=1) / np.sqrt(d.size))
+
+    box = dict(lo=(2, 2, 2), n=(37, 29, 21))
+    single = render(tmp_path, whole(linear)[:1], config(8), global_dims=DIMS0, **GRID)
+    assert 0.1 < single[..., 3].mean() < 0.9  # neither blank nor opaque
+    z_same = z(render(tmp_path, whole(linear, **box), config(7)), single)
+    assert abs(z_same) < 4.0, f"z = {z_same:.2f}: the two-level image is biased against the single level"
+    z_off = z(render(tmp_path, whole(linear, fine_offset=0.3, **box), config(7)), single)
+    assert abs(z_off) > 4.0, f"z = {z_off:.2f}: the test cannot tell a fine level offset by 0.3"
 
 
 def test_level_arguments_are_checked(tmp_path):
