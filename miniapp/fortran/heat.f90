@@ -15,7 +15,7 @@
 !> --amr: a second level, refined by 2, over a box around the first heat source (its radius
 !> and as much again on every side, clipped at the walls): each rank publishes the part of
 !> the box over its own slab, the trilinear prolongation of its level-0 values (the
-!> renderer's reconstruction, so the image matches level 0 alone up to rounding), as one more
+!> renderer's reconstruction: the image has level 0 alone's expectation, not its bits), as one more
 !> domain with level 1; level 0 then goes through tessera_execute_domains too.
 program heat
   use, intrinsic :: iso_fortran_env, only: int64, real64, error_unit, output_unit
