@@ -13,8 +13,7 @@ namespace tessera::insitu {
 
 using detail::check;
 
-AmrLayout MpiParallelContext::amr_layout(std::span<const FieldBlock> blocks, const AmrField& meta,
-                                         Association assoc) {
+AmrLayout MpiParallelContext::amr_layout(std::span<const FieldBlock> blocks, const AmrField& meta, Association assoc) {
   if (m_size == 1) return amr_layout_one_rank(blocks, meta, assoc);  // no MPI call
   const std::vector<FieldBlock> ordered = in_domain_order(blocks);
   std::vector<int> counts;
