@@ -50,7 +50,8 @@ struct Hierarchy {
   std::vector<std::vector<double>> data;
   std::vector<AmrPatch> patches;
 
-  Hierarchy(const std::int64_t dims[3], Association a, std::vector<int> ratios, Vec3 o, Vec3 hh) : assoc(a), origin(o), h(hh) {
+  Hierarchy(const std::int64_t dims[3], Association a, std::vector<int> ratios, Vec3 o, Vec3 hh)
+      : assoc(a), origin(o), h(hh) {
     for (int k = 0; k < 3; ++k) field.dims[k] = dims[k];
     field.dtype = tessera::DType::Float64;
     field.nlevels = static_cast<int>(ratios.size()) + 1;
@@ -330,6 +331,10 @@ TEST_CASE("amr: a non-linear field renders differently once refined", "[amr][ren
   two.add(box(1, 0, 0, 0, 24, 24, 24), sharp);
   tessera::SceneDesc s = lit_scene(one.geometry(), tessera::Bounds{Vec3(0.0), Vec3(1.0)}, 0.0, 1.0);
   s.image = {16, 16, 32, 0.0};
+  s.tf.density_scale = 2.0;  // an absorber in front of a white background: the image is transmittance
+  s.tf.diffuse = tessera::ColorTF::constant(Color(0.0));
+  s.background.color = Color(1.0);
+  s.lights.clear();
   const auto L1 = tessera_test::luminance_stats(tessera_test::render_film(tessera::prepare(one.finish(), s, nullptr)));
   s.options.seed = 77;
   const auto L2 = tessera_test::luminance_stats(tessera_test::render_film(tessera::prepare(two.finish(), s, nullptr)));
@@ -377,8 +382,9 @@ TEST_CASE("amr: majorants bound the extinction along the walk over random hierar
         const std::int64_t need = cell ? 1 : 2;  // coarse elements the fine box spans at least
         if (parent.dims[a] < need) ok = false;
         const std::int64_t len = need + static_cast<std::int64_t>(rng.uniform() * double(parent.dims[a] - need + 1));
-        const std::int64_t lo = parent.offset[a] +
-                                static_cast<std::int64_t>(rng.uniform() * double(parent.dims[a] - std::min(len, parent.dims[a]) + 1));
+        const std::int64_t lo =
+            parent.offset[a] +
+            static_cast<std::int64_t>(rng.uniform() * double(parent.dims[a] - std::min(len, parent.dims[a]) + 1));
         const std::int64_t l_len = std::min(len, parent.offset[a] + parent.dims[a] - lo);
         c.offset[a] = lo * r;
         c.dims[a] = cell ? l_len * r : (l_len - 1) * r + 1;

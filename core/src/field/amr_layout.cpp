@@ -121,9 +121,9 @@ void check_amr_boxes(const AmrField& meta, Association assoc, std::span<const Am
     for (int a = 0; a < 3; ++a) {
       if (b.dims[a] < 1) fail(name(n) + ": no real element along " + kAxis[a]);
       if (b.offset[a] < 0 || b.offset[a] > extent[b.level][a] - b.dims[a])
-        fail(name(n) + ": elements [" + std::to_string(b.offset[a]) + ", " +
-             std::to_string(b.offset[a] + b.dims[a]) + ") along " + kAxis[a] + " leave level " +
-             std::to_string(b.level) + "'s extent [0, " + std::to_string(extent[b.level][a]) + ")");
+        fail(name(n) + ": elements [" + std::to_string(b.offset[a]) + ", " + std::to_string(b.offset[a] + b.dims[a]) +
+             ") along " + kAxis[a] + " leave level " + std::to_string(b.level) + "'s extent [0, " +
+             std::to_string(extent[b.level][a]) + ")");
     }
     by_level[static_cast<std::size_t>(b.level)].push_back(n);
   }

@@ -17,7 +17,9 @@
 namespace tessera {
 namespace {
 
-std::int64_t cells_along(std::int64_t dims, int edge) { return std::max<std::int64_t>(1, (dims - 1 + edge - 1) / edge); }
+std::int64_t cells_along(std::int64_t dims, int edge) {
+  return std::max<std::int64_t>(1, (dims - 1 + edge - 1) / edge);
+}
 
 }  // namespace
 

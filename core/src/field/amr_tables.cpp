@@ -33,7 +33,8 @@ TableShape shape_of(const AmrField& f, Association assoc, int l) {
     s.ext[a] = std::max<std::int64_t>(bhi[a] - 1 - blo[a], 1);  // stencil cells with a present sample pair
   }
   for (s.bits = 0;; ++s.bits) {
-    for (int a = 0; a < 3; ++a) s.cells[a] = static_cast<std::uint64_t>((s.ext[a] + (std::int64_t{1} << s.bits) - 1) >> s.bits);
+    for (int a = 0; a < 3; ++a)
+      s.cells[a] = static_cast<std::uint64_t>((s.ext[a] + (std::int64_t{1} << s.bits) - 1) >> s.bits);
     if (s.entries() <= AmrTables::kMaxTableEntries) break;
   }
   return s;
@@ -63,7 +64,9 @@ void patch_cells(const AmrPatch& p, int a, std::int64_t n, std::int64_t* full_lo
   *touch_hi = o + d;
 }
 
-std::int64_t cells_along(std::int64_t dims, int edge) { return std::max<std::int64_t>(1, (dims - 1 + edge - 1) / edge); }
+std::int64_t cells_along(std::int64_t dims, int edge) {
+  return std::max<std::int64_t>(1, (dims - 1 + edge - 1) / edge);
+}
 
 }  // namespace
 
@@ -122,9 +125,9 @@ void AmrTables::build(const AmrField& f, Association assoc, int edge, const std:
               const std::int64_t hi = std::min(lo + (std::int64_t{1} << s.bits), s.lo[a] + s.ext[a]);
               whole = lo >= flo[a] && hi <= fhi[a];
             }
-            const std::uint64_t e = (static_cast<std::uint64_t>(z) * s.cells[1] + static_cast<std::uint64_t>(y)) *
-                                        s.cells[0] +
-                                    static_cast<std::uint64_t>(x);
+            const std::uint64_t e =
+                (static_cast<std::uint64_t>(z) * s.cells[1] + static_cast<std::uint64_t>(y)) * s.cells[0] +
+                static_cast<std::uint64_t>(x);
             if (whole) m_table[l][e] = static_cast<std::int32_t>(n);
             else shared.emplace_back(e, static_cast<std::int32_t>(n));
           }

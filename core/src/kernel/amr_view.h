@@ -36,7 +36,7 @@ struct AmrPatchAddress {
 
 /// One level's lookup data.
 struct AmrLevelView {
-  std::int64_t n[3] = {1, 1, 1};  ///< the level's samples per axis
+  std::int64_t n[3] = {1, 1, 1};   ///< the level's samples per axis
   double hi_index[3] = {0, 0, 0};  ///< n - 1
   double scale = 1.0;              ///< q = p * scale + shift: the level's sample index space
   double shift = 0.0;
