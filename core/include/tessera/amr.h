@@ -47,8 +47,8 @@ struct AmrPatch {
 /// and unchanged while a scene prepared from them lives.
 struct AmrField {
   DType dtype = DType::Float32;
-  std::int64_t dims[3] = {0, 0, 0};  ///< level-0 elements per axis (>= 1)
-  int nlevels = 1;                   ///< 1 .. kMaxAmrLevels
+  std::int64_t dims[3] = {0, 0, 0};   ///< level-0 elements per axis (>= 1)
+  int nlevels = 1;                    ///< 1 .. kMaxAmrLevels
   int ratio[kMaxAmrLevels - 1] = {};  ///< ratio[l]: level l -> l+1, each 2 or 4
   std::span<const AmrPatch> patches;  ///< every patch of every level, any order
   /// Names the patch in messages (the caller's rank and domain); empty: "patch N".

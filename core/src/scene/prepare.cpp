@@ -3,6 +3,7 @@
 #include <tessera/loop_bounds.h>
 #include <tessera/number_text.h>
 
+#include "field/amr_tables.h"
 #include "scene/adaptive_preview.h"
 #include "scene/axis_tables.h"
 #include "scene/prepared_scene_impl.h"
@@ -280,7 +281,8 @@ namespace {
 /// Everything prepare() derives once the field descriptor, its summary and (paged mode) the
 /// paged view are settled; the scene is validated.
 void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc& scene,
-                  std::shared_ptr<const FieldSummary> summary, const PagedFieldView* paged) {
+                  std::shared_ptr<const FieldSummary> summary, const PagedFieldView* paged,
+                  const AmrField* amr = nullptr) {
   p.desc = scene;
   p.field = field;
   const VolumeGeometry& g = scene.geometry;
@@ -315,6 +317,7 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
   // opaque at sub-voxel scale in double precision (loop_bounds.h)
   p.sigma_max = kMaxOpticalThicknessPerVoxel / h_min;
   p.grid.update(scene.tf, p.sigma_max);
+  if (amr) p.amr.build(*amr, g.association, p.grid.edge(), p.grid.cells());
   p.env = Environment(scene.background);
   p.lights = make_lights(scene, &p.env);
   p.has_emission = !scene.tf.emission.is_zero();
@@ -323,6 +326,7 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
   p.tile_culled = cull_tiles(p);
   p.kernel = make_kernel_scene(p);
   if (paged) p.kernel.paged = *paged;
+  if (amr) p.kernel.amr = p.amr.view();
   p.kernel.adaptive_scale = adaptive_preview_scale(p.kernel, scene.options);  // renders with the above
 }
 
@@ -370,6 +374,35 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shar
   PreparedSceneImpl& p = *ps.m_impl;
   p.summary_reused = true;  // never a pass over the values here
   prepare_from(p, global, scene, std::move(summary), &view);
+  return ps;
+}
+
+PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary) {
+  const VolumeGeometry& g = scene.geometry;
+  for (int a = 0; a < 3; ++a)
+    require(g.coords[a] == nullptr, std::string("refinement levels with a rectilinear axis (") + axis_name(a) +
+                                        ") are not supported yet: give uniform axes");
+  require(g.association == Association::Vertex || g.association == Association::Cell,
+          "volume association " + std::to_string(static_cast<int>(g.association)) + " is neither vertex nor cell");
+  check_amr(field, g.association);
+  // Level 0's descriptor: dims and dtype, no data (the values are the patches')
+  PagedField level0;
+  level0.dtype = field.dtype;
+  for (int a = 0; a < 3; ++a) level0.dims[a] = field.dims[a];
+  const FieldView global = global_descriptor(level0);
+  validate_scene(global, scene);
+  const int edge = majorant_edge(global, scene.integrator);
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  if (summary) {
+    require(summary->edge() == edge, "refinement levels: the field summary has macrocell edge " +
+                                         std::to_string(summary->edge()) + ", this scene needs " +
+                                         std::to_string(edge));
+    p.summary_reused = true;
+  } else {
+    summary = amr_summary(field, g.association, edge);
+  }
+  prepare_from(p, global, scene, std::move(summary), nullptr, &field);
   return ps;
 }
 

@@ -4,6 +4,7 @@
 #include <tessera/camera.h>
 #include <tessera/render.h>
 
+#include "field/amr_tables.h"
 #include "field/majorant_grid.h"
 #include "kernel/kernel_scene.h"
 #include "lights/environment.h"
@@ -30,6 +31,7 @@ struct PreparedSceneImpl {
   double box_lo[3] = {0.0, 0.0, 0.0};
   double box_hi[3] = {0.0, 0.0, 0.0};
   AxisTables axes;
+  AmrTables amr;            ///< refinement levels' lookup tables (empty for other fields)
   double march_step = 0.5;  ///< raymarch step in world units
   double sigma_max = 0.0;   ///< extinction clamp, 1 / world unit (loop_bounds.h)
   bool has_emission = false;
