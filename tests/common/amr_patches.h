@@ -57,11 +57,15 @@ struct AmrMeshSpec {
 };
 
 using WorldField = std::function<double(double, double, double)>;
+/// A value per level and world position (data that differs between levels).
+using LevelField = std::function<double(int, double, double, double)>;
 
 /// Patches as a simulation holds them (addresses stable: the descriptors point into them).
 class HeldPatches {
  public:
-  HeldPatches(const AmrMeshSpec& spec, const std::vector<AmrBoxSpec>& boxes, const WorldField& f, int ghosts = 1) {
+  HeldPatches(const AmrMeshSpec& spec, const std::vector<AmrBoxSpec>& boxes, const WorldField& f, int ghosts = 1)
+      : HeldPatches(spec, boxes, LevelField([&f](int, double x, double y, double z) { return f(x, y, z); }), ghosts) {}
+  HeldPatches(const AmrMeshSpec& spec, const std::vector<AmrBoxSpec>& boxes, const LevelField& f, int ghosts = 1) {
     for (std::size_t n = 0; n < boxes.size(); ++n) add(spec, boxes[n], f, ghosts, n % 2 == 1);
   }
   /// Every patch's descriptor, in the order `order` lists the patches (all, in their order,
@@ -91,7 +95,7 @@ class HeldPatches {
     tessera_field field{};
     tessera_domain domain{};
   };
-  void add(const AmrMeshSpec& spec, const AmrBoxSpec& b, const WorldField& f, int ghosts, bool k_fastest) {
+  void add(const AmrMeshSpec& spec, const AmrBoxSpec& b, const LevelField& f, int ghosts, bool k_fastest) {
     Held& h = m_held.emplace_back();
     Dims d;
     for (int a = 0; a < 3; ++a) d[a] = b.dims[a] + 2 * ghosts;
@@ -107,7 +111,7 @@ class HeldPatches {
         for (std::int64_t i = 0; i < b.dims[0]; ++i)
           h.data[static_cast<std::size_t>((i + ghosts) * stride[0] + (j + ghosts) * stride[1] +
                                           (k + ghosts) * stride[2])] =
-              static_cast<float>(f(spec.position(b.level, 0, b.offset[0] + i),
+              static_cast<float>(f(b.level, spec.position(b.level, 0, b.offset[0] + i),
                                    spec.position(b.level, 1, b.offset[1] + j),
                                    spec.position(b.level, 2, b.offset[2] + k)));
     h.field.name = "density";

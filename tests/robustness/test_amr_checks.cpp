@@ -9,6 +9,7 @@
 #include "insitu_test_support.h"
 
 #include <tessera/adapter.h>
+#include <tessera/amr.h>
 
 #include <catch2/catch.hpp>
 
@@ -34,12 +35,12 @@ struct Outcome {
 Outcome run(const TempDir& dir, const std::string& out, const tessera_mesh& mesh,
             const std::vector<tessera_domain>& domains, const std::string& global = "") {
   Adapter ad;
-  const std::string cfg = dir.write(
-      "cfg_" + out + ".yaml",
-      config_yaml(dir.file(out),
-                  render_yaml("view", "{every: 1}", "    integrator: {scattering: single, tile: 8, seed: 3}\n",
-                              "density", 24, 2),
-                  global));
+  const std::string cfg =
+      dir.write("cfg_" + out + ".yaml",
+                config_yaml(dir.file(out),
+                            render_yaml("view", "{every: 1}",
+                                        "    integrator: {scattering: single, tile: 8, seed: 3}\n", "density", 24, 2),
+                            global));
   REQUIRE(ad.open(cfg) == TESSERA_OK);
   ad.set_quiet(true);
   Outcome o;
@@ -76,15 +77,19 @@ TEST_CASE("levels: bad hierarchies fail with TESSERA_ERROR_DATA naming what and 
   };
   // Edits of the mesh, of the boxes, or of the domains' levels (-1 = keep)
   const std::vector<Case> cases = {
-      {"ratio 3", [](tessera_mesh& m, auto&, auto&) { m.refinement = ratio3; },
+      {"ratio 3",
+       [](tessera_mesh& m, auto&, auto&) { m.refinement = ratio3; },
        {"refinement[0] = 3", "level 0 -> 1", "2 or 4"}},
-      {"refinement NULL with nlevels 2", [](tessera_mesh& m, auto&, auto&) { m.refinement = nullptr; },
+      {"refinement NULL with nlevels 2",
+       [](tessera_mesh& m, auto&, auto&) { m.refinement = nullptr; },
        {"refinement is NULL", "nlevels = 3"}},
       {"nlevels 0", [](tessera_mesh& m, auto&, auto&) { m.nlevels = 0; }, {"nlevels = 0", "[1, 8]"}},
       {"nlevels 9", [](tessera_mesh& m, auto&, auto&) { m.nlevels = 9; }, {"nlevels = 9", "[1, 8]"}},
-      {"level -1", [](tessera_mesh&, auto&, std::vector<int>& lv) { lv[3] = -1; },
+      {"level -1",
+       [](tessera_mesh&, auto&, std::vector<int>& lv) { lv[3] = -1; },
        {"domain 3", "level -1", "outside [0, 3)"}},
-      {"level 3 of 3", [](tessera_mesh&, auto&, std::vector<int>& lv) { lv[2] = 3; },
+      {"level 3 of 3",
+       [](tessera_mesh&, auto&, std::vector<int>& lv) { lv[2] = 3; },
        {"domain 2", "level 3", "outside [0, 3)"}},
       {"a patch outside its level",
        [](tessera_mesh&, std::vector<AmrBoxSpec>& b, auto&) { b[3].offset[1] = 20; },
@@ -95,8 +100,7 @@ TEST_CASE("levels: bad hierarchies fail with TESSERA_ERROR_DATA naming what and 
       {"overlap within level 1",
        [](tessera_mesh&, std::vector<AmrBoxSpec>& b, auto&) { b[3].offset[0] = 9; },
        {"rank 0 domain 2", "rank 0 domain 3", "level 1"}},
-      {"a gap in level 0", [](tessera_mesh&, std::vector<AmrBoxSpec>& b, auto&) { b[1].dims[0] = 12; },
-       {"level 0"}},
+      {"a gap in level 0", [](tessera_mesh&, std::vector<AmrBoxSpec>& b, auto&) { b[1].dims[0] = 12; }, {"level 0"}},
       {"rectilinear axes with levels",
        [](tessera_mesh& m, auto&, auto&) {
          coords.assign(11, 0.0);
@@ -137,17 +141,41 @@ TEST_CASE("levels: the hierarchy the bad cases edit renders (each case fails for
 
 TEST_CASE("levels: a refinement pattern whose level tables exceed tessera.memory_limit_mb fails with the limit",
           "[insitu][amr][limits]") {
-  // 8 levels of ratio 4 over 4^3 cells, each level one 2^3-cell patch in the corner of the
-  // one below: few values, but the finest level spans 4 x 4^7 = 65536 cells per axis
+  // 8 levels of ratio 4 over 4^3 cells; each finer level two 2^3-cell patches at opposite
+  // corners of the one below: 113 values in all, but each level's table spans its whole
+  // extent (the finest 65536 cells per axis)
   TempDir dir;
-  AmrMeshSpec spec{{4, 4, 4}, TESSERA_CELL, {4, 4, 4, 4, 4, 4, 4}};
+  const AmrMeshSpec spec{{4, 4, 4}, TESSERA_CELL, {4, 4, 4, 4, 4, 4, 4}};
   std::vector<AmrBoxSpec> boxes{{0, {0, 0, 0}, {4, 4, 4}}};
-  for (int l = 1; l < 8; ++l) boxes.push_back({l, {0, 0, 0}, {2, 2, 2}});
+  for (int l = 1; l < 8; ++l) {
+    const std::int64_t far = spec.extent(l, 0) - 2;
+    boxes.push_back({l, {0, 0, 0}, {2, 2, 2}});
+    boxes.push_back({l, {far, far, far}, {2, 2, 2}});
+  }
   const HeldPatches held(spec, boxes, ramp);
-  const Outcome o = run(dir, "deep", spec.mesh(), held.all(), "  memory_limit_mb: 64\n");
+  // What the renderer would allocate for its tables, from the boxes alone: above the limit
+  std::vector<tessera::AmrPatch> patches;
+  for (const AmrBoxSpec& b : boxes) {
+    tessera::AmrPatch p;
+    p.level = b.level;
+    for (int a = 0; a < 3; ++a) p.offset[a] = b.offset[a];
+    p.view = tessera::FieldView::contiguous(&spec, tessera::DType::Float32, b.dims[0], b.dims[1], b.dims[2]);
+    patches.push_back(p);
+  }
+  tessera::AmrField field;
+  for (int a = 0; a < 3; ++a) field.dims[a] = spec.g[a];
+  field.nlevels = 8;
+  for (int l = 0; l < 7; ++l) field.ratio[l] = 4;
+  field.patches = patches;
+  constexpr int kLimitMiB = 4;
+  const std::uint64_t tables = tessera::amr_table_bytes(field, tessera::Association::Cell, 4);
+  INFO("level tables: " << tables << " bytes");
+  REQUIRE(tables > (std::uint64_t{kLimitMiB} << 20));
+
+  const Outcome o = run(dir, "deep", spec.mesh(), held.all(), "  memory_limit_mb: " + std::to_string(kLimitMiB) + "\n");
   INFO(o.error);
   CHECK(o.status == TESSERA_ERROR_RENDER);
   CHECK_THAT(o.error, Contains("refinement level tables"));
-  CHECK_THAT(o.error, Contains("more than tessera.memory_limit_mb = 64 MiB"));
+  CHECK_THAT(o.error, Contains("more than tessera.memory_limit_mb = 4 MiB"));
   CHECK(!std::filesystem::exists(dir.file("deep") + "/view_0002.exr"));
 }
