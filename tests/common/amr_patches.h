@@ -190,6 +190,22 @@ inline Hierarchy hierarchy(int nlevels, tessera_association assoc) {
   return h;
 }
 
+/// 8 levels of ratio 4 over 4^3 cells; each finer level two 2^3-cell patches at opposite
+/// corners of the one below: 113 values in all, but each level's lookup table spans its whole
+/// extent (the finest 65536 cells per axis), about 6 MiB of tables.
+struct DeepCorners {
+  AmrMeshSpec spec{{4, 4, 4}, TESSERA_CELL, {4, 4, 4, 4, 4, 4, 4}};
+  std::vector<AmrBoxSpec> boxes;
+  DeepCorners() {
+    boxes.push_back({0, {0, 0, 0}, {4, 4, 4}});
+    for (int l = 1; l < 8; ++l) {
+      const std::int64_t far = spec.extent(l, 0) - 2;
+      boxes.push_back({l, {0, 0, 0}, {2, 2, 2}});
+      boxes.push_back({l, {far, far, far}, {2, 2, 2}});
+    }
+  }
+};
+
 /// Integer-valued blobs in [0, 250] over the world position (not linear: the finer levels
 /// hold detail that interpolating level 0 misses).
 inline double blobs(double x, double y, double z) {

@@ -4,7 +4,8 @@
 // rank, every rank on its own pretend node) give the one-process image of the hierarchy cut
 // in one patch per level, bit for bit; distributed mode with levels fails with a clear "not
 // yet" on every rank; ranks that disagree on nlevels or ratios, or whose patches do not fit
-// together, get TESSERA_ERROR_DATA on every rank; the communicator renders afterwards.
+// together, get TESSERA_ERROR_DATA on every rank, and level tables over memory_limit_mb the
+// limit's message on every rank; the communicator renders afterwards.
 #include "amr_patches.h"
 #include "mpi_test_support.h"
 
@@ -28,9 +29,8 @@ using tessera_test::Hierarchy;
 
 namespace {
 
-std::string config_text(const std::string& output_dir, const std::string& distribution) {
-  return "tessera:\n  output_dir: " + output_dir + "\n  distribution: " + distribution +
-         "\n  threads: 1\n"
+std::string config_text(const std::string& output_dir, const std::string& distribution, const std::string& global) {
+  return "tessera:\n  output_dir: " + output_dir + "\n  distribution: " + distribution + "\n  threads: 1\n" + global +
          "renders:\n"
          "  - name: view\n"
          "    field: density\n"
@@ -45,9 +45,10 @@ std::string config_text(const std::string& output_dir, const std::string& distri
          "    output: {file: \"{name}_{step:04d}\", formats: [exr]}\n";
 }
 
-std::string write_config(const SharedTempDir& dir, const std::string& name, const std::string& distribution) {
+std::string write_config(const SharedTempDir& dir, const std::string& name, const std::string& distribution,
+                         const std::string& global = "") {
   const std::string out = dir.file(name);
-  if (world_rank() == 0) std::ofstream(out + ".yaml") << config_text(out, distribution);
+  if (world_rank() == 0) std::ofstream(out + ".yaml") << config_text(out, distribution, global);
   MPI_Barrier(MPI_COMM_WORLD);
   return out + ".yaml";
 }
@@ -218,4 +219,23 @@ TEST_CASE("levels: ranks that disagree on the levels, or whose patches do not fi
       CHECK(run_on(n, cfg, mesh, many, kRoundRobin).status == TESSERA_OK);
     }
   }
+}
+
+TEST_CASE("levels: level tables over tessera.memory_limit_mb fail with the limit on every rank, nothing hangs",
+          "[mpi][amr][limits]") {
+  SharedTempDir dir;
+  const std::string small = write_config(dir, "small", "replicated", "  memory_limit_mb: 4\n");
+  const std::string replicated = write_config(dir, "replicated", "replicated");
+  const tessera_test::DeepCorners deep;
+  const HeldPatches held(deep.spec, deep.boxes, tessera_test::blobs, 1);
+  const tessera_mesh mesh = deep.spec.mesh();
+  const int n = world_size();
+  const Run r = run_on(n, small, mesh, held, kRoundRobin);
+  INFO(r.error);
+  CHECK(r.status == TESSERA_ERROR_RENDER);
+  if (world_rank() == 0) {
+    CHECK_THAT(r.error, Catch::Contains("refinement level tables"));
+    CHECK_THAT(r.error, Catch::Contains("more than tessera.memory_limit_mb = 4 MiB"));
+  }
+  CHECK(run_on(n, replicated, mesh, held, kRoundRobin).status == TESSERA_OK);
 }

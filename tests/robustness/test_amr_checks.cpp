@@ -141,17 +141,11 @@ TEST_CASE("levels: the hierarchy the bad cases edit renders (each case fails for
 
 TEST_CASE("levels: a refinement pattern whose level tables exceed tessera.memory_limit_mb fails with the limit",
           "[insitu][amr][limits]") {
-  // 8 levels of ratio 4 over 4^3 cells; each finer level two 2^3-cell patches at opposite
-  // corners of the one below: 113 values in all, but each level's table spans its whole
-  // extent (the finest 65536 cells per axis)
+  // Few values, tables larger than the limit (amr_patches.h DeepCorners)
   TempDir dir;
-  const AmrMeshSpec spec{{4, 4, 4}, TESSERA_CELL, {4, 4, 4, 4, 4, 4, 4}};
-  std::vector<AmrBoxSpec> boxes{{0, {0, 0, 0}, {4, 4, 4}}};
-  for (int l = 1; l < 8; ++l) {
-    const std::int64_t far = spec.extent(l, 0) - 2;
-    boxes.push_back({l, {0, 0, 0}, {2, 2, 2}});
-    boxes.push_back({l, {far, far, far}, {2, 2, 2}});
-  }
+  const tessera_test::DeepCorners deep;
+  const AmrMeshSpec& spec = deep.spec;
+  const std::vector<AmrBoxSpec>& boxes = deep.boxes;
   const HeldPatches held(spec, boxes, ramp);
   // What the renderer would allocate for its tables, from the boxes alone: above the limit
   std::vector<tessera::AmrPatch> patches;
