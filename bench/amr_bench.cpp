@@ -3,7 +3,7 @@
 // figures and writes CSV rows.
 //
 //   amr_bench [--csv FILE] [--grid N] [--image W H] [--spp S] [--reps R] [--threads T]
-//             [--levels L] [--ratio R] [--macrocell E]
+//             [--levels L] [--ratio R] [--macrocell E] [--haze H]
 //
 // The scene: cell data over the unit cube, a faint smooth haze everywhere and a sharp hot spot
 // (a Gaussian of width 0.03) that only the finer levels resolve. Level 0 has N^3 cells; each
@@ -37,6 +37,7 @@ using Clock = std::chrono::steady_clock;
 
 struct Args : tessera::bench::BenchArgs {
   int levels = 2, ratio = 2, macrocell = 8;
+  double haze = 0.08;  ///< the smooth background's amplitude; 0: empty space around the spot
 };
 
 Args parse(int argc, char** argv) {
@@ -49,6 +50,7 @@ Args parse(int argc, char** argv) {
     if (s == "--levels") a.levels = std::atoi(next());
     else if (s == "--ratio") a.ratio = std::atoi(next());
     else if (s == "--macrocell") a.macrocell = std::atoi(next());
+    else if (s == "--haze") a.haze = std::atof(next());
     else return false;
     return true;
   });
@@ -60,11 +62,12 @@ Args parse(int argc, char** argv) {
 }
 
 const Vec3 kSpot(0.62, 0.55, 0.45);
+double g_haze = 0.08;
 
 double field(const Vec3& x) {
   const Vec3 d = x - kSpot;
   const double spot = std::exp(-glm::dot(d, d) / (2.0 * 0.03 * 0.03));
-  const double haze = 0.08 * (1.0 + std::sin(6.0 * x.x) * std::cos(5.0 * x.y + 2.0 * x.z));
+  const double haze = g_haze * (1.0 + std::sin(6.0 * x.x) * std::cos(5.0 * x.y + 2.0 * x.z));
   return std::min(1.0, spot + haze);
 }
 
@@ -131,6 +134,7 @@ double rmse(const std::vector<float>& a, const std::vector<float>& b) {
 
 int main(int argc, char** argv) {
   const Args a = parse(argc, argv);
+  g_haze = a.haze;
   const std::int64_t n0 = a.grid;
   // The hierarchy: level l over the cube of side 1 / 2^(l+1) around the spot
   std::vector<std::vector<float>> data;
@@ -178,16 +182,21 @@ int main(int argc, char** argv) {
   const tessera::PreparedScene amr = tessera::prepare(f, scene(a, n0, a.macrocell), nullptr);
   const int half = std::max(1, a.macrocell / 2);
   const tessera::PreparedScene amr_half = tessera::prepare(f, scene(a, n0, half), nullptr);
-  Result ru, ra, rh;
+  // The noise floor: the uniform field with another seed
+  tessera::SceneDesc other = scene(a, nf, a.macrocell);
+  other.options.seed = 2;
+  const tessera::PreparedScene uniform2 = tessera::prepare(fine_view, other);
+  Result ru, ra, rh, r2;
+  run(uniform2, r2);
   for (int r = 0; r < a.reps; ++r) {
     run(uniform, ru);
     run(amr, ra);
     run(amr_half, rh);
   }
   const double spp_total = double(a.width) * a.height * a.spp;
-  std::printf("amr_bench: level 0 %lld^3 cells, %d levels of ratio %d, %.2f M samples in the hierarchy vs %.2f M in "
+  std::printf("amr_bench: level 0 %lld^3 cells, %d levels of ratio %d, haze %g, %.2f M samples in the hierarchy vs %.2f M in "
               "the uniform %lld^3 field; %dx%d, %d spp, %d thread(s), best of %d\n",
-              static_cast<long long>(n0), a.levels, a.ratio, samples / 1e6, double(nf) * nf * nf / 1e6,
+              static_cast<long long>(n0), a.levels, a.ratio, a.haze, samples / 1e6, double(nf) * nf * nf / 1e6,
               static_cast<long long>(nf), a.width, a.height, a.spp, a.threads, a.reps);
   std::printf("%-28s %9s %8s %14s %14s %12s\n", "variant", "time s", "x unif", "lookups/sample", "M lookups/s",
               "rmse vs unif");
@@ -200,6 +209,7 @@ int main(int argc, char** argv) {
         << r.best / ru.best << "," << lk / spp_total << "," << rmse(r.rgb, ru.rgb) << "\n";
   };
   row("uniform finest", ru, a.macrocell);
+  row("uniform finest, other seed", r2, a.macrocell);
   row("hierarchy, macrocell E", ra, a.macrocell);
   row("hierarchy, macrocell E/2", rh, half);
   return 0;
