@@ -194,10 +194,11 @@ int main(int argc, char** argv) {
     run(amr_half, rh);
   }
   const double spp_total = double(a.width) * a.height * a.spp;
-  std::printf("amr_bench: level 0 %lld^3 cells, %d levels of ratio %d, haze %g, %.2f M samples in the hierarchy vs %.2f M in "
-              "the uniform %lld^3 field; %dx%d, %d spp, %d thread(s), best of %d\n",
-              static_cast<long long>(n0), a.levels, a.ratio, a.haze, samples / 1e6, double(nf) * nf * nf / 1e6,
-              static_cast<long long>(nf), a.width, a.height, a.spp, a.threads, a.reps);
+  std::printf(
+      "amr_bench: level 0 %lld^3 cells, %d levels of ratio %d, haze %g, %.2f M samples in the hierarchy vs %.2f M in "
+      "the uniform %lld^3 field; %dx%d, %d spp, %d thread(s), best of %d\n",
+      static_cast<long long>(n0), a.levels, a.ratio, a.haze, samples / 1e6, double(nf) * nf * nf / 1e6,
+      static_cast<long long>(nf), a.width, a.height, a.spp, a.threads, a.reps);
   std::printf("%-28s %9s %8s %14s %14s %12s\n", "variant", "time s", "x unif", "lookups/sample", "M lookups/s",
               "rmse vs unif");
   std::ofstream csv(a.csv, std::ios::app);
