@@ -16,6 +16,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "fake_brick_service.h"
 #include "kernel/kernel_dispatch.h"
 #include "sampling/rng.h"
 #include "scene/prepared_scene_impl.h"
@@ -34,6 +35,7 @@ using tessera::AmrField;
 using tessera::AmrPatch;
 using tessera::Association;
 using tessera::Color;
+using tessera::FieldSummary;
 using tessera::FieldView;
 using tessera::Vec3;
 
@@ -467,4 +469,84 @@ TEST_CASE("amr: malformed hierarchies are refused, naming the patch, level and a
   const double xs[4] = {0.0, 1.0, 2.5, 3.0};
   s.geometry.coords[0] = xs;
   CHECK_THROWS_WITH(tessera::prepare(meta, s, nullptr), Catch::Contains("not supported yet"));
+}
+
+TEST_CASE("amr: distributed mode (other patches through the brick cache) renders the replicated image",
+          "[amr][render][paged]") {
+  for (const Association assoc : {Association::Vertex, Association::Cell}) {
+    const bool cell = assoc == Association::Cell;
+    const std::int64_t dims[3] = {8, 7, 6};
+    Hierarchy h(dims, assoc, {2, 4}, Vec3(0.0), Vec3(0.125));
+    const AmrBox l1 = cell ? box(1, 4, 2, 2, 8, 8, 8) : box(1, 4, 2, 2, 7, 7, 7);
+    const AmrBox l2 = cell ? box(2, 20, 12, 12, 12, 8, 12) : box(2, 20, 12, 12, 9, 9, 9);
+    std::vector<AmrBox> boxes = cut(box(0, 0, 0, 0, 8, 7, 6), 1, 4);
+    for (const AmrBox& b : cut(l1, 0, 3)) boxes.push_back(b);
+    for (const AmrBox& b : cut(l2, 2, 5)) boxes.push_back(b);
+    for (const AmrBox& b : boxes) h.add(b, wavy);
+    const AmrField& whole = h.finish();
+    tessera::SceneDesc s = lit_scene(h.geometry(), tessera::Bounds{Vec3(0.0), Vec3(1.0, 0.875, 0.75)}, 0.0, 1.0);
+    s.options.threads = 2;
+    const tessera::Film ref = tessera_test::render_film(tessera::prepare(whole, s, nullptr));
+    // The virtual grid holding every patch, as the other ranks would serve it
+    const int shift = 2;
+    const tessera::AmrVirtualLayout layout = tessera::amr_virtual_layout(whole, assoc, boxes, shift);
+    std::vector<double> grid(static_cast<std::size_t>(layout.dims[0] * layout.dims[1] * layout.dims[2]), -7.0);
+    for (std::size_t n = 0; n < boxes.size(); ++n) {
+      const AmrBox& b = boxes[n];
+      std::size_t q = 0;
+      for (std::int64_t k = 0; k < b.dims[2]; ++k)
+        for (std::int64_t j = 0; j < b.dims[1]; ++j)
+          for (std::int64_t i = 0; i < b.dims[0]; ++i) {
+            const std::int64_t x = layout.base[b.level][0] + b.offset[0] + i;
+            const std::int64_t y = layout.base[b.level][1] + b.offset[1] + j;
+            const std::int64_t z = layout.base[b.level][2] + b.offset[2] + k;
+            REQUIRE(x < layout.dims[0]);
+            REQUIRE(y < layout.dims[1]);
+            REQUIRE(z < layout.dims[2]);
+            grid[static_cast<std::size_t>((z * layout.dims[1] + y) * layout.dims[0] + x)] = h.data[n][q++];
+          }
+    }
+    const FieldView grid_view =
+        FieldView::contiguous(grid.data(), tessera::DType::Float64, layout.dims[0], layout.dims[1], layout.dims[2]);
+    const tessera::BrickGrid bg = tessera::BrickGrid::make(layout.dims, tessera::DType::Float64, shift);
+    for (const int own : {0, 1, 2}) {  // patches this rank holds: none, every other one, all but the first
+      std::vector<AmrPatch> patches(h.patches);
+      for (std::size_t n = 0; n < patches.size(); ++n) {
+        const bool mine = own == 2 ? n != 0 : (own == 1 && n % 2 == 0);
+        if (!mine) patches[n].view.data = nullptr;
+      }
+      AmrField d = whole;
+      d.patches = patches;
+      tessera::BrickCache cache(bg, 6);  // a few slots: flushes too
+      d.cache = &cache;
+      d.layout = layout;
+      const int edge =
+          tessera::majorant_edge(FieldView::contiguous(nullptr, tessera::DType::Float64, 8, 7, 6), s.integrator);
+      // The summary from this rank's parts and the others' (as the ranks would combine them)
+      FieldSummary::Parts mine = tessera::amr_summary_parts(d, assoc, edge);
+      AmrField others = whole;
+      std::vector<AmrPatch> theirs(h.patches);
+      for (std::size_t n = 0; n < theirs.size(); ++n)
+        if (patches[n].view.data != nullptr) theirs[n].view.data = nullptr;
+      others.patches = theirs;
+      others.cache = &cache;
+      const FieldSummary::Parts rest = tessera::amr_summary_parts(others, assoc, edge);
+      for (std::size_t c = 0; c < mine.lo.size(); ++c) {
+        mine.lo[c] = std::min(mine.lo[c], rest.lo[c]);
+        mine.hi[c] = std::max(mine.hi[c], rest.hi[c]);
+        mine.flags[c] |= rest.flags[c];
+      }
+      mine.nan += rest.nan;
+      mine.vmin = std::min(mine.vmin, rest.vmin);
+      mine.vmax = std::max(mine.vmax, rest.vmax);
+      tessera::FieldLayout fl;
+      fl.dtype = tessera::DType::Float64;
+      const auto summary = FieldSummary::from_parts(std::move(mine), fl, edge);
+      tessera_test::FakeBrickService service(cache, grid_view);
+      const tessera::Film film = tessera_test::render_film(tessera::prepare(d, s, summary));
+      INFO((cell ? "cell" : "vertex") << ", own " << own << ": " << cache.stats().fetched << " bricks fetched");
+      CHECK(cache.stats().fetched > 0);
+      CHECK(same_pixels(film, ref));
+    }
+  }
 }

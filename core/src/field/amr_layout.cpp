@@ -193,6 +193,37 @@ void check_amr_boxes(const AmrField& meta, Association assoc, std::span<const Am
   }
 }
 
+AmrVirtualLayout amr_virtual_layout(const AmrField& meta, Association assoc, std::span<const AmrBox> boxes,
+                                    int brick_shift) {
+  (void)assoc;
+  AmrVirtualLayout v;
+  const std::int64_t brick = std::int64_t{1} << brick_shift;
+  std::int64_t x = 0, y = 1, z = 1;
+  for (int l = 0; l < meta.nlevels && l < kMaxAmrLevels; ++l) {
+    std::int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+    for (const AmrBox& b : boxes)
+      if (b.level == l)
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], b.offset[a]);
+          hi[a] = std::max(hi[a], b.offset[a] + b.dims[a]);
+        }
+    if (lo[0] > hi[0]) continue;  // no patch at this level
+    v.base[l][0] = x - lo[0];
+    v.base[l][1] = -lo[1];
+    v.base[l][2] = -lo[2];
+    x += (hi[0] - lo[0] + brick - 1) / brick * brick;
+    y = std::max(y, hi[1] - lo[1]);
+    z = std::max(z, hi[2] - lo[2]);
+    if (x > (std::int64_t{1} << 40))
+      throw std::invalid_argument("refinement levels: the distributed grid of the levels' patches would exceed 2^40 "
+                                  "elements along x");
+  }
+  v.dims[0] = std::max<std::int64_t>(x, 1);
+  v.dims[1] = y;
+  v.dims[2] = z;
+  return v;
+}
+
 void check_amr(const AmrField& field, Association assoc) {
   const auto name = [&](std::size_t n) {
     return n < field.names.size() && !field.names[n].empty() ? field.names[n] : "patch " + std::to_string(n);
@@ -200,7 +231,13 @@ void check_amr(const AmrField& field, Association assoc) {
   std::vector<AmrBox> boxes(field.patches.size());
   for (std::size_t n = 0; n < field.patches.size(); ++n) {
     const AmrPatch& p = field.patches[n];
-    p.view.validate(name(n));
+    if (p.view.data == nullptr && field.cache != nullptr) {
+      // Another rank's patch (distributed mode): its dims only
+      for (int a = 0; a < 3; ++a)
+        if (p.view.dims[a] < 1) throw std::invalid_argument(name(n) + ": no real element along " + kAxis[a]);
+    } else {
+      p.view.validate(name(n));
+    }
     if (p.view.dtype != field.dtype)
       throw std::invalid_argument(name(n) + " is " + dtype_name(p.view.dtype) + ", the hierarchy " +
                                   dtype_name(field.dtype));

@@ -23,8 +23,7 @@ std::int64_t cells_along(std::int64_t dims, int edge) {
 
 }  // namespace
 
-std::shared_ptr<const FieldSummary> amr_summary(const AmrField& f, Association assoc, int edge) {
-  check_amr(f, assoc);
+FieldSummary::Parts amr_summary_parts(const AmrField& f, Association assoc, int edge) {
   FieldSummary::Parts parts;
   for (int a = 0; a < 3; ++a) parts.cells[a] = cells_along(f.dims[a], edge);
   const std::size_t ncell = static_cast<std::size_t>(parts.cells[0] * parts.cells[1] * parts.cells[2]);
@@ -34,6 +33,7 @@ std::shared_ptr<const FieldSummary> amr_summary(const AmrField& f, Association a
   const double E = static_cast<double>(edge);
   std::vector<std::int64_t> c0[3], c1[3];
   for (const AmrPatch& p : f.patches) {
+    if (p.view.data == nullptr) continue;  // another rank's (distributed mode)
     const double R = static_cast<double>(f.scale(p.level));
     const double shift = assoc == Association::Cell ? 0.5 * R - 0.5 : 0.0;
     // Per axis, each of the patch's samples' macrocell range
@@ -84,10 +84,15 @@ std::shared_ptr<const FieldSummary> amr_summary(const AmrField& f, Association a
           }
     });
   }
+  return parts;
+}
+
+std::shared_ptr<const FieldSummary> amr_summary(const AmrField& f, Association assoc, int edge) {
+  check_amr(f, assoc);
   FieldLayout layout;
   layout.dtype = f.dtype;
   for (int a = 0; a < 3; ++a) layout.dims[a] = f.dims[a];
-  return FieldSummary::from_parts(std::move(parts), layout, edge);
+  return FieldSummary::from_parts(amr_summary_parts(f, assoc, edge), layout, edge);
 }
 
 }  // namespace tessera

@@ -1,7 +1,7 @@
 #pragma once
 /// AmrFieldView: how the kernels read a hierarchy of refinement levels (amr.h), in the medium's
 /// p space of level 0 (grid_medium.h: sample i of level 0 at p = i). Trivially copyable; it
-/// points into the tables that prepare() built (field/amr_tables.h) and into the patches.
+/// points into the tables that prepare() built (scene/amr_tables.h) and into the patches.
 ///
 /// A lookup at p: the macrocell's level table says the finest level any patch reaches there;
 /// from that level down, the level's stencil table (one entry per 2^shift stencil cells of
@@ -21,9 +21,12 @@
 namespace tessera {
 
 /// Where a patch's samples are: global sample (i, j, k) of its level at byte address
-/// origin + i s0 + j s1 + k s2, for lo <= (i, j, k) < hi.
+/// origin + i s0 + j s1 + k s2, for lo <= (i, j, k) < hi; or, for another rank's patch
+/// (remote, distributed mode), at virtual element vbase + (i, j, k) of the paged grid.
 struct AmrPatchAddress {
   std::intptr_t origin = 0;
+  bool remote = false;
+  std::int64_t vbase[3] = {0, 0, 0};
   std::int64_t s[3] = {0, 0, 0};
   std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
   bool holds(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -56,6 +59,8 @@ struct AmrFieldView {
   int nlevels = 0;  ///< 0: not a hierarchy
   AmrLevelView level[8];
   const AmrPatchAddress* patch = nullptr;
+  /// Distributed mode: the virtual grid (amr.h AmrVirtualLayout) remote patches are read from.
+  PagedFieldView paged;
   /// Per macrocell of the majorant grid (x fastest): the finest level any patch reaches there.
   const std::uint8_t* finest = nullptr;
   std::int64_t nc[3] = {1, 1, 1};
@@ -83,6 +88,13 @@ struct AmrFieldView {
   /// in p's macrocell.
   double gradient_step(const Vec3& p) const { return 1.0 / level[finest_at(p)].scale; }
 
+  /// Sample (i, j, k) of patch P's level (inside P), as double.
+  double load(const AmrPatchAddress& P, std::int64_t i, std::int64_t j, std::int64_t k) const {
+    if (!P.remote) [[likely]]
+      return detail::load_as_double(dtype, P.at(i, j, k));
+    return paged.load(P.vbase[0] + i, P.vbase[1] + j, P.vbase[2] + k);
+  }
+
   /// The value of level l at p into *out if its stencil is present there.
   bool value_at(int l, const Vec3& p, double nf_lo, double nf_hi, double* out) const {
     const AmrLevelView& L = level[l];
@@ -106,8 +118,7 @@ struct AmrFieldView {
     double c[8];
     if (e >= 0) {
       const AmrPatchAddress& P = patch[e];
-      for (int q = 0; q < 8; ++q)
-        c[q] = detail::load_as_double(dtype, P.at(q & 1 ? i1[0] : i0[0], q & 2 ? i1[1] : i0[1], q & 4 ? i1[2] : i0[2]));
+      for (int q = 0; q < 8; ++q) c[q] = load(P, q & 1 ? i1[0] : i0[0], q & 2 ? i1[1] : i0[1], q & 4 ? i1[2] : i0[2]);
     } else {
       const std::uint32_t b = L.first[-2 - e], end = L.first[-1 - e];
       for (int q = 0; q < 8; ++q) {
@@ -115,7 +126,7 @@ struct AmrFieldView {
         std::uint32_t m = b;
         while (m < end && !patch[L.cand[m]].holds(i, j, k)) ++m;
         if (m == end) return false;
-        c[q] = detail::load_as_double(dtype, patch[L.cand[m]].at(i, j, k));
+        c[q] = load(patch[L.cand[m]], i, j, k);
       }
     }
     for (double& x : c)

@@ -4,11 +4,11 @@
 #include <tessera/camera.h>
 #include <tessera/render.h>
 
-#include "field/amr_tables.h"
 #include "field/majorant_grid.h"
 #include "kernel/kernel_scene.h"
 #include "lights/environment.h"
 #include "lights/light_set.h"
+#include "scene/amr_tables.h"
 #include "scene/axis_tables.h"
 
 #include <vector>

@@ -22,8 +22,10 @@ class AmrTables {
   static constexpr std::uint64_t kMaxTableEntries = std::uint64_t{1} << 20;
 
   /// Builds the tables of a checked hierarchy (check_amr) for macrocells of `edge` level-0
-  /// samples, `cells` of them per axis.
-  void build(const AmrField& field, Association assoc, int edge, const std::int64_t cells[3]);
+  /// samples, `cells` of them per axis; `paged` (distributed mode): the virtual grid remote
+  /// patches are read through.
+  void build(const AmrField& field, Association assoc, int edge, const std::int64_t cells[3],
+             const PagedFieldView* paged = nullptr);
   /// The kernels' view (points into this object and the patches).
   const AmrFieldView& view() const { return m_view; }
   std::uint64_t bytes() const;

@@ -1,4 +1,4 @@
-#include "field/amr_tables.h"
+#include "scene/amr_tables.h"
 
 #include <algorithm>
 #include <cmath>
@@ -70,8 +70,10 @@ std::int64_t cells_along(std::int64_t dims, int edge) {
 
 }  // namespace
 
-void AmrTables::build(const AmrField& f, Association assoc, int edge, const std::int64_t cells[3]) {
+void AmrTables::build(const AmrField& f, Association assoc, int edge, const std::int64_t cells[3],
+                      const PagedFieldView* paged) {
   m_view = AmrFieldView{};
+  if (paged) m_view.paged = *paged;
   m_view.dtype = f.dtype;
   m_view.nlevels = f.nlevels;
   // Patch addresses
@@ -79,6 +81,8 @@ void AmrTables::build(const AmrField& f, Association assoc, int edge, const std:
   for (std::size_t n = 0; n < f.patches.size(); ++n) {
     const AmrPatch& p = f.patches[n];
     AmrPatchAddress& A = m_patch[n];
+    A.remote = p.view.data == nullptr;
+    for (int a = 0; a < 3; ++a) A.vbase[a] = f.layout.base[p.level][a];
     std::intptr_t origin = reinterpret_cast<std::intptr_t>(p.view.data);
     for (int a = 0; a < 3; ++a) {
       A.s[a] = p.view.byte_strides[a];
