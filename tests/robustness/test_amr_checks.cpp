@@ -13,6 +13,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -172,4 +174,40 @@ TEST_CASE("levels: a refinement pattern whose level tables exceed tessera.memory
   CHECK_THAT(o.error, Contains("refinement level tables"));
   CHECK_THAT(o.error, Contains("more than tessera.memory_limit_mb = 4 MiB"));
   CHECK(!std::filesystem::exists(dir.file("deep") + "/view_0002.exr"));
+}
+
+TEST_CASE("levels: nine thousand small patches are checked and rendered (checks cost per patch, not per pair)",
+          "[insitu][amr][limits]") {
+  // Level 0: 20^3 one-cell patches; level 1 (ratio 2) refining the middle 10^3 level-0 cells
+  // in 1000 patches of 2^3 cells; the same image as one patch per level
+  TempDir dir;
+  const AmrMeshSpec spec{{20, 20, 20}, TESSERA_CELL, {2}};
+  std::vector<AmrBoxSpec> small, whole{{0, {0, 0, 0}, {20, 20, 20}}, {1, {10, 10, 10}, {20, 20, 20}}};
+  for (std::int64_t k = 0; k < 20; ++k)
+    for (std::int64_t j = 0; j < 20; ++j)
+      for (std::int64_t i = 0; i < 20; ++i) small.push_back({0, {i, j, k}, {1, 1, 1}});
+  for (std::int64_t k = 0; k < 10; ++k)
+    for (std::int64_t j = 0; j < 10; ++j)
+      for (std::int64_t i = 0; i < 10; ++i) small.push_back({1, {10 + 2 * i, 10 + 2 * j, 10 + 2 * k}, {2, 2, 2}});
+  const HeldPatches many(spec, small, tessera_test::blobs, 0);
+  const HeldPatches two(spec, whole, tessera_test::blobs, 0);
+  const auto image = [&](const std::string& out, const HeldPatches& held) {
+    Adapter ad;
+    REQUIRE(ad.open(dir.write("cfg_" + out + ".yaml",
+                              config_yaml(dir.file(out), render_yaml("view", "{every: 1}", "", "density", 24, 2)))) ==
+            TESSERA_OK);
+    ad.set_quiet(true);
+    const std::vector<tessera_domain> d = held.all();
+    const auto t0 = std::chrono::steady_clock::now();
+    const tessera_status st = ad.execute_domains(2, 0.0, spec.mesh(), d);
+    INFO(ad.last_error());
+    REQUIRE(st == TESSERA_OK);
+    WARN(out << ": " << held.size() << " patches in "
+             << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s");
+    return *ad.last_image("view");
+  };
+  const tessera::Image a = image("many", many);
+  const tessera::Image b = image("two", two);
+  REQUIRE(a.rgba.size() == b.rgba.size());
+  CHECK(std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)) == 0);
 }
