@@ -208,6 +208,16 @@ TEST_CASE("levels: ranks that disagree on the levels, or whose patches do not fi
            }
        },
        "rank 1 domain"},
+      {"rank 1 moves a level-2 patch out of level 1",
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         if (r != 1) return;
+         for (tessera_domain& x : d)
+           if (x.level == 2) {
+             x.offset[0] = x.offset[1] = x.offset[2] = 0;  // level 1 starts at level-0 cell 3
+             break;
+           }
+       },
+       "is not inside the region level 1 covers"},
   };
   for (const Case& c : cases) {
     DYNAMIC_SECTION(c.name) {
