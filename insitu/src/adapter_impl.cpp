@@ -249,6 +249,7 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
     m_call.pub = Publication{};
     m_call.assembled_key.reset();
     m_call.assembled = FieldView{};
+    m_call.assembled_patches.clear();
     return status;
   } catch (const std::exception& e) {
     try {

@@ -22,7 +22,9 @@ struct BlockRecord {
   std::int64_t offset[3];
   std::int64_t dims[3];
   std::int32_t rank;
-  std::int32_t domain;  ///< the caller's domain index; -1: tessera_execute's single block
+  std::int32_t domain;      ///< the caller's domain index; -1: tessera_execute's single block
+  std::int32_t level = 0;   ///< refinement level (amr_layout.h); 0 for a single-level mesh
+  std::int32_t unused = 0;  ///< (padding, sent as bytes: kept zero)
 };
 
 /// The box comparisons the failure path makes at most to name an overlapping pair.

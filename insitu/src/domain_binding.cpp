@@ -3,6 +3,7 @@
 
 #include "hash64.h"
 
+#include <tessera/amr.h>
 #include <tessera/loop_bounds.h>
 #include <tessera/number_text.h>
 
@@ -57,9 +58,20 @@ void check_mesh(const tessera_mesh& m) {
   const int assoc = association_value(m);
   if (assoc != TESSERA_VERTEX && assoc != TESSERA_CELL)
     fail("mesh: association " + std::to_string(assoc) + " is neither TESSERA_VERTEX (0) nor TESSERA_CELL (1)");
-  if (m.nlevels != 1)
-    fail("mesh: nlevels = " + std::to_string(m.nlevels) +
-         ": refinement levels (AMR) are not yet supported, nlevels must be 1");
+  if (m.nlevels < 1 || m.nlevels > kMaxAmrLevels)
+    fail("mesh: nlevels = " + std::to_string(m.nlevels) + ", must be in [1, " + std::to_string(kMaxAmrLevels) +
+         "] (1 = a single level; refinement levels 0 .. nlevels - 1)");
+  // Refinement: nlevels - 1 ratios, each 2 or 4
+  if (m.nlevels > 1 && !m.refinement)
+    fail("mesh: refinement is NULL with nlevels = " + std::to_string(m.nlevels) + " (it must point to " +
+         std::to_string(m.nlevels - 1) + " ratios, each 2 or 4)");
+  std::int64_t finest = 1;  // R of the finest level: level-0 spacing / finest spacing
+  for (int l = 0; l + 1 < m.nlevels; ++l) {
+    if (m.refinement[l] != 2 && m.refinement[l] != 4)
+      fail("mesh: refinement[" + std::to_string(l) + "] = " + std::to_string(m.refinement[l]) + " (level " +
+           std::to_string(l) + " -> " + std::to_string(l + 1) + "), must be 2 or 4");
+    finest *= m.refinement[l];
+  }
   double lo[3], hi[3], h = INFINITY;
   for (int a = 0; a < 3; ++a) {
     if (m.global_dims[a] < 1 || m.global_dims[a] > INT_MAX)
@@ -78,6 +90,10 @@ void check_mesh(const tessera_mesh& m) {
       h = std::min(h, s);
       continue;
     }
+    if (m.nlevels > 1)
+      fail("mesh: coords" + axis(a) + " is set (a rectilinear axis) with nlevels = " + std::to_string(m.nlevels) +
+           ": rectilinear axes with refinement levels (AMR) are not yet supported; give axis " +
+           std::string(1, kAxis[a]) + " a uniform spacing");
     const double* c = m.coords[a];
     const std::int64_t n = coord_count(m, a);
     for (std::int64_t q = 0; q < n; ++q) {
@@ -92,13 +108,21 @@ void check_mesh(const tessera_mesh& m) {
     lo[a] = c[0];
     hi[a] = c[n - 1];
   }
-  // Within 2^40 smallest spacings of 0 (loop_bounds.h), as tessera_grid
+  // Within 2^40 smallest spacings of 0 (loop_bounds.h), as tessera_grid; with levels, the
+  // finest level's spacing
+  h /= static_cast<double>(finest);
   if (std::isfinite(h))
     for (int a = 0; a < 3; ++a)
       if (!(std::fabs(lo[a]) <= kMaxCoordinateVoxels * h && std::fabs(hi[a]) <= kMaxCoordinateVoxels * h))
         fail("mesh: along " + std::string(1, kAxis[a]) + " it spans [" + short_number(lo[a]) + ", " +
              short_number(hi[a]) + "], beyond 2^40 smallest spacings (" + short_number(kMaxCoordinateVoxels * h) +
              ") from 0, where a double no longer resolves an element");
+}
+
+std::int64_t level_extent(const tessera_mesh& mesh, int level, int a) {
+  std::int64_t r = 1;
+  for (int l = 0; l < level; ++l) r *= mesh.refinement[l];
+  return cell_data(mesh) ? mesh.global_dims[a] * r : (mesh.global_dims[a] - 1) * r + 1;
 }
 
 bool mesh_valid(const tessera_mesh* mesh) noexcept {
@@ -115,6 +139,10 @@ std::uint64_t mesh_hash(const tessera_mesh& m) {
   std::uint64_t words[3] = {static_cast<std::uint64_t>(association_value(m)), static_cast<std::uint64_t>(m.nlevels), 0};
   for (int a = 0; a < 3; ++a) words[2] |= (m.coords[a] ? 1u : 0u) << a;
   std::uint64_t h = fnv1a64(std::string_view(reinterpret_cast<const char*>(words), sizeof words));
+  if (m.nlevels > 1)
+    h = fnv1a64(std::string_view(reinterpret_cast<const char*>(m.refinement),
+                                 static_cast<std::size_t>(m.nlevels - 1) * sizeof(int)),
+                h);
   for (int a = 0; a < 3; ++a)
     if (m.coords[a])
       h = fnv1a64(std::string_view(reinterpret_cast<const char*>(m.coords[a]),
@@ -134,6 +162,8 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
 
   FieldBinding b;
   b.domains = true;
+  b.nlevels = mesh->nlevels;
+  for (int l = 0; l + 1 < mesh->nlevels; ++l) b.refinement[l] = mesh->refinement[l];
   for (int a = 0; a < 3; ++a) {
     b.placement.global_dims[a] = mesh->global_dims[a];
     b.placement.offset[a] = 0;
@@ -164,11 +194,11 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
   if (ndomains == 0) return b;
 
   // Domain 0's field list, sorted by name: every domain must publish the same
-  const auto list_of = [](const tessera_domain& d, std::int64_t index) {
+  const auto list_of = [&](const tessera_domain& d, std::int64_t index) {
     const std::string who = "domain " + std::to_string(index);
-    if (d.level != 0)
-      fail(who + ": level " + std::to_string(d.level) +
-           ": refinement levels (AMR) are not yet supported, every domain's level must be 0");
+    if (d.level < 0 || d.level >= mesh->nlevels)
+      fail(who + ": level " + std::to_string(d.level) + " is outside [0, " + std::to_string(mesh->nlevels) +
+           ") (the mesh's nlevels = " + std::to_string(mesh->nlevels) + ")");
     if (d.nfields < 0 || (d.nfields > 0 && !d.fields))
       fail(who + ": field list is invalid (fields = " + std::string(d.fields ? "non-null" : "NULL") +
            ", nfields = " + std::to_string(d.nfields) + ")");
@@ -217,13 +247,16 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
     FieldBlock block;
     block.view = bind_array(f, label);
     block.domain = static_cast<int>(n);
+    block.level = d.level;
     for (int a = 0; a < 3; ++a) {
       block.offset[a] = d.offset[a];
-      if (d.offset[a] < 0 || block.view.dims[a] > mesh->global_dims[a] - d.offset[a])
+      const std::int64_t extent = level_extent(*mesh, d.level, a);
+      if (d.offset[a] < 0 || block.view.dims[a] > extent - d.offset[a])
         fail(label + ": real elements [" + std::to_string(d.offset[a]) + ".." +
              std::to_string(d.offset[a] + block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" +
-             axis(a) + " = " + std::to_string(d.offset[a]) + ") leave the mesh's [0.." +
-             std::to_string(mesh->global_dims[a]) + ")");
+             axis(a) + " = " + std::to_string(d.offset[a]) + ") leave " +
+             (d.level == 0 ? std::string("the mesh's") : "level " + std::to_string(d.level) + "'s") + " [0.." +
+             std::to_string(extent) + ")");
     }
     b.blocks.push_back(block);
   }

@@ -88,7 +88,7 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
 std::string field_label(const tessera_field& f) { return std::string("field '") + (f.name ? f.name : "(null)") + "'"; }
 
 bool FieldBinding::whole() const {
-  if (blocks.size() != 1) return false;
+  if (blocks.size() != 1 || nlevels > 1) return false;
   for (int a = 0; a < 3; ++a)
     if (blocks[0].offset[a] != 0 || blocks[0].view.dims[a] != placement.global_dims[a]) return false;
   return true;

@@ -7,6 +7,7 @@
 /// the fault (TESSERA_ERROR_DATA at the adapter boundary).
 #include "parallel_context.h"
 
+#include <tessera/amr.h>
 #include <tessera/field_view.h>
 #include <tessera/scene.h>
 #include <tessera/tessera.h>
@@ -28,8 +29,12 @@ struct FieldBinding {
   Bounds global_bounds;            ///< world bounds of the whole domain
   std::vector<FieldBlock> blocks;  ///< every block of this rank (tessera_execute: one, domain -1)
   bool domains = false;            ///< bound from tessera_execute_domains
-  /// The blocks are one block covering the whole grid (then the field is read in place on
-  /// one rank, with no replica).
+  /// Refinement levels (tessera_mesh's nlevels, refinement): 1 = a single level; blocks'
+  /// FieldBlock::level in [0, nlevels); refinement[l] (2 or 4) takes level l to l + 1.
+  int nlevels = 1;
+  int refinement[kMaxAmrLevels - 1] = {};
+  /// The blocks are one block covering the whole grid of a single-level mesh (then the field
+  /// is read in place on one rank, with no replica).
   bool whole() const;
 };
 

@@ -1,6 +1,8 @@
 // FieldPlan: replicated or distributed, the cache's size, and the memory check (field_plan.h).
 #include "field_plan.h"
 
+#include "amr_layout.h"
+
 #include <tessera/brick_cache.h>
 #include <tessera/config/build_scene.h>
 #include <tessera/config/render_memory.h>
@@ -36,7 +38,7 @@ int brick_shift(const std::int64_t global_dims[3]) {
 }
 
 FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding, int ranks,
-                     int ranks_on_node, bool root) {
+                     int ranks_on_node, bool root, const AmrLayout* amr) {
   const int node_ranks = std::max(1, ranks_on_node);
   FieldView global;  // dims only: what the footprint reads (and which axes are rectilinear)
   for (int a = 0; a < 3; ++a) global.dims[a] = binding.placement.global_dims[a];
@@ -56,17 +58,25 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   plan.limit_text = std::move(limit.text);
   plan.cache_fraction = cfg.global.brick_cache;
   // One rank reads a field held whole in place; several domains on one rank get a replica
-  const bool replica = ranks > 1 || (binding.domains && !binding.whole());
-  if (replica) plan.replica_share = field_bytes(binding) / static_cast<std::uint64_t>(node_ranks);
+  // (refinement levels: one rank reads every patch in place; several share a node replica
+  // of every patch)
+  const bool replica = amr ? ranks > 1 : ranks > 1 || (binding.domains && !binding.whole());
+  if (replica)
+    plan.replica_share = (amr ? amr->patch_bytes() : field_bytes(binding)) / static_cast<std::uint64_t>(node_ranks);
   switch (cfg.global.distribution) {
     case config::Distribution::Replicated: plan.distributed = false; break;
     case config::Distribution::Distributed: plan.distributed = ranks > 1; break;
-    case config::Distribution::Auto: plan.distributed = ranks > 1 && plan.replica_share > plan.limit / 2; break;
+    case config::Distribution::Auto:
+      // (refinement levels render replicated only, for now)
+      plan.distributed = !amr && ranks > 1 && plan.replica_share > plan.limit / 2;
+      break;
   }
   if (!plan.distributed) {
     MemoryEstimate e = plan.base;
-    if (ranks > 1) e.add("field replica (this rank's share of its node's)", plan.replica_share);
-    else if (replica) e.add("field replica (the domains' copy)", plan.replica_share);
+    const char* what = amr ? "refinement levels' replica" : "field replica";
+    if (ranks > 1) e.add(std::string(what) + " (this rank's share of its node's)", plan.replica_share);
+    else if (replica) e.add(std::string(what) + " (the domains' copy)", plan.replica_share);
+    if (amr) e.add("refinement level tables", amr->table_bytes(f.macrocell_edge));
     if (e.total() > plan.limit) over_limit(e, plan);
   }
   return plan;

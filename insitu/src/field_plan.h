@@ -56,10 +56,16 @@ std::string small_cache_warning(const BrickGrid& grid, std::size_t capacity, int
 int brick_shift(const std::int64_t global_dims[3]);
 inline constexpr int kMaxBrickShift = 5;  ///< bricks of at most 32^3 vertices
 
+struct AmrLayout;  // amr_layout.h
+
 /// The plan for `spec` on this rank (ranks: the communicator's size). Throws
 /// std::runtime_error naming the estimate and the limit when even the chosen mode does not fit.
+/// `amr`: the checked layout of a mesh with refinement levels (nullptr: a single level); the
+/// estimate then counts this rank's share of the node's replica of every patch (several
+/// ranks; one rank reads them in place) and the level tables (AmrLayout::table_bytes), and
+/// `auto` stays replicated (distributed mode does not take levels yet).
 FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding, int ranks,
-                     int ranks_on_node, bool root);
+                     int ranks_on_node, bool root, const AmrLayout* amr = nullptr);
 
 /// Sets plan.shift / capacity for distributed mode and checks the limit (throws like
 /// plan_field); after the ranks have agreed on distributed for `auto`. The cache holds at most

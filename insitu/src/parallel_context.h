@@ -6,6 +6,7 @@
 /// rank) and parallel_context_mpi*.cpp (TESSERA_WITH_MPI). Every member is collective: all ranks
 /// of the communicator call it in the same order. Errors throw std::runtime_error; callers must
 /// first agree() on local failures so that no rank is left waiting in a collective.
+#include <tessera/amr.h>
 #include <tessera/brick_cache.h>
 #include <tessera/field_summary.h>
 #include <tessera/field_view.h>
@@ -21,8 +22,11 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace tessera::insitu {
+
+struct AmrLayout;  // amr_layout.h
 
 /// Where this rank's real vertices sit in the global grid (see tessera_grid in tessera.h).
 struct GlobalPlacement {
@@ -37,6 +41,9 @@ struct FieldBlock {
   /// The caller's domain index (tessera_execute_domains), or -1 for tessera_execute's single
   /// block (messages then say "rank r" instead of "rank r domain d").
   int domain = -1;
+  /// Refinement level (amr.h); offset and view.dims count elements of this level. 0 for a
+  /// single-level mesh.
+  int level = 0;
 };
 
 /// The ranks' fields do not fit together: boxes of real vertices that overlap, leave a gap,
@@ -120,6 +127,21 @@ class ParallelContext {
   /// and domains.
   virtual FieldView assemble_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3],
                                     DType dtype) = 0;
+
+  /// Refinement levels (amr_layout.h): every rank learns every rank's boxes (FieldBlock::level,
+  /// offset, dims; one allgather as assemble_blocks makes) and checks them as one hierarchy of
+  /// `meta` (dtype, level-0 dims, nlevels, ratios; check_amr_boxes), the boxes named "rank R
+  /// domain D". Throws LayoutError alike on every rank (also when ranks disagree on dtype,
+  /// dims or levels). Costs no copy of values: the memory plan reads the layout first.
+  virtual AmrLayout amr_layout(std::span<const FieldBlock> blocks, const AmrField& meta, Association assoc) = 0;
+  /// Replicated mode over refinement levels: the hierarchy's patches, readable on this rank,
+  /// in the layout's (rank, domain) order; the same list on every rank up to memory
+  /// addresses. One rank: the views of its blocks themselves (zero copy). Several ranks:
+  /// every patch copied into one replica per node (MPI-3 shared window, as assemble_blocks;
+  /// other nodes' patches received by one alltoallw straight into place), each dense C
+  /// order, valid until the next assemble or the destruction of the context. `blocks`: this
+  /// rank's blocks as passed to amr_layout(), which made `layout`.
+  virtual std::vector<AmrPatch> assemble_amr(std::span<const FieldBlock> blocks, const AmrLayout& layout) = 0;
 
   /// Distributed mode (docs/mpi.md): the summary of the global field for macrocell edge `edge`
   /// from every rank's partial summary of its own block, combined by reductions (bit-identical

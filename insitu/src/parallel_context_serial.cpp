@@ -1,4 +1,5 @@
 // ParallelContext without MPI: one rank, every collective is the identity.
+#include "amr_layout.h"
 #include "block_ops.h"
 #include "parallel_context.h"
 
@@ -26,6 +27,12 @@ class SerialContext final : public ParallelContext {
 
   FieldView assemble_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3], DType dtype) override {
     return assemble_one_rank(blocks, global, dtype, m_replica);
+  }
+  AmrLayout amr_layout(std::span<const FieldBlock> blocks, const AmrField& meta, Association assoc) override {
+    return amr_layout_one_rank(blocks, meta, assoc);
+  }
+  std::vector<AmrPatch> assemble_amr(std::span<const FieldBlock> blocks, const AmrLayout& layout) override {
+    return patches_in_place(in_domain_order(blocks), layout);  // one rank: zero copy
   }
   std::shared_ptr<const FieldSummary> summarize_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3],
                                                        DType dtype, int edge) override {

@@ -210,7 +210,8 @@ std::string grid_difference(const CallRecord& mine, const CallRecord& ref, int r
     return who + " has origin " + vec3(a) + ", rank 0 has " + vec3(b);
   }
   if (mine.mesh_hash != ref.mesh_hash)
-    return who + "'s mesh differs from rank 0's in its association, levels or rectilinear coordinates";
+    return who + "'s mesh differs from rank 0's in its association, refinement levels (nlevels, ratios) or rectilinear "
+                 "coordinates";
   return {};
 }
 

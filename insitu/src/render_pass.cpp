@@ -1,5 +1,6 @@
 #include "render_pass.h"
 
+#include "amr_layout.h"
 #include "block_ops.h"
 #include "domain_binding.h"
 #include "error_policy.h"
@@ -88,6 +89,13 @@ class Pass {
                }))
       return std::move(m_out);
 
+    // Refinement levels: every rank's boxes checked as one hierarchy, on every rank alike
+    if (m_binding.nlevels > 1 && !phase(TESSERA_ERROR_DATA, [&] {
+          m_amr = m_ctx.amr_layout(m_binding.blocks, amr_meta(m_binding, m_binding.local.dtype),
+                                   m_binding.geometry.association);
+        }))
+      return std::move(m_out);
+
     // Summaries carried from the last call: kept only if every rank may keep them
     SummaryCache::Entry& entry = m_summaries.entry(m_field_name);
     if (!entry.decided) {
@@ -115,11 +123,20 @@ class Pass {
     // Memory and distribution: the render's own allocations (replica or brick cache, film,
     // images, envmap), estimated before any of them is made; after the `when` decision, so a
     // render that does not fire is not refused. `auto` is decided on every rank, then agreed.
-    if (!phase(TESSERA_ERROR_RENDER,
-               [&] { m_plan = plan_field(m_cfg, m_spec, m_binding, m_ctx.size(), m_ctx.ranks_on_node(), root); }))
+    if (!phase(TESSERA_ERROR_RENDER, [&] {
+          m_plan = plan_field(m_cfg, m_spec, m_binding, m_ctx.size(), m_ctx.ranks_on_node(), root,
+                              m_amr ? &*m_amr : nullptr);
+        }))
       return std::move(m_out);
     if (m_cfg.global.distribution == config::Distribution::Auto && m_ctx.size() > 1)
       m_plan.distributed = m_ctx.any(m_plan.distributed);
+    // (the same answer on every rank: the config is the same and `auto` stays replicated)
+    if (m_amr && m_plan.distributed && !phase(TESSERA_ERROR_DATA, [&] {
+          throw std::invalid_argument("mesh: nlevels = " + std::to_string(m_binding.nlevels) +
+                                      ": refinement levels (AMR) in distributed mode are not yet supported; use "
+                                      "tessera.distribution: replicated (or auto)");
+        }))
+      return std::move(m_out);
     if (m_plan.distributed) {
       if (!phase(TESSERA_ERROR_RENDER, [&] { plan_distributed(m_plan, m_binding); })) return std::move(m_out);
       // One brick cut for all: the finest any rank chose (their limits may differ). Every rank
@@ -142,6 +159,12 @@ class Pass {
             m_call.assembled_key.reset();  // distribute() frees the replica
             m_paged = m_ctx.distribute_blocks(m_binding.blocks, m_binding.placement.global_dims, m_binding.local.dtype,
                                               m_plan.shift, m_plan.capacity);
+          } else if (m_amr) {
+            if (m_call.assembled_key != m_spec.field) {
+              m_call.assembled_key.reset();
+              m_call.assembled_patches = m_ctx.assemble_amr(m_binding.blocks, *m_amr);
+              m_call.assembled_key = m_spec.field;
+            }
           } else if (m_call.assembled_key != m_spec.field) {
             m_call.assembled_key.reset();
             m_call.assembled =
@@ -294,7 +317,8 @@ class Pass {
     // so all skip the reduction alike), or on one rank, where the global field is this
     // rank's view, the one this call made or makes now for prepare; else a pass here
     SummaryCache::Entry& entry = m_summaries.entry(m_field_name);
-    // (One rank with several domains: no summary of the whole field before the replica)
+    // (One rank with several domains, or levels: no summary of the whole field before the
+    // replica; whole() is false with levels)
     const bool whole = m_ctx.size() == 1 && m_binding.whole();
     std::shared_ptr<const FieldSummary> s = entry.kept || whole ? entry.find(0) : nullptr;
     if (!s && whole) {
@@ -328,6 +352,14 @@ class Pass {
           summary =
               m_ctx.summarize_blocks(m_binding.blocks, m_binding.placement.global_dims, m_binding.local.dtype, edge);
         m_ctx.serve_while([&] { prepared = prepare(m_paged, scene, summary); });
+      } else if (m_amr) {
+        // Refinement levels: the hierarchy, its summary (amr_summary) at level 0's edge
+        AmrField field = m_amr->meta;
+        field.patches = m_call.assembled_patches;
+        FieldView level0;
+        level0.dtype = field.dtype;
+        for (int a = 0; a < 3; ++a) level0.dims[a] = field.dims[a];
+        prepared = prepare(field, scene, entry.find(majorant_edge(level0, scene.integrator)));
       } else {
         prepared = prepare(m_call.assembled, scene, entry.find(majorant_edge(m_call.assembled, scene.integrator)));
       }
@@ -483,9 +515,10 @@ class Pass {
   CallData& m_call;
   SummaryCache& m_summaries;
   FieldBinding m_binding;
-  FieldPlan m_plan;          ///< replicated or distributed, and the cache's size
-  PagedField m_paged;        ///< distributed mode: this rank's block and the brick cache
-  std::string m_field_name;  ///< the simulation's name of the bound field
+  std::optional<AmrLayout> m_amr;  ///< refinement levels: every rank's boxes (empty: one level)
+  FieldPlan m_plan;                ///< replicated or distributed, and the cache's size
+  PagedField m_paged;              ///< distributed mode: this rank's block and the brick cache
+  std::string m_field_name;        ///< the simulation's name of the bound field
   PassOutcome m_out;
   Clock::time_point m_start;  ///< when this render began (its time limit counts from here)
   Clock::time_point m_deadline = Clock::time_point::max();  ///< tessera.time_limit; max = none

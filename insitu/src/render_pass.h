@@ -72,6 +72,9 @@ struct CallData {
   /// The last assembled field (valid until the next assemble).
   std::optional<std::string> assembled_key;
   FieldView assembled;
+  /// Refinement levels: the last assembled hierarchy's patches (ParallelContext::assemble_amr;
+  /// assembled_key names its field).
+  std::vector<AmrPatch> assembled_patches;
 };
 
 struct PassOutcome {

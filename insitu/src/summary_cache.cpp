@@ -19,14 +19,26 @@ SummaryKey SummaryKey::of(const FieldBinding& binding) {
   std::uint64_t h = fnv1a64({});
   for (const FieldBlock& b : binding.blocks) {
     const FieldLayout l = FieldLayout::of(b.view);
-    const std::uint64_t words[12] = {
-        reinterpret_cast<std::uintptr_t>(l.data),      static_cast<std::uint64_t>(l.dtype),
-        static_cast<std::uint64_t>(l.dims[0]),         static_cast<std::uint64_t>(l.dims[1]),
-        static_cast<std::uint64_t>(l.dims[2]),         static_cast<std::uint64_t>(l.byte_strides[0]),
-        static_cast<std::uint64_t>(l.byte_strides[1]), static_cast<std::uint64_t>(l.byte_strides[2]),
-        static_cast<std::uint64_t>(b.offset[0]),       static_cast<std::uint64_t>(b.offset[1]),
-        static_cast<std::uint64_t>(b.offset[2]),       static_cast<std::uint64_t>(b.domain)};
+    const std::uint64_t words[12] = {reinterpret_cast<std::uintptr_t>(l.data),
+                                     static_cast<std::uint64_t>(l.dtype),
+                                     static_cast<std::uint64_t>(l.dims[0]),
+                                     static_cast<std::uint64_t>(l.dims[1]),
+                                     static_cast<std::uint64_t>(l.dims[2]),
+                                     static_cast<std::uint64_t>(l.byte_strides[0]),
+                                     static_cast<std::uint64_t>(l.byte_strides[1]),
+                                     static_cast<std::uint64_t>(l.byte_strides[2]),
+                                     static_cast<std::uint64_t>(b.offset[0]),
+                                     static_cast<std::uint64_t>(b.offset[1]),
+                                     static_cast<std::uint64_t>(b.offset[2]),
+                                     static_cast<std::uint32_t>(b.domain) | static_cast<std::uint64_t>(b.level) << 32};
     h = fnv1a64(std::string_view(reinterpret_cast<const char*>(words), sizeof words), h);
+  }
+  // Refinement levels: the ratios too (a single level hashes as before)
+  if (binding.nlevels > 1) {
+    const int levels[kMaxAmrLevels] = {binding.nlevels,       binding.refinement[0], binding.refinement[1],
+                                       binding.refinement[2], binding.refinement[3], binding.refinement[4],
+                                       binding.refinement[5], binding.refinement[6]};
+    h = fnv1a64(std::string_view(reinterpret_cast<const char*>(levels), sizeof levels), h);
   }
   k.blocks_hash = h;
   return k;

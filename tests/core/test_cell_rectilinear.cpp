@@ -142,38 +142,6 @@ std::vector<float> random_field(tessera::Rng& rng, std::int64_t nx, std::int64_t
   return f;
 }
 
-/// Random rays through the medium's box (faces and outer half cells included), in p space:
-/// every segment the macrocell walk reports bounds sigma_t at its ends and inside, and the
-/// walk covers the whole ray. Counts violations into bad.
-template <class M>
-void walk_rays(const M& m, bool cell, tessera::Rng& rng, int& bad, int& segments) {
-  CHECK(m.outer_half == cell);
-  for (int r = 0; r < 200; ++r) {
-    // Rays between random points of the box (faces and outer half cells included), in p
-    Vec3 pa, pb;
-    for (int a = 0; a < 3; ++a) {
-      const double lo = m.box_lo[a], hi = m.box_hi[a];
-      pa[a] = lo + (hi - lo) * (r % 7 == 0 ? std::round(rng.uniform()) : rng.uniform());
-      pb[a] = lo + (hi - lo) * rng.uniform();
-    }
-    const double len = glm::length(pb - pa);
-    if (!(len > 1e-9)) continue;
-    const Vec3 dv = (pb - pa) / len;
-    double covered = 0.0;
-    tessera::traverse_macrocells(m, pa, dv, 0.0, len, [&](double ta, double tb, double maj) {
-      ++segments;
-      covered += tb - ta;
-      for (int k = 0; k < 6; ++k) {
-        const double t = k == 0 ? ta : (k == 1 ? tb : ta + (tb - ta) * rng.uniform());
-        if (!(m.sigma_t(pa + t * dv) <= maj)) ++bad;
-      }
-      return false;
-    });
-    // The walk covers the whole segment (the outer half cells included)
-    if (!(std::fabs(covered - len) <= 1e-9 * (1.0 + len))) ++bad;
-  }
-}
-
 }  // namespace
 
 TEST_CASE("cell data is the clamped trilinear field of its centres over the whole cells' box", "[cell][medium]") {
@@ -423,7 +391,7 @@ TEST_CASE("majorants bound the extinction along the walk under rectilinear axes 
     tessera::with_value(ks, [&](auto tag) {
       using V = typename decltype(tag)::type;
       if constexpr (tessera::GridMedium<V>::kRectilinear) ++rectilinear_trials;
-      walk_rays(tessera::make_medium<V>(ks), cell, rng, bad, segments);
+      tessera_test::walk_rays(tessera::make_medium<V>(ks), cell, rng, bad, segments);
     });
   }
   CHECK(rectilinear_trials > 10);

@@ -5,8 +5,11 @@
 #include <tessera/render.h>
 #include <tessera/scene.h>
 
+#include <catch2/catch.hpp>
+
 #include "field/majorant_grid.h"
 #include "kernel/grid_medium.h"
+#include "sampling/rng.h"
 
 #include <cmath>
 #include <cstdint>
@@ -160,6 +163,38 @@ inline std::vector<float> blobby_field(int nx, int ny, int nz) {
             static_cast<float>(std::fmin(1.0, shell + blob + 0.3 * ripple));
       }
   return f;
+}
+
+/// Random rays through the medium's box (faces and outer half cells included), in p space:
+/// every segment the macrocell walk reports bounds sigma_t at its ends and inside, and the
+/// walk covers the whole ray. Counts violations into bad.
+template <class M>
+inline void walk_rays(const M& m, bool cell, tessera::Rng& rng, int& bad, int& segments) {
+  CHECK(m.outer_half == cell);
+  for (int r = 0; r < 200; ++r) {
+    // Rays between random points of the box (faces and outer half cells included), in p
+    tessera::Vec3 pa, pb;
+    for (int a = 0; a < 3; ++a) {
+      const double lo = m.box_lo[a], hi = m.box_hi[a];
+      pa[a] = lo + (hi - lo) * (r % 7 == 0 ? std::round(rng.uniform()) : rng.uniform());
+      pb[a] = lo + (hi - lo) * rng.uniform();
+    }
+    const double len = glm::length(pb - pa);
+    if (!(len > 1e-9)) continue;
+    const tessera::Vec3 dv = (pb - pa) / len;
+    double covered = 0.0;
+    tessera::traverse_macrocells(m, pa, dv, 0.0, len, [&](double ta, double tb, double maj) {
+      ++segments;
+      covered += tb - ta;
+      for (int k = 0; k < 6; ++k) {
+        const double t = k == 0 ? ta : (k == 1 ? tb : ta + (tb - ta) * rng.uniform());
+        if (!(m.sigma_t(pa + t * dv) <= maj)) ++bad;
+      }
+      return false;
+    });
+    // The walk covers the whole segment (the outer half cells included)
+    if (!(std::fabs(covered - len) <= 1e-9 * (1.0 + len))) ++bad;
+  }
 }
 
 }  // namespace tessera_test

@@ -260,9 +260,12 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
        "different dtypes"},
       {"rank 1's nlevels is 2",
        [](int r, tessera_mesh& m, auto&) {
-         if (r == 1) m.nlevels = 2;
+         static const int ratio2[1] = {2};
+         if (r != 1) return;
+         m.nlevels = 2;
+         m.refinement = ratio2;
        },
-       "not yet"},
+       "levels"},
       {"rank 1 calls tessera_execute", {}, "tessera_execute", 1},
   };
   for (const Case& c : cases) {

@@ -1,6 +1,6 @@
 // tessera_execute_domains' checks on one rank: bad meshes and domains (overlaps, gaps,
 // domains outside the mesh, non-finite or non-increasing coordinates, ghosts larger than the
-// array, NULL or mismatched field lists, refinement levels, NULL arguments, ndomains out of
+// array, NULL or mismatched field lists, levels out of range, NULL arguments, ndomains out of
 // range) fail at once with TESSERA_ERROR_DATA naming the domain, field and axis, and write
 // nothing. (Ranks that disagree: tests/mpi/test_domains_mpi.cpp.)
 #include "domain_cuts.h"
@@ -122,12 +122,12 @@ TEST_CASE("domains: bad meshes and domains fail with TESSERA_ERROR_DATA naming w
          d[0].nfields = 2;
        },
        {"domain 0", "published twice"}},
-      {"AMR levels",
+      {"AMR levels without their ratios",
        [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.nlevels = 2; },
-       {"nlevels = 2", "not yet"}},
-      {"a domain at level 1",
+       {"refinement is NULL", "nlevels = 2"}},
+      {"a domain at level 1 of a single-level mesh",
        [](tessera_mesh&, std::vector<tessera_domain>& d, HeldDomains&) { d[3].level = 1; },
-       {"domain 3", "level 1", "not yet"}},
+       {"domain 3", "level 1", "outside [0, 1)"}},
       {"bad association",
        [](tessera_mesh& m, std::vector<tessera_domain>&, HeldDomains&) { m.association = tessera_association(7); },
        {"association 7"}},

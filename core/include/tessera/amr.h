@@ -18,6 +18,7 @@
 /// never depends on how a level is cut into patches or spread over ranks. Ghost layers are
 /// never read. A field linear in x, y, z has the same value at every level (trilinear
 /// interpolation reproduces it, and a cell average of a linear function is its centre value).
+#include <tessera/brick_cache.h>
 #include <tessera/field_summary.h>
 #include <tessera/field_view.h>
 #include <tessera/scene.h>
@@ -43,16 +44,31 @@ struct AmrPatch {
   FieldView view;
 };
 
+/// Distributed mode: the grid through which a rank reads the patches other ranks hold. Each
+/// level's patches' bounding box is placed in one virtual grid, side by side along x (each at a
+/// multiple of the brick edge); sample s of level l (inside that box) is virtual element
+/// base[l] + s. The virtual grid's bricks (brick_cache.h) are fetched from the patches'
+/// owners; elements no patch holds are never read.
+struct AmrVirtualLayout {
+  std::int64_t dims[3] = {1, 1, 1};
+  std::int64_t base[8][3] = {};
+};
+
 /// A hierarchy as prepare() takes it. The patches are borrowed: their memory must stay valid
 /// and unchanged while a scene prepared from them lives.
 struct AmrField {
   DType dtype = DType::Float32;
-  std::int64_t dims[3] = {0, 0, 0};  ///< level-0 elements per axis (>= 1)
-  int nlevels = 1;                   ///< 1 .. kMaxAmrLevels
+  std::int64_t dims[3] = {0, 0, 0};   ///< level-0 elements per axis (>= 1)
+  int nlevels = 1;                    ///< 1 .. kMaxAmrLevels
   int ratio[kMaxAmrLevels - 1] = {};  ///< ratio[l]: level l -> l+1, each 2 or 4
   std::span<const AmrPatch> patches;  ///< every patch of every level, any order
   /// Names the patch in messages (the caller's rank and domain); empty: "patch N".
   std::vector<std::string> names;
+  /// Distributed mode: the patches this rank does not hold have view.data null (dims and
+  /// dtype set) and are read through `cache`, whose grid is `layout.dims` of the dtype; null:
+  /// every patch is readable here.
+  BrickCache* cache = nullptr;
+  AmrVirtualLayout layout;
 
   /// Elements of level l along axis a (see the file comment); association as the geometry's.
   std::int64_t level_dims(int l, int a, Association assoc) const;
@@ -73,6 +89,12 @@ struct AmrBox {
 void check_amr_boxes(const AmrField& meta, Association assoc, std::span<const AmrBox> boxes,
                      const std::function<std::string(std::size_t)>& name);
 
+/// The virtual grid of distributed mode for these boxes (every rank's patches) with bricks of
+/// 2^brick_shift elements. Throws std::invalid_argument when it would exceed 2^40 elements
+/// along an axis.
+AmrVirtualLayout amr_virtual_layout(const AmrField& meta, Association assoc, std::span<const AmrBox> boxes,
+                                    int brick_shift);
+
 /// The hierarchy's structural checks, in O(N log N + N_l N_{l+1} / bins) for N patches:
 /// nlevels in [1, kMaxAmrLevels]; ratios 2 or 4; every patch's view valid, of the dtype, at a
 /// level in [0, nlevels), inside its level's extent; no two patches of one level overlap;
@@ -91,5 +113,10 @@ std::uint64_t amr_table_bytes(const AmrField& field, Association assoc, int edge
 /// that a point of the macrocell can interpolate from, so majorants derived from it are
 /// conservative. Bit-identical for any cut of the same levels into patches.
 std::shared_ptr<const FieldSummary> amr_summary(const AmrField& field, Association assoc, int edge);
+
+/// The summary's parts from the patches this rank holds (view.data non-null) only: combining
+/// every rank's parts (FieldSummary::Parts: min, max, or, sum) and FieldSummary::from_parts
+/// give amr_summary() of the whole hierarchy, bit for bit. The hierarchy must be checked.
+FieldSummary::Parts amr_summary_parts(const AmrField& field, Association assoc, int edge);
 
 }  // namespace tessera

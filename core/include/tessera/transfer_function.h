@@ -3,12 +3,15 @@
 /// ends. Stored inline (no heap) so that kernels can copy them; at most kMaxPoints points.
 #include <tessera/math.h>
 
+#include <cstdint>
 #include <type_traits>
 #include <vector>
 
 namespace tessera {
 
 inline constexpr int kMaxTfPoints = 64;
+/// Bins of [0, 1) in a ScalarTF's segment table (detail::tf_eval_binned).
+inline constexpr int kTfBins = 256;
 
 namespace detail {
 /// Index i such that x[i] <= u < x[i+1], for n >= 2 and x[0] <= u < x[n-1].
@@ -34,6 +37,27 @@ inline V tf_eval(const double* x, const V* v, int n, double u) {
   const double t = w > 0.0 ? (u - x[i]) / w : 1.0;
   return v[i] * (1.0 - t) + v[i + 1] * t;
 }
+
+/// tf_eval with a segment table: seg[b] is the segment of u = b / kTfBins (clamped into the
+/// points' range), so the segment of any u in [0, 1) is found by a table load and a forward
+/// walk over the points inside its bin (usually none) instead of a binary search. The same
+/// segment, hence the same result bit for bit, as tf_eval.
+template <class V>
+inline V tf_eval_binned(const double* x, const V* v, const std::uint8_t* seg, int n, double u) {
+  if (n == 0) return V(0.0);
+  if (u <= x[0]) return v[0];
+  if (u >= x[n - 1]) return v[n - 1];
+  int i;
+  if (u >= 0.0 && u < 1.0) {
+    i = seg[static_cast<int>(u * kTfBins)];
+    while (x[i + 1] <= u) ++i;
+  } else {
+    i = tf_segment(x, n, u);
+  }
+  const double w = x[i + 1] - x[i];
+  const double t = w > 0.0 ? (u - x[i]) / w : 1.0;
+  return v[i] * (1.0 - t) + v[i + 1] * t;
+}
 }  // namespace detail
 
 /// Scalar TF. Points must have non-decreasing x (equal x allowed: a step). Empty = zero.
@@ -44,7 +68,8 @@ class ScalarTF {
   ScalarTF(const std::vector<double>& xs, const std::vector<double>& vs);
   static ScalarTF constant(double v) { return ScalarTF({0.0}, {v}); }
 
-  double eval(double u) const { return detail::tf_eval(m_x, m_v, m_n, u); }
+  /// Inline, table-driven (detail::tf_eval_binned): the opacity is evaluated at every lookup.
+  double eval(double u) const { return detail::tf_eval_binned(m_x, m_v, m_seg, m_n, u); }
   /// Exact maximum of the TF over [u0, u1] (u0 <= u1), from the end values and the points
   /// strictly inside: a piecewise-linear function peaks at a point or an end.
   double max_over(double u0, double u1) const;
@@ -58,6 +83,7 @@ class ScalarTF {
   int m_n = 0;
   double m_x[kMaxTfPoints] = {};
   double m_v[kMaxTfPoints] = {};
+  std::uint8_t m_seg[kTfBins] = {};  ///< segment of u = b / kTfBins (tf_eval_binned)
 };
 
 /// RGB TF; same rules as ScalarTF.

@@ -32,6 +32,17 @@ ScalarTF::ScalarTF(const std::vector<double>& xs, const std::vector<double>& vs)
     m_x[i] = xs[i];
     m_v[i] = vs[i];
   }
+  // Segment table: for each bin start, the segment i with x[i] <= u < x[i+1] (clamped into
+  // [x[0], x[n-1]); a bin start past the last point is never looked up)
+  for (int b = 0; b < kTfBins; ++b) {
+    const double u = static_cast<double>(b) / kTfBins;
+    int i = 0;
+    if (m_n >= 2 && u > m_x[0]) {
+      if (u >= m_x[m_n - 1]) i = m_n - 2;
+      else i = detail::tf_segment(m_x, m_n, u);
+    }
+    m_seg[b] = static_cast<std::uint8_t>(i);
+  }
 }
 
 double ScalarTF::max_over(double u0, double u1) const {

@@ -13,6 +13,7 @@
 #include <tessera/transfer_function.h>
 
 #include "field/majorant_grid.h"
+#include "kernel/amr_view.h"
 #include "kernel/axis_map.h"
 
 #include <algorithm>
@@ -31,16 +32,22 @@ struct PagedValue {};
 template <class T>
 struct Rectilinear {};
 
-/// A Value's load type and whether it carries rectilinear axes.
+/// The kernels' Value for a hierarchy of refinement levels (amr.h): every value comes from
+/// AmrFieldView::value (the dtype is read per load, as for PagedValue).
+struct AmrValue {};
+
+/// A Value's load type and whether it carries rectilinear axes or refinement levels.
 template <class V>
 struct ValueTraits {
   using base = V;
   static constexpr bool kRectilinear = false;
+  static constexpr bool kAmr = std::is_same_v<V, AmrValue>;
 };
 template <class T>
 struct ValueTraits<Rectilinear<T>> {
   using base = T;
   static constexpr bool kRectilinear = true;
+  static constexpr bool kAmr = false;
 };
 
 /// How a GridMedium<T> reads vertices: in place for a real dtype, through the brick cache
@@ -52,6 +59,10 @@ struct FieldAccessor {
 template <>
 struct FieldAccessor<PagedValue> {
   using type = PagedFieldView;
+};
+template <>
+struct FieldAccessor<AmrValue> {
+  using type = AmrFieldView;
 };
 template <class T>
 struct FieldAccessor<Rectilinear<T>> : FieldAccessor<T> {};
@@ -78,6 +89,9 @@ struct GridMedium {
   /// (per axis: uniform arithmetic, or the AxisMap); otherwise only the uniform arithmetic
   /// is compiled.
   static constexpr bool kRectilinear = ValueTraits<T>::kRectilinear;
+  /// An AmrValue: value() is the hierarchy's (amr_view.h); gradients step one sample of the
+  /// finest level in the macrocell.
+  static constexpr bool kAmr = ValueTraits<T>::kAmr;
   /// Cell data: the outermost macrocells reach over the outer half cell to the box.
   bool outer_half = false;
   double box_lo[3] = {0.0, 0.0, 0.0};  ///< the medium's box in p: vertex data [0, n - 1]
@@ -107,11 +121,16 @@ struct GridMedium {
   /// Trilinear value at point p (clamped to the samples: over the outer half cell of cell
   /// data, the nearest centre's value along each axis).
   double value(const Vec3& p) const {
-    if constexpr (kRectilinear) return value_rectilinear(p);
-    std::int64_t i0[3], i1[3];
-    double f[3];
-    for (int a = 0; a < 3; ++a) locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
-    return blend(i0, i1, f);
+    if constexpr (kAmr) {
+      return field.value(p, tf->lo, tf->hi);
+    } else if constexpr (kRectilinear) {
+      return value_rectilinear(p);
+    } else {
+      std::int64_t i0[3], i1[3];
+      double f[3];
+      for (int a = 0; a < 3; ++a) locate_uniform(a, p[a], &i0[a], &i1[a], &f[a]);
+      return blend(i0, i1, f);
+    }
   }
 
   /// value() where some axis is rectilinear: that axis' segment from its AxisMap.
@@ -149,10 +168,12 @@ struct GridMedium {
   /// units of 1 / voxel. Six field lookups.
   Vec3 gradient_voxel(const Vec3& p) const {
     Vec3 g(0.0);
+    double step = 1.0;
+    if constexpr (kAmr) step = field.gradient_step(p);
     for (int a = 0; a < 3; ++a) {
       Vec3 pm = p, pp = p;
-      pm[a] = std::clamp(p[a] - 1.0, 0.0, hi_index[a]);
-      pp[a] = std::clamp(p[a] + 1.0, 0.0, hi_index[a]);
+      pm[a] = std::clamp(p[a] - step, 0.0, hi_index[a]);
+      pp[a] = std::clamp(p[a] + step, 0.0, hi_index[a]);
       const double h = pp[a] - pm[a];
       if (h > 0.0) g[a] = (u(pp) - u(pm)) / h;
     }

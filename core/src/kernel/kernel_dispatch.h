@@ -24,11 +24,13 @@ struct TypeTag {
   using type = T;
 };
 
-/// Calls fn(TypeTag<V>{}) with V the kernels' Value for the scene: PagedValue when the field
+/// Calls fn(TypeTag<V>{}) with V the kernels' Value for the scene: AmrValue for a hierarchy of
+/// refinement levels (ks.amr.nlevels > 0), PagedValue when the field
 /// is paged (ks.paged.cache set), else the C++ type of the field's dtype; wrapped in
 /// Rectilinear<> when some axis is rectilinear.
 template <class Fn>
 decltype(auto) with_value(const KernelScene& ks, Fn&& fn) {
+  if (ks.amr.nlevels > 0) return fn(TypeTag<AmrValue>{});
   const bool rect = ks.axis[0].coords || ks.axis[1].coords || ks.axis[2].coords;
   if (ks.paged.cache != nullptr) return rect ? fn(TypeTag<Rectilinear<PagedValue>>{}) : fn(TypeTag<PagedValue>{});
   return dispatch_dtype(ks.field, [&](auto view) -> decltype(auto) {
@@ -42,7 +44,8 @@ template <class T>
 GridMedium<T> make_medium(const KernelScene& ks) {
   GridMedium<T> m;
   using Base = typename ValueTraits<T>::base;
-  if constexpr (std::is_same_v<Base, PagedValue>) m.field = ks.paged;
+  if constexpr (std::is_same_v<Base, AmrValue>) m.field = ks.amr;
+  else if constexpr (std::is_same_v<Base, PagedValue>) m.field = ks.paged;
   else m.field = typed<Base>(ks.field);
   for (int a = 0; a < 3; ++a) {
     m.n[a] = ks.field.dims[a];

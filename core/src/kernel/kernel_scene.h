@@ -13,6 +13,7 @@
 #include <tessera/tiles.h>
 #include <tessera/transfer_function.h>
 
+#include "kernel/amr_view.h"
 #include "kernel/axis_map.h"
 #include "lights/light_set.h"
 
@@ -34,6 +35,7 @@ struct KernelScene {
   // Medium: the field, its placement, its majorants and the transfer functions
   FieldView field;       ///< paged: the global dims and dtype, data null (never read)
   PagedFieldView paged;  ///< paged mode (brick_cache.h) when paged.cache is set
+  AmrFieldView amr;      ///< refinement levels (amr_view.h) when amr.nlevels > 0
   const TransferFunction* tf = nullptr;
   /// The medium's p space (grid_medium.h): p = (x - origin) * inv_spacing per axis. Uniform
   /// axis: origin the world position of sample 0 (a vertex, or the first cell's centre),

@@ -25,12 +25,14 @@ extern template TileKernel tile_kernel_for<std::uint16_t>();
 extern template TileKernel tile_kernel_for<float>();
 extern template TileKernel tile_kernel_for<double>();
 extern template TileKernel tile_kernel_for<PagedValue>();
+extern template TileKernel tile_kernel_for<AmrValue>();
 extern template PreviewKernel preview_kernel_for<std::uint8_t>();
 extern template PreviewKernel preview_kernel_for<std::int16_t>();
 extern template PreviewKernel preview_kernel_for<std::uint16_t>();
 extern template PreviewKernel preview_kernel_for<float>();
 extern template PreviewKernel preview_kernel_for<double>();
 extern template PreviewKernel preview_kernel_for<PagedValue>();
+extern template PreviewKernel preview_kernel_for<AmrValue>();
 // With some rectilinear axis (grid_medium.h), in the same translation units
 extern template TileKernel tile_kernel_for<Rectilinear<std::uint8_t>>();
 extern template PreviewKernel preview_kernel_for<Rectilinear<std::uint8_t>>();

@@ -4,6 +4,7 @@
 #include <tessera/number_text.h>
 
 #include "scene/adaptive_preview.h"
+#include "scene/amr_tables.h"
 #include "scene/axis_tables.h"
 #include "scene/prepared_scene_impl.h"
 #include "scene/tile_culling.h"
@@ -280,7 +281,8 @@ namespace {
 /// Everything prepare() derives once the field descriptor, its summary and (paged mode) the
 /// paged view are settled; the scene is validated.
 void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc& scene,
-                  std::shared_ptr<const FieldSummary> summary, const PagedFieldView* paged) {
+                  std::shared_ptr<const FieldSummary> summary, const PagedFieldView* paged,
+                  const AmrField* amr = nullptr) {
   p.desc = scene;
   p.field = field;
   const VolumeGeometry& g = scene.geometry;
@@ -315,6 +317,7 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
   // opaque at sub-voxel scale in double precision (loop_bounds.h)
   p.sigma_max = kMaxOpticalThicknessPerVoxel / h_min;
   p.grid.update(scene.tf, p.sigma_max);
+  if (amr) p.amr.build(*amr, g.association, p.grid.edge(), p.grid.cells(), paged);
   p.env = Environment(scene.background);
   p.lights = make_lights(scene, &p.env);
   p.has_emission = !scene.tf.emission.is_zero();
@@ -323,6 +326,7 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
   p.tile_culled = cull_tiles(p);
   p.kernel = make_kernel_scene(p);
   if (paged) p.kernel.paged = *paged;
+  if (amr) p.kernel.amr = p.amr.view();
   p.kernel.adaptive_scale = adaptive_preview_scale(p.kernel, scene.options);  // renders with the above
 }
 
@@ -370,6 +374,58 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shar
   PreparedSceneImpl& p = *ps.m_impl;
   p.summary_reused = true;  // never a pass over the values here
   prepare_from(p, global, scene, std::move(summary), &view);
+  return ps;
+}
+
+PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary) {
+  const VolumeGeometry& g = scene.geometry;
+  for (int a = 0; a < 3; ++a)
+    require(g.coords[a] == nullptr, std::string("refinement levels with a rectilinear axis (") + axis_name(a) +
+                                        ") are not supported yet: give uniform axes");
+  require(g.association == Association::Vertex || g.association == Association::Cell,
+          "volume association " + std::to_string(static_cast<int>(g.association)) + " is neither vertex nor cell");
+  check_amr(field, g.association);
+  // Level 0's descriptor: dims and dtype, no data (the values are the patches')
+  PagedField level0;
+  level0.dtype = field.dtype;
+  for (int a = 0; a < 3; ++a) level0.dims[a] = field.dims[a];
+  const FieldView global = global_descriptor(level0);
+  validate_scene(global, scene);
+  const int edge = majorant_edge(global, scene.integrator);
+  // Distributed mode: other ranks' patches through the cache over the virtual grid
+  PagedFieldView view;
+  if (field.cache) {
+    const BrickGrid& bg = field.cache->grid();
+    require(bg.dtype == field.dtype && bg.dims[0] == field.layout.dims[0] && bg.dims[1] == field.layout.dims[1] &&
+                bg.dims[2] == field.layout.dims[2],
+            "refinement levels: the brick cache is for a " + std::string(dtype_name(bg.dtype)) + " grid of " +
+                dims_text(bg.dims) + ", the levels' virtual grid is " + dtype_name(field.dtype) + " " +
+                dims_text(field.layout.dims));
+    require(summary != nullptr, "refinement levels in distributed mode: no field summary (the combined parts of "
+                                "every rank's patches, amr_summary_parts)");
+    view.dtype = field.dtype;
+    view.shift = bg.shift;
+    for (int a = 0; a < 3; ++a) {
+      view.dims[a] = bg.dims[a];
+      view.bricks[a] = bg.bricks[a];
+    }
+    view.cache = field.cache;
+  }
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  if (summary) {
+    require(summary->edge() == edge, "refinement levels: the field summary has macrocell edge " +
+                                         std::to_string(summary->edge()) + ", this scene needs " +
+                                         std::to_string(edge));
+    for (int a = 0; a < 3; ++a)
+      require(summary->cells()[a] == std::max<std::int64_t>(1, (field.dims[a] - 1 + edge - 1) / edge),
+              "refinement levels: the field summary's " + dims_text(summary->cells()) + " cells do not fit dims " +
+                  dims_text(field.dims) + " with edge " + std::to_string(edge));
+    p.summary_reused = true;
+  } else {
+    summary = amr_summary(field, g.association, edge);
+  }
+  prepare_from(p, global, scene, std::move(summary), field.cache ? &view : nullptr, &field);
   return ps;
 }
 

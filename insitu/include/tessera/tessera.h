@@ -93,7 +93,15 @@ typedef struct {                      /* the whole mesh; the same on every rank 
  * - A rectilinear axis (coords[a] non-NULL) is read in place, never copied; its values must be
  *   finite and strictly increasing, and spacing[a] is then ignored. A uniform axis needs a
  *   finite spacing[a] > 0. origin must be finite.
- * - nlevels must be 1 for now (refinement levels are not yet supported: TESSERA_ERROR_DATA). */
+ * - Refinement levels: nlevels in [1, 8]; with nlevels > 1, refinement points to nlevels - 1
+ *   ratios, each 2 or 4, and every axis is uniform (rectilinear axes with levels: not yet,
+ *   TESSERA_ERROR_DATA). Level l has (global_dims - 1) * R + 1 vertices (vertex data) or
+ *   global_dims * R cells (cell data) per axis, R the product of refinement[0 .. l-1]. Level 0's
+ *   domains cover the mesh; each finer level's domains lie inside the region of the level below
+ *   and do not overlap one another. A point takes the finest level whose interpolation stencil
+ *   lies in real elements of that level, so the image does not depend on how a level is cut
+ *   into domains or spread over ranks. Replicated mode only (distribution: distributed with
+ *   levels is TESSERA_ERROR_DATA, "not yet"; auto stays replicated). */
 
 /* One block this rank holds, never copied. */
 typedef struct {                      /* one block this rank holds, never copied */
@@ -107,8 +115,9 @@ typedef struct {                      /* one block this rank holds, never copied
  *   dtypes (in any order); strides and ghosts may differ from domain to domain.
  * - Ghost layers are skipped: the renderer reads every value from the domain that owns it
  *   (replica or brick cache), so ghosts are never needed and never read.
- * - Real (non-ghost) elements of all domains over all ranks may not overlap and must cover
- *   the whole mesh (level 0). */
+ * - Real (non-ghost) elements of all domains of one level over all ranks may not overlap;
+ *   level 0's must cover the whole mesh. offset and the arrays count elements of the
+ *   domain's level. */
 
 /* The most domains one rank may pass in one call (a larger ndomains is TESSERA_ERROR_DATA).
  * Checking how the domains of all ranks fit together costs O(N log N) time and about 128

@@ -38,6 +38,9 @@
 
 namespace tessera::insitu {
 
+/// One word for the ranks to compare: nlevels (8 bits) and each ratio (4 bits).
+std::int64_t levels_word(const AmrField& meta);
+
 /// Per-rank figures of the last assemble() / render(), for benchmarks and tests.
 struct MpiRenderReport {
   double render_seconds = 0.0;      ///< this rank: wall time in its grab-and-render loop
@@ -97,6 +100,8 @@ class MpiParallelContext final : public ParallelContext {
                                                        int edge) override;
   PagedField distribute_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3], DType dtype,
                                int shift, std::size_t capacity) override;
+  AmrLayout amr_layout(std::span<const FieldBlock> blocks, const AmrField& meta, Association assoc) override;
+  std::vector<AmrPatch> assemble_amr(std::span<const FieldBlock> blocks, const AmrLayout& layout) override;
   void serve_while(const std::function<void()>& fn) override;
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override;
   /// This rank's bytes moved by the last assemble() + render() (see MpiRenderReport; sum
@@ -121,10 +126,19 @@ class MpiParallelContext final : public ParallelContext {
   /// blocks in its order; `counts` (if non-null) receives the blocks per rank.
   std::vector<BlockRecord> check_boxes(std::span<const FieldBlock> blocks, const std::int64_t global[3], DType dtype,
                                        std::vector<int>* counts = nullptr);
+  /// check_boxes without the tiling check: the header checks (views, dtype, global dims, and
+  /// `levels`, a word every rank must pass alike: levels_word()), then every rank's blocks.
+  std::vector<BlockRecord> gather_boxes(std::span<const FieldBlock> blocks, const std::int64_t global[3], DType dtype,
+                                        std::int64_t levels, std::vector<int>* counts);
   void ensure_replica(std::uint64_t bytes);
   void free_replica();
   void exchange_boxes(std::span<const FieldBlock> blocks, const std::vector<BlockRecord>& all,
                       const std::vector<int>& counts, DType dtype);
+
+  // Refinement levels, replicated (parallel_context_mpi_amr.cpp)
+  /// Copies this rank's patches (`ordered`: its blocks in domain order) into its node's
+  /// replica and sends them to every other node's leader, which receives them in place.
+  void exchange_patches(std::span<const FieldBlock> ordered, const AmrLayout& layout);
 
   // Tile scheduler (parallel_context_mpi_tiles.cpp): render() with more than one rank is
   // share_film, render_grabbed_tiles, gather_film, reduce_stats, in that order on every rank.

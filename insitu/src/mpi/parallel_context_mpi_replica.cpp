@@ -28,7 +28,17 @@ struct RankHeader {
   std::int64_t dtype;
   std::int64_t view_ok;
   std::int64_t nblocks;
+  std::int64_t levels;  ///< levels_word(): nlevels and ratios (1 for a single level)
 };
+
+/// "nlevels 3 (ratios 2, 4)" from a levels_word.
+std::string levels_text(std::int64_t w) {
+  const int n = static_cast<int>(w & 0xff);
+  std::string s = "nlevels " + std::to_string(n);
+  for (int l = 0; l + 1 < n && l < kMaxAmrLevels - 1; ++l)
+    s += (l ? ", " : " (ratios ") + std::to_string((w >> (8 + 4 * l)) & 0xf) + (l + 2 == n ? ")" : "");
+  return s;
+}
 
 /// The bytes of `count` blocks, checked to fit an MPI count.
 int record_bytes(std::int64_t count) {
@@ -129,9 +139,26 @@ void MpiParallelContext::exchange_boxes(std::span<const FieldBlock> blocks, cons
   if (request != MPI_REQUEST_NULL) check(MPI_Wait(&request, MPI_STATUS_IGNORE), "MPI_Wait");
 }
 
+std::int64_t levels_word(const AmrField& meta) {
+  std::int64_t w = meta.nlevels & 0xff;
+  for (int l = 0; l + 1 < meta.nlevels && l < kMaxAmrLevels - 1; ++l)
+    w |= static_cast<std::int64_t>(meta.ratio[l] & 0xf) << (8 + 4 * l);
+  return w;
+}
+
 std::vector<BlockRecord> MpiParallelContext::check_boxes(std::span<const FieldBlock> blocks,
                                                          const std::int64_t global[3], DType dtype,
                                                          std::vector<int>* counts) {
+  std::vector<BlockRecord> all = gather_boxes(blocks, global, dtype, 1, counts);
+  bool legacy = true;
+  for (const BlockRecord& b : all) legacy = legacy && b.domain < 0;
+  check_tiling(all, m_global, legacy ? "vertices" : "elements");
+  return all;
+}
+
+std::vector<BlockRecord> MpiParallelContext::gather_boxes(std::span<const FieldBlock> blocks,
+                                                          const std::int64_t global[3], DType dtype,
+                                                          std::int64_t levels, std::vector<int>* counts) {
   // Everyone learns everyone's blocks; the checks below then fail alike on every rank.
   RankHeader mine{};
   std::string view_error;
@@ -147,6 +174,7 @@ std::vector<BlockRecord> MpiParallelContext::check_boxes(std::span<const FieldBl
   mine.dtype = static_cast<std::int64_t>(dtype);
   mine.view_ok = view_error.empty() ? 1 : 0;
   mine.nblocks = static_cast<std::int64_t>(blocks.size());
+  mine.levels = levels;
   constexpr int kWords = sizeof(RankHeader) / sizeof(std::int64_t);
   std::vector<RankHeader> heads(m_size);
   check(MPI_Allgather(&mine, kWords, MPI_INT64_T, heads.data(), kWords, MPI_INT64_T, m_comm), "MPI_Allgather");
@@ -165,6 +193,9 @@ std::vector<BlockRecord> MpiParallelContext::check_boxes(std::span<const FieldBl
       if (h.global[a] != first.global[a])
         throw LayoutError("ranks disagree on global_dims: rank 0 has " + dims_text(first.global) + ", " + who +
                           " has " + dims_text(h.global));
+    if (h.levels != first.levels)
+      throw LayoutError("ranks disagree on the refinement levels: rank 0 has " + levels_text(first.levels) + ", " +
+                        who + " has " + levels_text(h.levels));
     total += h.nblocks;
   }
   // Every rank's blocks, in rank order
@@ -176,6 +207,7 @@ std::vector<BlockRecord> MpiParallelContext::check_boxes(std::span<const FieldBl
     }
     own[n].rank = m_rank;
     own[n].domain = blocks[n].domain;
+    own[n].level = blocks[n].level;
   }
   record_bytes(total);
   std::vector<int> bytes(m_size), displs(m_size);
@@ -188,9 +220,6 @@ std::vector<BlockRecord> MpiParallelContext::check_boxes(std::span<const FieldBl
   std::vector<BlockRecord> all(static_cast<std::size_t>(total));
   check(MPI_Allgatherv(own.data(), bytes[m_rank], MPI_BYTE, all.data(), bytes.data(), displs.data(), MPI_BYTE, m_comm),
         "MPI_Allgatherv");
-  bool legacy = true;
-  for (const BlockRecord& b : all) legacy = legacy && b.domain < 0;
-  check_tiling(all, first.global, legacy ? "vertices" : "elements");
   for (int a = 0; a < 3; ++a) m_global[a] = first.global[a];
   if (counts) {
     counts->resize(m_size);
