@@ -5,7 +5,8 @@
 //                              [--work-ms N] [--domains-per-rank N] [--cell] [--amr [--levels L] [--ratio R]]
 //
 // The simulation: heat_solver.h. The domain split and halo exchange: cart_decomposition.h,
-// halo_exchange.h. The refined levels of --amr: amr_levels.h. The adapter is used only through its public header <tessera/adapter.h>.
+// halo_exchange.h. The refined levels of --amr: amr_levels.h. The adapter is used only
+// through its public header <tessera/adapter.h>.
 #include "amr_levels.h"
 #include "amr_publish.h"
 #include "busy_work.h"
