@@ -126,7 +126,7 @@ void AmrTables::build(const AmrField& f, Association assoc, int edge, const std:
             bool whole = true;
             for (int a = 0; a < 3 && whole; ++a) {
               const std::int64_t lo = s.lo[a] + (c[a] << s.bits);
-              const std::int64_t hi = std::min(lo + (std::int64_t{1} << s.bits), s.lo[a] + s.ext[a]);
+              const std::int64_t hi = lo + (std::int64_t{1} << s.bits);  // (a partial last cell is not whole)
               whole = lo >= flo[a] && hi <= fhi[a];
             }
             const std::uint64_t e =
