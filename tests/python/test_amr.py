@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import tessera
-from amr_hierarchy import AMR_CONFIG, DIMS0, MESH, patches, whole
+from amr_hierarchy import AMR_CONFIG, DIMS0, MESH, level, patches, whole
 from conftest import HERE, same_bits
 from test_adapter import GRID
 
@@ -105,3 +105,29 @@ def test_level_arguments_are_checked(tmp_path):
         with pytest.warns(tessera.TesseraWarning, match="level"):
             viz.execute(0, 0.0, domains=domains, nlevels=1, **mesh)
         assert viz.last_status == 2
+
+
+def test_a_large_patch_is_read_only_inside_its_elements(tmp_path):
+    """A level-1 patch of 130^3 vertices (129^3 stencil cells: more than the level table holds
+    one per entry, and an odd count, so the table's last cells are partial) passed as a view
+    into an array padded with 1e30 renders the same bits as its compact copy: no lookup reads
+    past the patch (a read there would take the padding in one and a neighbouring row in the
+    other)."""
+    dims0, lo, n = (70, 70, 70), (4, 4, 4), (130, 130, 130)
+
+    def field(u, v, w):
+        return np.sin(u / 9.0) * np.cos(v / 11.0) + w / 70.0
+
+    padded = np.full(tuple(m + 2 for m in n), 1e30, dtype=np.float32)
+    padded[1:-1, 1:-1, 1:-1] = level(1, lo, n, fn=field).astype(np.float32)
+    view = padded[1:-1, 1:-1, 1:-1]
+    coarse = level(0, n=dims0, fn=field).astype(np.float32)
+    mesh = dict(global_dims=dims0, nlevels=2, refinement=[2], spacing=1.0, origin=0.0)
+    config = copy.deepcopy(AMR_CONFIG)
+    config["renders"][0]["image"] = {"width": 64, "height": 48, "spp": 16}
+    config["renders"][0]["transfer_function"]["density_scale"] = 0.05
+    images = [render(tmp_path, [{"fields": {"temperature": coarse}},
+                                {"fields": {"temperature": fine}, "offset": lo, "level": 1}], config, **mesh)
+              for fine in (view, np.ascontiguousarray(view))]
+    assert images[0][..., 3].max() > 0.1
+    assert same_bits(images[0], images[1])
