@@ -68,9 +68,10 @@ void MpiParallelContext::reduce_parts(FieldSummary::Parts& parts) {
   allreduce_long(parts.lo.data(), parts.lo.size(), MPI_DOUBLE, MPI_MIN, m_comm);
   allreduce_long(parts.hi.data(), parts.hi.size(), MPI_DOUBLE, MPI_MAX, m_comm);
   allreduce_long(parts.flags.data(), parts.flags.size(), MPI_UINT8_T, MPI_BOR, m_comm);
-  std::uint64_t nan = parts.nan;
+  std::uint64_t nan = parts.nan, elements = parts.elements;
   double vmin = parts.vmin, vmax = parts.vmax;
   check(MPI_Allreduce(&nan, &parts.nan, 1, MPI_UINT64_T, MPI_SUM, m_comm), "MPI_Allreduce");
+  check(MPI_Allreduce(&elements, &parts.elements, 1, MPI_UINT64_T, MPI_SUM, m_comm), "MPI_Allreduce");
   check(MPI_Allreduce(&vmin, &parts.vmin, 1, MPI_DOUBLE, MPI_MIN, m_comm), "MPI_Allreduce");
   check(MPI_Allreduce(&vmax, &parts.vmax, 1, MPI_DOUBLE, MPI_MAX, m_comm), "MPI_Allreduce");
 }
