@@ -1,6 +1,8 @@
 // Every rank's boxes of a hierarchy, checked; its patches in place or in a replica (amr_layout.h).
 #include "amr_layout.h"
 
+#include "field_plan.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -49,6 +51,50 @@ std::uint64_t AmrLayout::table_bytes(int edge) const {
   f.names.clear();
   f.patches = patches;
   return amr_table_bytes(f, assoc, edge);
+}
+
+AmrVirtualLayout AmrLayout::virtual_grid() const {
+  std::vector<AmrBox> b(boxes.size());
+  for (std::size_t n = 0; n < boxes.size(); ++n) {
+    b[n].level = boxes[n].level;
+    for (int a = 0; a < 3; ++a) {
+      b[n].offset[a] = boxes[n].offset[a];
+      b[n].dims[a] = boxes[n].dims[a];
+    }
+  }
+  return amr_virtual_layout(meta, assoc, b, kMaxBrickShift);
+}
+
+std::vector<AmrPatch> patches_distributed(std::span<const FieldBlock> ordered, const AmrLayout& layout, int rank) {
+  std::vector<AmrPatch> patches;
+  patches.reserve(layout.boxes.size());
+  std::size_t own = 0;
+  for (const BlockRecord& b : layout.boxes) {
+    if (b.rank == rank) {
+      if (own >= ordered.size()) throw std::logic_error("patches_distributed: more own boxes than blocks");
+      patches.push_back(patch_of(b, ordered[own++].view));
+      continue;
+    }
+    FieldView none;  // another rank's: dims and dtype only
+    none.dtype = layout.meta.dtype;
+    for (int a = 0; a < 3; ++a) none.dims[a] = b.dims[a];
+    patches.push_back(patch_of(b, none));
+  }
+  return patches;
+}
+
+std::vector<FieldBlock> virtual_blocks(std::span<const FieldBlock> ordered, const AmrVirtualLayout& v) {
+  std::vector<FieldBlock> out(ordered.begin(), ordered.end());
+  for (FieldBlock& b : out)
+    for (int a = 0; a < 3; ++a) b.offset[a] += v.base[b.level][a];
+  return out;
+}
+
+std::vector<BlockRecord> virtual_records(const AmrLayout& layout, const AmrVirtualLayout& v) {
+  std::vector<BlockRecord> out = layout.boxes;
+  for (BlockRecord& b : out)
+    for (int a = 0; a < 3; ++a) b.offset[a] += v.base[b.level][a];
+  return out;
 }
 
 AmrField amr_meta(const FieldBinding& binding, DType dtype) {

@@ -36,6 +36,9 @@ struct AmrLayout {
   /// Bytes prepare() allocates for the level tables at macrocell edge `edge` (amr_table_bytes,
   /// over the boxes alone).
   std::uint64_t table_bytes(int edge) const;
+  /// Distributed mode: the virtual grid every rank pages the others' patches through
+  /// (amr_virtual_layout, levels aligned to the largest brick edge, so any brick cut fits).
+  AmrVirtualLayout virtual_grid() const;
 };
 
 /// The hierarchy a binding describes (dtype, level-0 dims, nlevels, ratios), no patches.
@@ -60,6 +63,15 @@ AmrLayout amr_layout_one_rank(std::span<const FieldBlock> blocks, const AmrField
 /// One rank: the patches are its own blocks' views, in place (zero copy). `ordered`: its
 /// blocks in domain order (the layout's).
 std::vector<AmrPatch> patches_in_place(std::span<const FieldBlock> ordered, const AmrLayout& layout);
+
+/// Distributed mode: every box of the layout as a patch; this rank's (`ordered`: its blocks in
+/// domain order, at `rank`) read in place, the others' with no data (read through the cache).
+std::vector<AmrPatch> patches_distributed(std::span<const FieldBlock> ordered, const AmrLayout& layout, int rank);
+
+/// Distributed mode: this rank's blocks (`ordered`) placed in the virtual grid `v` (level l's
+/// element s at v.base[l] + s), and every rank's boxes likewise, with their owners.
+std::vector<FieldBlock> virtual_blocks(std::span<const FieldBlock> ordered, const AmrVirtualLayout& v);
+std::vector<BlockRecord> virtual_records(const AmrLayout& layout, const AmrVirtualLayout& v);
 
 /// Several ranks: the patches in a replica at `base` laid out as replica_offsets() says.
 std::vector<AmrPatch> patches_in_replica(const void* base, const AmrLayout& layout);

@@ -47,6 +47,7 @@ void combine_parts(FieldSummary::Parts& a, const FieldSummary::Parts& b) {
     a.flags[n] |= b.flags[n];
   }
   a.nan += b.nan;
+  a.elements += b.elements;
   a.vmin = std::min(a.vmin, b.vmin);
   a.vmax = std::max(a.vmax, b.vmax);
 }

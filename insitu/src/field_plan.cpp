@@ -57,6 +57,7 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   plan.limit = limit.bytes;
   plan.limit_text = std::move(limit.text);
   plan.cache_fraction = cfg.global.brick_cache;
+  plan.macrocell_edge = f.macrocell_edge;
   // One rank reads a field held whole in place; several domains on one rank get a replica
   // (refinement levels: one rank reads every patch in place; several share a node replica
   // of every patch)
@@ -66,34 +67,36 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   switch (cfg.global.distribution) {
     case config::Distribution::Replicated: plan.distributed = false; break;
     case config::Distribution::Distributed: plan.distributed = ranks > 1; break;
-    case config::Distribution::Auto:
-      // (refinement levels render replicated only, for now)
-      plan.distributed = !amr && ranks > 1 && plan.replica_share > plan.limit / 2;
-      break;
+    case config::Distribution::Auto: plan.distributed = ranks > 1 && plan.replica_share > plan.limit / 2; break;
   }
   if (!plan.distributed) {
     MemoryEstimate e = plan.base;
     const char* what = amr ? "refinement levels' replica" : "field replica";
     if (ranks > 1) e.add(std::string(what) + " (this rank's share of its node's)", plan.replica_share);
     else if (replica) e.add(std::string(what) + " (the domains' copy)", plan.replica_share);
-    if (amr) e.add("refinement level tables", amr->table_bytes(f.macrocell_edge));
+    if (amr) e.add("refinement level tables", amr->table_bytes(plan.macrocell_edge));
     if (e.total() > plan.limit) over_limit(e, plan);
   }
   return plan;
 }
 
-void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift) {
+void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift, const AmrLayout* amr) {
   plan.distributed = true;
-  const std::int64_t* dims = binding.placement.global_dims;
-  const DType dtype = binding.local.dtype;
+  // Refinement levels: the virtual grid of every level's patches (amr_layout.h)
+  const AmrVirtualLayout virtual_grid = amr ? amr->virtual_grid() : AmrVirtualLayout{};
+  const std::int64_t* dims = amr ? virtual_grid.dims : binding.placement.global_dims;
+  const DType dtype = amr ? amr->meta.dtype : binding.local.dtype;
+  const std::uint64_t bytes = amr ? amr->patch_bytes() : field_bytes(binding);
+  MemoryEstimate base = plan.base;
+  if (amr) base.add("refinement level tables", amr->table_bytes(plan.macrocell_edge));
   // The cache's cap: tessera.brick_cache's share of the field, but at least one brick (a
   // one-slot cache still makes progress: only the memory limit can make a distributed render
   // impossible); at 1, every brick of the cut, its padding at the far faces included
   const auto cap_for = [&](const BrickGrid& g) {
     const std::uint64_t all = static_cast<std::uint64_t>(g.brick_count()) * g.slot_bytes();
     if (plan.cache_fraction >= 1.0) return all;
-    return std::max<std::uint64_t>(
-        g.slot_bytes(), static_cast<std::uint64_t>(plan.cache_fraction * static_cast<double>(field_bytes(binding))));
+    return std::max<std::uint64_t>(g.slot_bytes(),
+                                   static_cast<std::uint64_t>(plan.cache_fraction * static_cast<double>(bytes)));
   };
   // Bricks: about an eighth of the longest axis (small bricks waste little of a cache that must
   // evict); but when the cap and the limit let the cache keep every brick of a coarser cut,
@@ -103,14 +106,14 @@ void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift) {
     const BrickGrid g = BrickGrid::make(dims, dtype, s);
     const std::uint64_t all = static_cast<std::uint64_t>(g.brick_count()) * g.slot_bytes();
     if (all <= cap_for(g) &&
-        plan.base.total() + BrickCache::bytes_for(g, static_cast<std::size_t>(g.brick_count())) <= plan.limit) {
+        base.total() + BrickCache::bytes_for(g, static_cast<std::size_t>(g.brick_count())) <= plan.limit) {
       plan.shift = s;
       break;
     }
   }
   const BrickGrid grid = BrickGrid::make(dims, dtype, plan.shift);
   const std::uint64_t slot = grid.slot_bytes();
-  MemoryEstimate e = plan.base;
+  MemoryEstimate e = base;
   e.add("brick directory", BrickCache::bytes_for(grid, 0));
   const std::uint64_t used = e.total();
   const std::uint64_t budget = used < plan.limit ? std::min(plan.limit - used, cap_for(grid)) : 0;

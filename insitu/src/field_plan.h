@@ -35,6 +35,7 @@ struct FieldPlan {
   std::string limit_text;                       ///< how the limit was set, for messages
   MemoryEstimate base;                          ///< the render's own allocations without the field's
   int threads = 1;                              ///< rendering threads on this rank (paths in flight at once)
+  int macrocell_edge = 8;                       ///< the scene's macrocell edge (level tables' size)
   /// Distributed: a warning when the cache is too small for the bricks the paths in flight
   /// cross (small_cache_warning); "" otherwise.
   std::string cache_warning;
@@ -63,7 +64,7 @@ struct AmrLayout;  // amr_layout.h
 /// `amr`: the checked layout of a mesh with refinement levels (nullptr: a single level); the
 /// estimate then counts this rank's share of the node's replica of every patch (several
 /// ranks; one rank reads them in place) and the level tables (AmrLayout::table_bytes), and
-/// `auto` stays replicated (distributed mode does not take levels yet).
+/// `auto` decides on that replica share as for one level.
 FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding, int ranks,
                      int ranks_on_node, bool root, const AmrLayout* amr = nullptr);
 
@@ -74,7 +75,10 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
 /// cache can keep every brick (then nothing is evicted and fewer messages carry the field).
 /// `shift` > 0 imposes the brick size instead (every rank must use the same cut: the caller
 /// plans, takes the smallest shift over the ranks and plans again with it where it differs).
-void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift = 0);
+/// `amr` (refinement levels): the cache pages the levels' virtual grid
+/// (AmrLayout::virtual_grid()) and its cap is taken of the patches' bytes; the level tables
+/// are counted.
+void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift = 0, const AmrLayout* amr = nullptr);
 
 /// One line for the log: the mode, and why (the rule's figures).
 std::string describe_plan(const FieldPlan& plan, config::Distribution asked);

@@ -26,7 +26,8 @@
 
 namespace tessera::insitu {
 
-struct AmrLayout;  // amr_layout.h
+struct AmrLayout;    // amr_layout.h
+struct BlockRecord;  // block_layout.h
 
 /// Where this rank's real vertices sit in the global grid (see tessera_grid in tessera.h).
 struct GlobalPlacement {
@@ -173,6 +174,19 @@ class ParallelContext {
   /// A brick may span blocks of several ranks: each owner sends its parts.
   virtual PagedField distribute_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3],
                                        DType dtype, int shift, std::size_t capacity) = 0;
+
+  /// Distributed mode over refinement levels: every rank's patches paged through one virtual
+  /// grid (AmrLayout::virtual_grid(); `vblocks`: this rank's blocks in domain order placed in
+  /// it, virtual_blocks(); `vrecords`: every rank's, virtual_records()), bricks of 2^shift
+  /// elements in a cache of `capacity` slots, as distribute_blocks() does for one level but
+  /// without its tiling check (the grid has gaps no patch fills; the hierarchy is checked by
+  /// amr_layout()). The kernels read this rank's own patches in place and the others' through
+  /// the returned field's cache (AmrField::cache). Collective.
+  virtual PagedField distribute_amr(std::span<const FieldBlock> vblocks, std::span<const BlockRecord> vrecords,
+                                    const std::int64_t vdims[3], DType dtype, int shift, std::size_t capacity) = 0;
+  /// Combines every rank's summary parts (min, max, or, sum: exact in any order) into
+  /// `parts` on every rank. Collective.
+  virtual void reduce_parts(FieldSummary::Parts& parts) = 0;
 
   /// Runs fn (e.g. a prepare() that reads the field) on another thread while this one serves
   /// the other ranks' brick requests and fetches the bricks fn's kernels want, until fn has

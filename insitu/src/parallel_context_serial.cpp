@@ -42,6 +42,11 @@ class SerialContext final : public ParallelContext {
     // The adapter renders one rank in replicated mode: its block is the whole field
     throw std::logic_error("distributed mode needs more than one rank");
   }
+  PagedField distribute_amr(std::span<const FieldBlock>, std::span<const BlockRecord>, const std::int64_t*, DType, int,
+                            std::size_t) override {
+    throw std::logic_error("distributed mode needs more than one rank");
+  }
+  void reduce_parts(FieldSummary::Parts&) override {}  // one rank: its parts are the whole's
   void serve_while(const std::function<void()>& fn) override { fn(); }
 
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override {

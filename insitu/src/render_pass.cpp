@@ -131,19 +131,14 @@ class Pass {
     if (m_cfg.global.distribution == config::Distribution::Auto && m_ctx.size() > 1)
       m_plan.distributed = m_ctx.any(m_plan.distributed);
     // (the same answer on every rank: the config is the same and `auto` stays replicated)
-    if (m_amr && m_plan.distributed && !phase(TESSERA_ERROR_DATA, [&] {
-          throw std::invalid_argument("mesh: nlevels = " + std::to_string(m_binding.nlevels) +
-                                      ": refinement levels (AMR) in distributed mode are not yet supported; use "
-                                      "tessera.distribution: replicated (or auto)");
-        }))
-      return std::move(m_out);
     if (m_plan.distributed) {
-      if (!phase(TESSERA_ERROR_RENDER, [&] { plan_distributed(m_plan, m_binding); })) return std::move(m_out);
+      const AmrLayout* amr = m_amr ? &*m_amr : nullptr;
+      if (!phase(TESSERA_ERROR_RENDER, [&] { plan_distributed(m_plan, m_binding, 0, amr); })) return std::move(m_out);
       // One brick cut for all: the finest any rank chose (their limits may differ). Every rank
       // takes part in the phase (it ends in a collective), re-planning only where it differs
       const int agreed = m_ctx.min(m_plan.shift);
       if (!phase(TESSERA_ERROR_RENDER, [&] {
-            if (agreed != m_plan.shift) plan_distributed(m_plan, m_binding, agreed);
+            if (agreed != m_plan.shift) plan_distributed(m_plan, m_binding, agreed, amr);
           }))
         return std::move(m_out);
     }
@@ -155,7 +150,16 @@ class Pass {
     // The global field: assembled once per consecutive use (zero copy on one rank), or in
     // distributed mode this rank's block and a cache for the other ranks' bricks
     if (!phase(TESSERA_ERROR_RENDER, [&] {
-          if (m_plan.distributed) {
+          if (m_plan.distributed && m_amr) {
+            // Refinement levels: every rank's patches paged through one virtual grid
+            m_call.assembled_key.reset();
+            const AmrVirtualLayout v = m_amr->virtual_grid();
+            const std::vector<FieldBlock> ordered = in_domain_order(m_binding.blocks);
+            m_call.assembled_patches = patches_distributed(ordered, *m_amr, m_ctx.rank());
+            m_paged = m_ctx.distribute_amr(virtual_blocks(ordered, v), virtual_records(*m_amr, v), v.dims,
+                                           m_amr->meta.dtype, m_plan.shift, m_plan.capacity);
+            m_virtual = v;
+          } else if (m_plan.distributed) {
             m_call.assembled_key.reset();  // distribute() frees the replica
             m_paged = m_ctx.distribute_blocks(m_binding.blocks, m_binding.placement.global_dims, m_binding.local.dtype,
                                               m_plan.shift, m_plan.capacity);
@@ -341,7 +345,28 @@ class Pass {
     const auto t0 = Clock::now();
     PreparedScene prepared;
     try {
-      if (m_plan.distributed) {
+      if (m_plan.distributed && m_amr) {
+        // Refinement levels, distributed: the summary from every rank's parts (collective,
+        // unless one was kept), the other ranks' patches through the cache
+        AmrField field = m_amr->meta;
+        field.patches = m_call.assembled_patches;
+        field.cache = m_paged.cache;
+        field.layout = m_virtual;
+        FieldView level0;
+        level0.dtype = field.dtype;
+        for (int a = 0; a < 3; ++a) level0.dims[a] = field.dims[a];
+        const int edge = majorant_edge(level0, scene.integrator);
+        std::shared_ptr<const FieldSummary> summary = entry.find(edge);
+        if (!summary) {
+          FieldSummary::Parts parts = amr_summary_parts(field, m_amr->assoc, edge);
+          m_ctx.reduce_parts(parts);
+          FieldLayout layout;
+          layout.dtype = field.dtype;
+          for (int a = 0; a < 3; ++a) layout.dims[a] = field.dims[a];
+          summary = FieldSummary::from_parts(std::move(parts), layout, edge);
+        }
+        m_ctx.serve_while([&] { prepared = prepare(field, scene, summary); });
+      } else if (m_plan.distributed) {
         // The global summary from every rank's block (collective), unless one was kept; the
         // adaptive preview in prepare reads the field, so it runs while the ranks serve bricks
         FieldView global = m_binding.local;
@@ -518,6 +543,7 @@ class Pass {
   std::optional<AmrLayout> m_amr;  ///< refinement levels: every rank's boxes (empty: one level)
   FieldPlan m_plan;                ///< replicated or distributed, and the cache's size
   PagedField m_paged;              ///< distributed mode: this rank's block and the brick cache
+  AmrVirtualLayout m_virtual;      ///< distributed mode with levels: the virtual grid of the patches
   std::string m_field_name;        ///< the simulation's name of the bound field
   PassOutcome m_out;
   Clock::time_point m_start;  ///< when this render began (its time limit counts from here)

@@ -13,6 +13,7 @@
 // two independent renders (own seeds), standard errors from the per-pixel sample variance.
 #include <tessera/amr.h>
 #include <tessera/render.h>
+#include <tessera/scene_warnings.h>
 
 #include <catch2/catch.hpp>
 
@@ -549,4 +550,19 @@ TEST_CASE("amr: distributed mode (other patches through the brick cache) renders
       CHECK(same_pixels(film, ref));
     }
   }
+}
+
+TEST_CASE("amr: the NaN warning counts the samples of every level", "[amr][warnings]") {
+  const std::int64_t dims[3] = {4, 4, 4};
+  Hierarchy h(dims, Association::Cell, {2}, Vec3(0.0), Vec3(0.25));
+  h.add(box(0, 0, 0, 0, 4, 4, 4), wavy);                                      // 64 samples
+  h.add(box(1, 2, 2, 2, 4, 4, 2), [](const Vec3&) { return std::nan(""); });  // 32 NaN samples
+  tessera::SceneDesc s = lit_scene(h.geometry(), tessera::Bounds{Vec3(0.0), Vec3(1.0)}, 0.0, 1.0);
+  const tessera::PreparedScene ps = tessera::prepare(h.finish(), s, nullptr);
+  CHECK(ps.summary()->element_count() == 96);
+  CHECK(ps.summary()->nan_vertices() == 32);
+  bool found = false;
+  for (const std::string& w : tessera::scene_warnings(ps))
+    found = found || w.find("32 of 96 vertices") != std::string::npos;
+  CHECK(found);
 }

@@ -1,9 +1,9 @@
-// Refinement levels over MPI (tessera_execute_domains, replicated mode): the same patches of
+// Refinement levels over MPI (tessera_execute_domains): the same patches of
 // a 2-level (ratio 2, vertex data) and a 3-level (ratios 2, 4, cell data) hierarchy dealt
 // over 1, 2 and 3 ranks in different assignments (round robin, reversed, all on the last
 // rank, every rank on its own pretend node) give the one-process image of the hierarchy cut
-// in one patch per level, bit for bit; distributed mode with levels fails with a clear "not
-// yet" on every rank; ranks that disagree on nlevels or ratios, or whose patches do not fit
+// in one patch per level, bit for bit, in replicated and in distributed mode (other ranks'
+// patches paged through the brick cache, a small cache too); ranks that disagree on nlevels or ratios, or whose patches do not fit
 // together, get TESSERA_ERROR_DATA on every rank, and level tables over memory_limit_mb the
 // limit's message on every rank; the communicator renders afterwards.
 #include "amr_patches.h"
@@ -146,28 +146,37 @@ TEST_CASE("levels: the same patches over 1, 2, 3 ranks in any assignment give th
   }
 }
 
-TEST_CASE("levels: distributed mode says not yet, on every rank, and the communicator renders afterwards",
-          "[mpi][amr][errors]") {
+TEST_CASE("levels: distributed mode (other ranks' patches paged) gives the one-process image bit for bit",
+          "[mpi][amr][determinism][distributed]") {
   SharedTempDir dir;
-  const std::string distributed = write_config(dir, "distributed", "distributed");
   const std::string replicated = write_config(dir, "replicated", "replicated");
-  const Hierarchy h = tessera_test::hierarchy(2, TESSERA_VERTEX);
-  const HeldPatches many(h.spec, h.many, tessera_test::blobs, 1);
-  const tessera_mesh mesh = h.spec.mesh();
-  const int n = world_size();
-  const Run r = run_on(n, distributed, mesh, many, kRoundRobin);
-  if (n == 1) {
-    // One rank renders replicated whatever the config says
-    CHECK(r.status == TESSERA_OK);
-    return;
+  const std::string distributed = write_config(dir, "distributed", "distributed");
+  // A cache of a few bricks: evictions and refetches on the way
+  const std::string small = write_config(dir, "small", "distributed", "  brick_cache: 0.05\n");
+  for (const auto& [nlevels, assoc] : {std::pair{2, TESSERA_VERTEX}, std::pair{3, TESSERA_CELL}}) {
+    const Hierarchy h = tessera_test::hierarchy(nlevels, assoc);
+    const HeldPatches one(h.spec, h.one, tessera_test::blobs, 1);
+    const HeldPatches many(h.spec, h.many, tessera_test::blobs, 2);
+    const tessera_mesh mesh = h.spec.mesh();
+    const Run ref = run_on(1, replicated, mesh, one, kRankZero);
+    INFO(nlevels << " levels: " << ref.error);
+    REQUIRE(ref.status == TESSERA_OK);
+    bool ok = true;
+    for (int n = 2; n <= std::min(3, world_size()); ++n)
+      for (const auto& [cfg, how] : {std::pair{distributed, "distributed"}, std::pair{small, "small cache"}})
+        for (const auto& [owner, who] : {std::pair{kRoundRobin, "round robin"}, std::pair{kReversed, "reversed"},
+                                         std::pair{kLastRank, "all on the last rank"}}) {
+          const Run r = run_on(n, cfg, mesh, many, owner);
+          INFO(nlevels << " levels, " << how << ", " << who << " over " << n << " ranks: " << r.error);
+          REQUIRE(r.status == TESSERA_OK);
+          if (world_rank() == 0) {
+            const bool same = same_image(*ref.image, *r.image);
+            CHECK(same);
+            ok = ok && same;
+          }
+        }
+    REQUIRE(all_ranks(ok));
   }
-  INFO(r.error);
-  CHECK(r.status == TESSERA_ERROR_DATA);
-  if (world_rank() == 0) {
-    CHECK_THAT(r.error, Catch::Contains("not yet"));
-    CHECK_THAT(r.error, Catch::Contains("distributed"));
-  }
-  CHECK(run_on(n, replicated, mesh, many, kRoundRobin).status == TESSERA_OK);
 }
 
 TEST_CASE("levels: ranks that disagree on the levels, or whose patches do not fit, all fail with TESSERA_ERROR_DATA",

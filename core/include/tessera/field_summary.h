@@ -68,6 +68,9 @@ class FieldSummary {
     std::vector<std::uint8_t> flags;
     std::uint64_t nan = 0;
     double vmin = INFINITY, vmax = -INFINITY;
+    /// Elements summarised, summed like nan; 0: the layout's dims (one field's vertices).
+    /// A hierarchy of refinement levels counts the samples of every level (amr_summary_parts).
+    std::uint64_t elements = 0;
   };
   /// The parts of one block: `block` holds the global vertices [offset, offset + block.dims)
   /// of a field of `global_dims`; cells are the global field's (as majorant_edge of the global
@@ -101,6 +104,9 @@ class FieldSummary {
   std::span<const CellRange> ranges() const { return m_range; }
 
   std::uint64_t nan_vertices() const { return m_nan; }
+  /// Elements the summary covers (what nan_vertices() is a part of): the field's vertices, or
+  /// every level's samples of a hierarchy.
+  std::uint64_t element_count() const { return m_elements; }
   /// True iff at least one vertex is finite.
   bool has_finite() const { return m_vmin <= m_vmax; }
   /// Finite min / max over all vertices ({0,0} when none is finite; has_finite() tells).
@@ -114,6 +120,7 @@ class FieldSummary {
   std::int64_t m_nc[3] = {1, 1, 1};
   std::vector<CellRange> m_range;
   std::uint64_t m_nan = 0;
+  std::uint64_t m_elements = 0;
   double m_vmin = INFINITY, m_vmax = -INFINITY;  ///< +Inf / -Inf when no vertex is finite
 };
 

@@ -34,6 +34,7 @@ FieldSummary::Parts amr_summary_parts(const AmrField& f, Association assoc, int 
   std::vector<std::int64_t> c0[3], c1[3];
   for (const AmrPatch& p : f.patches) {
     if (p.view.data == nullptr) continue;  // another rank's (distributed mode)
+    parts.elements += static_cast<std::uint64_t>(p.view.vertex_count());
     const double R = static_cast<double>(f.scale(p.level));
     const double shift = assoc == Association::Cell ? 0.5 * R - 0.5 : 0.0;
     // Per axis, each of the patch's samples' macrocell range

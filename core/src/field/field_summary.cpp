@@ -157,6 +157,7 @@ FieldSummary::FieldSummary(const FieldView& field, int edge)
     : m_layout(FieldLayout::of(field)), m_edge(edge), m_vmin(kInf), m_vmax(-kInf) {
   if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
   for (int a = 0; a < 3; ++a) m_nc[a] = cells_along(field.dims[a], edge);
+  m_elements = static_cast<std::uint64_t>(field.vertex_count());
   const std::int64_t layer_cells = m_nc[0] * m_nc[1];
   m_range.assign(static_cast<std::size_t>(cell_count()), kEmpty);
 
@@ -298,6 +299,10 @@ std::shared_ptr<const FieldSummary> FieldSummary::from_parts(Parts&& parts, cons
   std::shared_ptr<FieldSummary> s(new FieldSummary());
   s->m_layout = layout;
   s->m_edge = edge;
+  s->m_elements = parts.elements ? parts.elements
+                                 : static_cast<std::uint64_t>(std::max<std::int64_t>(0, layout.dims[0])) *
+                                       static_cast<std::uint64_t>(std::max<std::int64_t>(0, layout.dims[1])) *
+                                       static_cast<std::uint64_t>(std::max<std::int64_t>(0, layout.dims[2]));
   for (int a = 0; a < 3; ++a) s->m_nc[a] = parts.cells[a];
   s->m_range.resize(static_cast<std::size_t>(n));
   for (std::size_t c = 0; c < s->m_range.size(); ++c)

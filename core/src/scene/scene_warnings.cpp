@@ -106,8 +106,7 @@ std::vector<std::string> scene_warnings(const PreparedScene& scene) {
   std::vector<std::string> out;
   const FieldSummary& s = *scene.summary();
   const SceneDesc& desc = scene.desc();
-  const FieldLayout& l = s.layout();
-  const std::uint64_t vertices = static_cast<std::uint64_t>(l.dims[0] * l.dims[1] * l.dims[2]);
+  const std::uint64_t vertices = s.element_count();  // every level's samples for a hierarchy
 
   // The data: no finite value, NaN holes, one value everywhere
   if (!s.has_finite()) {

@@ -100,8 +100,7 @@ typedef struct {                      /* the whole mesh; the same on every rank 
  *   domains cover the mesh; each finer level's domains lie inside the region of the level below
  *   and do not overlap one another. A point takes the finest level whose interpolation stencil
  *   lies in real elements of that level, so the image does not depend on how a level is cut
- *   into domains or spread over ranks. Replicated mode only (distribution: distributed with
- *   levels is TESSERA_ERROR_DATA, "not yet"; auto stays replicated). */
+ *   into domains or spread over ranks, in replicated and in distributed mode. */
 
 /* One block this rank holds, never copied. */
 typedef struct {                      /* one block this rank holds, never copied */
@@ -163,7 +162,8 @@ tessera_status tessera_execute_final(tessera_adapter* adapter, int64_t step, dou
  * and before anything is rendered or written, with a message naming the rank, domain, field
  * and axis, for: a NULL mesh; NULL domains with ndomains > 0; ndomains < 0 or above
  * TESSERA_MAX_DOMAINS; NULL fields with nfields > 0; domains whose field lists differ in names
- * or dtypes; nlevels != 1 (not yet) or a domain level != 0; a non-finite origin; a uniform
+ * or dtypes; nlevels outside [1, 8], a refinement ratio other than 2 or 4, a domain level
+ * outside [0, nlevels), rectilinear axes with levels (not yet); a non-finite origin; a uniform
  * axis whose spacing is not finite and > 0; rectilinear coordinates that are not finite and
  * strictly increasing; a mesh that differs between ranks; ghosts that leave no real element;
  * a domain outside the mesh; real elements of two domains (of any ranks) that overlap, or

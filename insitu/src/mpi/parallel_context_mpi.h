@@ -102,6 +102,9 @@ class MpiParallelContext final : public ParallelContext {
                                int shift, std::size_t capacity) override;
   AmrLayout amr_layout(std::span<const FieldBlock> blocks, const AmrField& meta, Association assoc) override;
   std::vector<AmrPatch> assemble_amr(std::span<const FieldBlock> blocks, const AmrLayout& layout) override;
+  PagedField distribute_amr(std::span<const FieldBlock> vblocks, std::span<const BlockRecord> vrecords,
+                            const std::int64_t vdims[3], DType dtype, int shift, std::size_t capacity) override;
+  void reduce_parts(FieldSummary::Parts& parts) override;
   void serve_while(const std::function<void()>& fn) override;
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override;
   /// This rank's bytes moved by the last assemble() + render() (see MpiRenderReport; sum
@@ -156,6 +159,10 @@ class MpiParallelContext final : public ParallelContext {
   void finish_serving();
   /// Ends distributed mode (assemble() was called): frees the service and the cache.
   void end_distribution();
+  /// distribute_blocks / distribute_amr once every rank's boxes (`all`, rank order, the
+  /// blocks of this rank in `blocks`' order) are known and checked.
+  PagedField distribute_records(std::span<const FieldBlock> blocks, std::span<const BlockRecord> all,
+                                const std::int64_t global[3], DType dtype, int shift, std::size_t capacity);
 
   // Film (parallel_context_mpi_film.cpp)
   /// Checks that the ranks prepared the same image and gives every rank rank 0's starting

@@ -44,15 +44,7 @@ std::shared_ptr<const FieldSummary> MpiParallelContext::summarize_blocks(std::sp
   if (m_size == 1) return summarize_one_rank(blocks, global, dtype, edge);  // no MPI call
   check_boxes(blocks, global, dtype);
   FieldSummary::Parts parts = partial_of_blocks(blocks, global, edge);
-  // Exact in any order: min / max / or / sum (field_summary.h)
-  allreduce_long(parts.lo.data(), parts.lo.size(), MPI_DOUBLE, MPI_MIN, m_comm);
-  allreduce_long(parts.hi.data(), parts.hi.size(), MPI_DOUBLE, MPI_MAX, m_comm);
-  allreduce_long(parts.flags.data(), parts.flags.size(), MPI_UINT8_T, MPI_BOR, m_comm);
-  std::uint64_t nan = parts.nan;
-  double vmin = parts.vmin, vmax = parts.vmax;
-  check(MPI_Allreduce(&nan, &parts.nan, 1, MPI_UINT64_T, MPI_SUM, m_comm), "MPI_Allreduce");
-  check(MPI_Allreduce(&vmin, &parts.vmin, 1, MPI_DOUBLE, MPI_MIN, m_comm), "MPI_Allreduce");
-  check(MPI_Allreduce(&vmax, &parts.vmax, 1, MPI_DOUBLE, MPI_MAX, m_comm), "MPI_Allreduce");
+  reduce_parts(parts);  // exact in any order: min / max / or / sum (field_summary.h)
   return FieldSummary::from_parts(std::move(parts), FieldLayout::of(primary), edge);
 }
 
@@ -61,6 +53,32 @@ PagedField MpiParallelContext::distribute_blocks(std::span<const FieldBlock> blo
   if (m_size == 1) throw std::logic_error("distributed mode needs more than one rank");
   std::vector<int> counts;
   const std::vector<BlockRecord> all = check_boxes(blocks, global, dtype, &counts);
+  return distribute_records(blocks, all, global, dtype, shift, capacity);
+}
+
+PagedField MpiParallelContext::distribute_amr(std::span<const FieldBlock> vblocks,
+                                              std::span<const BlockRecord> vrecords, const std::int64_t vdims[3],
+                                              DType dtype, int shift, std::size_t capacity) {
+  if (m_size == 1) throw std::logic_error("distributed mode needs more than one rank");
+  return distribute_records(vblocks, vrecords, vdims, dtype, shift, capacity);
+}
+
+void MpiParallelContext::reduce_parts(FieldSummary::Parts& parts) {
+  if (m_size == 1) return;
+  allreduce_long(parts.lo.data(), parts.lo.size(), MPI_DOUBLE, MPI_MIN, m_comm);
+  allreduce_long(parts.hi.data(), parts.hi.size(), MPI_DOUBLE, MPI_MAX, m_comm);
+  allreduce_long(parts.flags.data(), parts.flags.size(), MPI_UINT8_T, MPI_BOR, m_comm);
+  std::uint64_t nan = parts.nan, elements = parts.elements;
+  double vmin = parts.vmin, vmax = parts.vmax;
+  check(MPI_Allreduce(&nan, &parts.nan, 1, MPI_UINT64_T, MPI_SUM, m_comm), "MPI_Allreduce");
+  check(MPI_Allreduce(&elements, &parts.elements, 1, MPI_UINT64_T, MPI_SUM, m_comm), "MPI_Allreduce");
+  check(MPI_Allreduce(&vmin, &parts.vmin, 1, MPI_DOUBLE, MPI_MIN, m_comm), "MPI_Allreduce");
+  check(MPI_Allreduce(&vmax, &parts.vmax, 1, MPI_DOUBLE, MPI_MAX, m_comm), "MPI_Allreduce");
+}
+
+PagedField MpiParallelContext::distribute_records(std::span<const FieldBlock> blocks, std::span<const BlockRecord> all,
+                                                  const std::int64_t global[3], DType dtype, int shift,
+                                                  std::size_t capacity) {
   // No replica in this mode: give its memory back (collective over the node, like assemble)
   m_service.reset();
   free_replica();
