@@ -30,6 +30,21 @@ MPI_Datatype element_type(DType t) {
   }
 }
 
+MPI_Datatype blocks_in_place_type(std::span<const FieldBlock> blocks, TypeList& keep) {
+  if (blocks.empty()) return MPI_BYTE;
+  std::vector<int> lens(blocks.size(), 1);
+  std::vector<MPI_Aint> displs(blocks.size());
+  std::vector<MPI_Datatype> types(blocks.size());
+  for (std::size_t n = 0; n < blocks.size(); ++n) {
+    check(MPI_Get_address(blocks[n].view.data, &displs[n]), "MPI_Get_address");
+    types[n] = strided_view_type(blocks[n].view, keep);
+  }
+  MPI_Datatype t = MPI_DATATYPE_NULL;
+  check(MPI_Type_create_struct(static_cast<int>(blocks.size()), lens.data(), displs.data(), types.data(), &t),
+        "MPI_Type_create_struct");
+  return keep.commit(t);
+}
+
 MPI_Datatype strided_view_type(const FieldView& v, TypeList& keep) {
   MPI_Datatype row, plane, box;
   check(MPI_Type_create_hvector(static_cast<int>(v.dims[0]), 1, v.byte_strides[0], element_type(v.dtype), &row),

@@ -7,6 +7,8 @@
 #include <tessera/film.h>
 #include <tessera/tiles.h>
 
+#include "parallel_context.h"
+
 #include <mpi.h>
 
 #include <cstdint>
@@ -35,6 +37,10 @@ MPI_Datatype element_type(DType t);
 /// One element per vertex of a strided view, addressed relative to view.data: nested hvectors
 /// over the view's byte strides, so MPI reads the simulation's array in place.
 MPI_Datatype strided_view_type(const FieldView& v, TypeList& keep);
+
+/// Every block's elements read in place: one struct type over their absolute addresses (use
+/// with MPI_BOTTOM); MPI_BYTE for no block (a count of 0 must go with it).
+MPI_Datatype blocks_in_place_type(std::span<const FieldBlock> blocks, TypeList& keep);
 
 /// The sub-box [offset, offset + dims) of the C-order replica of `global` vertices.
 MPI_Datatype replica_box_type(DType dtype, const std::int64_t global[3], const std::int64_t offset[3],

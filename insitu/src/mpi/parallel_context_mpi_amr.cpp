@@ -54,20 +54,7 @@ void MpiParallelContext::exchange_patches(std::span<const FieldBlock> ordered, c
   std::vector<MPI_Datatype> send_types(m_size, MPI_BYTE), recv_types(m_size, MPI_BYTE);
   MPI_Request request = MPI_REQUEST_NULL;
   if (m_node_count > 1) {
-    MPI_Datatype mine = MPI_BYTE;
-    if (!ordered.empty()) {
-      std::vector<int> lens(ordered.size(), 1);
-      std::vector<MPI_Aint> displs(ordered.size());
-      std::vector<MPI_Datatype> types(ordered.size());
-      for (std::size_t n = 0; n < ordered.size(); ++n) {
-        check(MPI_Get_address(ordered[n].view.data, &displs[n]), "MPI_Get_address");
-        types[n] = detail::strided_view_type(ordered[n].view, keep);
-      }
-      MPI_Datatype t = MPI_DATATYPE_NULL;
-      check(MPI_Type_create_struct(static_cast<int>(ordered.size()), lens.data(), displs.data(), types.data(), &t),
-            "MPI_Type_create_struct");
-      mine = keep.commit(t);
-    }
+    const MPI_Datatype mine = detail::blocks_in_place_type(ordered, keep);
     for (int d = 0; d < m_size; ++d)
       if (m_leader_of[d] == d && d != m_leader_of[m_rank] && !ordered.empty()) {
         send_counts[d] = 1;

@@ -88,20 +88,7 @@ void MpiParallelContext::exchange_boxes(std::span<const FieldBlock> blocks, cons
   // Other nodes: my blocks, read in place (one struct type over their absolute addresses), to
   // each other node's leader, straight into the boxes that the leader's receive type describes
   if (m_node_count > 1) {
-    MPI_Datatype mine = MPI_BYTE;
-    if (!blocks.empty()) {
-      std::vector<int> lens(blocks.size(), 1);
-      std::vector<MPI_Aint> displs(blocks.size());
-      std::vector<MPI_Datatype> types(blocks.size());
-      for (std::size_t n = 0; n < blocks.size(); ++n) {
-        check(MPI_Get_address(blocks[n].view.data, &displs[n]), "MPI_Get_address");
-        types[n] = detail::strided_view_type(blocks[n].view, keep);
-      }
-      MPI_Datatype t = MPI_DATATYPE_NULL;
-      check(MPI_Type_create_struct(static_cast<int>(blocks.size()), lens.data(), displs.data(), types.data(), &t),
-            "MPI_Type_create_struct");
-      mine = keep.commit(t);
-    }
+    const MPI_Datatype mine = detail::blocks_in_place_type(blocks, keep);
     for (int d = 0; d < m_size; ++d)
       if (m_leader_of[d] == d && d != m_leader_of[m_rank] && !blocks.empty()) {
         send_counts[d] = 1;
