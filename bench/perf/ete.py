@@ -1,0 +1,98 @@
+"""Time to equal error (issue 24's yardstick): for each case, a reference of Tessera's own at
+16x the samples (another seed, every thread), then the measured render at `--spp` on one thread,
+`--reps` times (interleaved over the cases; the fastest render kept). Prints and writes
+(ete.csv, ete.md):
+
+- render seconds (the fastest, wall) and the error: RMSE of luminance against the reference,
+  its own noise removed (the reference's per-pixel variance of the mean), relative to the
+  reference's mean luminance;
+- efficiency = 1 / (seconds x relative error^2): samples spent per unit of error^2, the figure
+  that two estimators or two kernels compare at (equal error means 1/efficiency time);
+- lookups per sample and million lookups per second per core (the renderer's achieved rate,
+  to read beside bench/lookup's ceiling).
+
+    python3 bench/perf/ete.py --build build --results bench/results/ete [--size 128] [--spp 64]
+                              [--reps 3] [--only heat_single,ct_single] [--label NAME]
+
+Cases: the heat miniapp's field (single and multiple scattering), the head CT of
+scripts/fetch_ct.sh (single and multiple scattering). `--label` names a row set (e.g. the
+commit) so that several runs' CSVs compare. Benchmarks are not tests: nothing here asserts.
+"""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from perf_lib import (DATASETS, Bench, ensure_volume, log, render_entry, rmse, run_scene,  # noqa: E402
+                      warmup_entry, write_csv, write_scene)
+
+CASES = {
+    "heat_single": ("heat", "single"),
+    "heat_multiple": ("heat", "multiple"),
+    "ct_single": ("ct", "single"),
+    "ct_multiple": ("ct", "multiple"),
+}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    ap.add_argument("--build", default=os.path.join(root, "build"))
+    ap.add_argument("--results", default=os.path.join(root, "bench", "results", "ete"))
+    ap.add_argument("--size", type=int, default=128)
+    ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--only", default="")
+    ap.add_argument("--label", default="")
+    a = ap.parse_args()
+    b = Bench(root, os.path.abspath(a.build), os.path.abspath(a.results), quick=False)
+    cases = [c for c in CASES if not a.only or c in a.only.split(",")]
+    rows = []
+    for case in cases:
+        name, scattering = CASES[case]
+        vol = ensure_volume(b, name)
+        if vol is None:
+            log(f"ete: {name} unavailable, {case} skipped")
+            continue
+        ds = DATASETS[name]
+        out = b.dir("img", case)
+        integ = {"scattering": scattering}
+        # The reference: 16x the samples, another seed, every thread, with its variance
+        ref_scene = b.path("scenes", f"ete_{case}_ref.yaml")
+        write_scene(b, ref_scene, name, vol, [render_entry("reference", ds, width=a.size, height=a.size,
+                    spp=16 * a.spp, integrator=dict(integ, seed=987654321), variance=True)], 0, out)
+        log(f"ete/{case}: reference {a.size}x{a.size}, {16 * a.spp} spp")
+        run_scene(b, ref_scene, b.path("stats", f"ete_{case}_ref.json"))
+        # The measured renders: one thread, `reps` times in one process (the volume loads once)
+        entries = [warmup_entry(ds)] + [render_entry(f"run{r}", ds, width=a.size, height=a.size, spp=a.spp,
+                                                     integrator=dict(integ, seed=r)) for r in range(a.reps)]
+        scene = b.path("scenes", f"ete_{case}.yaml")
+        write_scene(b, scene, name, vol, entries, 1, out)
+        res = run_scene(b, scene, b.path("stats", f"ete_{case}.json"))[1:]
+        errs = rmse(b, os.path.join(out, "reference.exr"), [os.path.join(out, f"run{r}.exr") for r in range(a.reps)])
+        best = min(res, key=lambda r: r["wall_seconds"])
+        e = [errs[os.path.join(out, f"run{r}.exr")] for r in range(a.reps)]
+        # Noise of the reference removed (it has 1/16 of the measured render's variance)
+        err2 = sum(max(0.0, x["rmse_lum"] ** 2 - x["ref_var_lum"]) for x in e) / len(e)
+        rel2 = err2 / max(1e-30, e[0]["mean_lum_ref"] ** 2)
+        t = best["wall_seconds"]
+        samples = best["samples"]
+        row = {"label": a.label, "case": case, "size": a.size, "spp": a.spp, "seconds": t,
+               "rel_rmse": rel2 ** 0.5, "efficiency": 1.0 / (t * rel2) if rel2 > 0 else float("inf"),
+               "lookups_per_sample": best["density_lookups"] / samples,
+               "mlookups_per_s": best["density_lookups"] / t / 1e6,
+               "lookups_per_real_collision": best["lookups_per_real_collision"]}
+        rows.append(row)
+        log(f"ete/{case}: {t:.3f} s, rel. RMSE {row['rel_rmse']:.4g}, efficiency {row['efficiency']:.4g}, "
+            f"{row['lookups_per_sample']:.2f} lookups/sample, {row['mlookups_per_s']:.2f} M lookups/s")
+    write_csv(os.path.join(b.results, "ete.csv"), rows)
+    with open(os.path.join(b.results, "ete.md"), "w") as f:
+        f.write("| case | s | rel. RMSE | efficiency 1/(s err^2) | lookups/sample | M lookups/s |\n|---|---|---|---|---|---|\n")
+        for r in rows:
+            f.write(f"| {r['case']} | {r['seconds']:.3f} | {r['rel_rmse']:.4g} | {r['efficiency']:.4g} | "
+                    f"{r['lookups_per_sample']:.2f} | {r['mlookups_per_s']:.2f} |\n")
+    print(open(os.path.join(b.results, "ete.md")).read())
+
+
+if __name__ == "__main__":
+    main()
