@@ -26,11 +26,13 @@
 /// hardware (shared-memory atomics).
 #include "block_layout.h"
 #include "mpi/brick_service.h"
+#include "mpi/mpi_datatypes.h"
 #include "parallel_context.h"
 
 #include <mpi.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -137,6 +139,15 @@ class MpiParallelContext final : public ParallelContext {
   void free_replica();
   void exchange_boxes(std::span<const FieldBlock> blocks, const std::vector<BlockRecord>& all,
                       const std::vector<int>& counts, DType dtype);
+  /// Where box q (every rank's boxes in rank order) lands in the replica: a displacement from
+  /// the replica's start and a receive type (made through `keep`).
+  using ReceivePlace = std::function<void(std::size_t q, detail::TypeList& keep, MPI_Aint* displ, MPI_Datatype* type)>;
+  /// The replica's exchange, of one level's boxes or of every patch: this rank's `blocks`
+  /// (read in place) to every other node's leader in one MPI_Ialltoallw, each leader receiving
+  /// other nodes' boxes where `place` says, while `copy_own` writes this rank's blocks into
+  /// its own node's replica. `counts`: boxes per rank.
+  void exchange_to_replica(std::span<const FieldBlock> blocks, const std::vector<int>& counts, DType dtype,
+                           const ReceivePlace& place, const std::function<void()>& copy_own);
 
   // Refinement levels, replicated (parallel_context_mpi_amr.cpp)
   /// Copies this rank's patches (`ordered`: its blocks in domain order) into its node's

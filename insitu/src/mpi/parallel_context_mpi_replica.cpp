@@ -8,6 +8,7 @@
 
 #include <climits>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -74,19 +75,18 @@ void MpiParallelContext::ensure_replica(std::uint64_t bytes) {
   check(MPI_Win_lock_all(MPI_MODE_NOCHECK, m_replica_win), "MPI_Win_lock_all");
 }
 
-void MpiParallelContext::exchange_boxes(std::span<const FieldBlock> blocks, const std::vector<BlockRecord>& all,
-                                        const std::vector<int>& counts, DType dtype) {
+void MpiParallelContext::exchange_to_replica(std::span<const FieldBlock> blocks, const std::vector<int>& counts,
+                                             DType dtype, const ReceivePlace& place,
+                                             const std::function<void()>& copy_own) {
   detail::TypeList keep;
   std::vector<int> send_counts(m_size, 0), recv_counts(m_size, 0), zero(m_size, 0);
   std::vector<MPI_Datatype> send_types(m_size, MPI_BYTE), recv_types(m_size, MPI_BYTE);
   MPI_Request request = MPI_REQUEST_NULL;
   std::uint64_t my_bytes = 0;
   for (const FieldBlock& b : blocks) my_bytes += static_cast<std::uint64_t>(b.view.vertex_count()) * dtype_size(dtype);
-  std::int64_t g[3];
-  for (int a = 0; a < 3; ++a) g[a] = m_global[a];
 
   // Other nodes: my blocks, read in place (one struct type over their absolute addresses), to
-  // each other node's leader, straight into the boxes that the leader's receive type describes
+  // each other node's leader, straight into the places that the leader's receive type describes
   if (m_node_count > 1) {
     const MPI_Datatype mine = detail::blocks_in_place_type(blocks, keep);
     for (int d = 0; d < m_size; ++d)
@@ -103,8 +103,7 @@ void MpiParallelContext::exchange_boxes(std::span<const FieldBlock> blocks, cons
           std::vector<int> lens(n, 1);
           std::vector<MPI_Aint> displs(n, 0);
           std::vector<MPI_Datatype> types(n);
-          for (std::size_t q = 0; q < n; ++q)
-            types[q] = detail::replica_box_type(dtype, g, all[first + q].offset, all[first + q].dims, keep);
+          for (std::size_t q = 0; q < n; ++q) place(first + q, keep, &displs[q], &types[q]);
           MPI_Datatype t = MPI_DATATYPE_NULL;
           check(MPI_Type_create_struct(static_cast<int>(n), lens.data(), displs.data(), types.data(), &t),
                 "MPI_Type_create_struct");
@@ -120,10 +119,24 @@ void MpiParallelContext::exchange_boxes(std::span<const FieldBlock> blocks, cons
   }
 
   // This node: each rank writes its own blocks into the shared replica, all ranks at once.
-  for (const FieldBlock& b : blocks) copy_block(b.view, m_replica, g, b.offset);
+  copy_own();
   m_report.assemble_bytes += my_bytes;
 
   if (request != MPI_REQUEST_NULL) check(MPI_Wait(&request, MPI_STATUS_IGNORE), "MPI_Wait");
+}
+
+void MpiParallelContext::exchange_boxes(std::span<const FieldBlock> blocks, const std::vector<BlockRecord>& all,
+                                        const std::vector<int>& counts, DType dtype) {
+  std::int64_t g[3];
+  for (int a = 0; a < 3; ++a) g[a] = m_global[a];
+  // Box q goes to its place in the global grid
+  const auto place = [&](std::size_t q, detail::TypeList& keep, MPI_Aint* displ, MPI_Datatype* type) {
+    *displ = 0;
+    *type = detail::replica_box_type(dtype, g, all[q].offset, all[q].dims, keep);
+  };
+  exchange_to_replica(blocks, counts, dtype, place, [&] {
+    for (const FieldBlock& b : blocks) copy_block(b.view, m_replica, g, b.offset);
+  });
 }
 
 std::int64_t levels_word(const AmrField& meta) {
