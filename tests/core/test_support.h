@@ -129,6 +129,7 @@ tessera::GridMedium<T> make_medium(const tessera::FieldView& f, const tessera::T
   }
   m.tf = &tf;
   m.majorant = grid ? grid->majorants() : nullptr;
+  m.empty_reach = grid ? grid->empty_reach() : nullptr;
   m.cell_edge = grid ? grid->edge() : 1.0;
   return m;
 }

@@ -37,9 +37,10 @@ def run_mpi(ranks, tmp_path):
 def test_two_levels_any_cut_and_rank_count_bit_identical(tmp_path):
     one = render(tmp_path, whole())
     assert one[..., 3].max() > 0.1
-    # The fine level shows: without it (level 0 alone) the image differs
-    single = render(tmp_path, whole()[:1], global_dims=DIMS0, **GRID)
-    assert not same_bits(one, single)
+    # The fine level is read: shifting its values changes the image (level 0 alone may give the
+    # same bits: this view barely sees the fine detail, and the walk's random numbers need not
+    # depend on the fine level's majorants)
+    assert not same_bits(one, render(tmp_path, whole(fine_offset=0.5)))
     assert same_bits(one, render(tmp_path, patches()))
     assert same_bits(one, render(tmp_path, patches()[::-1]))
     pytest.importorskip("mpi4py")

@@ -43,7 +43,7 @@ inline V tf_eval(const double* x, const V* v, int n, double u) {
 /// walk over the points inside its bin (usually none) instead of a binary search. The same
 /// segment, hence the same result bit for bit, as tf_eval.
 template <class V>
-inline V tf_eval_binned(const double* x, const V* v, const std::uint8_t* seg, int n, double u) {
+[[gnu::always_inline]] inline V tf_eval_binned(const double* x, const V* v, const std::uint8_t* seg, int n, double u) {
   if (n == 0) return V(0.0);
   if (u <= x[0]) return v[0];
   if (u >= x[n - 1]) return v[n - 1];
@@ -69,7 +69,7 @@ class ScalarTF {
   static ScalarTF constant(double v) { return ScalarTF({0.0}, {v}); }
 
   /// Inline, table-driven (detail::tf_eval_binned): the opacity is evaluated at every lookup.
-  double eval(double u) const { return detail::tf_eval_binned(m_x, m_v, m_seg, m_n, u); }
+  [[gnu::always_inline]] double eval(double u) const { return detail::tf_eval_binned(m_x, m_v, m_seg, m_n, u); }
   /// Exact maximum of the TF over [u0, u1] (u0 <= u1), from the end values and the points
   /// strictly inside: a piecewise-linear function peaks at a point or an end.
   double max_over(double u0, double u1) const;
@@ -114,7 +114,7 @@ struct TransferFunction {
   ColorTF emission;  ///< absent = zero
 
   /// u(v) = clamp((v - lo)/(hi - lo), 0, 1); NaN maps to 0 (no medium), see docs/physics.md.
-  double normalise(double v) const {
+  [[gnu::always_inline]] double normalise(double v) const {
     if (!(v == v)) return 0.0;
     const double u = (v - lo) / (hi - lo);
     return u <= 0.0 ? 0.0 : (u >= 1.0 ? 1.0 : u);

@@ -1,5 +1,7 @@
 #include "field/majorant_grid.h"
 
+#include "field/empty_reach.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,6 +19,7 @@ void MajorantGrid::set_summary(std::shared_ptr<const FieldSummary> summary) {
   m_edge = m_summary->edge();
   for (int a = 0; a < 3; ++a) m_nc[a] = m_summary->cells()[a];
   m_majorant.clear();
+  m_reach.clear();
   m_max = 0.0;
 }
 
@@ -41,6 +44,8 @@ void MajorantGrid::update(const TransferFunction& tf, double sigma_max) {
     m_majorant[c] = m > 0.0 ? m * (1.0 + 1e-9) : 0.0;
     m_max = std::max(m_max, m_majorant[c]);
   }
+  m_reach.resize(ranges.size());
+  fill_empty_reach(m_majorant.data(), m_nc, m_reach.data());
 }
 
 }  // namespace tessera

@@ -1,7 +1,8 @@
 #pragma once
 /// MajorantGrid: macrocells of E^3 voxels over the field, each holding the min/max of the
 /// vertex values it touches (its own vertices plus the +1 overlap), and per transfer function
-/// the majorant density_scale * max opacity over that value range.
+/// the majorant density_scale * max opacity over that value range and how far empty
+/// space reaches around each cell (the kernels' walk skips it).
 ///
 /// The ranges come from a FieldSummary (one pass over the field), which the grid shares and
 /// never modifies; update (per TF, no pass over the field) derives the majorants from them,
@@ -36,6 +37,10 @@ class MajorantGrid {
     return (cz * m_nc[1] + cy) * m_nc[0] + cx;
   }
   const double* majorants() const { return m_majorant.data(); }
+  /// Per cell, how far empty space reaches around it (empty_reach.h): 0 for a non-empty cell,
+  /// else R >= 1 such that every cell within R - 1 cells of it along each axis (a cube of
+  /// 2R - 1 cells) lies in the grid and is empty. Derived by update() with the majorants.
+  const std::uint8_t* empty_reach() const { return m_reach.data(); }
   double max_majorant() const { return m_max; }
   std::uint64_t nan_vertices() const { return m_summary ? m_summary->nan_vertices() : 0; }
   /// Finite min / max over all vertices ({0,0} when none is finite).
@@ -47,6 +52,7 @@ class MajorantGrid {
   int m_edge = 16;  ///< copies of the summary's, read by the kernels
   std::int64_t m_nc[3] = {1, 1, 1};
   std::vector<double> m_majorant;
+  std::vector<std::uint8_t> m_reach;
   double m_max = 0.0;
 };
 

@@ -79,7 +79,8 @@ struct GridMedium {
   std::int64_t n[3];
   double hi_index[3];  ///< n - 1 as double: the box in voxel space is [0, hi_index]
   const TransferFunction* tf;
-  const double* majorant;  ///< per macrocell, 1 / world unit
+  const double* majorant;                     ///< per macrocell, 1 / world unit
+  const std::uint8_t* empty_reach = nullptr;  ///< per macrocell (field/empty_reach.h); null: no skipping
   std::int64_t nc[3];
   double cell_edge;  ///< macrocell edge in voxels
   /// Extinction clamp, 1 / world unit (kMaxOpticalThicknessPerVoxel / smallest spacing):
@@ -99,7 +100,7 @@ struct GridMedium {
   AxisMap axis[3];  ///< per axis; axis[a].coords == nullptr: uniform
 
   /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
-  double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  [[gnu::always_inline]] double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
     const double v = field.load(i, j, k);
     if constexpr (kMayBeNonFinite<T>) {
       if (!std::isfinite(v)) return v > 0.0 ? tf->hi : tf->lo;
@@ -108,7 +109,15 @@ struct GridMedium {
   }
 
   /// Segment and fraction of p along a uniform axis a (clamped to the samples).
-  void locate_uniform(int a, double pa, std::int64_t* i0, std::int64_t* i1, double* f) const {
+  [[gnu::always_inline]] void locate_uniform(int a, double pa, std::int64_t* i0, std::int64_t* i1, double* f) const {
+    if (pa >= 0.0 && pa < hi_index[a]) {
+      // Inside the samples (the common case): the clamps below would change nothing
+      const auto i = static_cast<std::int64_t>(pa);
+      *i0 = i;
+      *i1 = i + 1;
+      *f = pa - static_cast<double>(i);
+      return;
+    }
     const double x = std::clamp(pa, 0.0, hi_index[a]);
     std::int64_t i = static_cast<std::int64_t>(x);
     if (i > n[a] - 2) i = std::max<std::int64_t>(0, n[a] - 2);
@@ -120,7 +129,7 @@ struct GridMedium {
 
   /// Trilinear value at point p (clamped to the samples: over the outer half cell of cell
   /// data, the nearest centre's value along each axis).
-  double value(const Vec3& p) const {
+  [[gnu::always_inline]] double value(const Vec3& p) const {
     if constexpr (kAmr) {
       return field.value(p, tf->lo, tf->hi);
     } else if constexpr (kRectilinear) {
@@ -149,7 +158,7 @@ struct GridMedium {
   }
 
   /// The trilinear blend of the 8 samples i0/i1 per axis with fractions f.
-  double blend(const std::int64_t i0[3], const std::int64_t i1[3], const double f[3]) const {
+  [[gnu::always_inline]] double blend(const std::int64_t i0[3], const std::int64_t i1[3], const double f[3]) const {
     const double c000 = vertex(i0[0], i0[1], i0[2]), c100 = vertex(i1[0], i0[1], i0[2]);
     const double c010 = vertex(i0[0], i1[1], i0[2]), c110 = vertex(i1[0], i1[1], i0[2]);
     const double c001 = vertex(i0[0], i0[1], i1[2]), c101 = vertex(i1[0], i0[1], i1[2]);
@@ -160,9 +169,11 @@ struct GridMedium {
     return c0 + f[2] * (c1 - c0);
   }
 
-  double u(const Vec3& p) const { return tf->normalise(value(p)); }
-  double sigma_t_of_u(double uu) const { return std::min(tf->density_scale * tf->opacity.eval(uu), sigma_max); }
-  double sigma_t(const Vec3& p) const { return sigma_t_of_u(u(p)); }
+  [[gnu::always_inline]] double u(const Vec3& p) const { return tf->normalise(value(p)); }
+  [[gnu::always_inline]] double sigma_t_of_u(double uu) const {
+    return std::min(tf->density_scale * tf->opacity.eval(uu), sigma_max);
+  }
+  [[gnu::always_inline]] double sigma_t(const Vec3& p) const { return sigma_t_of_u(u(p)); }
 
   /// Gradient of u by central differences one voxel apart (one-sided at the faces), in
   /// units of 1 / voxel. Six field lookups.
@@ -218,44 +229,77 @@ struct GridMedium {
   return std::clamp<std::int64_t>(seg / edge, 0, nc - 1);
 }
 
+/// Where the ray p(t) = ov + t dv leaves the cube of macrocells c +- r (every axis that it
+/// moves along; uniform axes, edge E).
+inline double cube_exit(const Vec3& ov, const Vec3& dv, const std::int64_t c[3], std::int64_t r, double E) {
+  double t = INFINITY;
+  for (int a = 0; a < 3; ++a) {
+    if (dv[a] > 0.0) t = std::min(t, (static_cast<double>(c[a] + r + 1) * E - ov[a]) / dv[a]);
+    else if (dv[a] < 0.0) t = std::min(t, (static_cast<double>(c[a] - r) * E - ov[a]) / dv[a]);
+  }
+  return t;
+}
+
 /// Walks the macrocells a ray crosses between world distances t0 < t1, calling
 /// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
 /// Ray in the medium's p space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
 /// A uniform axis steps E at a time; a rectilinear one from wall to wall of its AxisMap. For
 /// cell data the outermost macrocells reach on to the box (the outer half cell).
+/// Empty space (majorant 0) may come as one segment spanning several cells: where the
+/// medium has an empty-reach table (field/empty_reach.h) and every axis is uniform, an empty
+/// cell of reach R >= 3 hands fn the ray's whole way through its empty cube of cells c +- (R - 1)
+/// at once, and the walk restarts at the cube's exit (a smaller cube does not pay for the
+/// restart). The segments still tile [t0, t1].
 template <class T, class Fn>
 bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Fn&& fn) {
   if (!(t0 < t1)) return false;
   const double E = m.cell_edge;
   std::int64_t c[3], step[3];
   double t_next[3], t_delta[3];
-  const Vec3 p0 = ov + t0 * dv;
   constexpr bool rectilinear = GridMedium<T>::kRectilinear;  // a uniform Value tests no AxisMap
-  for (int a = 0; a < 3; ++a) {
-    const AxisMap& ax = m.axis[a];
-    const bool rect = rectilinear && ax.coords != nullptr;
-    c[a] = rect ? rectilinear_cell(ax, p0[a], static_cast<std::int64_t>(E), m.nc[a])
-                : std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p0[a] / E)), 0, m.nc[a] - 1);
-    if (dv[a] > 0.0) {
-      step[a] = 1;
-      t_next[a] = ((rect ? ax.walls[c[a] + 1] : (c[a] + 1) * E) - ov[a]) / dv[a];
-      t_delta[a] = E / dv[a];
-    } else if (dv[a] < 0.0) {
-      step[a] = -1;
-      t_next[a] = ((rect ? ax.walls[c[a]] : c[a] * E) - ov[a]) / dv[a];
-      t_delta[a] = -E / dv[a];
-    } else {
-      step[a] = 0;
-      t_next[a] = INFINITY;
-      t_delta[a] = INFINITY;
+  // The cell holding p(t) and, per axis, the distance of its next wall.
+  const auto enter = [&](double t) __attribute__((always_inline)) {
+    const Vec3 p = ov + t * dv;
+    for (int a = 0; a < 3; ++a) {
+      const AxisMap& ax = m.axis[a];
+      const bool rect = rectilinear && ax.coords != nullptr;
+      c[a] = rect ? rectilinear_cell(ax, p[a], static_cast<std::int64_t>(E), m.nc[a])
+                  : std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p[a] / E)), 0, m.nc[a] - 1);
+      if (dv[a] > 0.0) {
+        step[a] = 1;
+        t_next[a] = ((rect ? ax.walls[c[a] + 1] : (c[a] + 1) * E) - ov[a]) / dv[a];
+        t_delta[a] = E / dv[a];
+      } else if (dv[a] < 0.0) {
+        step[a] = -1;
+        t_next[a] = ((rect ? ax.walls[c[a]] : c[a] * E) - ov[a]) / dv[a];
+        t_delta[a] = -E / dv[a];
+      } else {
+        step[a] = 0;
+        t_next[a] = INFINITY;
+        t_delta[a] = INFINITY;
+      }
     }
-  }
+  };
+  enter(t0);
   double t = t0;
   for (;;) {
     const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
     const double t_exit = std::min(t_next[a], t1);
     if (t_exit > t) {
-      const double maj = m.majorant[(c[2] * m.nc[1] + c[1]) * m.nc[0] + c[0]];
+      const std::int64_t cell = (c[2] * m.nc[1] + c[1]) * m.nc[0] + c[0];
+      const double maj = m.majorant[cell];
+      if constexpr (!rectilinear) {
+        if (!(maj > 0.0) && m.empty_reach && m.empty_reach[cell] > 2) {
+          const double t_skip = std::min(cube_exit(ov, dv, c, m.empty_reach[cell] - 1, E), t1);
+          if (t_skip > t_exit) {
+            if (fn(t, t_skip, 0.0)) return true;
+            if (t_skip >= t1) return false;
+            t = t_skip;
+            enter(t);
+            continue;
+          }
+        }
+      }
       if (fn(t, t_exit, maj)) return true;
       t = t_exit;
     }

@@ -59,6 +59,7 @@ GridMedium<T> make_medium(const KernelScene& ks) {
   m.tf = ks.tf;
   m.sigma_max = ks.sigma_max;
   m.majorant = ks.majorant;
+  m.empty_reach = ks.empty_reach;
   m.cell_edge = ks.cell_edge;
   return m;
 }

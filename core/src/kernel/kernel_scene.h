@@ -44,9 +44,10 @@ struct KernelScene {
   Vec3 inv_spacing{1.0};
   double box_lo[3] = {0.0, 0.0, 0.0};  ///< the medium's box in p (the cells' box for cell data)
   double box_hi[3] = {0.0, 0.0, 0.0};
-  AxisMap axis[3];                   ///< per axis; coords == nullptr: uniform (axis_tables.h builds them)
-  bool outer_half = false;           ///< cell data: the outermost macrocells reach over the outer half cell
-  const double* majorant = nullptr;  ///< per macrocell, 1 / world unit, x fastest
+  AxisMap axis[3];                            ///< per axis; coords == nullptr: uniform (axis_tables.h builds them)
+  bool outer_half = false;                    ///< cell data: the outermost macrocells reach over the outer half cell
+  const double* majorant = nullptr;           ///< per macrocell, 1 / world unit, x fastest
+  const std::uint8_t* empty_reach = nullptr;  ///< per macrocell (field/empty_reach.h); null: no skipping
   std::int64_t cells[3] = {1, 1, 1};
   int cell_edge = 1;          ///< macrocell edge in voxels
   double max_majorant = 0.0;  ///< 0: the medium is empty for this TF

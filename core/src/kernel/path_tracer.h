@@ -212,15 +212,16 @@ class PathTracer {
       if (r < 0) return !stall(k, stalled);
       return r > 0;
     } else {
-      const TrackEnd end = sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double t, double maj) {
-        ++k.free_flight_lookups;
-        if (rng.uniform() * maj < m_m.sigma_t(p)) {
-          *t_hit = t;
-          return false;  // a real collision
-        }
-        ++k.null_collisions;
-        return true;
-      });
+      const TrackEnd end = sample_majorant_steps(
+          m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double t, double maj) __attribute__((always_inline)) {
+            ++k.free_flight_lookups;
+            if (rng.uniform() * maj < m_m.sigma_t(p)) {
+              *t_hit = t;
+              return false;  // a real collision
+            }
+            ++k.null_collisions;
+            return true;
+          });
       if (end == TrackEnd::Stalled) return !stall(k, stalled);
       return end == TrackEnd::Stopped;
     }
@@ -257,11 +258,12 @@ class PathTracer {
   TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng, KernelCounters& k,
                        double& T) const {
     const bool roulette = m_s.shadow_roulette;
-    return sample_majorant_steps(m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) {
-      ++k.transmittance_lookups;
-      TransmittanceStep<kMode>::apply(T, m_m.sigma_t(p), maj, roulette, rng);
-      return !(T <= 0.0);
-    });
+    return sample_majorant_steps(
+        m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) __attribute__((always_inline)) {
+          ++k.transmittance_lookups;
+          TransmittanceStep<kMode>::apply(T, m_m.sigma_t(p), maj, roulette, rng);
+          return !(T <= 0.0);
+        });
   }
 
   /// Emitters met along `ray` before distance t_end (all lights are transparent), plus the

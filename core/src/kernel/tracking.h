@@ -12,6 +12,7 @@
 #include "kernel/grid_medium.h"
 #include "sampling/rng.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace tessera {
@@ -29,28 +30,39 @@ enum class TrackEnd {
 };
 
 /// Samples tentative collisions along the voxel-space ray p(t) = ov + t dv over world
-/// distances [t0, t1]: per macrocell with majorant maj > 0 (empty cells are crossed in closed
-/// form), steps t += Exp(maj) until the cell's exit, calling fn(p, t, maj) at each; fn returns
-/// false to stop the walk. One rng draw per step before fn (fn draws what it needs itself).
+/// distances [t0, t1]: one Exp(1) optical depth tau at a time, spent over the macrocells'
+/// majorants (a cell with majorant maj > 0 over a length l spends maj l of it; empty cells
+/// spend none and are crossed in closed form), and a tentative collision where tau runs out,
+/// calling fn(p, t, maj) there; fn returns false to stop the walk. By the exponential's
+/// memorylessness this is delta tracking's step distribution exactly, with one logarithm per
+/// tentative collision instead of one per non-empty cell crossed. One rng draw per
+/// collision before fn (fn draws what it needs itself); none for a ray that meets only empty cells.
 template <class V, class Fn>
 TrackEnd sample_majorant_steps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng,
                                Fn&& fn) {
   double budget = kMaxTrackingSteps;
   bool stalled = false;
-  const bool stopped = traverse_macrocells(m, ov, dv, t0, t1, [&](double ta, double tb, double maj) {
-    if (maj <= 0.0) return false;
-    for (double t = ta;;) {
-      const double dt = exp_sample(rng, maj);
-      const double t_next = t + dt;
-      if (t_next >= tb) return false;
-      if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) {
-        stalled = true;
-        return true;
-      }
-      t = t_next;
-      if (!fn(ov + t * dv, t, maj)) return true;
-    }
-  });
+  double tau = -1.0;  // optical depth left to the next tentative collision (drawn at the first non-empty cell)
+  const bool stopped = traverse_macrocells(
+      m, ov, dv, t0, t1, [&](double ta, double tb, double maj) __attribute__((always_inline)) {
+        if (maj <= 0.0) return false;
+        if (tau < 0.0) tau = exp_unit(rng);
+        for (double t = ta;;) {
+          const double dt = tau / maj;
+          const double t_next = t + dt;
+          if (t_next >= tb) {
+            tau = std::max(0.0, tau - (tb - t) * maj);  // the rest carries into the next cell
+            return false;
+          }
+          if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) {
+            stalled = true;
+            return true;
+          }
+          t = t_next;
+          if (!fn(ov + t * dv, t, maj)) return true;
+          tau = exp_unit(rng);
+        }
+      });
   return stalled ? TrackEnd::Stalled : (stopped ? TrackEnd::Stopped : TrackEnd::Done);
 }
 

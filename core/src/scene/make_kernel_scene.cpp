@@ -26,6 +26,7 @@ KernelScene make_kernel_scene(const PreparedSceneImpl& p) {
   }
   k.outer_half = d.geometry.association == Association::Cell;
   k.majorant = p.grid.majorants();
+  k.empty_reach = p.grid.empty_reach();
   for (int a = 0; a < 3; ++a) k.cells[a] = p.grid.cells()[a];
   k.cell_edge = p.grid.edge();
   k.max_majorant = p.grid.max_majorant();

@@ -122,7 +122,7 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
     const u64 c = static_cast<u64>(std::max(1, f.macrocell_edge));
     u64 cells = 1;
     for (int a = 0; a < 3; ++a) cells = mul(cells, std::max<u64>(1, (nonneg(f.field_dims[a] - 1) + c - 1) / c));
-    e.add("majorant grid", mul(cells, sizeof(CellRange) + sizeof(double)));
+    e.add("majorant grid", mul(cells, sizeof(CellRange) + sizeof(double) + sizeof(std::uint8_t)));
     // Rectilinear axes: the bin table and macrocell walls of each (axis_tables.h)
     u64 axes = 0;
     for (int a = 0; a < 3; ++a) {
