@@ -9,8 +9,9 @@ each, and prints per scene the best render wall time (the --stats wall_seconds: 
 only, no load or I/O) of each binary and new / old, and the best CPU time (user + system) of
 the whole process (load and prepare included, the same work for both), which a busy machine
 disturbs less than wall time. The volumes are made as bench/perf makes
-them (BUILD's tessera-synth and tessera-heat; the CT from scripts/fetch_ct.sh into
-RESULTS/data, skipped when it cannot be fetched). Images of the two binaries must match:
+them (BUILD's tessera-synth and tessera-heat; the CT from scripts/fetch_ct.sh and, with
+`--sets mri`, the brain MRI from scripts/fetch_mri.sh into RESULTS/data, skipped when they
+cannot be fetched). Images of the two binaries must match:
 the script also compares the EXR files byte for byte and says so. A benchmark, not a test.
 """
 import argparse

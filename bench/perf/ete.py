@@ -15,7 +15,8 @@
                               [--reps 3] [--only heat_single,ct_single] [--label NAME]
 
 Cases: the heat miniapp's field (single and multiple scattering), the head CT of
-scripts/fetch_ct.sh (single and multiple scattering). `--label` names a row set (e.g. the
+scripts/fetch_ct.sh and the brain MRI of scripts/fetch_mri.sh (each single and multiple
+scattering; a case whose data cannot be fetched is skipped). `--label` names a row set (e.g. the
 commit) so that several runs' CSVs compare. Benchmarks are not tests: nothing here asserts.
 """
 import argparse
@@ -31,6 +32,8 @@ CASES = {
     "heat_multiple": ("heat", "multiple"),
     "ct_single": ("ct", "single"),
     "ct_multiple": ("ct", "multiple"),
+    "mri_single": ("mri", "single"),
+    "mri_multiple": ("mri", "multiple"),
 }
 
 
@@ -46,7 +49,11 @@ def main():
     ap.add_argument("--label", default="")
     a = ap.parse_args()
     b = Bench(root, os.path.abspath(a.build), os.path.abspath(a.results), quick=False)
-    cases = [c for c in CASES if not a.only or c in a.only.split(",")]
+    only = [c for c in a.only.split(",") if c]
+    unknown = [c for c in only if c not in CASES]
+    if unknown:
+        ap.error(f"--only: unknown case(s) {', '.join(unknown)} (cases: {', '.join(CASES)})")
+    cases = [c for c in CASES if not only or c in only]
     rows = []
     for case in cases:
         name, scattering = CASES[case]

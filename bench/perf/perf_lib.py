@@ -129,6 +129,17 @@ CT_TF = {
 }
 
 
+# The brain MRI (T1, skull-stripped, values 0 outside, range [0, 130]): the partial-volume rim
+# and CSF (below ~64, u < 0.49) clear, grey matter (~70-95) translucent and pinkish, white matter
+# (~100-125, u > 0.77) dense and pale, so the cortex's folds show over the white matter.
+MRI_TF = {
+    "opacity": [[0.0, 0.0], [0.45, 0.0], [0.55, 0.25], [0.72, 0.3], [0.8, 1.0], [1.0, 1.0]],
+    "diffuse": [[0.0, [0.7, 0.4, 0.35]], [0.55, [0.8, 0.5, 0.45]], [0.72, [0.85, 0.65, 0.55]],
+                [0.8, [0.95, 0.9, 0.82]], [1.0, [1.0, 0.97, 0.92]]],
+    "roughness": [[0.0, 0.6], [1.0, 0.4]],
+}
+
+
 def synthetic(kind, dims, dtype, tf, density, value_range, note):
     # Equal spacing so that the longest axis is one world unit long whatever the resolution:
     # every resolution then has the same optical depth.
@@ -163,7 +174,17 @@ DATASETS = {
            "range": [-1024.0, 3033.0], "file": "cranium.raw",
            "note": "Cranium head CT 256x256x108 int16 (invesalius-examples)",
            "camera": {"azimuth": 90, "elevation": 10}},
+    # Real brain MRI from scripts/fetch_mri.sh (mm units, T1 intensities 0 .. 130), seen from
+    # the left: the lateral view, frontal lobe on the left of the image, cerebellum lower right.
+    "mri": {"kind": "mri", "dims": [301, 370, 316], "dtype": "uint8",
+            "spacing": [0.5, 0.5, 0.5], "tf": MRI_TF, "density": 1.0,
+            "range": [0.0, 130.0], "file": "ch2better.raw",
+            "note": "Colin27 T1 brain MRI 301x370x316 uint8 (mricron-data)",
+            "camera": {"azimuth": 180, "elevation": 15}},
 }
+
+# The scripts that fetch the real data sets, by kind (exit 0 ok, 3 unreachable, 1 failure).
+FETCH_SCRIPTS = {"ct": "fetch_ct.sh", "mri": "fetch_mri.sh"}
 
 
 def ensure_volume(b, name):
@@ -172,8 +193,9 @@ def ensure_volume(b, name):
     path = os.path.join(b.data, ds["file"])
     if os.path.exists(path):
         return path
-    if ds["kind"] == "ct":
-        rc = subprocess.run(["bash", os.path.join(b.root, "scripts", "fetch_ct.sh"), b.data]).returncode
+    if ds["kind"] in FETCH_SCRIPTS:
+        script = os.path.join(b.root, "scripts", FETCH_SCRIPTS[ds["kind"]])
+        rc = subprocess.run(["bash", script, b.data]).returncode
         return path if rc == 0 and os.path.exists(path) else None
     d = ds["dims"]
     if ds["kind"] == "heat":
