@@ -7,6 +7,7 @@
 #include "sampling/rng.h"
 #include "test_support.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -216,4 +217,53 @@ TEST_CASE("the macrocell DDA visits the cells a ray crosses, in order, without g
     CHECK(bad_cell == 0);
     CHECK(bad_cover == 0);
   }
+}
+
+TEST_CASE("the gradient's shared-stencil path equals central differences of u on random fields",
+          "[grid_medium]") {
+  // Random int16 and float fields (the float one with NaN and +-Inf vertices); every point of
+  // the box, so that both the interior path (p +- 1 inside the samples) and the clamped
+  // one-sided path are taken, against (u(p + e_a) - u(p - e_a)) / 2 computed here.
+  constexpr std::int64_t nx = 9, ny = 7, nz = 6;
+  tessera::Rng rng(21, 0, 0, 0);
+  std::vector<std::int16_t> i16(nx * ny * nz);
+  std::vector<float> f32(nx * ny * nz);
+  for (std::size_t q = 0; q < i16.size(); ++q) {
+    i16[q] = static_cast<std::int16_t>(rng.uniform() * 60000.0 - 30000.0);
+    const double r = rng.uniform();
+    f32[q] = r < 0.02   ? std::numeric_limits<float>::quiet_NaN()
+             : r < 0.03 ? std::numeric_limits<float>::infinity()
+             : r < 0.04 ? -std::numeric_limits<float>::infinity()
+                        : static_cast<float>(rng.uniform() * 4.0 - 1.0);
+  }
+  tessera::TransferFunction ti, tf;
+  ti.lo = -20000.0;  // some values clamp at u = 0 and 1
+  ti.hi = 25000.0;
+  tf.lo = -0.5;
+  tf.hi = 2.5;
+  const auto mi = make_medium<std::int16_t>(FieldView::contiguous(i16.data(), tessera::DType::Int16, nx, ny, nz), ti);
+  const auto mf = make_medium<float>(FieldView::contiguous(f32.data(), tessera::DType::Float32, nx, ny, nz), tf);
+  const std::int64_t n[3] = {nx, ny, nz};
+  int interior = 0;
+  const auto central = [](const auto& m, const Vec3& p) {
+    Vec3 g(0.0);
+    for (int a = 0; a < 3; ++a) {
+      Vec3 pm = p, pp = p;
+      pm[a] = std::clamp(p[a] - 1.0, 0.0, m.hi_index[a]);
+      pp[a] = std::clamp(p[a] + 1.0, 0.0, m.hi_index[a]);
+      if (pp[a] > pm[a]) g[a] = (m.u(pp) - m.u(pm)) / (pp[a] - pm[a]);
+    }
+    return g;
+  };
+  double worst = 0.0;
+  for (int s = 0; s < 4000; ++s) {
+    const Vec3 p = random_point(rng, n);
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) inside = inside && p[a] >= 1.0 && p[a] + 1.0 < mi.hi_index[a];
+    interior += inside;
+    worst = std::fmax(worst, glm::length(mi.gradient_voxel(p) - central(mi, p)));
+    worst = std::fmax(worst, glm::length(mf.gradient_voxel(p) - central(mf, p)));
+  }
+  CHECK(interior > 300);
+  CHECK(worst < 1e-12);
 }
