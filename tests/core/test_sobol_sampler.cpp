@@ -88,7 +88,8 @@ TEST_CASE("every aligned block of 2^k samples of a pair is a (0,k,2)-net", "[sam
           for (std::uint64_t block : {0ull, 1ull, 5ull}) {
             std::vector<Sample2> p;
             const std::uint64_t n = 1ull << k;
-            for (std::uint64_t i = block * n; i < (block + 1) * n; ++i) p.push_back(SobolSampler(seed, 2, pixel, i).get_2d(d));
+            for (std::uint64_t i = block * n; i < (block + 1) * n; ++i)
+              p.push_back(SobolSampler(seed, 2, pixel, i).get_2d(d));
             INFO("pixel " << pixel << " seed " << seed << " dim " << static_cast<int>(d) << " k " << k);
             CHECK(is_02_net(p, k));
           }

@@ -25,9 +25,9 @@ struct IntegratorDesc {
   int macrocell = 8;  ///< macrocell edge in voxels (grid majorant)
   double step = 0.5;  ///< raymarch step, in voxels (of the smallest spacing)
   ShadowMode shadow = ShadowMode::Ratio;
-  bool shadow_roulette = true;                     ///< Russian roulette on ratio-tracking throughput < 0.1
-  bool culling = true;                             ///< fill tiles that see only the background without tracing
-  SamplerKind sampler = SamplerKind::Independent;  ///< low-discrepancy first dimensions (sobol_sampler.h)
+  bool shadow_roulette = true;               ///< Russian roulette on ratio-tracking throughput < 0.1
+  bool culling = true;                       ///< fill tiles that see only the background without tracing
+  SamplerKind sampler = SamplerKind::Sobol;  ///< low-discrepancy first dimensions (sobol_sampler.h)
 };
 
 }  // namespace tessera

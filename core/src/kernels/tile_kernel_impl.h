@@ -60,18 +60,6 @@ class TileSampler {
     return trace(x, y, rng, nullptr, own, r);
   }
 
-  /// The sample's camera ray and its radiance, with the sampler of draw().
-  bool trace(int x, int y, Rng& rng, const SobolSampler* ld, bool own, SampleResult& r) {
-    const Sample2 j = sample_2d(ld, SampleDim::Pixel, rng);
-    // (a pinhole reads no lens sample: the stream still draws it, as it always has)
-    const Sample2 l = ld && m_s.camera.is_pinhole() ? Sample2{0.0, 0.0} : sample_2d(ld, SampleDim::Lens, rng);
-    const Ray ray = m_s.camera.generate(x + j.x, y + j.y, l.x, l.y);
-    // A culled tile's rays meet nothing: exactly the background a traced miss returns.
-    r = m_culled && own ? SampleResult{m_s.lights.background_visible() ? m_s.lights.background(ray.d) : Color(0.0), 0.0}
-                        : m_tracer.li(ray, rng, m_k, ld);
-    return is_finite(r.L);
-  }
-
   /// Draw sample `index` of the pixel into its sums, and into `aux` when given (a non-finite
   /// one is counted and dropped). Returns the sample when it was kept, for the caller's own
   /// bookkeeping.
@@ -91,6 +79,18 @@ class TileSampler {
   void flush(RenderStats& st) const { st.add_counters(m_k); }
 
  private:
+  /// The sample's camera ray and its radiance, with the sampler of draw().
+  bool trace(int x, int y, Rng& rng, const SobolSampler* ld, bool own, SampleResult& r) {
+    const Sample2 j = sample_2d(ld, SampleDim::Pixel, rng);
+    // (a pinhole reads no lens sample: the stream still draws it, as it always has)
+    const Sample2 l = ld && m_s.camera.is_pinhole() ? Sample2{0.0, 0.0} : sample_2d(ld, SampleDim::Lens, rng);
+    const Ray ray = m_s.camera.generate(x + j.x, y + j.y, l.x, l.y);
+    // A culled tile's rays meet nothing: exactly the background a traced miss returns.
+    r = m_culled && own ? SampleResult{m_s.lights.background_visible() ? m_s.lights.background(ray.d) : Color(0.0), 0.0}
+                        : m_tracer.li(ray, rng, m_k, ld);
+    return is_finite(r.L);
+  }
+
   const KernelScene& m_s;
   const PathTracer<V> m_tracer;
   KernelCounters m_k;

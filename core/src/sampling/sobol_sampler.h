@@ -90,7 +90,7 @@ class SobolSampler {
   }
 
  private:
-  std::uint64_t m_key;    ///< hash of (seed, frame, pixel, index's upper half)
+  std::uint64_t m_key;             ///< hash of (seed, frame, pixel, index's upper half)
   std::uint32_t m_index_reversed;  ///< the index's lower half, bits reversed (owen_scramble's first step)
 
   static double to_unit(std::uint32_t x) { return static_cast<double>(x) * 0x1.0p-32; }
