@@ -142,7 +142,7 @@ TEST_CASE("distinct dimensions and pixels are decorrelated", "[sampling][sobol]"
   CHECK(std::fabs(correlation(p0, f1)) < bound);
 }
 
-TEST_CASE("each sampler value is uniform on [0, 1) across pixels", "[sampling][sobol]") {
+TEST_CASE("each sampler value is uniform in the unit interval across pixels", "[sampling][sobol]") {
   // Chi-square over 64 bins of sample 3's light-sample u in 2^16 pixels, significance 1e-4
   constexpr int bins = 64, n = 1 << 16;
   std::vector<double> count(bins, 0.0);
