@@ -5,7 +5,9 @@
 
 - render seconds (the fastest, wall) and the error: RMSE of luminance against the reference,
   its own noise removed (the reference's per-pixel variance of the mean), relative to the
-  reference's mean luminance;
+  reference's mean luminance. The reference takes independent samples (integrator.sampler),
+  whose per-pixel variance is an honest estimate of its mean's (a low-discrepancy one's would
+  overstate it, and so remove too much);
 - efficiency = 1 / (seconds x relative error^2): samples spent per unit of error^2, the figure
   that two estimators or two kernels compare at (equal error means 1/efficiency time);
 - lookups per sample and million lookups per second per core (the renderer's achieved rate,
@@ -67,7 +69,8 @@ def main():
         # The reference: 16x the samples, another seed, every thread, with its variance
         ref_scene = b.path("scenes", f"ete_{case}_ref.yaml")
         write_scene(b, ref_scene, name, vol, [render_entry("reference", ds, width=a.size, height=a.size,
-                    spp=16 * a.spp, integrator=dict(integ, seed=987654321), variance=True)], 0, out)
+                    spp=16 * a.spp, integrator=dict(integ, seed=987654321, sampler="independent"),
+                    variance=True)], 0, out)
         log(f"ete/{case}: reference {a.size}x{a.size}, {16 * a.spp} spp")
         run_scene(b, ref_scene, b.path("stats", f"ete_{case}_ref.json"))
         # The measured renders: one thread, `reps` times in one process (the volume loads once)

@@ -55,6 +55,8 @@ inline constexpr EnumName<FreePath> kFreePathNames[] = {{"delta", FreePath::Delt
 inline constexpr EnumName<MajorantMode> kMajorantNames[] = {{"grid", MajorantMode::Grid},
                                                             {"global", MajorantMode::Global}};
 inline constexpr EnumName<ShadowMode> kShadowNames[] = {{"ratio", ShadowMode::Ratio}, {"delta", ShadowMode::Delta}};
+inline constexpr EnumName<SamplerKind> kSamplerNames[] = {{"independent", SamplerKind::Independent},
+                                                          {"sobol", SamplerKind::Sobol}};
 inline constexpr EnumName<CameraInterpolation> kCameraInterpolationNames[] = {{"linear", CameraInterpolation::Linear},
                                                                               {"smooth", CameraInterpolation::Smooth}};
 inline constexpr EnumName<TileOrder> kTileOrderNames[] = {{"row", TileOrder::RowMajor}, {"morton", TileOrder::Morton}};

@@ -11,7 +11,7 @@ namespace tessera::config::detail {
 IntegratorSpec parse_integrator(const Value& v) {
   const Map m = v.map_with_keys({"scattering", "max_bounces", "rr_depth", "shading", "gradient_factor", "phase_g",
                                  "free_path", "majorant", "macrocell", "step", "shadow", "shadow_roulette", "culling",
-                                 "seed", "tile", "tile_order"});
+                                 "sampler", "seed", "tile", "tile_order"});
   IntegratorSpec s;
   IntegratorDesc& d = s.desc;
   d.scattering = m.choice_or("scattering", d.scattering, kScatteringNames);
@@ -27,6 +27,7 @@ IntegratorSpec parse_integrator(const Value& v) {
   d.shadow = m.choice_or("shadow", d.shadow, kShadowNames);
   d.shadow_roulette = m.boolean_or("shadow_roulette", d.shadow_roulette);
   d.culling = m.boolean_or("culling", d.culling);
+  d.sampler = m.choice_or("sampler", d.sampler, kSamplerNames);
   if (const auto seed = m.get("seed")) s.seed = seed->unsigned64();
   s.tile = static_cast<int>(m.integer_or("tile", s.tile, 0, 16384));
   s.tile_order = m.choice_or("tile_order", s.tile_order, kTileOrderNames);

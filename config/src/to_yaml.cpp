@@ -287,6 +287,7 @@ void write(YAML::Emitter& out, const IntegratorSpec& s) {
   field(out, "shadow", name_of(detail::kShadowNames, d.shadow));
   field(out, "shadow_roulette", d.shadow_roulette);
   field(out, "culling", d.culling);
+  field(out, "sampler", name_of(detail::kSamplerNames, d.sampler));
   field(out, "seed", s.seed);
   field(out, "tile", s.tile);
   field(out, "tile_order", name_of(detail::kTileOrderNames, s.tile_order));

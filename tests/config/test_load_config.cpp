@@ -124,6 +124,7 @@ TEST_CASE("a full config loads with the values written", "[config]") {
   CHECK(d.step == 0.25);
   CHECK(d.shadow == ShadowMode::Delta);
   CHECK_FALSE(d.shadow_roulette);
+  CHECK(d.sampler == SamplerKind::Independent);
   CHECK(r.integrator.seed == 18446744073709551615ull);
   CHECK(r.integrator.tile == 0);
   CHECK(r.integrator.tile_order == TileOrder::Morton);

@@ -78,6 +78,7 @@ renders:
       step: 0.25
       shadow: delta
       shadow_roulette: false
+      sampler: independent
       seed: 18446744073709551615
       tile: 0
       tile_order: morton

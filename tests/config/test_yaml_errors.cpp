@@ -209,6 +209,9 @@ TEST_CASE("semantic checks: order, uniqueness, exclusivity", "[config][errors]")
   CHECK_THAT(config_error(render_with("    transfer_function: {opacity: [[0, 1]]}\n"
                                       "    integrator: {shading: smooth}\n")),
              Contains("renders[0].integrator.shading: smooth is not allowed (allowed: phase, brdf or hybrid)"));
+  CHECK_THAT(config_error(render_with("    transfer_function: {opacity: [[0, 1]]}\n"
+                                      "    integrator: {sampler: halton}\n")),
+             Contains("renders[0].integrator.sampler: halton is not allowed (allowed: independent or sobol)"));
   // A camera looking at itself, a zero up vector
   CHECK_THAT(config_error(with_camera("      position: center\n")),
              Contains("renders[0].camera.position: camera position equals look_at"));

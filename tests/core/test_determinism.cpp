@@ -184,11 +184,16 @@ TEST_CASE("adaptive sampling: bit-identical for any thread count, tile edge, ord
   const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, NX, NY, NZ);
   tessera::SceneDesc s = busy_scene(tessera::Scattering::Multiple);
   s.image = {37, 29, 48, 0.1};
+  // Both samplers: with independent streams some pixels' counts reach spp (the clamp binds);
+  // with the Sobol' sampler (the default) the same blocks' pilots give other counts, up to 43
+  const tessera::SamplerKind sampler = GENERATE(tessera::SamplerKind::Independent, tessera::SamplerKind::Sobol);
+  s.integrator.sampler = sampler;
   const Rendered ref = render_with(view, s, 1, 8, tessera::TileOrder::RowMajor);
   // The counts do vary: some pixels stop at the pilot, some take more, some all 48.
   const auto [lo, hi] = std::minmax_element(ref.image.samples.begin(), ref.image.samples.end());
   REQUIRE(*lo == 8.0f);  // the pilot: min(spp, max(8, spp / 16))
-  REQUIRE(*hi == 48.0f);
+  if (sampler == tessera::SamplerKind::Independent) REQUIRE(*hi == 48.0f);
+  else REQUIRE(*hi > 16.0f);
   REQUIRE(std::count(ref.image.samples.begin(), ref.image.samples.end(), 48.0f) <
           static_cast<long>(ref.image.samples.size()));
   for (const int threads : {1, 2}) {
@@ -215,7 +220,7 @@ TEST_CASE("adaptive sampling: bit-identical for any thread count, tile edge, ord
       for (int i = part; i < n; i += 5) mine.push_back(i);
       tessera::render_tiles(ps, mine, split, st);
     }
-    INFO("split into 5 calls, tile " << tile);
+    INFO("split into 5 calls, tile " << tile << ", sampler " << static_cast<int>(sampler));
     CHECK(same_image(split.resolve(), ref.image));
   }
 }

@@ -9,6 +9,9 @@ enum class Shading { Phase, Brdf, Hybrid };
 enum class FreePath { Delta, Raymarch };
 enum class MajorantMode { Grid, Global };
 enum class ShadowMode { Ratio, Delta };
+/// Where a sample's first dimensions (pixel, lens, the first collision's light and direction
+/// samples) come from: the path's own random stream, or a scrambled Sobol' sequence per pixel.
+enum class SamplerKind { Independent, Sobol };
 
 struct IntegratorDesc {
   Scattering scattering = Scattering::Single;
@@ -22,8 +25,9 @@ struct IntegratorDesc {
   int macrocell = 8;  ///< macrocell edge in voxels (grid majorant)
   double step = 0.5;  ///< raymarch step, in voxels (of the smallest spacing)
   ShadowMode shadow = ShadowMode::Ratio;
-  bool shadow_roulette = true;  ///< Russian roulette on ratio-tracking throughput < 0.1
-  bool culling = true;          ///< fill tiles that see only the background without tracing
+  bool shadow_roulette = true;               ///< Russian roulette on ratio-tracking throughput < 0.1
+  bool culling = true;                       ///< fill tiles that see only the background without tracing
+  SamplerKind sampler = SamplerKind::Sobol;  ///< low-discrepancy first dimensions (sobol_sampler.h)
 };
 
 }  // namespace tessera

@@ -61,6 +61,7 @@ struct KernelScene {
   FreePath free_path = FreePath::Delta;
   ShadowMode shadow = ShadowMode::Ratio;
   bool shadow_roulette = true;
+  SamplerKind sampler = SamplerKind::Sobol;
   double gradient_factor = 1.0;
   double phase_g = 0.0;
   bool has_emission = false;

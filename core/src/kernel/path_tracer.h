@@ -16,6 +16,7 @@
 #include "kernel/surface_brdf.h"
 #include "kernel/tracking.h"
 #include "sampling/rng.h"
+#include "sampling/sobol_sampler.h"
 
 #include <algorithm>
 #include <cmath>
@@ -63,7 +64,10 @@ class PathTracer {
   PathTracer(const KernelScene& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
       : m_s(s), m_m(m), m_L(s.lights), m_stop(stop) {}
 
-  SampleResult li(Ray ray, Rng& rng, KernelCounters& k) const {
+  /// One camera sample's radiance along `ray`. With `ld`, the first real collision's light
+  /// pick and light sample, hybrid choice and direction sample come from it (sobol_sampler.h);
+  /// everything else, and all of them without it, from `rng`.
+  SampleResult li(Ray ray, Rng& rng, KernelCounters& k, const SobolSampler* ld = nullptr) const {
     const TransferFunction& tf = *m_s.tf;
     SampleResult out;
     Color beta(1.0);
@@ -87,6 +91,7 @@ class PathTracer {
       const Vec3 pv = to_voxel(x);
       const double u = m_m.u(pv);
       if (m_s.has_emission) out.L += beta * tf.emission.eval(u);
+      const SobolSampler* first = from_camera ? ld : nullptr;  // the first collision's sampler, if any
       // Choose the scattering model at this point.
       const Vec3 wo = -ray.d;
       const Color albedo = tf.diffuse.eval(u);
@@ -109,7 +114,7 @@ class PathTracer {
               surface = true;
             } else {
               const double p_brdf = 1.0 - std::exp(-m_s.gradient_factor * gmag);
-              surface = rng.uniform() < p_brdf;
+              surface = sample_1d(first, SampleDim::ScatterChoice, rng) < p_brdf;
             }
           }
         }
@@ -122,20 +127,21 @@ class PathTracer {
       const double rough = surface ? tf.roughness.eval(u) : 0.0;
       const SurfaceBrdf brdf(normal, albedo, f0, rough);
       // Next-event estimation to one light, MIS-weighted against phase/BRDF sampling.
-      if (m_L.count() > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, rng, k);
+      if (m_L.count() > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, first, rng, k);
       // Sample the continuation direction.
       Vec3 wi;
       double pdf_dir;
       Color weight;
       if (surface) {
-        const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
-        if (!brdf.sample(wo, u0, u1, u2, &wi)) break;
+        const double u0 = sample_1d(first, SampleDim::Lobe, rng);
+        const Sample2 u = sample_2d(first, SampleDim::Direction, rng);
+        if (!brdf.sample(wo, u0, u.x, u.y, &wi)) break;
         pdf_dir = brdf.pdf(wo, wi);
         if (!(pdf_dir > 0.0)) break;
         weight = brdf.eval(wo, wi) / pdf_dir;
       } else {
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        pdf_dir = hg_sample(ray.d, m_s.phase_g, u1, u2, &wi);
+        const Sample2 u = sample_2d(first, SampleDim::Direction, rng);
+        pdf_dir = hg_sample(ray.d, m_s.phase_g, u.x, u.y, &wi);
         weight = albedo;
       }
       beta *= weight;
@@ -326,12 +332,13 @@ class PathTracer {
     }
   }
 
-  /// Next-event estimation to one light chosen by the light sampler.
+  /// Next-event estimation to one light chosen by the light sampler; the pick and the light
+  /// sample from `ld` when given (li).
   Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface, const SurfaceBrdf& brdf,
-                     const Color& albedo, Rng& rng, KernelCounters& k) const {
-    const int pick = m_L.sampler().pick(rng.uniform());
-    const double u1 = rng.uniform(), u2 = rng.uniform();
-    const LightSample ls = m_L[pick].sample(x, u1, u2);
+                     const Color& albedo, const SobolSampler* ld, Rng& rng, KernelCounters& k) const {
+    const int pick = ld && m_L.count() == 1 ? 0 : m_L.sampler().pick(sample_1d(ld, SampleDim::LightPick, rng));
+    const Sample2 u = sample_2d(ld, SampleDim::LightUv, rng);
+    const LightSample ls = m_L[pick].sample(x, u.x, u.y);
     if (!(ls.pdf > 0.0) || is_black(ls.L)) return Color(0.0);
     const double pdf_light = ls.pdf * m_L.sampler().pmf(pick);
     Color f;

@@ -51,13 +51,13 @@ class TileSampler {
   bool draw(int x, int y, std::uint64_t index, SampleResult& r, bool own = true) {
     const std::uint64_t pixel = static_cast<std::uint64_t>(y) * m_s.width + x;
     Rng rng(m_s.seed, m_s.frame, pixel, index);
-    const double jx = rng.uniform(), jy = rng.uniform();
-    const double lx = rng.uniform(), ly = rng.uniform();
-    const Ray ray = m_s.camera.generate(x + jx, y + jy, lx, ly);
-    // A culled tile's rays meet nothing: exactly the background a traced miss returns.
-    r = m_culled && own ? SampleResult{m_s.lights.background_visible() ? m_s.lights.background(ray.d) : Color(0.0), 0.0}
-                        : m_tracer.li(ray, rng, m_k);
-    return is_finite(r.L);
+    // The pixel jitter, the lens and the first collision's samples from a scrambled Sobol'
+    // sequence when the scene says so (sobol_sampler.h), else from the sample's stream
+    if (m_s.sampler == SamplerKind::Sobol) {
+      const SobolSampler ld(m_s.seed, m_s.frame, pixel, index);
+      return trace(x, y, rng, &ld, own, r);
+    }
+    return trace(x, y, rng, nullptr, own, r);
   }
 
   /// Draw sample `index` of the pixel into its sums, and into `aux` when given (a non-finite
@@ -79,6 +79,18 @@ class TileSampler {
   void flush(RenderStats& st) const { st.add_counters(m_k); }
 
  private:
+  /// The sample's camera ray and its radiance, with the sampler of draw().
+  bool trace(int x, int y, Rng& rng, const SobolSampler* ld, bool own, SampleResult& r) {
+    const Sample2 j = sample_2d(ld, SampleDim::Pixel, rng);
+    // (a pinhole reads no lens sample: the stream still draws it, as it always has)
+    const Sample2 l = ld && m_s.camera.is_pinhole() ? Sample2{0.0, 0.0} : sample_2d(ld, SampleDim::Lens, rng);
+    const Ray ray = m_s.camera.generate(x + j.x, y + j.y, l.x, l.y);
+    // A culled tile's rays meet nothing: exactly the background a traced miss returns.
+    r = m_culled && own ? SampleResult{m_s.lights.background_visible() ? m_s.lights.background(ray.d) : Color(0.0), 0.0}
+                        : m_tracer.li(ray, rng, m_k, ld);
+    return is_finite(r.L);
+  }
+
   const KernelScene& m_s;
   const PathTracer<V> m_tracer;
   KernelCounters m_k;

@@ -40,6 +40,7 @@ KernelScene make_kernel_scene(const PreparedSceneImpl& p) {
   k.free_path = in.free_path;
   k.shadow = in.shadow;
   k.shadow_roulette = in.shadow_roulette;
+  k.sampler = in.sampler;
   k.gradient_factor = in.gradient_factor;
   k.phase_g = in.phase_g;
   k.has_emission = p.has_emission;
