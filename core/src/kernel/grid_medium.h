@@ -178,11 +178,6 @@ struct GridMedium {
   /// Gradient of u by central differences one voxel apart (one-sided at the faces), in
   /// units of 1 / voxel. Six field lookups.
   Vec3 gradient_voxel(const Vec3& p) const {
-    if constexpr (!kAmr && !kRectilinear) {
-      if (p[0] >= 1.0 && p[0] + 1.0 < hi_index[0] && p[1] >= 1.0 && p[1] + 1.0 < hi_index[1] && p[2] >= 1.0 &&
-          p[2] + 1.0 < hi_index[2])
-        return gradient_interior(p);
-    }
     Vec3 g(0.0);
     double step = 1.0;
     if constexpr (kAmr) step = field.gradient_step(p);
@@ -194,50 +189,6 @@ struct GridMedium {
       if (h > 0.0) g[a] = (u(pp) - u(pm)) / h;
     }
     return g;
-  }
-
-  /// gradient_voxel where p +- 1 lies inside the samples along every axis: the six trilinear
-  /// values share their samples (32 loads instead of 48). Per axis a, the bilinear value over
-  /// the other two axes on the four sample planes i-1 .. i+2 along a; u(p +- e_a) blends the
-  /// outer pairs at p's own fraction along a.
-  Vec3 gradient_interior(const Vec3& p) const {
-    const auto x = static_cast<std::int64_t>(p[0]), y = static_cast<std::int64_t>(p[1]),
-               z = static_cast<std::int64_t>(p[2]);
-    const double fx = p[0] - static_cast<double>(x), fy = p[1] - static_cast<double>(y),
-                 fz = p[2] - static_cast<double>(z);
-    const auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
-    const auto bil = [&](double a00, double a10, double a01, double a11, double s, double t) {
-      return lerp(lerp(a00, a10, s), lerp(a01, a11, s), t);
-    };
-    // The 2x2x2 stencil of p, and the 2x2 faces one sample beyond it on each side
-    double c[2][2][2], xm[2][2], xp[2][2], ym[2][2], yp[2][2], zm[2][2], zp[2][2];
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b) {
-        for (int d = 0; d < 2; ++d) c[a][b][d] = vertex(x + a, y + b, z + d);
-        xm[a][b] = vertex(x - 1, y + a, z + b);
-        xp[a][b] = vertex(x + 2, y + a, z + b);
-        ym[a][b] = vertex(x + a, y - 1, z + b);
-        yp[a][b] = vertex(x + a, y + 2, z + b);
-        zm[a][b] = vertex(x + a, y + b, z - 1);
-        zp[a][b] = vertex(x + a, y + b, z + 2);
-      }
-    // Per axis, the bilinear values on the planes -1, 0, 1, 2 along it
-    const double x0 = bil(xm[0][0], xm[1][0], xm[0][1], xm[1][1], fy, fz);
-    const double x1 = bil(c[0][0][0], c[0][1][0], c[0][0][1], c[0][1][1], fy, fz);
-    const double x2 = bil(c[1][0][0], c[1][1][0], c[1][0][1], c[1][1][1], fy, fz);
-    const double x3 = bil(xp[0][0], xp[1][0], xp[0][1], xp[1][1], fy, fz);
-    const double y0 = bil(ym[0][0], ym[1][0], ym[0][1], ym[1][1], fx, fz);
-    const double y1 = bil(c[0][0][0], c[1][0][0], c[0][0][1], c[1][0][1], fx, fz);
-    const double y2 = bil(c[0][1][0], c[1][1][0], c[0][1][1], c[1][1][1], fx, fz);
-    const double y3 = bil(yp[0][0], yp[1][0], yp[0][1], yp[1][1], fx, fz);
-    const double z0 = bil(zm[0][0], zm[1][0], zm[0][1], zm[1][1], fx, fy);
-    const double z1 = bil(c[0][0][0], c[1][0][0], c[0][1][0], c[1][1][0], fx, fy);
-    const double z2 = bil(c[0][0][1], c[1][0][1], c[0][1][1], c[1][1][1], fx, fy);
-    const double z3 = bil(zp[0][0], zp[1][0], zp[0][1], zp[1][1], fx, fy);
-    const TransferFunction& t = *tf;
-    return Vec3((t.normalise(lerp(x2, x3, fx)) - t.normalise(lerp(x0, x1, fx))) / 2.0,
-                (t.normalise(lerp(y2, y3, fy)) - t.normalise(lerp(y0, y1, fy))) / 2.0,
-                (t.normalise(lerp(z2, z3, fz)) - t.normalise(lerp(z0, z1, fz))) / 2.0);
   }
 
   /// The gradient of u where some axis is rectilinear: returns it per local sample interval
