@@ -38,8 +38,9 @@ class MajorantGrid {
   }
   const double* majorants() const { return m_majorant.data(); }
   /// Per cell, how far empty space reaches around it (empty_reach.h): 0 for a non-empty cell,
-  /// else R >= 1 such that every cell within R - 1 cells of it along each axis (a cube of
-  /// 2R - 1 cells) lies in the grid and is empty. Derived by update() with the majorants.
+  /// else R >= 1 such that every cell of the grid within R - 1 cells of it along each axis (a
+  /// cube of 2R - 1 cells, cut at the grid's faces) is empty. Derived by update() with the
+  /// majorants, O(cells).
   const std::uint8_t* empty_reach() const { return m_reach.data(); }
   double max_majorant() const { return m_max; }
   std::uint64_t nan_vertices() const { return m_summary ? m_summary->nan_vertices() : 0; }
