@@ -18,9 +18,8 @@
 namespace tessera {
 
 /// Unit-rate exponential sample -log(1 - u): 1 - u is exact for u = k 2^-53, so log() loses
-/// nothing against log1p(-u) here and costs about half as much (it is on every tracking step).
+/// nothing against log1p(-u) here and costs about half as much (one per tentative collision).
 inline double exp_unit(Rng& rng) { return -std::log(1.0 - rng.uniform()); }
-inline double exp_sample(Rng& rng, double rate) { return exp_unit(rng) / rate; }
 
 /// How a majorant walk ended.
 enum class TrackEnd {
