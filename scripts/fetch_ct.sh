@@ -13,7 +13,8 @@
 # matrix.dat (the raw int16 array, C order z, y, x: already a raw volume with x fastest), so the
 # conversion is a check of main.plist and of matrix.dat's sha256, then a copy.
 # Exit status: 0 on success or if the volume is already there; 3 if the package cannot be
-# fetched (callers skip the CT parts); 1 on any other failure (e.g. a checksum mismatch).
+# fetched (callers skip the CT parts); 1 on any other failure (e.g. a checksum mismatch). The
+# steps it shares with scripts/fetch_mri.sh are in scripts/fetch_lib.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dest="${1:-data/ct}"
@@ -23,33 +24,14 @@ matrix_sha256=d87fd5e6aaf2c4fdf4f3fe28ee3335192fc2464ed8e9682fc78530cb837938da
 # For information: sha256 of the .deb this was computed from.
 deb_sha256=f2f14bdfef6dc3812eafc5013d133c6c18370aaab5666b78d54af2e7db432f97
 
-if [ -f "$raw" ] && echo "$matrix_sha256  $raw" | sha256sum --check --status; then
-  echo "fetch_ct: $raw already present (sha256 ok)"
-  exit 0
-fi
+source scripts/fetch_lib.sh
+fetch_present fetch_ct "$raw" "$matrix_sha256"
 
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
-# Fetch the package
-if [ -n "${CT_DEB:-}" ]; then
-  cp "$CT_DEB" "$tmp/"
-else
-  if ! (cd "$tmp" && apt-get download invesalius-examples >"$tmp/apt.log" 2>&1); then
-    echo "fetch_ct: apt-get download invesalius-examples failed (no network or package index?):" >&2
-    tail -n 3 "$tmp/apt.log" >&2 || true
-    exit 3
-  fi
-fi
-deb="$(ls "$tmp"/invesalius-examples_*.deb)"
-if echo "$deb_sha256  $deb" | sha256sum --check --status; then
-  echo "fetch_ct: $(basename "$deb") (sha256 as recorded)"
-else
-  echo "fetch_ct: note: $(basename "$deb") differs from the recorded package; checking the volume itself"
-fi
-
-# Unpack: .deb -> Cranium.inv3 -> main.plist + matrix.dat
-dpkg-deb -x "$deb" "$tmp/pkg"
+# Fetch and unpack the package: .deb -> Cranium.inv3 -> main.plist + matrix.dat
+fetch_deb fetch_ct invesalius-examples CT_DEB "$deb_sha256" "$tmp"
 inv3="$(find "$tmp/pkg" -name 'Cranium.inv3' | head -n 1)"
 [ -n "$inv3" ] || { echo "fetch_ct: Cranium.inv3 not found in the package" >&2; exit 1; }
 mkdir -p "$tmp/inv3"
@@ -67,12 +49,9 @@ assert list(m["shape"]) == [108, 256, 256], m["shape"]
 print("fetch_ct: %s, %s, shape (z,y,x) %s, spacing %s, scalar range %s"
       % (p.get("name"), p.get("modality"), m["shape"], p["spacing"], p.get("scalar_range")))
 PY
-echo "$matrix_sha256  $matrix" | sha256sum --check --status ||
-  { echo "fetch_ct: matrix.dat sha256 mismatch (expected $matrix_sha256)" >&2; exit 1; }
 
 # Write the raw volume and its YAML block
-mkdir -p "$dest"
-cp "$matrix" "$raw.tmp" && mv "$raw.tmp" "$raw"
+fetch_install fetch_ct "$matrix" "$matrix_sha256" "$raw"
 cat > "$dest/cranium_volume.yaml" <<YAML
 # Cranium (invesalius-examples), written by scripts/fetch_ct.sh. Values are Hounsfield units
 # (-1024 .. 3033); +z runs from the first axial slice to the last.

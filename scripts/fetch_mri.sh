@@ -17,7 +17,8 @@
 # the front, +z up (its qform and sform are diagonal with positive spacing).
 # Exit status: 0 on success or if the volume is already there; 3 if the package cannot be
 # fetched (callers skip the MRI parts); 1 on any other failure (e.g. a checksum mismatch or a
-# header that is not the one expected).
+# header that is not the one expected). The steps it shares with scripts/fetch_ct.sh are in
+# scripts/fetch_lib.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dest="${1:-data/mri}"
@@ -27,35 +28,14 @@ raw_sha256=f3eeb663ed3d92277d1108f87ef7f04fcad0b06cfb1f93753dbe35689e1a76b5
 # For information: sha256 of the .deb this was computed from.
 deb_sha256=d40aa0ed66cf89bf6cafa049ad3884703c9d975c2ee2737525b7196528df9d6f
 
-if [ -f "$raw" ] && echo "$raw_sha256  $raw" | sha256sum --check --status; then
-  echo "fetch_mri: $raw already present (sha256 ok)"
-  exit 0
-fi
+source scripts/fetch_lib.sh
+fetch_present fetch_mri "$raw" "$raw_sha256"
 
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
-# Fetch the package
-if [ -n "${MRI_DEB:-}" ]; then
-  [ -f "$MRI_DEB" ] || { echo "fetch_mri: MRI_DEB=$MRI_DEB is not a file" >&2; exit 1; }
-  deb="$MRI_DEB"
-else
-  if ! (cd "$tmp" && apt-get download mricron-data >"$tmp/apt.log" 2>&1); then
-    echo "fetch_mri: apt-get download mricron-data failed (no network or package index?):" >&2
-    tail -n 3 "$tmp/apt.log" >&2 || true
-    exit 3
-  fi
-  deb="$(ls "$tmp"/mricron-data_*.deb)"
-fi
-if echo "$deb_sha256  $deb" | sha256sum --check --status; then
-  echo "fetch_mri: $(basename "$deb") (sha256 as recorded)"
-else
-  echo "fetch_mri: note: $(basename "$deb") differs from the recorded package; checking the volume itself"
-fi
-
-# Unpack: .deb -> ch2better.nii.gz
-dpkg-deb -x "$deb" "$tmp/pkg" 2>"$tmp/dpkg.log" ||
-  { echo "fetch_mri: $deb is not a readable .deb: $(head -n 1 "$tmp/dpkg.log")" >&2; exit 1; }
+# Fetch and unpack the package: .deb -> ch2better.nii.gz
+fetch_deb fetch_mri mricron-data MRI_DEB "$deb_sha256" "$tmp"
 nii="$(find "$tmp/pkg" -name 'ch2better.nii.gz' | head -n 1)"
 [ -n "$nii" ] || { echo "fetch_mri: ch2better.nii.gz not found in the package" >&2; exit 1; }
 
@@ -118,12 +98,9 @@ with open(out, "wb") as o:
 print(f"fetch_mri: NIfTI-1 {nx} x {ny} x {nz} {dtype}, spacing {spacing} mm, vox_offset "
       f"{int(vox_offset)}, values {min(data)} .. {max(data)}")
 PY
-echo "$raw_sha256  $tmp/ch2better.raw" | sha256sum --check --status ||
-  { echo "fetch_mri: ch2better.raw sha256 mismatch (expected $raw_sha256)" >&2; exit 1; }
 
 # Write the raw volume and its YAML block
-mkdir -p "$dest"
-mv "$tmp/ch2better.raw" "$raw.tmp" && mv "$raw.tmp" "$raw"
+fetch_install fetch_mri "$tmp/ch2better.raw" "$raw_sha256" "$raw"
 cat > "$dest/ch2better_volume.yaml" <<YAML
 # ch2better (Colin27 T1, mricron-data), written by scripts/fetch_mri.sh. Values are T1 intensities
 # 0 .. 255 (0 outside the head); +x to the subject's right, +y to the front, +z up.
