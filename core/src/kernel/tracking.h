@@ -66,8 +66,11 @@ TrackEnd sample_majorant_steps(const GridMedium<V>& m, const Vec3& ov, const Vec
 }
 
 /// One tentative collision's update of a transmittance estimate T, per shadow estimator.
-/// Ratio tracking multiplies by the null-collision probability (with Russian roulette once
-/// T < 0.1 when `roulette`); delta tracking ends at 0 on a real collision.
+/// Ratio tracking multiplies by the null-collision probability; with `roulette`, an estimate
+/// below kShadowRouletteT survives with probability T / kShadowRouletteT and is then set to
+/// kShadowRouletteT (its expectation stays T), else ends at 0. Delta tracking ends at 0 on
+/// a real collision.
+inline constexpr double kShadowRouletteT = 0.25;
 template <ShadowMode kMode>
 struct TransmittanceStep;
 
@@ -75,10 +78,7 @@ template <>
 struct TransmittanceStep<ShadowMode::Ratio> {
   static void apply(double& T, double sigma, double maj, bool roulette, Rng& rng) {
     T *= 1.0 - sigma / maj;
-    if (roulette && T < 0.1) {
-      if (rng.uniform() < 0.5) T = 0.0;
-      else T *= 2.0;
-    }
+    if (roulette && T < kShadowRouletteT && T > 0.0) T = rng.uniform() * kShadowRouletteT < T ? kShadowRouletteT : 0.0;
   }
 };
 
