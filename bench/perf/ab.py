@@ -3,12 +3,14 @@
 
     python3 bench/perf/ab.py OLD_EXE NEW_EXE [--build BUILD] [--results DIR] [--reps 3]
                              [--size 128] [--spp 8] [--threads 1] [--sets heat,blobs,ct]
+                             [--scattering single,multiple]
 
-Runs every scene with the two binaries alternately (old, new, old, new, ...), `--reps` times
-each, and prints per scene the best render wall time (the --stats wall_seconds: rendering
-only, no load or I/O) of each binary and new / old, and the best CPU time (user + system) of
-the whole process (load and prepare included, the same work for both), which a busy machine
-disturbs less than wall time. The volumes are made as bench/perf makes
+Runs every scene (each set, with each `--scattering`) with the two binaries alternately
+(old, new, old, new, ...), `--reps` times each, and prints per scene the best and the median
+render wall time (the --stats wall_seconds: rendering only, no load or I/O) of each binary
+and new / old of the medians, and the best CPU time (user + system) of the whole process
+(load and prepare included, the same work for both), which a busy machine disturbs less
+than wall time. Writes every run's times to RESULTS/ab.csv. The volumes are made as bench/perf makes
 them (BUILD's tessera-synth and tessera-heat; the CT from scripts/fetch_ct.sh and, with
 `--sets mri`, the brain MRI from scripts/fetch_mri.sh into RESULTS/data, skipped when they
 cannot be fetched). Images of the two binaries must match:
@@ -19,6 +21,7 @@ import filecmp
 import json
 import os
 import resource
+import statistics
 import subprocess
 import sys
 
@@ -37,49 +40,57 @@ def main():
     ap.add_argument("--spp", type=int, default=8)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--sets", default="heat,blobs,ct")
+    ap.add_argument("--scattering", default="single", help="single, multiple or both (comma list)")
     a = ap.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     b = P.Bench(root, os.path.abspath(a.build), os.path.abspath(a.results), False)
     print(f"A/B: old {a.old}, new {a.new}; {a.size}x{a.size}, {a.spp} spp, {a.threads} thread(s), "
-          f"best of {a.reps}, alternating")
-    print(f"{'scene':<8} {'old s':>8} {'new s':>8} {'new/old':>8} {'old cpu':>8} {'new cpu':>8} "
-          f"{'new/old':>8}  images")
+          f"{a.reps} runs each, alternating")
+    print(f"{'scene':<14} {'old best':>8} {'new best':>8} {'old med':>8} {'new med':>8} {'med n/o':>8} "
+          f"{'old cpu':>8} {'new cpu':>8}  images")
+    rows = []
     for name in a.sets.split(","):
         vol = P.ensure_volume(b, name)
         if vol is None:
-            print(f"{name:<8} skipped (volume unavailable)")
+            print(f"{name:<14} skipped (volume unavailable)")
             continue
         ds = P.DATASETS[name]
-        out = {}
-        scenes = {}
-        for tag in ("old", "new"):
-            out[tag] = b.dir("out", name, tag)
-            scenes[tag] = os.path.join(b.results, f"{name}_{tag}.yaml")
-            P.write_scene(b, scenes[tag], name, vol,
-                          [P.warmup_entry(ds),
-                           P.render_entry("ab", ds, width=a.size, height=a.size, spp=a.spp)],
-                          a.threads, out[tag])
-        best = {"old": float("inf"), "new": float("inf")}
-        cpu = dict(best)
-        for _ in range(a.reps):
-            for tag, exe in (("old", a.old), ("new", a.new)):
-                stats = os.path.join(b.results, f"{name}_{tag}.json")
-                r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-                subprocess.run([exe, scenes[tag], "--render", "ab", "--stats", stats, "--quiet"],
-                               check=True, stdout=subprocess.DEVNULL)
-                r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-                cpu[tag] = min(cpu[tag], r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime)
-                with open(stats) as f:
-                    st = json.load(f)
-                st = st[0] if isinstance(st, list) else st
-                st = st.get("renders", [st])[0] if isinstance(st, dict) and "renders" in st else st
-                best[tag] = min(best[tag], float(st["wall_seconds"]))
-        same = filecmp.cmp(os.path.join(out["old"], "ab.exr"), os.path.join(out["new"], "ab.exr"),
-                           shallow=False)
-        print(f"{name:<8} {best['old']:8.3f} {best['new']:8.3f} {best['new'] / best['old']:8.3f} "
-              f"{cpu['old']:8.3f} {cpu['new']:8.3f} {cpu['new'] / cpu['old']:8.3f}  "
-              f"{'identical' if same else 'DIFFER'}")
-
+        for scattering in a.scattering.split(","):
+            scene = f"{name}_{scattering}"
+            out = {}
+            scenes = {}
+            for tag in ("old", "new"):
+                out[tag] = b.dir("out", scene, tag)
+                scenes[tag] = os.path.join(b.results, f"{scene}_{tag}.yaml")
+                P.write_scene(b, scenes[tag], name, vol,
+                              [P.warmup_entry(ds),
+                               P.render_entry("ab", ds, width=a.size, height=a.size, spp=a.spp,
+                                              integrator={"scattering": scattering})],
+                              a.threads, out[tag])
+            walls = {"old": [], "new": []}
+            cpu = {"old": float("inf"), "new": float("inf")}
+            for rep in range(a.reps):
+                for tag, exe in (("old", a.old), ("new", a.new)):
+                    stats = os.path.join(b.results, f"{scene}_{tag}.json")
+                    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+                    subprocess.run([exe, scenes[tag], "--render", "ab", "--stats", stats, "--quiet"],
+                                   check=True, stdout=subprocess.DEVNULL)
+                    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+                    cpu[tag] = min(cpu[tag], r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime)
+                    with open(stats) as f:
+                        st = json.load(f)
+                    st = st[0] if isinstance(st, list) else st
+                    st = st.get("renders", [st])[0] if isinstance(st, dict) and "renders" in st else st
+                    walls[tag].append(float(st["wall_seconds"]))
+                    rows.append({"scene": scene, "binary": tag, "run": rep, "wall_seconds": walls[tag][-1],
+                                 "load1": P.loadavg()})
+            same = filecmp.cmp(os.path.join(out["old"], "ab.exr"), os.path.join(out["new"], "ab.exr"),
+                               shallow=False)
+            med = {tag: statistics.median(walls[tag]) for tag in walls}
+            print(f"{scene:<14} {min(walls['old']):8.3f} {min(walls['new']):8.3f} {med['old']:8.3f} "
+                  f"{med['new']:8.3f} {med['new'] / med['old']:8.3f} {cpu['old']:8.3f} {cpu['new']:8.3f}  "
+                  f"{'identical' if same else 'DIFFER'}")
+    P.write_csv(os.path.join(b.results, "ab.csv"), rows)
 
 if __name__ == "__main__":
     main()
