@@ -13,7 +13,9 @@
 //  1. The renderer's march equals the deterministic model E_xi[exp(-S)] per pixel at steps
 //     8, 2 and 0.5 voxels, and delta tracking equals exp(-optical depth) per pixel
 //     (binomial variance; chi-square and Bonferroni max |z| at alpha = 1e-4). At 8 voxels the
-//     model is > 6 standard errors away from the unbiased image: the test sees the bias.
+//     image (4096 samples per pixel there) is > 5 standard errors away from the unbiased
+//     image: the test sees the bias (about 9 standard errors in expectation, so the check
+//     does not hang on particular draws).
 //  2. The model's bias, the mean of (E_xi[exp(-S)] - T) over 32 x 32 rays, is positive and
 //     its least-squares log-log slope against h over 1, 0.5, 0.25, 0.125 voxels is 2 +- 0.15
 //     (deterministic; the tolerance covers the higher-order terms, which are visible at
@@ -35,8 +37,6 @@ tessera::SceneDesc march_scene() {
   tessera::SceneDesc s = raymarch_scene(kN, kScale);
   s.image = {16, 16, 1024, 0.0};
   s.options.seed = 505;
-  // Independent streams, the draws this test's margins were set on: at 8 voxels the bias is
-  // about 4.6 standard errors in expectation, and the > 6 check passes on these draws only
   s.integrator.sampler = tessera::SamplerKind::Independent;
   return s;
 }
@@ -58,17 +58,24 @@ TEST_CASE("ray march: renderer equals the deterministic model per pixel, and del
     SECTION("ray march, step " + std::to_string(step) + " voxels") {
       s.integrator.free_path = tessera::FreePath::Raymarch;
       s.integrator.step = step;
+      // At 8 voxels, enough samples that the bias (about 0.0031 against a per-image standard
+      // error of 0.00067 at 1024 samples) stands 9 standard errors out in expectation, and
+      // expected images integrated finely enough (6 x 6 points per pixel) for that many
+      const bool fine = step == 8.0;
+      if (fine) s.image.spp = 4096;
+      const int pts = fine ? 6 : 2;
       const double h = step / (kN - 1);
       const std::vector<double> model =
-          expected_image(s, 2, [&](const Ray& r) { return raymarch_transmittance(m, r, h, 32); });
+          expected_image(s, pts, [&](const Ray& r) { return raymarch_transmittance(m, r, h, fine ? 64 : 32); });
       tessera::RenderStats st;
       const tessera::Film film = render(view, s, &st);
       const PixelTest t = compare_binomial(film, model, 1.0);
-      const PixelTest vs_exact = compare_binomial(film, exact, 1.0);
+      const PixelTest vs_exact = compare_binomial(
+          film, fine ? expected_image(s, pts, [&](const Ray& r) { return exact_transmittance(m, r); }) : exact, 1.0);
       INFO("model: " << t.describe() << "\nagainst the unbiased image: " << vs_exact.describe());
       CHECK(t.ok());
       CHECK(st.null_collisions == 0);  // the march makes no tentative collisions
-      if (step == 8.0) CHECK(vs_exact.mean_diff > 6.0 * vs_exact.mean_diff_se);
+      if (step == 8.0) CHECK(vs_exact.mean_diff > 5.0 * vs_exact.mean_diff_se);
     }
   }
 }

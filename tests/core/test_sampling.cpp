@@ -1,5 +1,6 @@
 // Tests for the sampling helpers: Distribution1D / 2D pdfs integrate to 1, sampled points land
-// in bins in proportion to f and report the pdf they were drawn with; warps land in their
+// in bins in proportion to f and report the pdf they were drawn with; the ziggurat's Exp(1)
+// variates follow the exponential law in every layer, wedge and the tail; warps land in their
 // domains with the documented density; the power heuristic's weights sum to 1; random streams
 // are pure functions of their four keys.
 //
@@ -9,6 +10,7 @@
 
 #include "kernel/path_tracer.h"
 #include "sampling/distribution.h"
+#include "sampling/exponential.h"
 #include "sampling/rng.h"
 #include "sampling/warp.h"
 #include "test_support.h"
@@ -130,6 +132,59 @@ TEST_CASE("power heuristic weights of two strategies sum to 1", "[sampling]") {
   CHECK(tessera::power_heuristic(1.0, 0.0) == 1.0);
   CHECK(tessera::power_heuristic(0.0, 1.0) == 0.0);
   CHECK(tessera::power_heuristic(0.0, 0.0) == 0.0);
+}
+
+TEST_CASE("exp_unit: the ziggurat draws Exp(1) in every layer, wedge and the tail", "[sampling]") {
+  namespace d = tessera::detail;
+  // The layers' edges X_i (X_256 = 0): each layer interval [X_{i+1}, X_i) gets mass from the
+  // cores of the wider layers and from layer i's wedge, so a wrong table or wedge test shows
+  // in its bin; the tail beyond r in three bins of its own
+  std::vector<double> edges;  // decreasing, from r down to 0
+  for (int i = 1; i < 256; ++i) edges.push_back(d::kExpZigguratW[i] * 0x1.0p53);
+  edges.push_back(0.0);
+  const double r = d::kExpZigguratR;
+  CHECK(edges.front() == Approx(r).epsilon(1e-15));
+  for (std::size_t i = 1; i < edges.size(); ++i) REQUIRE(edges[i] < edges[i - 1]);
+  // Bins: [0, X_255), ..., [X_2, r), then [r, r + 1), [r + 1, r + 2), [r + 2, inf)
+  std::vector<double> lo, hi;
+  for (std::size_t i = edges.size() - 1; i > 0; --i) lo.push_back(edges[i]), hi.push_back(edges[i - 1]);
+  lo.insert(lo.end(), {r, r + 1.0, r + 2.0});
+  hi.insert(hi.end(), {r + 1.0, r + 2.0, INFINITY});
+  std::vector<double> prob(lo.size()), count(lo.size(), 0.0);
+  for (std::size_t b = 0; b < lo.size(); ++b) prob[b] = std::exp(-lo[b]) - (hi[b] < INFINITY ? std::exp(-hi[b]) : 0.0);
+  // 64 equiprobable bins as well: F^-1(k / 64) = -log(1 - k / 64)
+  std::vector<double> eq(64, 0.0);
+  Rng rng(21, 0, 0, 0);
+  constexpr int n = 4000000;
+  double sum = 0.0, sum2 = 0.0, tail_sum = 0.0;
+  int tail = 0;
+  bool finite = true;
+  for (int i = 0; i < n; ++i) {
+    const double x = tessera::exp_unit(rng);
+    finite = finite && std::isfinite(x) && x >= 0.0;
+    sum += x;
+    sum2 += x * x;
+    if (x >= r) ++tail, tail_sum += x - r;
+    const auto b = std::upper_bound(hi.begin(), hi.end(), x) - hi.begin();  // first bin whose hi > x
+    count[static_cast<std::size_t>(std::min<std::ptrdiff_t>(b, static_cast<std::ptrdiff_t>(hi.size()) - 1))] += 1.0;
+    eq[static_cast<std::size_t>(std::min(63.0, std::floor(-std::expm1(-x) * 64.0)))] += 1.0;
+  }
+  REQUIRE(finite);
+  int dof = 0;
+  const double chi2_layers = tessera_test::chi_square(count, prob, n, &dof);
+  INFO("layer bins: chi2 " << chi2_layers << " on " << dof << " dof");
+  CHECK(chi2_layers < tessera_test::chi2_critical(dof, tessera_test::kZ1e4));
+  const double chi2_eq = tessera_test::chi_square(eq, std::vector<double>(64, 1.0 / 64.0), n, &dof);
+  INFO("equiprobable bins: chi2 " << chi2_eq << " on " << dof << " dof");
+  CHECK(chi2_eq < tessera_test::chi2_critical(dof, tessera_test::kZ1e4));
+  // Mean 1 and E x^2 = 2 (the sd of the mean of x^2: sqrt((E x^4 - 4) / n) = sqrt(20 / n))
+  CHECK(std::fabs(sum / n - 1.0) < 4.0 / std::sqrt(double(n)));
+  CHECK(std::fabs(sum2 / n - 2.0) < 4.0 * std::sqrt(20.0 / n));
+  // The tail: P(x >= r) = exp(-r), and beyond r the excess is again Exp(1)
+  const double p_tail = std::exp(-r);
+  CHECK(std::fabs(tail - n * p_tail) < 4.0 * std::sqrt(n * p_tail));
+  REQUIRE(tail > 100);
+  CHECK(std::fabs(tail_sum / tail - 1.0) < 4.0 / std::sqrt(double(tail)));
 }
 
 TEST_CASE("warps land in their domains with the documented densities", "[sampling]") {

@@ -10,16 +10,13 @@
 #include <tessera/loop_bounds.h>
 
 #include "kernel/grid_medium.h"
+#include "sampling/exponential.h"
 #include "sampling/rng.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace tessera {
-
-/// Unit-rate exponential sample -log(1 - u): 1 - u is exact for u = k 2^-53, so log() loses
-/// nothing against log1p(-u) here and costs about half as much (one per tentative collision).
-inline double exp_unit(Rng& rng) { return -std::log(1.0 - rng.uniform()); }
 
 /// How a majorant walk ended.
 enum class TrackEnd {

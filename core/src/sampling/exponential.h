@@ -1,0 +1,46 @@
+#pragma once
+/// Exp(1) variates for the tracking loop's steps: the ziggurat method (Marsaglia and Tsang
+/// 2000) over the layer tables of exponential_tables.h. About 98.9% of draws take one 64-bit
+/// random number, an integer compare and a multiply; the rest take the wedge's exp() or the
+/// tail's log() and may draw again. Exact in distribution up to the 53-bit resolution of a
+/// layer (the tables are computed in 60-digit arithmetic, scripts/gen_exponential_tables.py).
+#include "sampling/exponential_tables.h"
+#include "sampling/rng.h"
+
+#include <cmath>
+#include <cstdint>
+
+namespace tessera {
+
+namespace detail {
+
+/// The draws outside a layer's core: the tail beyond r (layer 0, memoryless: r + Exp(1) by
+/// inversion) or a wedge test (layer i >= 1), drawing again on rejection.
+[[gnu::noinline]] inline double exp_ziggurat_slow(Rng& rng, unsigned layer, double x) {
+  for (;;) {
+    if (layer == 0) return kExpZigguratR - std::log(1.0 - rng.uniform());
+    const double f_lo = kExpZigguratF[layer], f_hi = kExpZigguratF[layer + 1];
+    if (f_lo + rng.uniform() * (f_hi - f_lo) < std::exp(-x)) return x;
+    const std::uint64_t bits = rng.next_u64();
+    layer = static_cast<unsigned>(bits & 0xFF);
+    const std::uint64_t m = bits >> 11;
+    x = static_cast<double>(m) * kExpZigguratW[layer];
+    if (m < kExpZigguratK[layer]) return x;
+  }
+}
+
+}  // namespace detail
+
+/// One Exp(1) variate (unit-rate exponential) from rng's stream: the layer from the low 8
+/// bits of one draw, the position within it from the high 53.
+[[gnu::always_inline]] inline double exp_unit(Rng& rng) {
+  const std::uint64_t bits = rng.next_u64();
+  const unsigned layer = static_cast<unsigned>(bits & 0xFF);
+  const std::uint64_t m = bits >> 11;
+  const double x = static_cast<double>(m) * detail::kExpZigguratW[layer];
+  if (m < detail::kExpZigguratK[layer]) [[likely]]
+    return x;
+  return detail::exp_ziggurat_slow(rng, layer, x);
+}
+
+}  // namespace tessera
