@@ -3,6 +3,7 @@
 // exponential.h: r = 7.69711747013104971404, v = 0.00394965982258155721.
 #include <cstdint>
 
+// clang-format off
 namespace tessera::detail {
 
 inline constexpr double kExpZigguratR = 0x1.ec9d9297ebb83p+2;
@@ -213,3 +214,4 @@ inline constexpr double kExpZigguratF[257] = {
 };
 
 }  // namespace tessera::detail
+// clang-format on
