@@ -14,6 +14,16 @@ namespace tessera {
 
 namespace detail {
 
+/// One 64-bit draw read as a ziggurat layer (its low 8 bits) and a position x in the layer's
+/// rectangle (its high 53 bits times the layer's width); true when x lies in the layer's
+/// core, under the curve whatever the height: x is then an Exp(1) variate.
+[[gnu::always_inline]] inline bool exp_ziggurat_core(std::uint64_t bits, unsigned* layer, double* x) {
+  *layer = static_cast<unsigned>(bits & 0xFF);
+  const std::uint64_t m = bits >> 11;
+  *x = static_cast<double>(m) * kExpZigguratW[*layer];
+  return m < kExpZigguratK[*layer];
+}
+
 /// The draws outside a layer's core: the tail beyond r (layer 0, memoryless: r + Exp(1) by
 /// inversion) or a wedge test (layer i >= 1), drawing again on rejection.
 [[gnu::noinline]] inline double exp_ziggurat_slow(Rng& rng, unsigned layer, double x) {
@@ -21,11 +31,7 @@ namespace detail {
     if (layer == 0) return kExpZigguratR - std::log(1.0 - rng.uniform());
     const double f_lo = kExpZigguratF[layer], f_hi = kExpZigguratF[layer + 1];
     if (f_lo + rng.uniform() * (f_hi - f_lo) < std::exp(-x)) return x;
-    const std::uint64_t bits = rng.next_u64();
-    layer = static_cast<unsigned>(bits & 0xFF);
-    const std::uint64_t m = bits >> 11;
-    x = static_cast<double>(m) * kExpZigguratW[layer];
-    if (m < kExpZigguratK[layer]) return x;
+    if (exp_ziggurat_core(rng.next_u64(), &layer, &x)) return x;
   }
 }
 
@@ -34,11 +40,9 @@ namespace detail {
 /// One Exp(1) variate (unit-rate exponential) from rng's stream: the layer from the low 8
 /// bits of one draw, the position within it from the high 53.
 [[gnu::always_inline]] inline double exp_unit(Rng& rng) {
-  const std::uint64_t bits = rng.next_u64();
-  const unsigned layer = static_cast<unsigned>(bits & 0xFF);
-  const std::uint64_t m = bits >> 11;
-  const double x = static_cast<double>(m) * detail::kExpZigguratW[layer];
-  if (m < detail::kExpZigguratK[layer]) [[likely]]
+  unsigned layer;
+  double x;
+  if (detail::exp_ziggurat_core(rng.next_u64(), &layer, &x)) [[likely]]
     return x;
   return detail::exp_ziggurat_slow(rng, layer, x);
 }
