@@ -159,10 +159,19 @@ struct GridMedium {
 
   /// The trilinear blend of the 8 samples i0/i1 per axis with fractions f.
   [[gnu::always_inline]] double blend(const std::int64_t i0[3], const std::int64_t i1[3], const double f[3]) const {
-    const double c000 = vertex(i0[0], i0[1], i0[2]), c100 = vertex(i1[0], i0[1], i0[2]);
-    const double c010 = vertex(i0[0], i1[1], i0[2]), c110 = vertex(i1[0], i1[1], i0[2]);
-    const double c001 = vertex(i0[0], i0[1], i1[2]), c101 = vertex(i1[0], i0[1], i1[2]);
-    const double c011 = vertex(i0[0], i1[1], i1[2]), c111 = vertex(i1[0], i1[1], i1[2]);
+    return trilinear(
+        [&](int x, int y, int z)
+            __attribute__((always_inline)) { return vertex(x ? i1[0] : i0[0], y ? i1[1] : i0[1], z ? i1[2] : i0[2]); },
+        f);
+  }
+
+  /// The trilinear blend of a cell's corners c(x, y, z) (each 0 or 1) with fractions f, in the
+  /// one order every lookup uses (x, then y, then z), so that lookups that read their samples
+  /// differently still agree bit for bit.
+  template <class Corner>
+  [[gnu::always_inline]] static double trilinear(Corner&& c, const double f[3]) {
+    const double c000 = c(0, 0, 0), c100 = c(1, 0, 0), c010 = c(0, 1, 0), c110 = c(1, 1, 0);
+    const double c001 = c(0, 0, 1), c101 = c(1, 0, 1), c011 = c(0, 1, 1), c111 = c(1, 1, 1);
     const double c00 = c000 + f[0] * (c100 - c000), c10 = c010 + f[0] * (c110 - c010);
     const double c01 = c001 + f[0] * (c101 - c001), c11 = c011 + f[0] * (c111 - c011);
     const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
@@ -225,15 +234,11 @@ struct GridMedium {
       }
       return v;
     };
-    // u of blend() over the cell whose low corner is `o` bytes from p's, with fractions g
+    // u of the blend over the cell whose low corner is `o` bytes from p's, with fractions g
     const auto u_at = [&](std::int64_t o, const double* g) __attribute__((always_inline)) {
-      const std::int64_t sx = s[0], sy = s[1], sz = s[2];
-      const double c000 = at(o), c100 = at(o + sx), c010 = at(o + sy), c110 = at(o + sx + sy);
-      const double c001 = at(o + sz), c101 = at(o + sx + sz), c011 = at(o + sy + sz), c111 = at(o + sx + sy + sz);
-      const double c00 = c000 + g[0] * (c100 - c000), c10 = c010 + g[0] * (c110 - c010);
-      const double c01 = c001 + g[0] * (c101 - c001), c11 = c011 + g[0] * (c111 - c011);
-      const double c0 = c00 + g[1] * (c10 - c00), c1 = c01 + g[1] * (c11 - c01);
-      return tf->normalise(c0 + g[2] * (c1 - c0));
+      return tf->normalise(trilinear(
+          [&](int x, int y, int z) __attribute__((always_inline)) { return at(o + x * s[0] + y * s[1] + z * s[2]); },
+          g));
     };
     Vec3 grad;
     for (int a = 0; a < 3; ++a) {
