@@ -53,9 +53,11 @@ struct TypedFieldView {
   using value_type = T;
   const unsigned char* base;
   std::int64_t sx, sy, sz;
-  double load(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  double load(std::int64_t i, std::int64_t j, std::int64_t k) const { return load_at(base + i * sx + j * sy + k * sz); }
+  /// The sample whose first byte is q (q inside the array; any alignment).
+  static double load_at(const unsigned char* q) {
     T v;
-    __builtin_memcpy(&v, base + i * sx + j * sy + k * sz, sizeof(T));
+    __builtin_memcpy(&v, q, sizeof(T));
     return static_cast<double>(v);
   }
 };

@@ -101,7 +101,10 @@ struct GridMedium {
 
   /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
   [[gnu::always_inline]] double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
-    const double v = field.load(i, j, k);
+    return finite_vertex(field.load(i, j, k));
+  }
+  /// v with NaN, -Inf -> tf->lo and +Inf -> tf->hi (compiled away for integer values).
+  [[gnu::always_inline]] double finite_vertex(double v) const {
     if constexpr (kMayBeNonFinite<T>) {
       if (!std::isfinite(v)) return v > 0.0 ? tf->hi : tf->lo;
     }
@@ -226,13 +229,7 @@ struct GridMedium {
     const std::int64_t s[3] = {field.sx, field.sy, field.sz};
     const unsigned char* const b = field.base + i[0] * s[0] + i[1] * s[1] + i[2] * s[2];
     const auto at = [&](std::int64_t off) __attribute__((always_inline)) {
-      T raw;
-      __builtin_memcpy(&raw, b + off, sizeof(T));
-      const double v = static_cast<double>(raw);
-      if constexpr (kMayBeNonFinite<T>) {
-        if (!std::isfinite(v)) return v > 0.0 ? tf->hi : tf->lo;
-      }
-      return v;
+      return finite_vertex(decltype(field)::load_at(b + off));
     };
     // u of the blend over the cell whose low corner is `o` bytes from p's, with fractions g
     const auto u_at = [&](std::int64_t o, const double* g) __attribute__((always_inline)) {
