@@ -13,6 +13,8 @@
 #include <tessera/field_view.h>
 #include <tessera/math.h>
 
+#include "kernel/trilinear.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -131,10 +133,8 @@ struct AmrFieldView {
     }
     for (double& x : c)
       if (!std::isfinite(x)) x = x > 0.0 ? nf_hi : nf_lo;
-    const double c00 = c[0] + f[0] * (c[1] - c[0]), c10 = c[2] + f[0] * (c[3] - c[2]);
-    const double c01 = c[4] + f[0] * (c[5] - c[4]), c11 = c[6] + f[0] * (c[7] - c[6]);
-    const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
-    *out = c0 + f[2] * (c1 - c0);
+    *out = trilinear(
+        [&](int x, int y, int z) __attribute__((always_inline)) { return c[x | y << 1 | z << 2]; }, f);
     return true;
   }
 };

@@ -15,6 +15,7 @@
 #include "field/majorant_grid.h"
 #include "kernel/amr_view.h"
 #include "kernel/axis_map.h"
+#include "kernel/trilinear.h"
 
 #include <algorithm>
 #include <cmath>
@@ -166,19 +167,6 @@ struct GridMedium {
         [&](int x, int y, int z)
             __attribute__((always_inline)) { return vertex(x ? i1[0] : i0[0], y ? i1[1] : i0[1], z ? i1[2] : i0[2]); },
         f);
-  }
-
-  /// The trilinear blend of a cell's corners c(x, y, z) (each 0 or 1) with fractions f, in the
-  /// one order every lookup uses (x, then y, then z), so that lookups that read their samples
-  /// differently still agree bit for bit.
-  template <class Corner>
-  [[gnu::always_inline]] static double trilinear(Corner&& c, const double f[3]) {
-    const double c000 = c(0, 0, 0), c100 = c(1, 0, 0), c010 = c(0, 1, 0), c110 = c(1, 1, 0);
-    const double c001 = c(0, 0, 1), c101 = c(1, 0, 1), c011 = c(0, 1, 1), c111 = c(1, 1, 1);
-    const double c00 = c000 + f[0] * (c100 - c000), c10 = c010 + f[0] * (c110 - c010);
-    const double c01 = c001 + f[0] * (c101 - c001), c11 = c011 + f[0] * (c111 - c011);
-    const double c0 = c00 + f[1] * (c10 - c00), c1 = c01 + f[1] * (c11 - c01);
-    return c0 + f[2] * (c1 - c0);
   }
 
   [[gnu::always_inline]] double u(const Vec3& p) const { return tf->normalise(value(p)); }
