@@ -29,12 +29,13 @@ density array and the setup), scaled to the measured sample count. Default sampl
 `sobol`, pbrt-v4 `zsobol`), box pixel filter each.
 
     python3 bench/perf/pbrt_compare.py --pbrt /path/to/pbrt --build build --results DIR
-        [--only heat_single,ct_single] [--size 128] [--spp 64] [--reps 3]
+        [--only heat_single,ct_single] [--size 128] [--spp 64] [--reps 3] [--skip-pbrt]
 
 Needs numpy. The pbrt-v4 executable is the caller's (this script writes its scene files and
 runs it; nothing of pbrt-v4 is part of Tessera). Benchmarks are not tests: nothing here asserts.
 """
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -194,7 +195,7 @@ def run_pbrt(exe, scene, threads, spp, seed):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    ap.add_argument("--pbrt", required=True, help="the pbrt-v4 executable")
+    ap.add_argument("--pbrt", help="the pbrt-v4 executable (required unless --skip-pbrt)")
     ap.add_argument("--build", default=os.path.join(root, "build"))
     ap.add_argument("--results", default=os.path.join(root, "bench", "results", "pbrt"))
     ap.add_argument("--size", type=int, default=128)
@@ -203,6 +204,10 @@ def main():
     ap.add_argument("--only", default=DEFAULT_CASES)
     ap.add_argument("--skip-pbrt", action="store_true", help="Tessera's side only")
     a = ap.parse_args()
+    if not a.skip_pbrt and not (a.pbrt and os.access(a.pbrt, os.X_OK)):
+        ap.error(f"--pbrt: {a.pbrt!r} is not an executable (give pbrt-v4's, or --skip-pbrt)")
+    if a.spp < 2:
+        ap.error("--spp: at least 2 (pbrt-v4's time is measured against a 1-sample render)")
     b = Bench(root, os.path.abspath(a.build), os.path.abspath(a.results), quick=False)
     cases = [c for c in a.only.split(",") if c]
     unknown = [c for c in cases if c not in CASES]
@@ -220,7 +225,10 @@ def main():
         sig = extinction(ds, vol)
         q = float(sig.max()) / 65535.0
         k = np.rint(sig / q).astype(np.uint16)
-        raw = b.path("data", f"common_{name}_uint16.raw")
+        # Named by their content, so that a changed transfer function or data set never meets
+        # a stale file of an earlier run
+        tag = hashlib.sha1(k.tobytes()).hexdigest()[:12]
+        raw = b.path("data", f"common_{name}_{tag}_uint16.raw")
         if not os.path.exists(raw):
             k.tofile(raw)
         g = geometry(ds)
@@ -250,7 +258,7 @@ def main():
                "tessera_mean_lum": errs[imgs[0]]["mean_lum_ref"]}
         log(f"{case}: Tessera {t_t:.3f} s, rel. RMSE {math.sqrt(rel2_t):.4g}, efficiency {eff_t:.4g}")
         if not a.skip_pbrt:
-            grid = b.path("data", f"common_{name}_uint16.pbrt.txt")
+            grid = b.path("data", f"common_{name}_{tag}_uint16.pbrt.txt")
             if not os.path.exists(grid):
                 with open(grid, "w") as f:
                     f.write(pbrt_grid_text(k))
