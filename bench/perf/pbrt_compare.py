@@ -134,15 +134,32 @@ def pbrt_grid_text(k):
     return "\n".join(lines)
 
 
-def pbrt_scene(path, grid_path, g, ds, *, size, spp, scattering, albedo, q, sampler, out):
-    p = lambda v: " ".join(f"{x:.9g}" for x in v)  # noqa: E731
+def fmt(v):
+    return " ".join(f"{x:.9g}" for x in v)
+
+
+def pbrt_medium(path, grid_path, g, ds, *, albedo, q):
+    """The medium's definition, once per case: the scene files Include it."""
+    d = ds["dims"]
+    with open(path, "w") as f:
+        f.write(f'MakeNamedMedium "vol" "string type" "uniformgrid" "integer nx" [{d[0]}] "integer ny" [{d[1]}] '
+                f'"integer nz" [{d[2]}] "point3 p0" [0 0 0] "point3 p1" [{fmt(g["ext"])}] '
+                f'"rgb sigma_a" [{fmt([1 - albedo] * 3)}] "rgb sigma_s" [{fmt([albedo] * 3)}] '
+                f'"float scale" [{q:.9g}] "float g" [0]\n')
+        f.write('  "float density" [\n')
+        with open(grid_path) as gf:
+            f.write(gf.read())
+        f.write("\n  ]\n")
+
+
+def pbrt_scene(path, medium_path, g, *, size, spp, scattering, sampler, out):
+    p = fmt
     e = g["ext"]
     # The box, outward-facing triangles (pbrt-v4 puts "inside" on the side opposite the normal)
     P = [[0, 0, 0], [e[0], 0, 0], [e[0], e[1], 0], [0, e[1], 0],
          [0, 0, e[2]], [e[0], 0, e[2]], [e[0], e[1], e[2]], [0, e[1], e[2]]]
     tris = [0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 2, 3, 7, 2, 7, 6, 1, 2, 6, 1, 6, 5, 3, 0, 4, 3, 4, 7]
     depth = 1 if scattering == "single" else MAX_BOUNCES
-    d = ds["dims"]
     with open(path, "w") as f:
         f.write(f"LookAt {p(g['eye'])}  {p(g['center'])}  0 0 1\n")
         f.write('Camera "perspective" "float fov" [35]\n')
@@ -157,14 +174,7 @@ def pbrt_scene(path, grid_path, g, ds, *, size, spp, scattering, albedo, q, samp
         f.write(f'  Shape "bilinearmesh" "point3 P" [{" ".join(p(c) for c in g["corners"])}]\n')
         f.write("AttributeEnd\n")
         f.write("AttributeBegin\n")
-        f.write(f'  MakeNamedMedium "vol" "string type" "uniformgrid" "integer nx" [{d[0]}] "integer ny" [{d[1]}] '
-                f'"integer nz" [{d[2]}] "point3 p0" [0 0 0] "point3 p1" [{p(e)}] '
-                f'"rgb sigma_a" [{p([1 - albedo] * 3)}] "rgb sigma_s" [{p([albedo] * 3)}] '
-                f'"float scale" [{q:.9g}] "float g" [0]\n')
-        f.write('  "float density" [\n')
-        with open(grid_path) as gf:
-            f.write(gf.read())
-        f.write("\n  ]\n")
+        f.write(f'  Include "{os.path.basename(medium_path)}"\n')
         f.write('  MediumInterface "vol" ""\n  Material "interface"\n')
         f.write(f'  Shape "trianglemesh" "point3 P" [{" ".join(p(c) for c in P)}] '
                 f'"integer indices" [{" ".join(map(str, tris))}]\n')
@@ -263,11 +273,14 @@ def main():
                 with open(grid, "w") as f:
                     f.write(pbrt_grid_text(k))
             pdir = b.dir("pbrt", case)
+            medium = os.path.join(pdir, "medium.pbrt")
+            pbrt_medium(medium, grid, g, ds, albedo=albedo, q=q)
             files = {}
-            for tag, sampler, s in (("refA", "independent", 8 * a.spp), ("refB", "independent", 8 * a.spp),
-                                    ("run", "zsobol", a.spp), ("one", "zsobol", 1)):
-                files[tag] = os.path.join(pdir, f"{tag}.pbrt")
-                pbrt_scene(files[tag], grid, g, ds, sampler=sampler, spp=s, out=f"{tag}.pfm", **common)
+            for kind, sampler, s in (("refA", "independent", 8 * a.spp), ("refB", "independent", 8 * a.spp),
+                                     ("run", "zsobol", a.spp), ("one", "zsobol", 1)):
+                files[kind] = os.path.join(pdir, f"{kind}.pbrt")
+                pbrt_scene(files[kind], medium, g, size=a.size, scattering=scattering, sampler=sampler, spp=s,
+                           out=f"{kind}.pfm")
             log(f"{case}: pbrt-v4 references, 2 x {8 * a.spp} spp")
             run_pbrt(a.pbrt, files["refA"], threads, 8 * a.spp, 11)
             run_pbrt(a.pbrt, files["refB"], threads, 8 * a.spp, 22)
