@@ -26,8 +26,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from perf_lib import (DATASETS, Bench, ensure_volume, log, render_entry, rmse, run_scene,  # noqa: E402
-                      warmup_entry, write_csv, write_scene)
+from perf_lib import (DATASETS, Bench, efficiency, ensure_volume, log, relative_error2, render_entry,  # noqa: E402
+                      run_scene, warmup_entry, write_csv, write_scene)
 
 CASES = {
     "heat_single": ("heat", "single"),
@@ -79,16 +79,14 @@ def main():
         scene = b.path("scenes", f"ete_{case}.yaml")
         write_scene(b, scene, name, vol, entries, 1, out)
         res = run_scene(b, scene, b.path("stats", f"ete_{case}.json"))[1:]
-        errs = rmse(b, os.path.join(out, "reference.exr"), [os.path.join(out, f"run{r}.exr") for r in range(a.reps)])
-        best = min(res, key=lambda r: r["wall_seconds"])
-        e = [errs[os.path.join(out, f"run{r}.exr")] for r in range(a.reps)]
         # Noise of the reference removed (it has 1/16 of the measured render's variance)
-        err2 = sum(max(0.0, x["rmse_lum"] ** 2 - x["ref_var_lum"]) for x in e) / len(e)
-        rel2 = err2 / max(1e-30, e[0]["mean_lum_ref"] ** 2)
+        rel2, _ = relative_error2(b, os.path.join(out, "reference.exr"),
+                                  [os.path.join(out, f"run{r}.exr") for r in range(a.reps)])
+        best = min(res, key=lambda r: r["wall_seconds"])
         t = best["wall_seconds"]
         samples = best["samples"]
         row = {"label": a.label, "case": case, "size": a.size, "spp": a.spp, "seconds": t,
-               "rel_rmse": rel2 ** 0.5, "efficiency": 1.0 / (t * rel2) if rel2 > 0 else float("inf"),
+               "rel_rmse": rel2 ** 0.5, "efficiency": efficiency(t, rel2),
                "lookups_per_sample": best["density_lookups"] / samples,
                "mlookups_per_s": best["density_lookups"] / t / 1e6,
                "lookups_per_real_collision": best["lookups_per_real_collision"]}

@@ -46,7 +46,8 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from perf_lib import DATASETS, Bench, ensure_volume, log, rmse, run_scene, write_csv  # noqa: E402
+from perf_lib import (DATASETS, Bench, efficiency, ensure_volume, log, relative_error2, run_scene,  # noqa: E402
+                      write_csv)
 
 CASES = {
     "heat_single": ("heat", "single", 0.8),
@@ -127,19 +128,13 @@ def tessera_scene(path, raw, ds, renders, threads, out_dir):
         json.dump(cfg, f, indent=1)
 
 
-def pbrt_grid_text(k):
-    """The density array as pbrt-v4 scene text (integers, 16 per line)."""
-    s = np.char.mod("%d", k)
-    lines = [" ".join(s[i:i + 16]) for i in range(0, len(s), 16)]
-    return "\n".join(lines)
-
-
 def fmt(v):
     return " ".join(f"{x:.9g}" for x in v)
 
 
-def pbrt_medium(path, grid_path, g, ds, *, albedo, q):
-    """The medium's definition, once per case: the scene files Include it."""
+def pbrt_medium(path, k, g, ds, *, albedo, q):
+    """The medium's definition (the density array k as integers, 16 per line), written once
+    and Included by every scene file of the cases that share it."""
     d = ds["dims"]
     with open(path, "w") as f:
         f.write(f'MakeNamedMedium "vol" "string type" "uniformgrid" "integer nx" [{d[0]}] "integer ny" [{d[1]}] '
@@ -147,13 +142,14 @@ def pbrt_medium(path, grid_path, g, ds, *, albedo, q):
                 f'"rgb sigma_a" [{fmt([1 - albedo] * 3)}] "rgb sigma_s" [{fmt([albedo] * 3)}] '
                 f'"float scale" [{q:.9g}] "float g" [0]\n')
         f.write('  "float density" [\n')
-        with open(grid_path) as gf:
-            f.write(gf.read())
-        f.write("\n  ]\n")
+        s = np.char.mod("%d", k)
+        for i in range(0, len(s), 16):
+            f.write(" ".join(s[i:i + 16]))
+            f.write("\n")
+        f.write("  ]\n")
 
 
 def pbrt_scene(path, medium_path, g, *, size, spp, scattering, sampler, out):
-    p = fmt
     e = g["ext"]
     # The box, outward-facing triangles (pbrt-v4 puts "inside" on the side opposite the normal)
     P = [[0, 0, 0], [e[0], 0, 0], [e[0], e[1], 0], [0, e[1], 0],
@@ -161,22 +157,22 @@ def pbrt_scene(path, medium_path, g, *, size, spp, scattering, sampler, out):
     tris = [0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 2, 3, 7, 2, 7, 6, 1, 2, 6, 1, 6, 5, 3, 0, 4, 3, 4, 7]
     depth = 1 if scattering == "single" else MAX_BOUNCES
     with open(path, "w") as f:
-        f.write(f"LookAt {p(g['eye'])}  {p(g['center'])}  0 0 1\n")
+        f.write(f"LookAt {fmt(g['eye'])}  {fmt(g['center'])}  0 0 1\n")
         f.write('Camera "perspective" "float fov" [35]\n')
         f.write(f'Sampler "{sampler}" "integer pixelsamples" [{spp}]\n')
         f.write(f'Integrator "volpath" "integer maxdepth" [{depth}]\n')
         f.write('PixelFilter "box"\n')
         f.write(f'Film "rgb" "integer xresolution" [{size}] "integer yresolution" [{size}] "string filename" "{out}"\n')
         f.write("WorldBegin\n")
-        f.write(f'LightSource "infinite" "rgb L" [{p(BACKGROUND)}]\n')
+        f.write(f'LightSource "infinite" "rgb L" [{fmt(BACKGROUND)}]\n')
         f.write("AttributeBegin\n")
-        f.write(f'  AreaLightSource "diffuse" "rgb L" [{p(LIGHT_L)}]\n')
-        f.write(f'  Shape "bilinearmesh" "point3 P" [{" ".join(p(c) for c in g["corners"])}]\n')
+        f.write(f'  AreaLightSource "diffuse" "rgb L" [{fmt(LIGHT_L)}]\n')
+        f.write(f'  Shape "bilinearmesh" "point3 P" [{" ".join(fmt(c) for c in g["corners"])}]\n')
         f.write("AttributeEnd\n")
         f.write("AttributeBegin\n")
-        f.write(f'  Include "{os.path.basename(medium_path)}"\n')
+        f.write(f'  Include "{medium_path}"\n')
         f.write('  MediumInterface "vol" ""\n  Material "interface"\n')
-        f.write(f'  Shape "trianglemesh" "point3 P" [{" ".join(p(c) for c in P)}] '
+        f.write(f'  Shape "trianglemesh" "point3 P" [{" ".join(fmt(c) for c in P)}] '
                 f'"integer indices" [{" ".join(map(str, tris))}]\n')
         f.write("AttributeEnd\n")
 
@@ -240,7 +236,8 @@ def main():
         tag = hashlib.sha1(k.tobytes()).hexdigest()[:12]
         raw = b.path("data", f"common_{name}_{tag}_uint16.raw")
         if not os.path.exists(raw):
-            k.tofile(raw)
+            k.tofile(raw + ".part")  # renamed once whole: an interrupted run leaves no cached half
+            os.replace(raw + ".part", raw)
         g = geometry(ds)
         out = b.dir("img", case)
         common = dict(size=a.size, scattering=scattering, albedo=albedo, q=q)
@@ -258,23 +255,19 @@ def main():
         scene = b.path("scenes", f"tessera_{case}.yaml")
         tessera_scene(scene, raw, ds, entries, 1, out)
         res = run_scene(b, scene, b.path("stats", f"tessera_{case}.json"))[1:]
-        imgs = [os.path.join(out, f"run{r}.exr") for r in range(a.reps)]
-        errs = rmse(b, os.path.join(out, "reference.exr"), imgs)
-        err2 = sum(max(0.0, errs[i]["rmse_lum"] ** 2 - errs[i]["ref_var_lum"]) for i in imgs) / len(imgs)
-        rel2_t = err2 / errs[imgs[0]]["mean_lum_ref"] ** 2
+        rel2_t, mean_lum = relative_error2(b, os.path.join(out, "reference.exr"),
+                                           [os.path.join(out, f"run{r}.exr") for r in range(a.reps)])
         t_t = min(r["wall_seconds"] for r in res)
-        eff_t = 1.0 / (t_t * rel2_t)
+        eff_t = efficiency(t_t, rel2_t)
         row = {"case": case, "tessera_s": t_t, "tessera_rel_rmse": math.sqrt(rel2_t), "tessera_eff": eff_t,
-               "tessera_mean_lum": errs[imgs[0]]["mean_lum_ref"]}
+               "tessera_mean_lum": mean_lum}
         log(f"{case}: Tessera {t_t:.3f} s, rel. RMSE {math.sqrt(rel2_t):.4g}, efficiency {eff_t:.4g}")
         if not a.skip_pbrt:
-            grid = b.path("data", f"common_{name}_{tag}_uint16.pbrt.txt")
-            if not os.path.exists(grid):
-                with open(grid, "w") as f:
-                    f.write(pbrt_grid_text(k))
+            medium = b.path("data", f"common_{name}_{tag}_albedo{albedo}.medium.pbrt")
+            if not os.path.exists(medium):
+                pbrt_medium(medium + ".part", k, g, ds, albedo=albedo, q=q)
+                os.replace(medium + ".part", medium)
             pdir = b.dir("pbrt", case)
-            medium = os.path.join(pdir, "medium.pbrt")
-            pbrt_medium(medium, grid, g, ds, albedo=albedo, q=q)
             files = {}
             for kind, sampler, s in (("refA", "independent", 8 * a.spp), ("refB", "independent", 8 * a.spp),
                                      ("run", "zsobol", a.spp), ("one", "zsobol", 1)):
@@ -295,7 +288,7 @@ def main():
                 e2.append(max(0.0, float(np.mean((x - ref) ** 2)) - ref_var))
             rel2_p = (sum(e2) / len(e2)) / float(np.mean(ref)) ** 2
             t_p = (min(times) - t_one) * a.spp / (a.spp - 1)
-            eff_p = 1.0 / (t_p * rel2_p)
+            eff_p = efficiency(t_p, rel2_p)
             row.update({"pbrt_s": t_p, "pbrt_setup_s": t_one, "pbrt_rel_rmse": math.sqrt(rel2_p), "pbrt_eff": eff_p,
                         "ratio": eff_t / eff_p})
             log(f"{case}: pbrt-v4 {t_p:.3f} s (+{t_one:.2f} s setup), rel. RMSE {math.sqrt(rel2_p):.4g}, "

@@ -326,6 +326,22 @@ def rmse(b, ref, images):
     return res
 
 
+def relative_error2(b, ref, images):
+    """The measured images' mean squared luminance error against the exact answer, relative to
+    the reference's mean luminance squared: each image's squared RMSE against `ref` less the
+    reference's own noise (its variance channel), averaged over the images. Returns (rel2,
+    mean luminance of the reference)."""
+    errs = rmse(b, ref, images)
+    e = [errs[i] for i in images]
+    err2 = sum(max(0.0, x["rmse_lum"] ** 2 - x["ref_var_lum"]) for x in e) / len(e)
+    return err2 / max(1e-30, e[0]["mean_lum_ref"] ** 2), e[0]["mean_lum_ref"]
+
+
+def efficiency(seconds, rel2):
+    """1 / (seconds x relative error^2): equal error costs 1 / efficiency time."""
+    return 1.0 / (seconds * rel2) if rel2 > 0 else float("inf")
+
+
 def write_csv(path, rows, fields=None):
     if not rows:
         return
