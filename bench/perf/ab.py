@@ -42,6 +42,7 @@ def main():
     ap.add_argument("--sets", default="heat,blobs,ct")
     ap.add_argument("--scattering", default="single", help="single, multiple or both (comma list)")
     a = ap.parse_args()
+    P.require_positive(ap, a, ["reps", "size", "spp", "threads"])
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     b = P.Bench(root, os.path.abspath(a.build), os.path.abspath(a.results), False)
     print(f"A/B: old {a.old}, new {a.new}; {a.size}x{a.size}, {a.spp} spp, {a.threads} thread(s), "

@@ -26,7 +26,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from perf_lib import (DATASETS, Bench, efficiency, ensure_volume, log, relative_error2, render_entry,  # noqa: E402
+from perf_lib import (DATASETS, Bench, efficiency, ensure_volume, log, relative_error2, require_positive, render_entry,  # noqa: E402
                       run_scene, warmup_entry, write_csv, write_scene)
 
 CASES = {
@@ -50,6 +50,7 @@ def main():
     ap.add_argument("--only", default="")
     ap.add_argument("--label", default="")
     a = ap.parse_args()
+    require_positive(ap, a, ["size", "spp", "reps"])
     b = Bench(root, os.path.abspath(a.build), os.path.abspath(a.results), quick=False)
     only = [c for c in a.only.split(",") if c]
     unknown = [c for c in only if c not in CASES]

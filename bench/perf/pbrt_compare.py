@@ -46,7 +46,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from perf_lib import (DATASETS, Bench, efficiency, ensure_volume, log, relative_error2, run_scene,  # noqa: E402
+from perf_lib import (DATASETS, Bench, efficiency, ensure_volume, log, relative_error2, require_positive, run_scene,  # noqa: E402
                       write_csv)
 
 CASES = {
@@ -210,6 +210,7 @@ def main():
     ap.add_argument("--only", default=DEFAULT_CASES)
     ap.add_argument("--skip-pbrt", action="store_true", help="Tessera's side only")
     a = ap.parse_args()
+    require_positive(ap, a, ["size", "reps"])
     if not a.skip_pbrt and not (a.pbrt and os.access(a.pbrt, os.X_OK)):
         ap.error(f"--pbrt: {a.pbrt!r} is not an executable (give pbrt-v4's, or --skip-pbrt)")
     if a.spp < 2:

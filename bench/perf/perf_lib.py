@@ -41,6 +41,15 @@ class Bench:
         return p
 
 
+def require_positive(ap, args, names):
+    """argparse check shared by the benchmark scripts: each named integer option at least 1
+    (a size, sample count or repeat count of 0 or less leaves nothing to measure)."""
+    for name in names:
+        v = getattr(args, name)
+        if v < 1:
+            ap.error(f"--{name}: at least 1 (got {v})")
+
+
 def log(msg):
     print(f"[perf {time.strftime('%H:%M:%S')}] {msg}", flush=True)
 
