@@ -111,16 +111,20 @@ bool for_samples(int begin, int end, StopCheck& stop, Fn&& fn) {
   return true;
 }
 
-/// Uniform sampling: all spp estimates of the tile, sample-major.
+/// Uniform sampling: all spp estimates of the tile, pixel-major: a pixel's samples one after
+/// the other, since they follow nearly the same rays through voxels and macrocells still in
+/// the first-level cache (sample-major order swept the whole tile between two of them). The
+/// image is the same either way: each pixel's samples are drawn and added in index order.
 template <class V>
 void sample_uniform(TileSampler<V>& ts, const KernelScene& s, const Tile& tile, Film& film, RenderStats& st,
                     StopCheck& stop) {
-  for (int si = 0; si < s.spp && !stop.stop(); ++si)
-    for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        PixelSums& px = film.at(x, y);
-        ts.accumulate(x, y, px, film.aux_at(x, y), px.drawn, st);  // continues the pixel's sample indices
-      }
+  for (int y = tile.y0; y < tile.y1; ++y)
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      PixelSums& px = film.at(x, y);
+      AuxSums* aux = film.aux_at(x, y);
+      // continues the pixel's sample indices (accumulate counts px.drawn up)
+      if (!for_samples(0, s.spp, stop, [&](int) { ts.accumulate(x, y, px, aux, px.drawn, st); })) return;
+    }
 }
 
 /// Adaptive sampling (adaptive_sampling.h), block by block. Every pixel's samples have indices
