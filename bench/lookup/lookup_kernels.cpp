@@ -75,6 +75,7 @@ const char* variant_name(Variant v) {
   switch (v) {
     case Variant::ScalarDouble: return "scalar-double";
     case Variant::ScalarFloat: return "scalar-float";
+    case Variant::Interleaved4Double: return "interleaved4-double";
     case Variant::Simd8Float:
     default: return "simd8-float";
   }
@@ -124,6 +125,74 @@ Result run_scalar(const Volume& vol, const Setup& s) {
   return res;
 }
 
+/// Four rays at once in scalar double, round robin: each pass advances every lane by one
+/// step (one tentative collision), and a lane whose ray ends takes the next ray. The same
+/// arithmetic per ray as run_scalar<double>; the rays' steps are interleaved so that one
+/// ray's dependent chain (position, samples, blend, table, compare) can overlap another's.
+/// It asks whether a scalar wavefront alone buys anything without SIMD lanes.
+Result run_interleaved4(const Volume& vol, const Setup& s) {
+  constexpr int kLanes = 4;
+  Result res;
+  const double hi[3] = {double(vol.nx - 1), double(vol.ny - 1), double(vol.nz - 1)};
+  const std::int64_t sy = vol.nx, sz = std::int64_t(vol.nx) * vol.ny;
+  const double inv_maj = 1.0 / double(s.majorant), scale = double(kTableSize) / (double(s.tf_hi) - double(s.tf_lo));
+  const float* f = vol.data.data();
+  struct Lane {
+    const Ray* ray = nullptr;
+    std::uint32_t rng = 0;
+    double t = 0;
+  } lane[kLanes];
+  std::size_t next = 0;
+  const auto take = [&](Lane& l) {
+    if (next < s.rays.size()) {
+      l.ray = &s.rays[next];
+      l.rng = ray_seed(std::uint32_t(next));
+      l.t = l.ray->t0;
+      ++next;
+    } else {
+      l.ray = nullptr;
+    }
+  };
+  for (Lane& l : lane) take(l);
+  for (int active = kLanes; active > 0;) {
+    active = 0;
+    for (Lane& l : lane) {
+      if (!l.ray) continue;
+      ++active;
+      const Ray& ray = *l.ray;
+      l.t -= std::log(double(unit_open0(next_u32(l.rng)))) * inv_maj;
+      if (!(l.t < double(ray.t1))) {
+        take(l);
+        continue;
+      }
+      std::int64_t i[3];
+      double w[3];
+      for (int a = 0; a < 3; ++a) {
+        const double p = std::clamp(double(ray.o[a]) + l.t * double(ray.d[a]), 0.0, hi[a]);
+        std::int64_t ii = std::int64_t(p);
+        if (ii > std::int64_t(hi[a]) - 1) ii = std::int64_t(hi[a]) - 1;
+        i[a] = ii;
+        w[a] = p - double(ii);
+      }
+      const float* c = f + i[0] + i[1] * sy + i[2] * sz;
+      const double c00 = double(c[0]) + w[0] * (double(c[1]) - double(c[0]));
+      const double c10 = double(c[sy]) + w[0] * (double(c[sy + 1]) - double(c[sy]));
+      const double c01 = double(c[sz]) + w[0] * (double(c[sz + 1]) - double(c[sz]));
+      const double c11 = double(c[sy + sz]) + w[0] * (double(c[sy + sz + 1]) - double(c[sy + sz]));
+      const double c0 = c00 + w[1] * (c10 - c00), c1 = c01 + w[1] * (c11 - c01);
+      const double value = c0 + w[2] * (c1 - c0);
+      const double x = std::clamp((value - double(s.tf_lo)) * scale, 0.0, double(kTableSize));
+      int b = int(x);
+      if (b > kTableSize - 1) b = kTableSize - 1;
+      const double sigma = double(s.sigma[b]) + (x - double(b)) * (double(s.sigma[b + 1]) - double(s.sigma[b]));
+      ++res.lookups;
+      res.checksum += sigma;
+      if (double(unit_open0(next_u32(l.rng))) * double(s.majorant) < sigma) take(l);  // a real collision
+    }
+  }
+  return res;
+}
+
 bool cpu_has_avx2() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_cpu_init();
@@ -147,6 +216,7 @@ Result run(Variant v, const Volume& vol, const Setup& s) {
   switch (v) {
     case Variant::ScalarDouble: return run_scalar<double>(vol, s);
     case Variant::ScalarFloat: return run_scalar<float>(vol, s);
+    case Variant::Interleaved4Double: return run_interleaved4(vol, s);
     case Variant::Simd8Float:
     default:
 #ifdef TESSERA_LOOKUP_AVX2

@@ -1,7 +1,7 @@
 #pragma once
 /// The bare lookup loop of bench/lookup/lookup_limit.cpp: a trilinear lookup of a float32
 /// volume plus a transfer-function opacity lookup at exponential steps along rays (delta
-/// tracking against a constant majorant, stopping at a real collision), in three variants.
+/// tracking against a constant majorant, stopping at a real collision), in four variants.
 /// Every variant draws the same random numbers per ray, so their checksums agree up to the
 /// precision of their arithmetic.
 #include <cstdint>
@@ -37,7 +37,7 @@ inline constexpr int kTableSize = 256;
 /// the fractions ramp_lo < ramp_hi of the range (the "bone"), opaque above.
 Setup make_setup(const Volume& v, int rays, float ramp_lo, float ramp_hi);
 
-enum class Variant { ScalarDouble, ScalarFloat, Simd8Float };
+enum class Variant { ScalarDouble, ScalarFloat, Interleaved4Double, Simd8Float };
 const char* variant_name(Variant v);
 
 struct Result {

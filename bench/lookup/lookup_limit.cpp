@@ -12,6 +12,8 @@
 // Variants, each over the same rays, steps and volume:
 //   scalar-double  one ray at a time, double coordinates and interpolation (as the kernel today)
 //   scalar-float   one ray at a time, float throughout
+//   interleaved4-double  4 rays in scalar double, advanced a step each in turn (a scalar
+//                  wavefront: whether overlapping rays' dependent chains pays without SIMD)
 //   simd8-float    8 rays at a time (GCC vector extensions; AVX2 gathers when the CPU has them),
 //                  with a vector logarithm for the exponential steps
 // Prints lookups/s per core and the checksum of each (the sums must agree to float precision).
@@ -121,7 +123,7 @@ int main(int argc, char** argv) try {
               setup.majorant, setup.tf_lo, setup.tf_hi, simd_gathers() ? "AVX2 gathers" : "no AVX2: scalar gathers");
   std::FILE* csv = a.csv.empty() ? nullptr : std::fopen(a.csv.c_str(), "w");
   if (csv) std::fprintf(csv, "variant,lookups,seconds,lookups_per_s,checksum\n");
-  for (Variant var : {Variant::ScalarDouble, Variant::ScalarFloat, Variant::Simd8Float}) {
+  for (Variant var : {Variant::ScalarDouble, Variant::ScalarFloat, Variant::Interleaved4Double, Variant::Simd8Float}) {
     double best = 1e300;
     Result r{};
     for (int rep = 0; rep < a.reps; ++rep) {
@@ -131,7 +133,7 @@ int main(int argc, char** argv) try {
       if (s < best) best = s;
     }
     const double rate = double(r.lookups) / best;
-    std::printf("  %-14s %12llu lookups  %8.3f s  %7.2f M lookups/s per core  checksum %.6g\n", variant_name(var),
+    std::printf("  %-20s %12llu lookups  %8.3f s  %7.2f M lookups/s per core  checksum %.6g\n", variant_name(var),
                 static_cast<unsigned long long>(r.lookups), best, rate * 1e-6, r.checksum);
     if (csv)
       std::fprintf(csv, "%s,%llu,%.6f,%.6g,%.9g\n", variant_name(var), static_cast<unsigned long long>(r.lookups), best,
