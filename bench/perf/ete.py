@@ -15,13 +15,17 @@
 
     python3 bench/perf/ete.py --build build --results bench/results/ete [--size 128] [--spp 64]
                               [--reps 3] [--only heat_single,ct_single] [--label NAME]
+                              [--set KEY=VALUE ...]
 
 Cases: the heat miniapp's field (single and multiple scattering), the head CT of
 scripts/fetch_ct.sh and the brain MRI of scripts/fetch_mri.sh (each single and multiple
 scattering; a case whose data cannot be fetched is skipped). `--label` names a row set (e.g. the
-commit) so that several runs' CSVs compare. Benchmarks are not tests: nothing here asserts.
+commit) so that several runs' CSVs compare. `--set` gives an integrator key (docs/config.md) to
+the measured renders and the reference alike, to measure an estimator's setting without
+editing the script (e.g. `--set rr_depth=1`). Benchmarks are not tests: nothing here asserts.
 """
 import argparse
+import json
 import os
 import sys
 
@@ -49,6 +53,9 @@ def main():
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--only", default="")
     ap.add_argument("--label", default="")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="an integrator key for the measured renders and the reference alike, e.g. "
+                         "rr_depth=1 or shadow=delta (repeatable; VALUE read as JSON, else as a string)")
     a = ap.parse_args()
     require_positive(ap, a, ["size", "spp", "reps"])
     b = Bench(root, os.path.abspath(a.build), os.path.abspath(a.results), quick=False)
@@ -57,6 +64,17 @@ def main():
     if unknown:
         ap.error(f"--only: unknown case(s) {', '.join(unknown)} (cases: {', '.join(CASES)})")
     cases = [c for c in CASES if not only or c in only]
+    extra = {}
+    for kv in a.set:
+        key, eq, value = kv.partition("=")
+        if not eq or not key:
+            ap.error(f"--set: {kv!r} is not KEY=VALUE")
+        if key in ("scattering", "seed", "sampler"):
+            ap.error(f"--set: {key} is set by the script itself")
+        try:
+            extra[key] = json.loads(value)
+        except ValueError:
+            extra[key] = value
     rows = []
     for case in cases:
         name, scattering = CASES[case]
@@ -66,7 +84,7 @@ def main():
             continue
         ds = DATASETS[name]
         out = b.dir("img", case)
-        integ = {"scattering": scattering}
+        integ = dict(extra, scattering=scattering)
         # The reference: 16x the samples, another seed, every thread, with its variance
         ref_scene = b.path("scenes", f"ete_{case}_ref.yaml")
         write_scene(b, ref_scene, name, vol, [render_entry("reference", ds, width=a.size, height=a.size,
