@@ -83,43 +83,65 @@ const char* variant_name(Variant v) {
 
 namespace {
 
+/// The constants of one run in arithmetic type T.
+template <class T>
+struct Lookup {
+  T hi[3];
+  std::int64_t sy, sz;
+  T inv_maj, scale, lo, maj;
+  const float* f;
+  const float* sigma;
+  Lookup(const Volume& vol, const Setup& s)
+      : hi{T(vol.nx - 1), T(vol.ny - 1), T(vol.nz - 1)},
+        sy(vol.nx),
+        sz(std::int64_t(vol.nx) * vol.ny),
+        inv_maj(T(1) / T(s.majorant)),
+        scale(T(kTableSize) / (T(s.tf_hi) - T(s.tf_lo))),
+        lo(T(s.tf_lo)),
+        maj(T(s.majorant)),
+        f(vol.data.data()),
+        sigma(s.sigma.data()) {}
+
+  /// sigma at distance t along the ray: the trilinear value, then the opacity table.
+  [[gnu::always_inline]] T operator()(const Ray& ray, T t) const {
+    std::int64_t i[3];
+    T w[3];
+    for (int a = 0; a < 3; ++a) {
+      const T p = std::clamp(T(ray.o[a]) + t * T(ray.d[a]), T(0), hi[a]);
+      std::int64_t ii = std::int64_t(p);
+      if (ii > std::int64_t(hi[a]) - 1) ii = std::int64_t(hi[a]) - 1;
+      i[a] = ii;
+      w[a] = p - T(ii);
+    }
+    const float* c = f + i[0] + i[1] * sy + i[2] * sz;
+    const T c00 = T(c[0]) + w[0] * (T(c[1]) - T(c[0])), c10 = T(c[sy]) + w[0] * (T(c[sy + 1]) - T(c[sy]));
+    const T c01 = T(c[sz]) + w[0] * (T(c[sz + 1]) - T(c[sz]));
+    const T c11 = T(c[sy + sz]) + w[0] * (T(c[sy + sz + 1]) - T(c[sy + sz]));
+    const T c0 = c00 + w[1] * (c10 - c00), c1 = c01 + w[1] * (c11 - c01);
+    const T value = c0 + w[2] * (c1 - c0);
+    T x = std::clamp((value - lo) * scale, T(0), T(kTableSize));
+    int b = int(x);
+    if (b > kTableSize - 1) b = kTableSize - 1;
+    return T(sigma[b]) + (x - T(b)) * (T(sigma[b + 1]) - T(sigma[b]));
+  }
+};
+
 /// One ray at a time in arithmetic type T: the kernel's loop reduced to its lookups.
 template <class T>
 Result run_scalar(const Volume& vol, const Setup& s) {
   Result res;
-  const T hi[3] = {T(vol.nx - 1), T(vol.ny - 1), T(vol.nz - 1)};
-  const std::int64_t sy = vol.nx, sz = std::int64_t(vol.nx) * vol.ny;
-  const T inv_maj = T(1) / T(s.majorant), scale = T(kTableSize) / (T(s.tf_hi) - T(s.tf_lo));
-  const float* f = vol.data.data();
+  const Lookup<T> lookup(vol, s);
   for (std::size_t r = 0; r < s.rays.size(); ++r) {
     const Ray& ray = s.rays[r];
     std::uint32_t rng = ray_seed(std::uint32_t(r));
     T t = ray.t0;
     for (;;) {
-      t -= std::log(T(unit_open0(next_u32(rng)))) * inv_maj;
+      t -= std::log(T(unit_open0(next_u32(rng)))) * lookup.inv_maj;
       if (!(t < T(ray.t1))) break;
-      std::int64_t i[3];
-      T w[3];
-      for (int a = 0; a < 3; ++a) {
-        const T p = std::clamp(T(ray.o[a]) + t * T(ray.d[a]), T(0), hi[a]);
-        std::int64_t ii = std::int64_t(p);
-        if (ii > std::int64_t(hi[a]) - 1) ii = std::int64_t(hi[a]) - 1;
-        i[a] = ii;
-        w[a] = p - T(ii);
-      }
-      const float* c = f + i[0] + i[1] * sy + i[2] * sz;
-      const T c00 = T(c[0]) + w[0] * (T(c[1]) - T(c[0])), c10 = T(c[sy]) + w[0] * (T(c[sy + 1]) - T(c[sy]));
-      const T c01 = T(c[sz]) + w[0] * (T(c[sz + 1]) - T(c[sz]));
-      const T c11 = T(c[sy + sz]) + w[0] * (T(c[sy + sz + 1]) - T(c[sy + sz]));
-      const T c0 = c00 + w[1] * (c10 - c00), c1 = c01 + w[1] * (c11 - c01);
-      const T value = c0 + w[2] * (c1 - c0);
-      T x = std::clamp((value - T(s.tf_lo)) * scale, T(0), T(kTableSize));
-      int b = int(x);
-      if (b > kTableSize - 1) b = kTableSize - 1;
-      const T sigma = T(s.sigma[b]) + (x - T(b)) * (T(s.sigma[b + 1]) - T(s.sigma[b]));
+      const T sigma = lookup(ray, t);
       ++res.lookups;
       res.checksum += double(sigma);
-      if (T(unit_open0(next_u32(rng))) * T(s.majorant) < sigma) break;  // a real collision
+      if (T(unit_open0(next_u32(rng))) * lookup.maj < sigma) break;  // a real collision
     }
   }
   return res;
@@ -133,10 +155,7 @@ Result run_scalar(const Volume& vol, const Setup& s) {
 Result run_interleaved4(const Volume& vol, const Setup& s) {
   constexpr int kLanes = 4;
   Result res;
-  const double hi[3] = {double(vol.nx - 1), double(vol.ny - 1), double(vol.nz - 1)};
-  const std::int64_t sy = vol.nx, sz = std::int64_t(vol.nx) * vol.ny;
-  const double inv_maj = 1.0 / double(s.majorant), scale = double(kTableSize) / (double(s.tf_hi) - double(s.tf_lo));
-  const float* f = vol.data.data();
+  const Lookup<double> lookup(vol, s);
   struct Lane {
     const Ray* ray = nullptr;
     std::uint32_t rng = 0;
@@ -159,35 +178,15 @@ Result run_interleaved4(const Volume& vol, const Setup& s) {
     for (Lane& l : lane) {
       if (!l.ray) continue;
       ++active;
-      const Ray& ray = *l.ray;
-      l.t -= std::log(double(unit_open0(next_u32(l.rng)))) * inv_maj;
-      if (!(l.t < double(ray.t1))) {
+      l.t -= std::log(double(unit_open0(next_u32(l.rng)))) * lookup.inv_maj;
+      if (!(l.t < double(l.ray->t1))) {
         take(l);
         continue;
       }
-      std::int64_t i[3];
-      double w[3];
-      for (int a = 0; a < 3; ++a) {
-        const double p = std::clamp(double(ray.o[a]) + l.t * double(ray.d[a]), 0.0, hi[a]);
-        std::int64_t ii = std::int64_t(p);
-        if (ii > std::int64_t(hi[a]) - 1) ii = std::int64_t(hi[a]) - 1;
-        i[a] = ii;
-        w[a] = p - double(ii);
-      }
-      const float* c = f + i[0] + i[1] * sy + i[2] * sz;
-      const double c00 = double(c[0]) + w[0] * (double(c[1]) - double(c[0]));
-      const double c10 = double(c[sy]) + w[0] * (double(c[sy + 1]) - double(c[sy]));
-      const double c01 = double(c[sz]) + w[0] * (double(c[sz + 1]) - double(c[sz]));
-      const double c11 = double(c[sy + sz]) + w[0] * (double(c[sy + sz + 1]) - double(c[sy + sz]));
-      const double c0 = c00 + w[1] * (c10 - c00), c1 = c01 + w[1] * (c11 - c01);
-      const double value = c0 + w[2] * (c1 - c0);
-      const double x = std::clamp((value - double(s.tf_lo)) * scale, 0.0, double(kTableSize));
-      int b = int(x);
-      if (b > kTableSize - 1) b = kTableSize - 1;
-      const double sigma = double(s.sigma[b]) + (x - double(b)) * (double(s.sigma[b + 1]) - double(s.sigma[b]));
+      const double sigma = lookup(*l.ray, l.t);
       ++res.lookups;
       res.checksum += sigma;
-      if (double(unit_open0(next_u32(l.rng))) * double(s.majorant) < sigma) take(l);  // a real collision
+      if (double(unit_open0(next_u32(l.rng))) * lookup.maj < sigma) take(l);  // a real collision
     }
   }
   return res;
