@@ -122,4 +122,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except RuntimeError as e:  # a render that failed (its error names the scene file and key)
+        sys.exit(f"ete.py: {e}")
