@@ -3,6 +3,7 @@
 // docs/images/annotations.yaml (only the volume's path changed), give the committed PNG's
 // pixels exactly (decoded, so that a different zlib does not matter).
 #include "../config/test_support.h"
+#include "doc_yaml.h"
 #include "read_png.h"
 
 #include <sys/wait.h>
@@ -34,16 +35,9 @@ TEST_CASE("the annotations picture of docs/config.md is made by its documented c
   TempDir dir;
   REQUIRE(run_command("'" TESSERA_SYNTH_EXE "' '" + dir.file("blobs.raw") +
                       "' --dims 64 64 64 --kind blobs > /dev/null") == 0);
-  std::ifstream in(repo + "/docs/images/annotations.yaml");
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::string yaml = text.str();
-  const std::string volume = "/tmp/blobs.raw";
-  // The volume key's path (the comments above it name the same path: the first occurrence
-  // is not the key's, so every one is replaced and the test needs nothing under /tmp)
-  REQUIRE(yaml.find("file: " + volume) != std::string::npos);
-  for (auto at = yaml.find(volume); at != std::string::npos; at = yaml.find(volume, at + 1))
-    yaml.replace(at, volume.size(), dir.file("blobs.raw"));
+  const std::string yaml = tessera_test::doc_yaml_with_volume(repo + "/docs/images/annotations.yaml", "/tmp/blobs.raw",
+                                                              dir.file("blobs.raw"));
+  REQUIRE(!yaml.empty());
   dir.write("annotations.yaml", yaml);
   REQUIRE(run_command("'" TESSERA_RENDER_EXE "' '" + dir.file("annotations.yaml") + "' --step 120 -o '" +
                       dir.file("annotations.png") + "' --quiet") == 0);

@@ -3,6 +3,7 @@
 // docs/images/moving_cameras.yaml (only the volume's path changed), give the committed PNGs'
 // pixels exactly (decoded, so that a different zlib does not matter).
 #include "../config/test_support.h"
+#include "doc_yaml.h"
 
 #include <png.h>
 #include <sys/wait.h>
@@ -45,16 +46,9 @@ int run(const std::string& cmd) {
 TEST_CASE("the moving-camera pictures of docs/config.md are made by their documented commands", "[cli][docs]") {
   TempDir dir;
   REQUIRE(run("'" TESSERA_SYNTH_EXE "' '" + dir.file("ramp.raw") + "' --dims 32 32 32 --kind linear > /dev/null") == 0);
-  std::ifstream in(kRepo + "/docs/images/moving_cameras.yaml");
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::string yaml = text.str();
-  const std::string volume = "/tmp/ramp.raw";
-  // The volume key's path (the comments above it name the same path: the first occurrence
-  // is not the key's, so every one is replaced and the test needs nothing under /tmp)
-  REQUIRE(yaml.find("file: " + volume) != std::string::npos);
-  for (auto at = yaml.find(volume); at != std::string::npos; at = yaml.find(volume, at + 1))
-    yaml.replace(at, volume.size(), dir.file("ramp.raw"));
+  const std::string yaml = tessera_test::doc_yaml_with_volume(kRepo + "/docs/images/moving_cameras.yaml",
+                                                              "/tmp/ramp.raw", dir.file("ramp.raw"));
+  REQUIRE(!yaml.empty());
   dir.write("moving_cameras.yaml", yaml);
   // A turning orbit's frame and a keyframed camera between keyframes (smooth) and at one
   const struct {
