@@ -59,8 +59,8 @@ struct RenderOptions {
   TileOrder order = TileOrder::RowMajor;
   int threads = 0;  ///< 0 = all hardware threads
   /// Wall-clock deadline of the render (steady clock); max() = none. render_tiles checks it
-  /// before each tile, between passes over a tile and every 1024 samples of an adaptive
-  /// pixel, prepare() every 1024 samples of the adaptive preview (never per sample); past it
+  /// before each tile, before each pixel of a tile and every 64 samples of one pixel,
+  /// prepare() every 64 samples of the adaptive preview (never per sample); past it
   /// they stop and throw DeadlineExceeded (render.h).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };

@@ -1,6 +1,6 @@
 #pragma once
 /// StopCheck: a render's deadline (RenderOptions::deadline), shared by every thread of one
-/// render. Polled before each work item, before each pixel of a tile, every 1024 samples of
+/// render. Polled before each work item, before each pixel of a tile, every 64 samples of
 /// one pixel and every kStopPollBounces collisions of one path: one relaxed load, plus a
 /// clock read when a deadline is set. Never per sample or per tracking step. Once passed,
 /// every later poll on every thread says stop. Thread-safe; allocates nothing.
