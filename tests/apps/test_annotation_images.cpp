@@ -3,15 +3,10 @@
 // docs/images/annotations.yaml (only the volume's path changed), give the committed PNG's
 // pixels exactly (decoded, so that a different zlib does not matter).
 #include "../config/test_support.h"
-#include "doc_yaml.h"
+#include "doc_pictures.h"
 #include "read_png.h"
 
-#include <sys/wait.h>
-
 #include <cstdint>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,15 +15,7 @@
 #endif
 
 using tessera::config::test::TempDir;
-
-namespace {
-
-int run_command(const std::string& cmd) {
-  const int raw = std::system(cmd.c_str());
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-}
-
-}  // namespace
+using tessera_test::run_command;
 
 TEST_CASE("the annotations picture of docs/config.md is made by its documented commands", "[cli][docs][annotate]") {
   const std::string repo = std::string(TESSERA_TEST_DATA_DIR) + "/../..";

@@ -1,6 +1,9 @@
 #pragma once
 // Shared by the doc-picture tests (tests/apps): a documented scene file, read with its volume
-// moved to the test's own copy.
+// moved to the test's own copy, and the exit status of the documented commands.
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -20,6 +23,12 @@ inline std::string doc_yaml_with_volume(const std::string& path, const std::stri
   for (auto at = yaml.find(documented); at != std::string::npos; at = yaml.find(documented, at + actual.size()))
     yaml.replace(at, documented.size(), actual);
   return yaml;
+}
+
+/// The exit status of shell command `cmd`, or -1 when it did not exit normally.
+inline int run_command(const std::string& cmd) {
+  const int raw = std::system(cmd.c_str());
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
 }
 
 }  // namespace tessera_test
