@@ -24,6 +24,9 @@ Environment::Environment(const BackgroundDesc& desc)
       m_middle = desc.middle * k;
       m_bottom = desc.bottom * k;
       m_emits = !(is_black(m_top) && is_black(m_middle) && is_black(m_bottom));
+      // max(RGB) of a linear mix is at most the mix of the ends' max(RGB), and 0 only where
+      // the colour is black: the density covers every direction the radiance is not 0 in.
+      m_zonal_ok = m_emits && m_zonal.init(max_component(m_top), max_component(m_middle), max_component(m_bottom));
       break;
     case BackgroundType::EnvMap: {
       if (!desc.envmap || desc.envmap->width < 1 || desc.envmap->height < 1)
@@ -81,6 +84,13 @@ Color Environment::eval(const Vec3& d) const {
 }
 
 Color Environment::sample(double u1, double u2, Vec3* d, double* pdf) const {
+  if (m_zonal_ok) {
+    const double t = m_zonal.sample_t(u1);
+    const double r = std::sqrt(std::fmax(0.0, 1.0 - t * t)), phi = 2.0 * kPi * u2;
+    *d = m_frame.to_world(Vec3(r * std::cos(phi), r * std::sin(phi), t));
+    *pdf = Environment::pdf(*d);  // from the direction, as MIS reads it
+    return eval(*d);
+  }
   if (m_type != BackgroundType::EnvMap) {
     *d = uniform_sphere(u1, u2);
     *pdf = uniform_sphere_pdf();
@@ -100,6 +110,7 @@ Color Environment::sample(double u1, double u2, Vec3* d, double* pdf) const {
 }
 
 double Environment::pdf(const Vec3& d) const {
+  if (m_zonal_ok) return m_zonal.pdf_t(glm::dot(d, m_frame.n)) * (0.5 * kInvPi);
   if (m_type != BackgroundType::EnvMap) return uniform_sphere_pdf();
   double u, v;
   to_uv(d, &u, &v);

@@ -1,6 +1,8 @@
 #pragma once
-/// The background light: constant, gradient, or an equirectangular environment map with
-/// importance sampling proportional to luminance * sin(theta).
+/// The background light: constant (sampled uniformly over the sphere), gradient (sampled in
+/// proportion to a linear bound of its largest colour component in t = d.up on each hemisphere:
+/// sampling/zonal_linear.h), or an equirectangular environment map with importance sampling
+/// proportional to max(RGB) * sin(theta).
 ///
 /// Envmap mapping (docs/physics.md): in the frame (s, t, n = up) of tessera::Frame(up),
 /// theta = acos(d.n) in [0, pi], phi = atan2(d.t, d.s) wrapped to [0, 2 pi);
@@ -10,6 +12,7 @@
 #include <tessera/math.h>
 
 #include "sampling/distribution.h"
+#include "sampling/zonal_linear.h"
 
 namespace tessera {
 
@@ -36,6 +39,8 @@ class Environment {
   int m_w = 0, m_h = 0;
   std::vector<Color> m_texels;
   Distribution2D m_dist;
+  ZonalLinear m_zonal;      // a gradient's sampling density
+  bool m_zonal_ok = false;  // false: sampled uniformly (a constant, or weights that overflow)
   void to_uv(const Vec3& d, double* u, double* v) const;
 };
 
