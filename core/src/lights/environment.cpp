@@ -85,9 +85,7 @@ Color Environment::eval(const Vec3& d) const {
 
 Color Environment::sample(double u1, double u2, Vec3* d, double* pdf) const {
   if (m_zonal_ok) {
-    const double t = m_zonal.sample_t(u1);
-    const double r = std::sqrt(std::fmax(0.0, 1.0 - t * t)), phi = 2.0 * kPi * u2;
-    *d = m_frame.to_world(Vec3(r * std::cos(phi), r * std::sin(phi), t));
+    *d = m_frame.to_world(sphere_direction(m_zonal.sample_t(u1), u2));
     *pdf = Environment::pdf(*d);  // from the direction, as MIS reads it
     return eval(*d);
   }

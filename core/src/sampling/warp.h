@@ -19,12 +19,14 @@ inline Vec2 concentric_disk(double u1, double u2) {
   return Vec2(r * std::cos(phi), r * std::sin(phi));
 }
 
-inline Vec3 uniform_sphere(double u1, double u2) {
-  const double z = 1.0 - 2.0 * u1;
+/// The unit vector with z-component z in [-1, 1] at azimuth 2 pi u2 about +z.
+inline Vec3 sphere_direction(double z, double u2) {
   const double r = std::sqrt(std::fmax(0.0, 1.0 - z * z));
   const double phi = 2.0 * kPi * u2;
   return Vec3(r * std::cos(phi), r * std::sin(phi), z);
 }
+
+inline Vec3 uniform_sphere(double u1, double u2) { return sphere_direction(1.0 - 2.0 * u1, u2); }
 inline constexpr double uniform_sphere_pdf() { return kInv4Pi; }
 
 /// Cosine-weighted hemisphere about +z; pdf = cos(theta) / pi.
