@@ -189,6 +189,8 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
     CallView view{final_step ? CallKind::Final : CallKind::Execute, step, fired, m_config.renders, pub.grid, plan};
     view.domains_call = pub.domains_call;
     view.mesh = pub.mesh;
+    view.domains = pub.domains;
+    view.ndomains = pub.ndomains;
     if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view, kAgreementWarnSeconds, &plan)) {
       if (root) log_line(d->message);
       if (d->rank_closed) m_broken = d->message;

@@ -8,8 +8,17 @@
 namespace tessera::insitu {
 namespace {
 
-/// Seconds as measured, or 0 when they make no sense (a clock that went back, NaN).
-double sane(double seconds) { return std::isfinite(seconds) && seconds > 0.0 ? seconds : 0.0; }
+constexpr double kMaxSeconds = std::numeric_limits<double>::max();
+
+/// Seconds as measured: 0 when they make no sense (a clock that went back, NaN); a time too
+/// long to represent (+inf: a fake clock's seconds per sample times a sample count that
+/// overflows, say) as the largest finite one, so that it stays the most costly time there
+/// is, never a free one.
+double sane(double seconds) { return seconds > 0.0 ? std::min(seconds, kMaxSeconds) : 0.0; }
+
+/// a + b for the account's sums, saturating at +-kMaxSeconds: the account never holds an
+/// infinity (whose differences would be NaN).
+double saturated_sum(double a, double b) { return std::clamp(a + b, -kMaxSeconds, kMaxSeconds); }
 
 }  // namespace
 
@@ -31,8 +40,8 @@ BudgetPlanner::BudgetPlanner(double budget, std::vector<BudgetLimits> renders)
 
 double BudgetPlanner::plan(double simulation_seconds, std::span<const unsigned char> firing) {
   const double sim = sane(simulation_seconds);
-  m_simulation += sim;
-  m_balance += m_budget * sim;
+  m_simulation = saturated_sum(m_simulation, sim);
+  m_balance = saturated_sum(m_balance, m_budget * sim);
   m_allowance = m_balance;
 
   // Nothing learnt yet for a firing render: learn at min_spp, unless paying back a debt
@@ -46,15 +55,15 @@ double BudgetPlanner::plan(double simulation_seconds, std::span<const unsigned c
       learning = true;
       continue;
     }
-    overhead += m_costs[i].overhead;
-    per_share += m_costs[i].per_spp * static_cast<double>(std::max(1, m_limits[i].spp));
+    overhead = saturated_sum(overhead, m_costs[i].overhead);
+    per_share = saturated_sum(per_share, m_costs[i].per_spp * static_cast<double>(std::max(1, m_limits[i].spp)));
   }
   if (!any) return 1.0;
   if (learning) return m_balance >= 0.0 ? kLearnPlan : 0.0;
 
   // Credit carried forward: at most what this call could spend at full spp (which it gets,
   // without the rounding of (balance - overhead) / per_share)
-  const double full = overhead + per_share;
+  const double full = saturated_sum(overhead, per_share);
   if (m_balance >= full) {
     m_balance = full;
     m_allowance = m_balance;
@@ -78,19 +87,19 @@ void BudgetPlanner::measured(std::size_t i, int spp, double render_seconds, doub
     c = Cost{true, overhead, per_spp};
     return;
   }
-  c.overhead = 0.5 * (c.overhead + overhead);
-  c.per_spp = 0.5 * (c.per_spp + per_spp);
+  c.overhead = 0.5 * c.overhead + 0.5 * overhead;  // (halves first: no overflow near kMaxSeconds)
+  c.per_spp = 0.5 * c.per_spp + 0.5 * per_spp;
 }
 
 void BudgetPlanner::spent(double seconds) {
   const double s = sane(seconds);
-  m_adapter += s;
-  m_balance -= s;
+  m_adapter = saturated_sum(m_adapter, s);
+  m_balance = saturated_sum(m_balance, -s);
 }
 
 double BudgetPlanner::estimate(std::size_t i, int spp) const {
   if (i >= m_costs.size() || !m_costs[i].known) return -1.0;
-  return m_costs[i].overhead + m_costs[i].per_spp * static_cast<double>(std::max(0, spp));
+  return saturated_sum(m_costs[i].overhead, m_costs[i].per_spp * static_cast<double>(std::max(0, spp)));
 }
 
 }  // namespace tessera::insitu

@@ -49,16 +49,18 @@ class BudgetPlanner {
 
   /// A call begins: `simulation_seconds` (negative or NaN counts as 0) since the last call
   /// that rendered; firing[i] != 0 for each render that fires or may fire (size: the
-  /// renders; missing entries do not fire). Adds the call's share to the account and
+  /// renders; missing entries do not fire; +inf counts as the largest finite time). Adds the call's share to the account and
   /// returns the plan: kLearnPlan, or a share in [0, 1].
   double plan(double simulation_seconds, std::span<const unsigned char> firing);
 
   /// Render i ran with `spp` samples per pixel (> 0): `render_seconds` tracing samples (all
   /// its views), `other_seconds` the rest of it. Not called for a render that was skipped or
-  /// failed. Negative or non-finite seconds count as 0.
+  /// failed. Negative or NaN seconds count as 0; +inf (a time too long to represent) as the
+  /// largest finite time, so such a render is never affordable again, never free.
   void measured(std::size_t i, int spp, double render_seconds, double other_seconds);
 
-  /// The call ended: `seconds` spent inside the adapter in it (negative or NaN: 0).
+  /// The call ended: `seconds` spent inside the adapter in it (negative or NaN: 0; +inf: the
+  /// largest finite time). The account's sums saturate at +-DBL_MAX: never inf, never NaN.
   void spent(double seconds);
 
   /// Seconds in the account: > 0 under budget (carried forward), < 0 over it (to pay back).

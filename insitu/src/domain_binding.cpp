@@ -1,8 +1,6 @@
 // Binding tessera_execute_domains' descriptors (domain_binding.h).
 #include "domain_binding.h"
 
-#include "hash64.h"
-
 #include <tessera/amr.h>
 #include <tessera/loop_bounds.h>
 #include <tessera/number_text.h>
@@ -47,6 +45,19 @@ bool cell_data(const tessera_mesh& m) { return association_value(m) == TESSERA_C
 /// Coordinates along rectilinear axis a: global_dims (vertex) or global_dims + 1 (cell).
 std::int64_t coord_count(const tessera_mesh& m, int a) { return m.global_dims[a] + (cell_data(m) ? 1 : 0); }
 
+/// a + b in decimal, exact: an offset near INT64_MAX plus a length never wraps in a message.
+std::string sum_text(std::int64_t a, std::int64_t b) {
+  __int128 v = static_cast<__int128>(a) + b;
+  const bool negative = v < 0;
+  std::string digits;
+  do {
+    const int d = static_cast<int>(v % 10);
+    digits.insert(digits.begin(), static_cast<char>('0' + (d < 0 ? -d : d)));
+    v /= 10;
+  } while (v != 0);
+  return negative ? "-" + digits : digits;
+}
+
 std::string dtype_text(tessera_dtype t) {
   const int d = static_cast<int>(t);
   return d >= TESSERA_UINT8 && d <= TESSERA_FLOAT64 ? dtype_name(static_cast<DType>(d)) : std::to_string(d);
@@ -73,6 +84,13 @@ void check_mesh(const tessera_mesh& m) {
     finest *= m.refinement[l];
   }
   double lo[3], hi[3], h = INFINITY;
+  std::string h_where;  // where the smallest spacing is, for the message
+  const auto smallest = [&](double s, int a, std::int64_t q) {
+    if (!(s < h)) return;
+    h = s;
+    h_where = q < 0 ? "spacing" + axis(a) : "coords" + axis(a) + "[" + std::to_string(q) + "] - [" +
+                                                 std::to_string(q - 1) + "]";
+  };
   for (int a = 0; a < 3; ++a) {
     if (m.global_dims[a] < 1 || m.global_dims[a] > INT_MAX)
       fail("mesh: global_dims" + axis(a) + " = " + std::to_string(m.global_dims[a]) + ", must be in [1, " +
@@ -87,7 +105,7 @@ void check_mesh(const tessera_mesh& m) {
         fail("mesh: spacing" + axis(a) + " = " + short_number(s) + " is outside [1e-100, 1e100]");
       lo[a] = m.origin[a];
       hi[a] = m.origin[a] + static_cast<double>(m.global_dims[a] - (cell_data(m) ? 0 : 1)) * s;
-      h = std::min(h, s);
+      smallest(s, a, -1);
       continue;
     }
     if (m.nlevels > 1)
@@ -103,7 +121,7 @@ void check_mesh(const tessera_mesh& m) {
         fail("mesh: coords" + axis(a) + "[" + std::to_string(q) + "] = " + short_number(c[q]) +
              " is not greater than coords" + axis(a) + "[" + std::to_string(q - 1) + "] = " + short_number(c[q - 1]) +
              " (coordinates must be strictly increasing)");
-      if (q > 0) h = std::min(h, c[q] - c[q - 1]);
+      if (q > 0) smallest(c[q] - c[q - 1], a, q);
     }
     lo[a] = c[0];
     hi[a] = c[n - 1];
@@ -115,8 +133,10 @@ void check_mesh(const tessera_mesh& m) {
     for (int a = 0; a < 3; ++a)
       if (!(std::fabs(lo[a]) <= kMaxCoordinateVoxels * h && std::fabs(hi[a]) <= kMaxCoordinateVoxels * h))
         fail("mesh: along " + std::string(1, kAxis[a]) + " it spans [" + short_number(lo[a]) + ", " +
-             short_number(hi[a]) + "], beyond 2^40 smallest spacings (" + short_number(kMaxCoordinateVoxels * h) +
-             ") from 0, where a double no longer resolves an element");
+             short_number(hi[a]) + "], beyond 2^40 times the mesh's smallest spacing from 0 (" +
+             short_number(kMaxCoordinateVoxels * h) + "; the smallest spacing, " + short_number(h) + ", is " +
+             h_where + (finest > 1 ? " / " + std::to_string(finest) + " at the finest level" : std::string()) +
+             "), where a double no longer resolves an element");
 }
 
 std::int64_t level_extent(const tessera_mesh& mesh, int level, int a) {
@@ -133,22 +153,6 @@ bool mesh_valid(const tessera_mesh* mesh) noexcept {
   } catch (...) {
     return false;
   }
-}
-
-std::uint64_t mesh_hash(const tessera_mesh& m) {
-  std::uint64_t words[3] = {static_cast<std::uint64_t>(association_value(m)), static_cast<std::uint64_t>(m.nlevels), 0};
-  for (int a = 0; a < 3; ++a) words[2] |= (m.coords[a] ? 1u : 0u) << a;
-  std::uint64_t h = fnv1a64(std::string_view(reinterpret_cast<const char*>(words), sizeof words));
-  if (m.nlevels > 1)
-    h = fnv1a64(std::string_view(reinterpret_cast<const char*>(m.refinement),
-                                 static_cast<std::size_t>(m.nlevels - 1) * sizeof(int)),
-                h);
-  for (int a = 0; a < 3; ++a)
-    if (m.coords[a])
-      h = fnv1a64(std::string_view(reinterpret_cast<const char*>(m.coords[a]),
-                                   static_cast<std::size_t>(coord_count(m, a)) * sizeof(double)),
-                  h);
-  return h;
 }
 
 FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domains, std::int64_t ndomains,
@@ -245,15 +249,15 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
     const tessera_field& f = d.fields[it->second];
     const std::string label = who + ": " + field_label(f);
     FieldBlock block;
-    block.view = bind_array(f, label);
+    block.view = bind_array(f, label, cells);
     block.domain = static_cast<int>(n);
     block.level = d.level;
     for (int a = 0; a < 3; ++a) {
       block.offset[a] = d.offset[a];
       const std::int64_t extent = level_extent(*mesh, d.level, a);
       if (d.offset[a] < 0 || block.view.dims[a] > extent - d.offset[a])
-        fail(label + ": real elements [" + std::to_string(d.offset[a]) + ".." +
-             std::to_string(d.offset[a] + block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" +
+        fail(label + ": real " + (cells ? "cells [" : "vertices [") + std::to_string(d.offset[a]) + ".." +
+             sum_text(d.offset[a], block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" +
              axis(a) + " = " + std::to_string(d.offset[a]) + ") leave " +
              (d.level == 0 ? std::string("the mesh's") : "level " + std::to_string(d.level) + "'s") + " [0.." +
              std::to_string(extent) + ")");

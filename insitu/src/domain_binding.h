@@ -33,12 +33,6 @@ std::int64_t level_extent(const tessera_mesh& mesh, int level, int a);
 /// check_mesh without throwing.
 bool mesh_valid(const tessera_mesh* mesh) noexcept;
 
-/// A hash of what the ranks must agree on beyond origin, spacing and global_dims: the
-/// association, nlevels, the refinement ratios, which axes are rectilinear and their
-/// coordinates (bit for bit).
-/// The mesh must be valid.
-std::uint64_t mesh_hash(const tessera_mesh& mesh);
-
 /// Binds the render's field (`field_name`, or the only published field when empty) of every
 /// domain: domains non-null when ndomains > 0; 0 <= ndomains <= TESSERA_MAX_DOMAINS; each
 /// domain at a level in [0, nlevels) with a valid field list (non-null when nfields > 0, names non-null and

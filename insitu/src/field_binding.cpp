@@ -8,6 +8,9 @@
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 namespace tessera::insitu {
 namespace {
@@ -95,13 +98,20 @@ bool FieldBinding::whole() const {
 }
 
 int find_field(std::span<const tessera_field> fields, const std::string& field_name, const std::string& render_name) {
+  // Names non-null and distinct: sorted once, O(n log n) (a quadratic scan cost seconds at
+  // thousands of fields); the pair reported is the first duplicate in name order
+  std::vector<std::pair<std::string_view, std::size_t>> names_sorted;
+  names_sorted.reserve(fields.size());
   for (std::size_t i = 0; i < fields.size(); ++i) {
     if (!fields[i].name) throw std::invalid_argument("fields[" + std::to_string(i) + "]: name is null");
-    for (std::size_t j = 0; j < i; ++j)
-      if (std::strcmp(fields[j].name, fields[i].name) == 0)
-        throw std::invalid_argument(field_label(fields[i]) + ": published twice (fields[" + std::to_string(j) +
-                                    "] and fields[" + std::to_string(i) + "])");
+    names_sorted.emplace_back(fields[i].name, i);
   }
+  std::sort(names_sorted.begin(), names_sorted.end());
+  for (std::size_t q = 1; q < names_sorted.size(); ++q)
+    if (names_sorted[q].first == names_sorted[q - 1].first)
+      throw std::invalid_argument(field_label(fields[names_sorted[q].second]) + ": published twice (fields[" +
+                                  std::to_string(names_sorted[q - 1].second) + "] and fields[" +
+                                  std::to_string(names_sorted[q].second) + "])");
   if (field_name.empty()) {
     if (fields.size() == 1) return 0;
     throw std::invalid_argument("render '" + render_name + "' names no field and " + std::to_string(fields.size()) +
@@ -115,7 +125,7 @@ int find_field(std::span<const tessera_field> fields, const std::string& field_n
                               "') is unknown: published fields are " + (names.empty() ? std::string("none") : names));
 }
 
-FieldView bind_array(const tessera_field& f, const std::string& label) {
+FieldView bind_array(const tessera_field& f, const std::string& label, bool cells) {
   // Descriptor of the whole array, ghosts included
   const int dt = static_cast<int>(f.dtype);
   if (dt < TESSERA_UINT8 || dt > TESSERA_FLOAT64)
@@ -136,7 +146,8 @@ FieldView bind_array(const tessera_field& f, const std::string& label) {
     if (f.ghosts_lo[a] < 0 || f.ghosts_hi[a] < 0) fail(label, "negative ghost width along " + std::string(1, kAxis[a]));
     if (f.ghosts_lo[a] >= f.dims[a] || f.ghosts_hi[a] >= f.dims[a] - f.ghosts_lo[a])
       fail(label, "ghost layers along " + std::string(1, kAxis[a]) + " (" + std::to_string(f.ghosts_lo[a]) + " + " +
-                      std::to_string(f.ghosts_hi[a]) + ") leave no real vertex of dims " + std::to_string(f.dims[a]));
+                      std::to_string(f.ghosts_hi[a]) + ") leave no real " + (cells ? "cell" : "vertex") + " of dims " +
+                      std::to_string(f.dims[a]));
   }
   FieldView full;
   full.data = f.data;

@@ -49,8 +49,9 @@ int find_field(std::span<const tessera_field> fields, const std::string& field_n
 FieldBinding bind_field(const tessera_field& field, const tessera_grid& grid);
 
 /// The descriptor checks of bind_field (dtype, data, dims, ghosts, strides) without the grid:
-/// the view of the field's real elements (ghosts skipped). Messages start with `label`.
-FieldView bind_array(const tessera_field& field, const std::string& label);
+/// the view of the field's real elements (ghosts skipped). Messages start with `label` and
+/// call an element a cell (`cells`) or a vertex.
+FieldView bind_array(const tessera_field& field, const std::string& label, bool cells = false);
 
 /// "field 'NAME'" (or "field '(null)'").
 std::string field_label(const tessera_field& f);

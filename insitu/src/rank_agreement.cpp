@@ -1,6 +1,6 @@
 #include "rank_agreement.h"
 
-#include "domain_binding.h"
+#include "publication_agreement.h"
 
 #include "error_policy.h"
 #include "hash64.h"
@@ -22,19 +22,6 @@ namespace {
 
 // ---------------------------------------------------------------------------------------
 // Formatting
-
-// (appends rather than operator+ chains: GCC 12 warns falsely (-Wrestrict) on the latter)
-template <class T>
-std::string vec3(const T v[3]) {
-  std::string s = "[";
-  for (int a = 0; a < 3; ++a) {
-    if (a) s += ", ";
-    if constexpr (std::is_floating_point_v<T>) s += format_number(v[a]);  // two values that differ never print alike
-    else s += std::to_string(v[a]);
-  }
-  s += ']';
-  return s;
-}
 
 /// A value quoted for a message, cut to `max` characters.
 /// Escaped as message_text.h says: `'abc'`, `'abc...' (5000 characters)`.
@@ -134,13 +121,8 @@ struct CallRecord {
   std::uint64_t fired_bits[kFiredWords];        ///< fires or may fire
   std::uint64_t conditional_bits[kFiredWords];  ///< fires if its `when` trigger does
   std::uint64_t fired_hash;                     ///< over every render's flag (configs of any size)
-  std::uint64_t has_grid;
-  std::uint64_t origin_bits[3];
-  std::uint64_t spacing_bits[3];
-  std::int64_t global_dims[3];
-  std::uint64_t domains_call;  ///< 1: tessera_execute_domains (mesh_hash set), 0: tessera_execute
-  std::uint64_t mesh_hash;
   std::uint64_t plan_bits;  ///< the render-budget plan (a double): rank 0's is adopted, not compared
+  PublicationRecord pub;    ///< grid or mesh, and field list (publication_agreement.h)
 };
 static_assert(std::is_trivially_copyable_v<CallRecord>);
 
@@ -159,60 +141,14 @@ CallRecord call_record(const CallView& call) {
   }
   rec.fired_hash = h;
   rec.plan_bits = std::bit_cast<std::uint64_t>(call.plan);
-  rec.domains_call = call.domains_call ? 1 : 0;
-  if (call.domains_call) {
-    // A mesh that fails its own checks is reported by the bind phase, on every rank alike
-    if (mesh_valid(call.mesh)) {
-      rec.has_grid = 1;
-      for (int a = 0; a < 3; ++a) {
-        rec.origin_bits[a] = call.mesh->coords[a] ? 0 : std::bit_cast<std::uint64_t>(call.mesh->origin[a]);
-        rec.spacing_bits[a] = call.mesh->coords[a] ? 0 : std::bit_cast<std::uint64_t>(call.mesh->spacing[a]);
-        rec.global_dims[a] = call.mesh->global_dims[a];
-      }
-      rec.mesh_hash = mesh_hash(*call.mesh);
-    }
-  } else if (call.grid) {
-    rec.has_grid = 1;
-    for (int a = 0; a < 3; ++a) {
-      rec.origin_bits[a] = std::bit_cast<std::uint64_t>(call.grid->origin[a]);
-      rec.spacing_bits[a] = std::bit_cast<std::uint64_t>(call.grid->spacing[a]);
-      rec.global_dims[a] = call.grid->global_dims[a];
-    }
-  }
+  if (call.kind != CallKind::Close)
+    rec.pub = publication_record(call.domains_call, call.grid, call.mesh, call.domains, call.ndomains);
   return rec;
 }
 
 bool same_fired(const CallRecord& a, const CallRecord& b) {
   return a.fired_hash == b.fired_hash && std::equal(a.fired_bits, a.fired_bits + kFiredWords, b.fired_bits) &&
          std::equal(a.conditional_bits, a.conditional_bits + kFiredWords, b.conditional_bits);
-}
-
-/// Which aspect of the grid differs, as "spacing [..], rank 0 has [..]"; "" if none.
-std::string grid_difference(const CallRecord& mine, const CallRecord& ref, int r) {
-  const auto doubles = [](const std::uint64_t bits[3], double out[3]) {
-    for (int a = 0; a < 3; ++a) out[a] = std::bit_cast<double>(bits[a]);
-  };
-  const std::string who = rank_name(r);
-  if (mine.domains_call != ref.domains_call)
-    return who + " calls " + (mine.domains_call ? "tessera_execute_domains" : "tessera_execute") + ", rank 0 " +
-           (ref.domains_call ? "tessera_execute_domains" : "tessera_execute");
-  if (!std::equal(mine.global_dims, mine.global_dims + 3, ref.global_dims))
-    return who + " has global_dims " + vec3(mine.global_dims) + ", rank 0 has " + vec3(ref.global_dims);
-  double a[3], b[3];
-  if (!std::equal(mine.spacing_bits, mine.spacing_bits + 3, ref.spacing_bits)) {
-    doubles(mine.spacing_bits, a);
-    doubles(ref.spacing_bits, b);
-    return who + " has spacing " + vec3(a) + ", rank 0 has " + vec3(b);
-  }
-  if (!std::equal(mine.origin_bits, mine.origin_bits + 3, ref.origin_bits)) {
-    doubles(mine.origin_bits, a);
-    doubles(ref.origin_bits, b);
-    return who + " has origin " + vec3(a) + ", rank 0 has " + vec3(b);
-  }
-  if (mine.mesh_hash != ref.mesh_hash)
-    return who + "'s mesh differs from rank 0's in its association, refinement levels (nlevels, ratios) or rectilinear "
-                 "coordinates";
-  return {};
 }
 
 /// The renders that fire on one rank and not on the other, named (first few).
@@ -369,15 +305,12 @@ std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& 
                                                     fired_difference(all[r], ref, r, call)};
   // execute on one rank, execute_final on another, with the same renders firing
   if (other_call >= 0) return call_disagreement();
-  // A missing grid fails the bind phase on every rank alike; the others are compared
-  bool grids = true;
-  for (int r = 0; r < n; ++r) grids = grids && all[r].has_grid;
-  if (grids)
-    for (int r = 1; r < n; ++r)
-      if (std::string diff = grid_difference(all[r], ref, r); !diff.empty())
-        return Disagreement{TESSERA_ERROR_DATA, std::string(ref.domains_call ? "ranks disagree on the mesh at step "
-                                                                             : "ranks disagree on the grid at step ") +
-                                                    std::to_string(ref.step) + ": " + diff};
+  // Grid or mesh, and the field lists: a difference is the same error on every rank
+  std::vector<PublicationRecord> pubs(static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) pubs[static_cast<std::size_t>(r)] = all[static_cast<std::size_t>(r)].pub;
+  if (std::optional<std::string> diff =
+          publication_disagreement(ctx, ref.step, pubs, PublicationView{call.mesh, call.domains, call.ndomains}))
+    return Disagreement{TESSERA_ERROR_DATA, std::move(*diff)};
   return std::nullopt;
 }
 

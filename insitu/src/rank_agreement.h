@@ -14,15 +14,16 @@
 ///   at each execute call where a render fires (agree_on_call), before any other collective:
 ///     the kind of call (execute or execute_final), the step, which renders fire, and the
 ///     global grid (origin, spacing, global_dims, doubles compared bit for bit), or with
-///     tessera_execute_domains the mesh (the same, plus a hash of its association, levels
-///     and rectilinear coordinates). The same
+///     tessera_execute_domains the mesh (the same, plus its association, levels and
+///     rectilinear coordinates) and the field list of each rank's domains
+///     (publication_agreement.h names the property, axis and index that differ). The same
 ///     record carries rank 0's render-budget plan (render_budget.h) to every rank: not
 ///     compared, adopted.
 ///   at close (agree_on_call with CallKind::Close): the same record, so that a rank still in
 ///     an execute call that fires meets the other ranks' close (and the reverse) and every
 ///     rank involved reports it instead of one of them waiting forever.
-/// What is not compared here is checked later, also on every rank alike: field names and
-/// per-rank descriptors (bind phase), dtypes, boxes, overlap and coverage of the global grid
+/// What is not compared here is checked later, also on every rank alike: the render's field
+/// and per-rank descriptors (bind phase), dtypes, boxes, overlap and coverage of the global grid
 /// (ParallelContext::assemble). Calls where nothing fires communicate nothing, so ranks must
 /// make their execute calls with the same sequence of steps: with identical configs the
 /// `every`/`at` triggers then decide identically. A rank that skips a call another rank
@@ -86,10 +87,12 @@ struct CallView {
   /// Not compared: every rank renders with rank 0's (agree_on_call's `rank0_plan`).
   double plan = 1.0;
   /// tessera_execute_domains: the mesh instead of the grid (may be NULL or invalid: the bind
-  /// phase reports it). Compared: origin, spacing, global_dims as for a grid, and a hash of
-  /// the association, nlevels and rectilinear coordinates (domain_binding.h mesh_hash).
+  /// phase reports it), and the domains, whose field lists (domain 0's on each rank) the ranks
+  /// compare. What is compared and how a difference is named: publication_agreement.h.
   bool domains_call = false;
   const tessera_mesh* mesh = nullptr;
+  const tessera_domain* domains = nullptr;
+  std::int64_t ndomains = 0;
 };
 
 /// Collective (one allgather of a fixed-size record). Returns the disagreement (status

@@ -237,3 +237,23 @@ TEST_CASE("budget extremes on the real clock: the smallest and the largest budge
   CHECK(rendered >= 1);
   CHECK(std::isfinite(fast.results.back().budget_balance));
 }
+
+TEST_CASE("budget: a fake cost per sample whose product with the samples overflows is unaffordable, never free",
+          "[insitu][budget][robustness]") {
+  // 1e308 s a sample: the learning render's 2 x 576 samples cost +inf on the fake clock. That
+  // render made, every later one is skipped (not rendered at full spp as if it cost nothing),
+  // and the account stays finite
+  tessera_test::ScopedEnv clock("TESSERA_TEST_CLOCK", std::string("1e300,1e308"));
+  TempDir dir;
+  const Run r = run(dir, "overflow", main_render(32, 2), "  budget: 0.5\n", 6);
+  REQUIRE(r.results.size() == 6);
+  CHECK(r.results[0].planned_spp == 2);  // learning
+  for (std::size_t c = 1; c < r.results.size(); ++c) {
+    INFO("call " << c);
+    CHECK(r.results[c].status == TESSERA_OK);
+    CHECK(r.results[c].budget_skipped);
+    CHECK(r.results[c].planned_spp == 0);
+    CHECK(std::isfinite(r.results[c].budget_balance));
+    CHECK(std::isfinite(r.results[c].budget_ratio));
+  }
+}

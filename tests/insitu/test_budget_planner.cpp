@@ -145,7 +145,7 @@ TEST_CASE("steps of microseconds, or no time at all, plan sanely: finite figures
   BudgetPlanner p(0.5, limits);
   const std::vector<unsigned char> fire{1};
   CHECK(p.plan(std::nan(""), fire) == kLearnPlan);
-  p.measured(0, 1, -5.0, std::numeric_limits<double>::infinity());
+  p.measured(0, 1, -5.0, std::nan(""));
   p.spent(std::nan(""));
   CHECK(p.balance() == 0.0);
   CHECK(p.estimate(0, 8) == 0.0);
@@ -197,4 +197,41 @@ TEST_CASE("one share for every render of a call: cheap and costly renders keep t
   // A quarter: 32 spp and 4 < min_spp 8: the second is skipped, the time it leaves carried forward
   CHECK(call(p, limits, cost, 0.09375) == std::vector<int>{32, 0});
   CHECK(p.balance() == 0.0625);
+}
+
+TEST_CASE("a cost too large to represent is the largest cost, never a free render", "[insitu][budget]") {
+  // A fake clock's seconds per sample times a sample count can overflow to +inf: such a render
+  // (or call) must count as unaffordable, and the account must stay finite (no inf, no NaN)
+  const double inf = std::numeric_limits<double>::infinity();
+  const double huge = std::numeric_limits<double>::max();
+  const std::vector<BudgetLimits> limits{{8, 1}};
+  const std::vector<unsigned char> fire{1};
+  for (const int which : {0, 1, 2}) {
+    INFO((which == 0 ? "render seconds" : which == 1 ? "other seconds" : "call seconds") << " +inf");
+    BudgetPlanner p(0.5, limits);
+    CHECK(p.plan(0.0, fire) == kLearnPlan);
+    p.measured(0, 1, which == 0 ? inf : 1e-3, which == 1 ? inf : 0.0);
+    p.spent(which == 2 ? inf : 1e-3);
+    CHECK(std::isfinite(p.balance()));
+    CHECK(std::isfinite(p.ratio()));
+    if (which < 2) CHECK(p.estimate(0, 8) >= huge);  // not 0: the old reading made it free
+    // A simulation step of any finite length never pays for it
+    for (const double sim : {1.0, 1e6, 1e300}) {
+      INFO("simulation seconds " << sim);
+      const double plan = p.plan(sim, fire);
+      CHECK(planned_spp(plan, limits[0]) == 0);
+      p.spent(0.0);
+      CHECK(std::isfinite(p.balance()));
+      CHECK(std::isfinite(p.ratio()));
+    }
+  }
+  // A simulation time that overflows is the largest time, not nothing, and leaves no NaN
+  BudgetPlanner q(2.0, limits);
+  CHECK(q.plan(inf, fire) == kLearnPlan);
+  CHECK(std::isfinite(q.balance()));
+  q.measured(0, 8, 1e-3, 0.0);
+  q.spent(inf);
+  CHECK(std::isfinite(q.balance()));
+  CHECK(q.ratio() > 0.0);
+  CHECK(std::isfinite(q.ratio()));
 }

@@ -207,12 +207,12 @@ TEST_CASE("levels: ranks that disagree on the levels, or whose patches do not fi
          m.nlevels = 2;
          std::erase_if(d, [](const tessera_domain& x) { return x.level == 2; });
        },
-       "levels"},
+       "ranks disagree on the mesh at step 4: rank 1's mesh has nlevels = 2, rank 0's 3"},
       {"rank 1's ratios are 2, 2",
        [](int r, tessera_mesh& m, auto&) {
          if (r == 1) m.refinement = other_ratios;
        },
-       "levels"},
+       "ranks disagree on the mesh at step 4: rank 1's mesh has refinement[1] = 2 (level 1 -> 2), rank 0's 4"},
       {"rank 1 passes a level-1 patch twice",
        [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
          if (r != 1) return;

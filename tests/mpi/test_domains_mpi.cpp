@@ -217,17 +217,35 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
        [](int r, tessera_mesh& m, auto&) {
          if (r == 1) m.origin[2] += 1e-9;
        },
-       "ranks disagree on the mesh"},
+       "ranks disagree on the mesh at step 4: rank 1 has origin [-0.5, -0.5, -0.499999999], rank 0 has "
+       "[-0.5, -0.5, -0.5] (origin[2] (k) differs)"},
       {"rank 1's axis j is rectilinear (the same values)",
        [](int r, tessera_mesh& m, auto&) {
          if (r == 1) m.coords[1] = coords.data();
        },
-       "ranks disagree on the mesh"},
+       "ranks disagree on the mesh at step 4: axis j is rectilinear (coords[1] (j) set) on rank 1 but uniform "
+       "(spacing 0.04) on rank 0"},
+      {"rank 1's coordinates differ at one index",
+       [](int r, tessera_mesh& m, auto&) {
+         static std::vector<double> other;
+         other = coords;
+         other[17] += 1e-6;
+         m.coords[1] = r == 1 ? other.data() : coords.data();
+       },
+       "ranks disagree on the mesh at step 4: coords[1] (j)[17] is 0.18000100000000005 on rank 1, 0.18000000000000005 on rank 0"},
+      {"rank 1's refinement ratio differs",
+       [](int r, tessera_mesh& m, auto&) {
+         static const int two[1] = {2}, four[1] = {4};
+         m.nlevels = 2;
+         m.refinement = r == 1 ? four : two;
+       },
+       "ranks disagree on the mesh at step 4: rank 1's mesh has refinement[0] = 4 (level 0 -> 1), rank 0's 2"},
       {"rank 1's mesh is cell data",
        [](int r, tessera_mesh& m, auto&) {
          if (r == 1) m.association = TESSERA_CELL;
        },
-       "ranks disagree on the mesh"},
+       "ranks disagree on the mesh at step 4: rank 1's mesh has cell data (TESSERA_CELL), rank 0's vertex data "
+       "(TESSERA_VERTEX)"},
       {"rank 1's first domain overlaps another",
        [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
          if (r == 1) d[0].offset[1] -= 1;
@@ -253,11 +271,26 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
          bytes.clear();
          for (const tessera_domain& x : d) bytes.push_back(x.fields[0]);
          for (std::size_t q = 0; q < d.size(); ++q) {
-           bytes[q].dtype = TESSERA_UINT8;  // (never read: the ranks' dtypes are compared first)
+           bytes[q].dtype = TESSERA_UINT8;  // (never read: the ranks' field lists are compared first)
            d[q].fields = &bytes[q];
          }
        },
-       "different dtypes"},
+       "ranks disagree on the published fields at step 4: field 'density' is uint8 on rank 1, float32 on rank 0"},
+      {"rank 1 publishes a field the others do not (the same error as between the domains of one rank)",
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         if (r != 1) return;
+         static std::vector<std::vector<tessera_field>> lists;
+         lists.assign(d.size(), {});
+         for (std::size_t q = 0; q < d.size(); ++q) {
+           lists[q] = {d[q].fields[0], d[q].fields[0]};
+           lists[q][1].name = "pressure";
+           lists[q][1].dtype = TESSERA_FLOAT64;  // (never read)
+           d[q].fields = lists[q].data();
+           d[q].nfields = 2;
+         }
+       },
+       "ranks disagree on the published fields at step 4: field 'pressure' (float64) is published on rank 1 but "
+       "not on rank 0 (every domain of every rank must publish the same fields"},
       {"rank 1's nlevels is 2",
        [](int r, tessera_mesh& m, auto&) {
          static const int ratio2[1] = {2};
@@ -265,7 +298,7 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
          m.nlevels = 2;
          m.refinement = ratio2;
        },
-       "levels"},
+       "ranks disagree on the mesh at step 4: rank 1's mesh has nlevels = 2, rank 0's 1"},
       {"rank 1 calls tessera_execute", {}, "tessera_execute", 1},
   };
   for (const Case& c : cases) {
