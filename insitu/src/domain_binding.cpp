@@ -88,8 +88,8 @@ void check_mesh(const tessera_mesh& m) {
   const auto smallest = [&](double s, int a, std::int64_t q) {
     if (!(s < h)) return;
     h = s;
-    h_where = q < 0 ? "spacing" + axis(a) : "coords" + axis(a) + "[" + std::to_string(q) + "] - [" +
-                                                 std::to_string(q - 1) + "]";
+    h_where = q < 0 ? "spacing" + axis(a)
+                    : "coords" + axis(a) + "[" + std::to_string(q) + "] - [" + std::to_string(q - 1) + "]";
   };
   for (int a = 0; a < 3; ++a) {
     if (m.global_dims[a] < 1 || m.global_dims[a] > INT_MAX)
@@ -134,8 +134,8 @@ void check_mesh(const tessera_mesh& m) {
       if (!(std::fabs(lo[a]) <= kMaxCoordinateVoxels * h && std::fabs(hi[a]) <= kMaxCoordinateVoxels * h))
         fail("mesh: along " + std::string(1, kAxis[a]) + " it spans [" + short_number(lo[a]) + ", " +
              short_number(hi[a]) + "], beyond 2^40 times the mesh's smallest spacing from 0 (" +
-             short_number(kMaxCoordinateVoxels * h) + "; the smallest spacing, " + short_number(h) + ", is " +
-             h_where + (finest > 1 ? " / " + std::to_string(finest) + " at the finest level" : std::string()) +
+             short_number(kMaxCoordinateVoxels * h) + "; the smallest spacing, " + short_number(h) + ", is " + h_where +
+             (finest > 1 ? " / " + std::to_string(finest) + " at the finest level" : std::string()) +
              "), where a double no longer resolves an element");
 }
 
@@ -257,8 +257,8 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
       const std::int64_t extent = level_extent(*mesh, d.level, a);
       if (d.offset[a] < 0 || block.view.dims[a] > extent - d.offset[a])
         fail(label + ": real " + (cells ? "cells [" : "vertices [") + std::to_string(d.offset[a]) + ".." +
-             sum_text(d.offset[a], block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" +
-             axis(a) + " = " + std::to_string(d.offset[a]) + ") leave " +
+             sum_text(d.offset[a], block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" + axis(a) +
+             " = " + std::to_string(d.offset[a]) + ") leave " +
              (d.level == 0 ? std::string("the mesh's") : "level " + std::to_string(d.level) + "'s") + " [0.." +
              std::to_string(extent) + ")");
     }

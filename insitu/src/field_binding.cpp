@@ -25,9 +25,6 @@ static_assert(static_cast<int>(DType::UInt16) == TESSERA_UINT16, "tessera_dtype 
 static_assert(static_cast<int>(DType::Float32) == TESSERA_FLOAT32, "tessera_dtype and DType differ");
 static_assert(static_cast<int>(DType::Float64) == TESSERA_FLOAT64, "tessera_dtype and DType differ");
 
-/// A double, short ("1e+308", "0.5"): never std::to_string's 300 digits or "0.000000".
-std::string num(double v) { return short_number(v); }
-
 std::string triple(const std::int64_t v[3]) {
   return std::to_string(v[0]) + "x" + std::to_string(v[1]) + "x" + std::to_string(v[2]);
 }
@@ -58,9 +55,9 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
     const std::string ax = std::string("[") + std::to_string(a) + "] (" + kAxis[a] + ")";
     if (!std::isfinite(g.origin[a])) fail(label, "grid origin" + ax + " is not finite");
     if (!std::isfinite(g.spacing[a]) || !(g.spacing[a] > 0.0))
-      fail(label, "grid spacing" + ax + " = " + num(g.spacing[a]) + ", must be finite and > 0");
+      fail(label, "grid spacing" + ax + " = " + short_number(g.spacing[a]) + ", must be finite and > 0");
     if (g.spacing[a] < kMinSpacing || g.spacing[a] > kMaxSpacing)
-      fail(label, "grid spacing" + ax + " = " + num(g.spacing[a]) + " is outside [1e-100, 1e100]");
+      fail(label, "grid spacing" + ax + " = " + short_number(g.spacing[a]) + " is outside [1e-100, 1e100]");
     if (g.global_dims[a] < 1)
       fail(label, "grid global_dims" + ax + " = " + std::to_string(g.global_dims[a]) + ", must be >= 1");
     if (g.offset[a] < 0) fail(label, "grid offset" + ax + " = " + std::to_string(g.offset[a]) + ", must be >= 0");
@@ -78,10 +75,11 @@ void check_grid(const std::string& label, const tessera_grid& g, const std::int6
   for (int a = 0; a < 3; ++a) {
     const double far = g.origin[a] + static_cast<double>(g.global_dims[a] - 1) * g.spacing[a];
     if (!(std::fabs(g.origin[a]) <= lim && std::fabs(far) <= lim))
-      fail(label, "grid origin [" + num(g.origin[0]) + ", " + num(g.origin[1]) + ", " + num(g.origin[2]) +
-                      "] with spacing [" + num(g.spacing[0]) + ", " + num(g.spacing[1]) + ", " + num(g.spacing[2]) +
-                      "] puts the data (far corner along " + kAxis[a] + " at " + num(far) +
-                      ") beyond 2^40 smallest spacings (" + num(lim) +
+      fail(label, "grid origin [" + short_number(g.origin[0]) + ", " + short_number(g.origin[1]) + ", " +
+                      short_number(g.origin[2]) + "] with spacing [" + short_number(g.spacing[0]) + ", " +
+                      short_number(g.spacing[1]) + ", " + short_number(g.spacing[2]) +
+                      "] puts the data (far corner along " + kAxis[a] + " at " + short_number(far) +
+                      ") beyond 2^40 smallest spacings (" + short_number(lim) +
                       ") from 0, where a double no longer resolves a voxel");
   }
 }

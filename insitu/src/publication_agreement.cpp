@@ -121,7 +121,8 @@ std::string field_name(std::string_view name) {
 }
 
 /// The first difference of two sorted lists, in words; "" if none.
-std::string list_difference(const std::vector<FieldEntry>& mine, const std::vector<FieldEntry>& ref, int r, int ref_rank) {
+std::string list_difference(const std::vector<FieldEntry>& mine, const std::vector<FieldEntry>& ref, int r,
+                            int ref_rank) {
   const std::string who = rank_name(r), them = rank_name(ref_rank);
   for (std::size_t q = 0; q < std::max(mine.size(), ref.size()); ++q) {
     const bool has_mine = q < mine.size(), has_ref = q < ref.size();
@@ -322,9 +323,8 @@ std::optional<std::string> publication_disagreement(ParallelContext& ctx, std::i
   for (int r = 1; r < n; ++r)
     if (all[r].domains_call != ref.domains_call)
       return std::string(ref.domains_call ? "ranks disagree on the mesh" : "ranks disagree on the grid") + at +
-             rank_name(r) + " calls " +
-             (all[r].domains_call ? "tessera_execute_domains" : "tessera_execute") + ", rank 0 " +
-             (ref.domains_call ? "tessera_execute_domains" : "tessera_execute");
+             rank_name(r) + " calls " + (all[r].domains_call ? "tessera_execute_domains" : "tessera_execute") +
+             ", rank 0 " + (ref.domains_call ? "tessera_execute_domains" : "tessera_execute");
   if (grids)
     for (int r = 1; r < n; ++r) {
       int coords_axis = -1;
@@ -345,7 +345,8 @@ std::optional<std::string> publication_disagreement(ParallelContext& ctx, std::i
     if (!all[r].has_fields) continue;
     const PublicationRecord& a = all[r];
     const PublicationRecord& b = all[first];
-    if (a.fields_count == b.fields_count && a.fields_hash[0] == b.fields_hash[0] && a.fields_hash[1] == b.fields_hash[1])
+    if (a.fields_count == b.fields_count && a.fields_hash[0] == b.fields_hash[0] &&
+        a.fields_hash[1] == b.fields_hash[1])
       continue;
     return "ranks disagree on the published fields" + at + fields_difference(ctx, mine, r, first) +
            " (every domain of every rank must publish the same fields: the same names with the same dtypes)";

@@ -232,7 +232,8 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
          other[17] += 1e-6;
          m.coords[1] = r == 1 ? other.data() : coords.data();
        },
-       "ranks disagree on the mesh at step 4: coords[1] (j)[17] is 0.18000100000000005 on rank 1, 0.18000000000000005 on rank 0"},
+       "ranks disagree on the mesh at step 4: coords[1] (j)[17] is 0.18000100000000005 on rank 1, 0.18000000000000005 "
+       "on rank 0"},
       {"rank 1's refinement ratio differs",
        [](int r, tessera_mesh& m, auto&) {
          static const int two[1] = {2}, four[1] = {4};

@@ -25,14 +25,13 @@ void require(bool ok, const std::string& msg) {
   if (!ok) throw std::invalid_argument(msg);
 }
 
-std::string num(double v) { return short_number(v); }
 std::string vec(const Vec3& v) {
   std::string out = "[";
-  out += num(v.x);
+  out += short_number(v.x);
   out += ", ";
-  out += num(v.y);
+  out += short_number(v.y);
   out += ", ";
-  out += num(v.z);
+  out += short_number(v.z);
   out += "]";
   return out;
 }
@@ -89,14 +88,14 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
       const double lo = smallest_spacing(field, g, a), hi = largest_spacing(field, g, a);
       require(!(lo < kMinSpacing) && !(hi > kMaxSpacing),
               std::string(g.coords[a] ? "rectilinear axis " : "volume spacing along ") + axis_name(a) +
-                  ": spacings from " + num(lo) + " to " + num(hi) + " are outside [1e-100, 1e100]");
+                  ": spacings from " + short_number(lo) + " to " + short_number(hi) + " are outside [1e-100, 1e100]");
     }
   }
   // The smallest spacing of every axis, a rectilinear axis' smallest interval included
   const double h = smallest_spacing(field, g);
   const double lim = kMaxCoordinateVoxels * h;
   const std::string why =
-      " beyond 2^40 smallest spacings (" + num(lim) + ") from 0, where a double no longer resolves a voxel";
+      " beyond 2^40 smallest spacings (" + short_number(lim) + ") from 0, where a double no longer resolves a voxel";
   const auto near = [&](const Vec3& p) { return max_abs(p) <= lim; };
   if (!rectilinear)
     require(near(g.origin) && near(b.hi),
@@ -108,17 +107,18 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
   require(is_finite(c.look_at), "camera.look_at " + vec(c.look_at) + " is not finite");
   require(near(c.position), "camera.position " + vec(c.position) + " lies" + why);
   require(near(c.look_at), "camera.look_at " + vec(c.look_at) + " lies" + why);
-  require(!(c.aperture > lim),
-          "camera.aperture " + num(c.aperture) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
-  require(!(c.focus_distance > lim), "camera.focus_distance " + num(c.focus_distance) +
-                                         " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+  require(!(c.aperture > lim), "camera.aperture " + short_number(c.aperture) +
+                                   " is larger than 2^40 smallest spacings (" + short_number(lim) + ")");
+  require(!(c.focus_distance > lim), "camera.focus_distance " + short_number(c.focus_distance) +
+                                         " is larger than 2^40 smallest spacings (" + short_number(lim) + ")");
   // Lights
   const auto light_point = [&](const std::string& name, const char* key, const Vec3& p) {
     require(is_finite(p), name + ": " + key + " " + vec(p) + " is not finite");
     require(near(p), name + ": " + key + " " + vec(p) + " lies" + why);
   };
   const auto light_length = [&](const std::string& name, const char* key, double v) {
-    require(!(v > lim), name + ": " + key + " " + num(v) + " is larger than 2^40 smallest spacings (" + num(lim) + ")");
+    require(!(v > lim), name + ": " + key + " " + short_number(v) + " is larger than 2^40 smallest spacings (" +
+                            short_number(lim) + ")");
   };
   const auto radiance = [&](const std::string& name, const Color& L) {
     require(is_finite(L) && std::min({L.x, L.y, L.z}) >= 0.0 && max_abs(L) <= kMaxRadiance,
@@ -129,7 +129,7 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
     const double top = std::max({max_abs(bg.color), max_abs(bg.top), max_abs(bg.middle), max_abs(bg.bottom)});
     const double peak = bg.type == BackgroundType::Constant ? max_abs(bg.color) : top;
     require(std::isfinite(bg.intensity) && !(peak * bg.intensity > kMaxRadiance),
-            "background.intensity " + num(bg.intensity) + " times its color makes a radiance above 1e30");
+            "background.intensity " + short_number(bg.intensity) + " times its color makes a radiance above 1e30");
   }
   validate_lights(s.lights, std::make_index_sequence<std::variant_size_v<LightDesc>>{}, light_point, light_length,
                   radiance);
@@ -137,9 +137,9 @@ void validate_scale(const FieldView& field, const SceneDesc& s) {
   if (s.integrator.free_path == FreePath::Raymarch) {
     const double diag = glm::length(b.hi - b.lo) / h;  // in smallest spacings
     const double min_step = diag / kMaxMarchSteps;
-    require(s.integrator.step >= min_step, "integrator.step " + num(s.integrator.step) + " is below the minimum " +
-                                               num(min_step) + " for this volume (dims " + dims +
-                                               "): at most 2^20 raymarch steps across the data");
+    require(s.integrator.step >= min_step,
+            "integrator.step " + short_number(s.integrator.step) + " is below the minimum " + short_number(min_step) +
+                " for this volume (dims " + dims + "): at most 2^20 raymarch steps across the data");
   }
 }
 
@@ -159,12 +159,12 @@ void validate_scene(const FieldView& field, const SceneDesc& s) {
   const TransferFunction& tf = s.tf;
   // hi - lo must be finite too: u = (v - lo) / (hi - lo) is NaN for v near hi otherwise.
   require(std::isfinite(tf.lo) && std::isfinite(tf.hi) && tf.lo < tf.hi && std::isfinite(tf.hi - tf.lo),
-          "transfer function range [" + num(tf.lo) + ", " + num(tf.hi) +
+          "transfer function range [" + short_number(tf.lo) + ", " + short_number(tf.hi) +
               "] must be finite with lo < hi and a finite width hi - lo");
   require(std::isfinite(tf.density_scale) && tf.density_scale >= 0.0, "density_scale must be finite and >= 0");
   for (int i = 0; i < tf.opacity.size(); ++i)
     require(tf.opacity.v(i) >= 0.0 && std::isfinite(tf.opacity.v(i)),
-            "opacity value " + num(tf.opacity.v(i)) + " must be finite and >= 0");
+            "opacity value " + short_number(tf.opacity.v(i)) + " must be finite and >= 0");
   const ImageDesc& im = s.image;
   require(im.width >= 1 && im.height >= 1, "image size must be at least 1x1");
   require(im.spp >= 1, "spp must be >= 1");
@@ -173,7 +173,8 @@ void validate_scene(const FieldView& field, const SceneDesc& s) {
   require(in.rr_depth >= 1, "rr_depth must be >= 1");
   require(in.phase_g > -1.0 && in.phase_g < 1.0, "phase_g must be in (-1, 1)");
   require(in.gradient_factor >= 0.0 && std::isfinite(in.gradient_factor), "gradient_factor must be >= 0");
-  require(in.step > 0.0 && std::isfinite(in.step), "integrator.step " + num(in.step) + " must be finite and > 0");
+  require(in.step > 0.0 && std::isfinite(in.step),
+          "integrator.step " + short_number(in.step) + " must be finite and > 0");
   require(in.macrocell >= 1, "macrocell edge must be >= 1");
   require(s.lights.size() <= static_cast<std::size_t>(kMaxLights),
           "at most " + std::to_string(kMaxLights) + " area lights");

@@ -11,9 +11,6 @@
 namespace tessera {
 namespace {
 
-/// A value as the user wrote it: short, never 300 digits.
-std::string num(double v) { return short_number(v); }
-
 std::string interval(double lo, double hi) { return "[" + short_number(lo) + ", " + short_number(hi) + "]"; }
 
 /// The axes along which the bounds have no extent ("x", "y and z"; "" when none): a volume
@@ -123,14 +120,14 @@ std::vector<std::string> scene_warnings(const PreparedScene& scene) {
   }
   const double vmin = s.value_min(), vmax = s.value_max();
   if (vmin == vmax)
-    out.push_back("the field is constant (" + num(vmin) +
+    out.push_back("the field is constant (" + short_number(vmin) +
                   ") at every finite vertex: the image shows at most a uniform block, nothing of its structure "
                   "(a simulation's first step before anything happened?)");
 
   // The transfer function against the data's values
   const TransferFunction& tf = desc.tf;
   const TfVerdict v = judge_tf(tf, vmin, vmax);
-  const std::string data = vmin == vmax ? "value " + num(vmin) : "values " + interval(vmin, vmax);
+  const std::string data = vmin == vmax ? "value " + short_number(vmin) : "values " + interval(vmin, vmax);
   if (v.disjoint) {
     out.push_back("transfer_function.range " + interval(tf.lo, tf.hi) + " misses the data's " + data +
                   (v.invisible ? ": nothing of the field is visible"
@@ -171,9 +168,9 @@ std::vector<std::string> render_warnings(const PreparedScene& scene, const Rende
     else if (!camera_misses(desc, b).empty())
       cause = "the camera does not see the data (behind it, outside its view or under a pixel)";
     else if (depth < kThinVolumeDepth)
-      cause = "transfer_function.density_scale too small (optical depth at most " + num(depth) +
-              " across the volume: density_scale " + num(desc.tf.density_scale) + " x opacity " + num(v.max_opacity) +
-              " x diagonal " + num(2.0 * b.radius()) + ")";
+      cause = "transfer_function.density_scale too small (optical depth at most " + short_number(depth) +
+              " across the volume: density_scale " + short_number(desc.tf.density_scale) + " x opacity " +
+              short_number(v.max_opacity) + " x diagonal " + short_number(2.0 * b.radius()) + ")";
     else cause = "unclear; check transfer_function.range and opacity, density_scale and the camera";
   }
   out.push_back("nothing of the field is visible: 0 real collisions in " + std::to_string(stats.samples) +
