@@ -13,8 +13,11 @@
 !>     descriptors, with NUL-terminated names in its own storage, for the duration of the call.
 !>   * several blocks per rank (domains), cell or vertex data and rectilinear axes:
 !>     type(tessera_mesh), tessera_mesh_coords, tessera_domain_from and
-!>     tessera_execute_domains (tessera_domains.inc), which also checks what C cannot: the
-!>     length and contiguity of each coordinate array.
+!>     tessera_execute_domains (tessera_domains.inc);
+!>   * what C cannot check, the length of every array it would read, checked at every execute
+!>     (the refinement ratios, each coordinate array against the mesh as it is then, each field
+!>     against the array tessera_field_from measured); a refused call passes none of its
+!>     arguments to C (tessera_execute_refused takes its place, see refuse_call).
 !> Field memory is read only during tessera_execute / tessera_execute_final, and only when a
 !> render fires; the array must stay allocated (not moved) from tessera_field_from until then.
 module tessera
@@ -60,6 +63,12 @@ module tessera
     integer(c_int64_t) :: byte_strides(3) = 0       !< address differences of neighbours
     integer(c_int64_t) :: ghosts_lo(3) = 0          !< ghost layers at the low end of each axis
     integer(c_int64_t) :: ghosts_hi(3) = 0          !< ... and at the high end
+    ! What tessera_field_from measured of the array at data (checked at every execute, so that a
+    ! descriptor changed since then never makes C read past the array): extent, byte strides,
+    ! element size; 0 bytes: not made by tessera_field_from (read as given)
+    type(c_ptr), private :: array_data = c_null_ptr
+    integer(c_int64_t), private :: array_dims(3) = 0, array_strides(3) = 0
+    integer, private :: array_bytes = 0
   end type tessera_field
 
   include 'tessera_domain_types.inc'
@@ -99,7 +108,8 @@ module tessera
     tessera_field_unchanged, tessera_last_error, tessera_mesh_coords, tessera_domain_from, &
     tessera_execute_domains, tessera_execute_domains_final
 
-  !> The last argument the module itself refused (a NUL inside a name or path): its message,
+  !> The last argument the module itself refused (a NUL inside a name or path, an array shorter
+  !> than its descriptor claims): its message,
   !> and the handle it belongs to (null for an open). tessera_last_error returns it for that
   !> handle until the next call with the handle. Module state, not per thread: like the rest
   !> of the module, call it from one thread at a time.
@@ -263,9 +273,9 @@ contains
   end function execute_final_i4_r4
 
   !> Builds the C descriptors (names NUL-terminated in a local buffer that lives until the C
-  !> call returns) and calls tessera_execute or tessera_execute_final. A name holding a NUL is
-  !> refused: the call is made with no fields (collective: a render that fires then fails on
-  !> every rank instead of leaving the others waiting) and returns TESSERA_ERROR_DATA.
+  !> call returns) and calls tessera_execute or tessera_execute_final. A field the module
+  !> refuses (fields_fault: a name holding a NUL, a descriptor reaching past its array) never
+  !> reaches C: see refuse_call.
   integer function run_execute(final, viz, step, time, grid, fields) result(st)
     logical, intent(in) :: final
     type(tessera_adapter), intent(in) :: viz
@@ -279,18 +289,10 @@ contains
     integer :: n, pos
     character(:), allocatable :: fault
 
-    ! A name C would cut: the call goes on with no fields, then reports the name
     call forget_refusal(viz%handle)
-    fault = names_fault(fields, 'fields')
+    fault = fields_fault(fields, 'fields')
     if (len(fault) > 0) then
-      if (final) then
-        st = c_execute_final(viz%handle, step, time, grid, c_null_ptr, 0_c_int)
-      else
-        st = c_execute(viz%handle, step, time, grid, c_null_ptr, 0_c_int)
-      end if
-      if (st == TESSERA_ERROR_CONFIG) return  ! no open adapter: C's message says so
-      st = TESSERA_ERROR_DATA
-      call refuse(viz%handle, fault // '; the step was executed with no fields')
+      st = refuse_call(viz, step, time, .false., final, fault)
       return
     end if
 
@@ -306,23 +308,6 @@ contains
       st = c_execute(viz%handle, step, time, grid, first, int(n, c_int))
     end if
   end function run_execute
-
-  !> "" when no name of fields(:) holds a NUL; else the fault of the first that does, named
-  !> as what(i)%name.
-  function names_fault(fields, what) result(fault)
-    type(tessera_field), intent(in) :: fields(:)
-    character(*), intent(in) :: what
-    character(:), allocatable :: fault
-    character(len=16) :: index_text
-    integer :: i
-    fault = ''
-    do i = 1, size(fields)
-      if (.not. allocated(fields(i)%name)) cycle
-      write(index_text, '(i0)') i
-      fault = nul_fault(what // '(' // trim(index_text) // ')%name', fields(i)%name)
-      if (len(fault) > 0) return
-    end do
-  end function names_fault
 
   !> Characters the NUL-terminated names of fields(:) take (at least 1).
   integer function names_length(fields) result(total)
@@ -366,107 +351,7 @@ contains
 
   include 'tessera_domains.inc'
 
-  ! ---- Field descriptors --------------------------------------------------------------------
-  ! Each specific takes u as assumed shape with TARGET, never CONTIGUOUS: the dummy is then
-  ! associated with the actual array or section itself (no copy-in), and c_loc of its
-  ! elements are addresses in the simulation's memory. The byte stride along an axis is the
-  ! address difference of u(1,1,1) and its neighbour along that axis (an axis of extent 1
-  ! gets the contiguous value; the C API ignores it). An expression or a section with a vector
-  ! subscript is evaluated into a temporary that is freed on return: callers must not pass one
-  ! (nothing here can tell; docs/fortran.md says so).
-
-  function field_from_r8(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
-    character(*), intent(in) :: name
-    real(c_double), intent(in), target :: u(:, :, :)
-    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
-    type(tessera_field) :: f
-    f = describe(name, TESSERA_FLOAT64, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
-    if (size(u) == 0) return
-    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
-                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
-  end function field_from_r8
-
-  function field_from_r4(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
-    character(*), intent(in) :: name
-    real(c_float), intent(in), target :: u(:, :, :)
-    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
-    type(tessera_field) :: f
-    f = describe(name, TESSERA_FLOAT32, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
-    if (size(u) == 0) return
-    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
-                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
-  end function field_from_r4
-
-  function field_from_i2(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
-    character(*), intent(in) :: name
-    integer(c_int16_t), intent(in), target :: u(:, :, :)
-    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
-    type(tessera_field) :: f
-    f = describe(name, TESSERA_INT16, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
-    if (size(u) == 0) return
-    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
-                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
-  end function field_from_i2
-
-  function field_from_u16(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
-    character(*), intent(in) :: name
-    integer(c_int16_t), intent(in), target :: u(:, :, :)
-    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
-    type(tessera_field) :: f
-    f = describe(name, TESSERA_UINT16, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
-    if (size(u) == 0) return
-    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
-                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
-  end function field_from_u16
-
-  function field_from_u8(name, u, ghosts, ghosts_lo, ghosts_hi) result(f)
-    character(*), intent(in) :: name
-    integer(c_int8_t), intent(in), target :: u(:, :, :)
-    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
-    type(tessera_field) :: f
-    f = describe(name, TESSERA_UINT8, shape(u, c_int64_t), storage_size(u), ghosts, ghosts_lo, ghosts_hi)
-    if (size(u) == 0) return
-    call locate(f, c_loc(u(1, 1, 1)), c_loc(u(min(2, size(u, 1)), 1, 1)), &
-                c_loc(u(1, min(2, size(u, 2)), 1)), c_loc(u(1, 1, min(2, size(u, 3)))))
-  end function field_from_u8
-
-  !> Name, dtype, extent and ghosts; strides as if contiguous until locate() measures them.
-  !> An empty array keeps data NULL and its zero extent: tessera_execute then reports the
-  !> field as a zero-size array along that axis.
-  function describe(name, dtype, extent, element_bits, ghosts, ghosts_lo, ghosts_hi) result(f)
-    character(*), intent(in) :: name
-    integer, intent(in) :: dtype, element_bits
-    integer(c_int64_t), intent(in) :: extent(3)
-    integer, intent(in), optional :: ghosts, ghosts_lo(3), ghosts_hi(3)
-    type(tessera_field) :: f
-    f%name = trim(name)
-    f%dtype = dtype
-    ! Clamped: gfortran 12's shape() of a zero-size section such as u(:, :, 6:1) says -4 along
-    ! k (size() says 0); the field is reported as zero-size along that axis, not as negative
-    f%dims = max(extent, 0_c_int64_t)
-    f%byte_strides(1) = element_bits / 8
-    f%byte_strides(2) = f%byte_strides(1) * max(extent(1), 1_c_int64_t)
-    f%byte_strides(3) = f%byte_strides(2) * max(extent(2), 1_c_int64_t)
-    if (present(ghosts)) then
-      f%ghosts_lo = ghosts
-      f%ghosts_hi = ghosts
-    end if
-    if (present(ghosts_lo)) f%ghosts_lo = ghosts_lo
-    if (present(ghosts_hi)) f%ghosts_hi = ghosts_hi
-  end function describe
-
-  !> data = the first element; stride along each axis of extent > 1 = address difference of
-  !> the first element's neighbour along it.
-  subroutine locate(f, first, next_i, next_j, next_k)
-    type(tessera_field), intent(inout) :: f
-    type(c_ptr), intent(in) :: first, next_i, next_j, next_k
-    integer(c_intptr_t) :: a0
-    f%data = first
-    a0 = address(first)
-    if (f%dims(1) > 1) f%byte_strides(1) = int(address(next_i) - a0, c_int64_t)
-    if (f%dims(2) > 1) f%byte_strides(2) = int(address(next_j) - a0, c_int64_t)
-    if (f%dims(3) > 1) f%byte_strides(3) = int(address(next_k) - a0, c_int64_t)
-  end subroutine locate
+  include 'tessera_fields.inc'
 
   ! ---- Strings and refusals -----------------------------------------------------------------
 
@@ -486,6 +371,26 @@ contains
     msg = what // ' contains a NUL character (achar(0)) at position ' // trim(at) // &
       ", which C would read as its end ('" // s(1:k - 1) // "'); names and paths must not contain one"
   end function nul_fault
+
+  !> The call for an execute whose arguments the module refused with `fault`: nothing of them
+  !> reaches C. tessera_execute_refused takes its place (collective, reads no descriptor):
+  !> triggers are evaluated as in the call, and a render that fires fails on every rank with
+  !> `fault` as its message and log line (another rank's names this one). Returns
+  !> TESSERA_ERROR_DATA with `fault` as tessera_last_error(viz), or C's own status and message
+  !> where the adapter refused the call itself (TESSERA_ERROR_CONFIG: not open, closed, the
+  !> ranks disagree on the call).
+  integer function refuse_call(viz, step, time, domains_call, final, fault) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    integer(c_int64_t), intent(in) :: step
+    real(c_double), intent(in) :: time
+    logical, intent(in) :: domains_call, final
+    character(*), intent(in) :: fault
+    st = c_execute_refused(viz%handle, step, time, merge(1_c_int, 0_c_int, domains_call), &
+      merge(1_c_int, 0_c_int, final), fault // c_null_char)
+    if (st == TESSERA_ERROR_CONFIG) return
+    st = TESSERA_ERROR_DATA
+    call refuse(viz%handle, fault)
+  end function refuse_call
 
   subroutine refuse(handle, message)
     type(c_ptr), intent(in) :: handle
@@ -510,6 +415,15 @@ contains
     type(c_ptr), intent(in) :: p
     address = transfer(p, address)
   end function address
+
+  !> n in decimal, no blanks.
+  function int_text(n) result(text)
+    integer(c_int64_t), intent(in) :: n
+    character(:), allocatable :: text
+    character(len=24) :: buffer
+    write(buffer, '(i0)') n
+    text = trim(buffer)
+  end function int_text
 
   !> s without trailing blanks, NUL-terminated, for a character(kind=c_char) :: x(*) argument.
   function c_string(s) result(c)

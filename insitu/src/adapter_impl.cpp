@@ -135,6 +135,14 @@ tessera_status Adapter::Impl::execute_domains(std::int64_t step, double time, co
   return run_call(step, time, pub, final_step);
 }
 
+tessera_status Adapter::Impl::execute_refused(std::int64_t step, double time, bool domains_call, const char* reason,
+                                              bool final_step) noexcept {
+  Publication pub;
+  pub.domains_call = domains_call;
+  pub.refusal = reason;
+  return run_call(step, time, pub, final_step);
+}
+
 tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Publication& pub,
                                        bool final_step) noexcept {
   // The simulation's time since the last call, added on entry; on every return the clock

@@ -34,6 +34,10 @@ struct Adapter::Impl {
   /// only if a render fires (domain_binding.h, then the contexts' tiling check).
   tessera_status execute_domains(std::int64_t step, double time, const tessera_mesh* mesh,
                                  const tessera_domain* domains, std::int64_t ndomains, bool final_step) noexcept;
+  /// tessera_execute_refused: the call (domains or not) with no descriptors, whose renders that
+  /// fire fail with `reason` on this rank (non-null, NUL-terminated).
+  tessera_status execute_refused(std::int64_t step, double time, bool domains_call, const char* reason,
+                                 bool final_step) noexcept;
   /// Collective with MPI: the ranks agree that every one of them is closing (one allgather
   /// of the call record, rank_agreement.h), so a rank still inside an execute call that
   /// fires is told so, and so is this one: TESSERA_ERROR_CONFIG with m_error saying which

@@ -183,6 +183,15 @@ tessera_status tessera_execute_domains_final(tessera_adapter* adapter, int64_t s
   });
 }
 
+tessera_status tessera_execute_refused(tessera_adapter* adapter, int64_t step, double time, int domains_call,
+                                       int final_step, const char* reason) {
+  return guarded(adapter, "tessera_execute_refused", [&](tessera_adapter::Impl& impl) {
+    return impl.execute_refused(step, time, domains_call != 0,
+                                reason && *reason ? reason : "the language binding refused this rank's descriptors",
+                                final_step != 0);
+  });
+}
+
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name) {
   return guarded(adapter, "tessera_field_unchanged",
                  [&](tessera_adapter::Impl& impl) { return impl.field_unchanged(field_name); });

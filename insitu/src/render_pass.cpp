@@ -71,7 +71,12 @@ class Pass {
     // render once its trigger has fired)
     if (m_spp == 0 && !check_when) return skipped();
 
-    // Bind: descriptors -> zero-copy view of this rank's real vertices
+    // Bind: descriptors -> zero-copy view of this rank's real vertices (a binding's refusal
+    // stands in for this rank's bind: the reason, not a complaint about missing descriptors)
+    if (m_call.pub.refusal) {
+      phase(TESSERA_ERROR_DATA, [&] { throw std::invalid_argument(m_call.pub.refusal); });
+      return std::move(m_out);
+    }
     if (m_call.pub.domains_call) {
       if (!bind_domains_phase()) return std::move(m_out);
     } else if (!phase(TESSERA_ERROR_DATA, [&] {

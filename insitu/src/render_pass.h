@@ -51,6 +51,9 @@ struct Publication {
   const tessera_mesh* mesh = nullptr;
   const tessera_domain* domains = nullptr;
   std::int64_t ndomains = 0;
+  /// Set (descriptors all null): a language binding refused this rank's descriptors before the
+  /// call (tessera_execute_refused); the bind phase fails with this reason, on every rank alike.
+  const char* refusal = nullptr;
 };
 
 /// What one execute call derives from its descriptors, shared by its renders. Everything is

@@ -108,3 +108,28 @@ TEST_CASE("C API: tessera_open_with_output_dir fails as tessera_open does", "[in
   CHECK(fs::exists(override_out + "/tessera_effective_config.yaml"));
   tessera_close(a);
 }
+
+TEST_CASE("C API: tessera_execute_refused fails what fires with the binding's reason, reading nothing",
+          "[insitu][c-api]") {
+  TempDir dir;
+  const std::string out = dir.file("out");
+  const std::string cfg = dir.write("a.yaml", config_yaml(out, render_yaml("r", "{every: 2}", "", "density", 8, 1)));
+  tessera_adapter* a = nullptr;
+  REQUIRE(tessera_open(cfg.c_str(), -1, &a) == TESSERA_OK);
+  const char* reason = "mesh%refinement has 1 ratio(s); nlevels = 3 needs 2";
+  // A render fires: it fails with the reason itself, for either call it stands for
+  for (int domains_call = 0; domains_call < 2; ++domains_call) {
+    CHECK(tessera_execute_refused(a, 0, 0.0, domains_call, 0, reason) == TESSERA_ERROR_DATA);
+    CHECK(std::string(tessera_last_error(a)) == std::string("render 'r' at step 0: ") + reason);
+  }
+  // Nothing fires: nothing fails; the final form fires everything only with render_final_step
+  CHECK(tessera_execute_refused(a, 1, 0.0, 1, 0, reason) == TESSERA_OK);
+  CHECK(tessera_execute_refused(a, 3, 0.0, 1, 1, reason) == TESSERA_OK);
+  // NULL or "": a generic reason, never a complaint about missing descriptors
+  CHECK(tessera_execute_refused(a, 4, 0.0, 1, 0, nullptr) == TESSERA_ERROR_DATA);
+  CHECK_THAT(std::string(tessera_last_error(a)), Catch::Contains("binding refused"));
+  CHECK_FALSE(fs::exists(out + "/r_0000.exr"));
+  tessera_close(a);
+  CHECK(tessera_execute_refused(a, 0, 0.0, 1, 0, reason) == TESSERA_ERROR_CONFIG);
+  CHECK_THAT(std::string(tessera_last_error(a)), Catch::Contains("closed"));
+}

@@ -178,6 +178,16 @@ tessera_status tessera_execute_domains_final(tessera_adapter* adapter, int64_t s
                                              const tessera_mesh* mesh,
                                              const tessera_domain* domains, int ndomains);
 
+/* For language bindings (the Fortran module): stands for one tessera_execute (domains_call 0)
+ * or tessera_execute_domains (domains_call 1) call, tessera_execute_final /
+ * tessera_execute_domains_final with final_step 1, whose descriptors the binding refused on
+ * this rank before they reached the library (an array shorter than its descriptor claims,
+ * which C cannot see). Collective like that call, whose place it takes on this rank; reads no
+ * descriptor. Triggers are evaluated as in that call; a render that fires fails on every rank
+ * with TESSERA_ERROR_DATA, this rank's message (and log line) being `reason` (NULL or "": a
+ * generic one), the other ranks' naming this rank and quoting it. Returns as that call would. */
+tessera_status tessera_execute_refused(tessera_adapter* adapter, int64_t step, double time, int domains_call,
+                                       int final_step, const char* reason);
 /* The simulation's promise that the values of the field named field_name (its tessera_field
  * name) at the next tessera_execute / tessera_execute_final are bit-for-bit those it had at
  * the last one. That call then reuses what the adapter derived from the values (the field
