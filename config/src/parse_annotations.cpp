@@ -17,12 +17,24 @@ namespace {
 
 const Range kFraction{0.0, 1.0, true, false};  // (0, 1]
 
+/// Text to draw, invalid UTF-8 as U+FFFD, at most kMaxAnnotationPattern bytes after that (what
+/// the effective config writes back must load again).
+std::string drawn_text(const Value& v, const char* what) {
+  const std::string t = v.drawn_text(true);
+  if (t.size() > kMaxAnnotationPattern) {
+    const std::string grown =
+        t.size() == v.text().size()
+            ? ""
+            : " (" + std::to_string(v.text().size()) + " as written, each invalid UTF-8 sequence made U+FFFD, 3 bytes)";
+    v.fail(std::string(what) + " of " + std::to_string(t.size()) + " bytes" + grown + " (allowed: at most " +
+           std::to_string(kMaxAnnotationPattern) + ")");
+  }
+  return t;
+}
+
 /// A text or title pattern: at most kMaxAnnotationPattern bytes, known placeholders.
 std::string pattern(const Value& v) {
-  const std::string p = v.string(true);
-  if (p.size() > kMaxAnnotationPattern)
-    v.fail("text of " + std::to_string(p.size()) + " bytes (allowed: at most " + std::to_string(kMaxAnnotationPattern) +
-           ")");
+  const std::string p = drawn_text(v, "text");
   try {
     validate_text_pattern(p);
   } catch (const std::invalid_argument& e) {
@@ -45,10 +57,7 @@ void parse_colorbar(const Value& v, AnnotationsSpec& a) {
   b.thickness = m.number_or("thickness", b.thickness, kFraction);
   b.ticks = static_cast<int>(m.integer_or("ticks", b.ticks, 2, 10));
   if (const auto l = m.get("label")) {
-    b.label = l->string(true);
-    if (b.label->size() > kMaxAnnotationPattern)
-      l->fail("label of " + std::to_string(b.label->size()) + " bytes (allowed: at most " +
-              std::to_string(kMaxAnnotationPattern) + ")");
+    b.label = drawn_text(*l, "label");
     for (const char c : *b.label)
       if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
         l->fail("label with a control character (allowed: printable characters, one line)");

@@ -269,6 +269,12 @@ std::string Value::string(bool allow_empty) const {
   return std::string(text());
 }
 
+std::string Value::drawn_text(bool allow_empty) const {
+  if (!is_scalar()) wrong_type("a string");
+  if (!allow_empty && text().empty()) fail("empty string (allowed: a non-empty string)");
+  return with_replacement_characters(text());
+}
+
 Vec3 Value::triple(const char* shape, const Range& r) const {
   const ValueList xs = list(shape, 3, 3);
   return Vec3(xs[0].number(r), xs[1].number(r), xs[2].number(r));

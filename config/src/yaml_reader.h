@@ -140,8 +140,12 @@ class Value {
   std::int64_t integer(std::int64_t lo, std::int64_t hi) const;
   std::uint64_t unsigned64() const;
   bool boolean() const;
-  /// Any scalar, as text (a non-empty string unless allow_empty).
+  /// Any scalar, as text (a non-empty string unless allow_empty); text that is not valid
+  /// UTF-8 is an error naming the byte (names and paths: the writer could not give them back).
   std::string string(bool allow_empty = false) const;
+  /// Any scalar, as text to draw: like string(), but each maximal invalid UTF-8 subsequence
+  /// becomes U+FFFD (with_replacement_characters), so the result is UTF-8 and writes back as is.
+  std::string drawn_text(bool allow_empty = false) const;
   /// One of the words of `table` (rows with .name and .value: EnumName in enum_names.h,
   /// ImageFormatInfo); a wrong word's message lists them all, in table order.
   template <class Table>

@@ -3,6 +3,9 @@
 #include "../config/test_support.h"
 #include "read_png.h"
 
+#include <tessera/annotate.h>
+#include <tessera/config/annotations.h>
+#include <tessera/config/build_scene.h>
 #include <tessera/image_io.h>
 #include <tessera/tessera.h>
 
@@ -388,4 +391,49 @@ TEST_CASE("tessera-render draws annotations into the PNG only, and refuses ones 
   CHECK(r.status == 1);
   CHECK_THAT(r.err,
              Contains("tiny.yaml:") && Contains("renders[0].annotations") && Contains("more than the 24x16 image has"));
+}
+
+TEST_CASE("tessera-render writes distinct colour-bar labels for a narrow range far from zero", "[cli][annotate]") {
+  // A pressure of 101325 +- 0.05 with ten ticks: each label must differ from its neighbours in
+  // the picture itself (on a black background with nothing rendered, equal texts give equal
+  // pixels)
+  TempDir dir;
+  write_scene(dir);
+  const std::string yaml = R"(volume: {file: blob.raw, dims: [12, 12, 12], dtype: float32}
+renders:
+  - name: p
+    image: {width: 160, height: 256, spp: 1}
+    camera: {position: [20, 2.75, 2.75]}
+    transfer_function: {range: [101324.95, 101325.05], opacity: [[0, 0], [1, 0]]}
+    background: {type: constant, color: [0, 0, 0]}
+    output: {formats: [png]}
+    annotations: {colorbar: {ticks: 10, length: 0.9}}
+)";
+  dir.write("p.yaml", yaml);
+  const Run r = run_cli(dir, "p.yaml --quiet -o p");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  int w = 0, h = 0;
+  const std::vector<std::uint8_t> px = tessera_test::read_png_rgba(dir.file("p.png"), w, h);
+  REQUIRE(w == 160);
+
+  // Where the labels are: the layout of the same description
+  const tessera::config::Config c = tessera::config::parse_config(yaml, dir.file("p.yaml"), dir.path().string());
+  const tessera::config::RenderSpec& spec = c.renders[0];
+  const tessera::TransferFunction tf = tessera::config::build_transfer_function(spec.transfer_function, {0.0, 1.0});
+  const tessera::AnnotationDesc d =
+      tessera::config::build_annotations(*spec.annotations, spec.name, spec.field, tf, 0, 0.0);
+  const tessera::AnnotationLayout l = tessera::layout_annotations(w, h, d);
+  REQUIRE(l.tick_labels.size() >= 5u);
+  const auto crop = [&](const tessera::PixelBox& b) {  // inner rows: free of a neighbour's outline
+    std::vector<std::uint8_t> out;
+    for (int y = b.y0 + 2; y < b.y1 - 2; ++y)
+      for (int x = b.x0; x < b.x1; ++x)
+        for (int k = 0; k < 4; ++k) out.push_back(px[(static_cast<std::size_t>(y) * w + x) * 4 + k]);
+    return out;
+  };
+  for (std::size_t i = 1; i < l.tick_labels.size(); ++i) {
+    INFO("labels " << i - 1 << " and " << i);
+    CHECK(crop(l.tick_labels[i - 1]) != crop(l.tick_labels[i]));
+  }
 }

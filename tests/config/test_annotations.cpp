@@ -132,3 +132,36 @@ TEST_CASE("annotations: bad values are load-time errors with their position", "[
   const std::string fake = config_error(with_annotations("      font: fake.ttf\n"), dir.path().string());
   CHECK_THAT(fake, StartsWith("scene.yaml:7:7: renders[0].annotations.font:") && Contains("cannot load font"));
 }
+
+TEST_CASE("annotations: text that is not UTF-8 loads as U+FFFD and writes back as it loaded", "[config][annotations]") {
+  // Text, title and label with bytes that are not UTF-8: accepted, each maximal invalid
+  // subsequence one U+FFFD (what the picture draws), and the effective config reloads to the
+  // same texts; names and paths stay refused (they could not be written back)
+  const std::string fffd = "\xEF\xBF\xBD";
+  const std::string yaml = with_annotations("      text: \"T \xE2\x82 {step}\"\n"
+                                            "      title: caf\xE9\n"
+                                            "      colorbar: {label: \"p\xC0\xAF\"}\n");
+  const Config c = parse_config(yaml, "s.yaml", "");
+  const AnnotationsSpec& a = *c.renders[0].annotations;
+  CHECK(a.text == "T " + fffd + " {step}");
+  CHECK(a.title == "caf" + fffd);
+  REQUIRE(a.bar.label);
+  CHECK(*a.bar.label == "p" + fffd + fffd);
+  const Config again = parse_config(to_yaml(c), "effective.yaml", "");
+  const AnnotationsSpec& b = *again.renders[0].annotations;
+  CHECK(b.text == a.text);
+  CHECK(b.title == a.title);
+  CHECK(b.bar.label == a.bar.label);
+  CHECK(to_yaml(again) == to_yaml(c));
+  // Expanded for a picture: the replacement characters stay
+  const TransferFunction tf = build_transfer_function(c.renders[0].transfer_function, {0.0, 1.0});
+  CHECK(build_annotations(a, "heat", "", tf, 7, 0.0).texts[1].text == "T " + fffd + " 7");
+  // The byte limit counts the text as loaded (U+FFFD is 3 bytes)
+  CHECK_THAT(config_error(with_annotations("      text: \"" + std::string(100, '\xFF') + "\"\n")),
+             Contains("annotations.text: text of 300 bytes (100 as written") && Contains("at most 256"));
+  CHECK(parse_config(with_annotations("      text: \"" + std::string(85, '\xFF') + "\"\n"), "s.yaml", "")
+            .renders[0]
+            .annotations->text.size() == 255u);
+  // Control characters are still refused
+  CHECK_THAT(config_error(with_annotations("      colorbar: {label: \"a\\tb\"}\n")), Contains("control character"));
+}

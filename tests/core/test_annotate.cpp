@@ -5,16 +5,22 @@
 #include <tessera/annotate.h>
 #include <tessera/image_format.h>
 #include <tessera/image_io.h>
+#include <tessera/message_text.h>
 
 #include <catch2/catch.hpp>
 
 #include "read_png.h"
 #include "temp_dir.h"
 
+#include <cfloat>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
+#include <limits>
+#include <random>
 #include <sstream>
 #include <vector>
 
@@ -105,6 +111,133 @@ TEST_CASE("tick labels round to the step and never show -0", "[annotate]") {
   CHECK(tick_label(0.05, 0.05, 0.2) == "0.05");
   CHECK(tick_label(1.5e6, 5e5, 3e6) == "1.5e+06");
   CHECK(tick_label(2e-5, 1e-5, 1e-4) == "2.0e-05");
+}
+
+namespace {
+
+/// Whether `label` reads as `tick` to within half a unit in its last digit: "101324.6",
+/// "1.5e+06", or a base and an offset, "1e+16 + 2", whose unit is the offset's.
+bool true_to(const std::string& label, double tick) {
+  long double value = 0.0L;
+  std::string last = label;
+  const std::size_t plus = label.find(" + "), minus = label.find(" - ");
+  const std::size_t op = std::min(plus, minus);
+  if (op != std::string::npos) {
+    last = label.substr(op + 3);
+    const long double base = std::strtold(label.substr(0, op).c_str(), nullptr);
+    const long double offset = std::strtold(last.c_str(), nullptr);
+    value = op == plus ? base + offset : base - offset;
+  } else {
+    value = std::strtold(label.c_str(), nullptr);
+  }
+  // The unit of the last digit: the mantissa's decimals against the exponent
+  const std::size_t e = last.find('e');
+  const std::string mantissa = last.substr(0, e);
+  const std::size_t point = mantissa.find('.');
+  const int decimals = point == std::string::npos ? 0 : static_cast<int>(mantissa.size() - point - 1);
+  const int exponent = e == std::string::npos ? 0 : std::atoi(last.c_str() + e + 1);
+  const long double unit = std::pow(10.0L, static_cast<long double>(exponent - decimals));
+  const long double t = tick;
+  const long double slack = 8.0L * std::numeric_limits<long double>::epsilon() * std::fabs(t);
+  return std::fabs(value - t) <= 0.5L * unit * (1.0L + 1e-9L) + slack;
+}
+
+/// Ticks and labels of [lo, hi] at every target, the two ends and the first value alone:
+/// ticks ascending inside the range, labels distinct from their neighbours and true.
+void check_labels(double lo, double hi) {
+  INFO("range [" << std::hexfloat << lo << ", " << hi << "] = [" << std::defaultfloat << std::setprecision(17) << lo
+                 << ", " << hi << "]");
+  std::vector<std::vector<double>> sets;
+  for (int target = 2; target <= 10; ++target) sets.push_back(colorbar_ticks(lo, hi, target));
+  sets.push_back({lo, hi});
+  for (const std::vector<double>& ticks : sets) {
+    REQUIRE(ticks.size() >= 2u);
+    const std::vector<std::string> labels = colorbar_labels(ticks, lo, hi);
+    REQUIRE(labels.size() == ticks.size());
+    for (std::size_t i = 0; i < ticks.size(); ++i) {
+      INFO("tick " << ticks[i] << " label \"" << labels[i] << "\"");
+      CHECK(ticks[i] >= lo);
+      CHECK(ticks[i] <= hi);
+      CHECK(true_to(labels[i], ticks[i]));
+      CHECK(labels[i].size() <= 48u);
+      if (i > 0) {
+        CHECK(ticks[i] > ticks[i - 1]);
+        CHECK(labels[i] != labels[i - 1]);
+      }
+    }
+  }
+  const std::vector<std::string> one = colorbar_labels({lo}, lo, hi);
+  REQUIRE(one.size() == 1u);
+  INFO("single label \"" << one[0] << "\"");
+  CHECK(true_to(one[0], lo));
+  CHECK(one[0].size() <= 12u);
+}
+
+}  // namespace
+
+TEST_CASE("colour-bar labels differ from their neighbours and round to their ticks at every range", "[annotate]") {
+  // The examples of issue 40: a pressure, values near 1e6 and 1e16 with tiny spans
+  const auto labels_of = [](double lo, double hi, int target) {
+    return colorbar_labels(colorbar_ticks(lo, hi, target), lo, hi);
+  };
+  CHECK(labels_of(101324.95, 101325.05, 10) ==
+        std::vector<std::string>{"101324.95", "101324.96", "101324.97", "101324.98", "101324.99", "101325.00",
+                                 "101325.01", "101325.02", "101325.03", "101325.04", "101325.05"});
+  CHECK(labels_of(1e6 - 0.5, 1e6 + 0.5, 5) ==
+        std::vector<std::string>{"999999.6", "999999.8", "1000000.0", "1000000.2", "1000000.4"});
+  CHECK(labels_of(1e16, 1e16 + 10.0, 5) == std::vector<std::string>{"1e+16", "1e+16 + 10"});
+  CHECK(labels_of(1e6 - 1e-4, 1e6 + 1e-4, 5) ==
+        std::vector<std::string>{"1e+06 - 1.0e-04", "1e+06 - 5e-05", "1e+06", "1e+06 + 5e-05"});
+  CHECK(labels_of(-1e16 - 10.0, -1e16, 5) == std::vector<std::string>{"-1e+16 - 10", "-1e+16"});
+  // Ranges as before keep their labels
+  CHECK(labels_of(0.0, 1.0, 5) == std::vector<std::string>{"0.0", "0.2", "0.4", "0.6", "0.8", "1.0"});
+  CHECK(labels_of(300.0, 400.0, 5) == std::vector<std::string>{"300", "320", "340", "360", "380", "400"});
+  CHECK(labels_of(0.0, 3e6, 5) ==
+        std::vector<std::string>{"0", "5.0e+05", "1.0e+06", "1.5e+06", "2.0e+06", "2.5e+06", "3.0e+06"});
+
+  // Extremes: a few ulps wide at every magnitude, huge, tiny, denormal, across zero, overflowing
+  const double big = std::numeric_limits<double>::max(), tiny = std::numeric_limits<double>::denorm_min();
+  const auto up = [](double v, int ulps) {
+    for (int i = 0; i < ulps; ++i) v = std::nextafter(v, HUGE_VAL);
+    return v;
+  };
+  for (const double v :
+       {1.0, 0.1, 101325.0, 1e6, 1e15, 1e16, 1e300, -1e300, -1e-300, DBL_MIN, 2.5e-320, big / 2, -big, 7.0, -3.0e-7}) {
+    for (const int ulps : {1, 2, 3, 7, 100, 1000000})
+      if (std::isfinite(up(v, ulps))) check_labels(v, up(v, ulps));
+  }
+  const double ranges[][2] = {{-big, big},
+                              {-big, 0.0},
+                              {0.0, big},
+                              {big / 2, big},
+                              {-big, -big / 2},
+                              {0.0, tiny},
+                              {-tiny, tiny},
+                              {tiny, 2 * tiny},
+                              {1e-310, 1.00001e-310},
+                              {0.95, 1.05},
+                              {-1.0, 1.0},
+                              {1.0 - 1e-15, 1.0},
+                              {1e-300, 2e-300},
+                              {-1e-5, 1e-5},
+                              {101324.5, 101325.5},
+                              {-101325.5, -101324.5},
+                              {1e16 - 2.0, 1e16},
+                              {999999.9999, 1000000.0001},
+                              {-1234.5, 98765.4}};
+  for (const auto& r : ranges) check_labels(r[0], r[1]);
+
+  // Random ranges (seed 40): magnitudes 1e-320 to 1e300, widths from a few ulps to 1e3 times
+  // the magnitude, either sign
+  std::mt19937_64 rng(40);
+  std::uniform_real_distribution<double> exponent(-320.0, 300.0), width(-17.0, 3.0), unit(0.0, 1.0);
+  for (int i = 0; i < 1000; ++i) {
+    const double lo = (unit(rng) < 0.5 ? -1.0 : 1.0) * std::pow(10.0, exponent(rng)) * (1.0 + unit(rng));
+    double hi = lo + std::abs(lo) * std::pow(10.0, width(rng));
+    if (!(hi > lo)) hi = up(lo, 1 + static_cast<int>(unit(rng) * 5));
+    if (!std::isfinite(hi)) continue;
+    check_labels(lo, hi);
+  }
 }
 
 TEST_CASE("colour bar runs from the TF's first to last diffuse colour, opacity as alpha", "[annotate]") {
@@ -244,6 +377,39 @@ TEST_CASE("runaway text is cut at the glyph cap and the image width, in bounded 
   CHECK(layout_annotations(2048, 2048, d).font_pixels == kMaxFontPixels);
   // Not a timing assertion: a generous bound that only an unbounded loop would pass
   CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60));
+}
+
+TEST_CASE("text that is not UTF-8 draws one visible U+FFFD per maximal invalid subsequence", "[annotate]") {
+  const std::string fffd = "\xEF\xBF\xBD";
+  // Unicode's maximal subparts: a sequence cut short is one, bytes that never start one each
+  // one, a surrogate (ED A0 80: ED then two strays) three; valid text unchanged
+  CHECK(with_replacement_characters("caf\xC3\xA9 \xE6\x97\xA5") == "caf\xC3\xA9 \xE6\x97\xA5");
+  CHECK(with_replacement_characters("a\xE2\x82z") == "a" + fffd + "z");
+  CHECK(with_replacement_characters("\xF0\x9F\x98") == fffd);
+  CHECK(with_replacement_characters("\xC0\xAF") == fffd + fffd);
+  CHECK(with_replacement_characters("\xED\xA0\x80") == fffd + fffd + fffd);
+  CHECK(with_replacement_characters("\xF4\x90\x80\x80") == fffd + fffd + fffd + fffd);
+  CHECK(with_replacement_characters("\xFF\xFE") == fffd + fffd);
+  CHECK(with_replacement_characters("\xE2\x82\xAC\xE2\x82") == "\xE2\x82\xAC" + fffd);
+  CHECK(first_invalid_utf8(with_replacement_characters("\x80\xBF\xC2\xF5x\xE0\x80")) == std::string_view::npos);
+
+  // In the picture: the same pixels as the text with U+FFFD written out, and visible
+  const int w = 256, h = 64;
+  const auto drawn = [&](const std::string& text) {
+    AnnotationDesc d;
+    d.font_path = kFont;
+    d.texts = {{text, Corner::TopLeft}};
+    std::vector<std::uint8_t> px(static_cast<std::size_t>(w) * h * 4, 0);
+    draw_annotations(w, h, px.data(), d);
+    return px;
+  };
+  const std::vector<std::uint8_t> blank(static_cast<std::size_t>(w) * h * 4, 0);
+  CHECK(drawn("a\xE2\x82z") == drawn("a" + fffd + "z"));
+  CHECK(drawn("a\xE2\x82z") != drawn("a" + fffd + fffd + "z"));
+  CHECK(drawn("\xC0\xAF") == drawn(fffd + fffd));
+  CHECK(drawn("\xFF") == drawn(fffd));
+  CHECK(drawn("\xFF") != drawn(" "));  // a glyph, not a blank
+  CHECK(drawn(fffd) != blank);
 }
 
 TEST_CASE("annotation values out of range and unreadable fonts are errors", "[annotate]") {

@@ -39,7 +39,8 @@ inline constexpr std::size_t kMaxAnnotationTexts = 8;
 /// bands: the colour itself (the outer half: left of a vertical bar, top of a horizontal
 /// one) and the colour with alpha = opacity / (the opacity's maximum) over a grey checker.
 /// Tick labels in data units at "nice" values (1, 2 or 5 x 10^k) right of (vertical) or
-/// below (horizontal) the bar, fewer than `ticks` where neighbouring labels would touch;
+/// below (horizontal) the bar, fewer than `ticks` where neighbouring labels would touch,
+/// written by colorbar_labels (distinct, and true to their ticks at any range);
 /// `label` (the field name) above it.
 struct ColorBarDesc {
   Corner corner = Corner::BottomRight;
@@ -100,12 +101,25 @@ bool annotations_fit(int width, int height, const AnnotationLayout& layout, std:
 void draw_annotations(int width, int height, std::uint8_t* rgba8, const AnnotationDesc& desc);
 
 /// The tick values of a colour bar over [lo, hi]: multiples of a step of 1, 2 or 5 x 10^k
-/// chosen to give about `target` ticks, all inside [lo, hi]; {lo, hi} when no such step
-/// exists (a range too narrow for its magnitude). At most 2 * target + 2 values.
+/// chosen to give about `target` ticks, all inside [lo, hi], distinct and ascending; {lo, hi}
+/// when no such step exists (a range too narrow for its magnitude). At most 2 * target + 2
+/// values. Safe for every finite lo < hi, a width that overflows (-1e308 to 1e308) included.
 std::vector<double> colorbar_ticks(double lo, double hi, int target);
 
-/// A tick value as text, rounded to what the step between ticks resolves: "0.25", "150",
-/// "1.5e+06"; never "-0".
+/// The labels of `ticks` (distinct and ascending, as colorbar_ticks gives them, or lo alone)
+/// on a colour bar over [lo, hi], one per tick. Each is its tick rounded once, exactly, at
+/// the decimal place of the step between ticks (of hi - lo for a single tick), finer only
+/// where neighbours would read alike: consecutive labels always differ, and each reads as its
+/// tick to within half a unit in its last digit. Fixed point for magnitudes 0.001 to 99999 and
+/// wherever shorter ("0.25", "320", "101324.6"), else scientific ("1.5e+06"); where these would
+/// be longer than 12 characters (a narrow range far from zero) a round base and exact offsets,
+/// "1e+16 + 2", "-101325 - 0.0004", the base alone at the tick equal to it. A single label is
+/// at most 12 characters (rounded coarser where needed, still true to its digits). Never "-0".
+std::vector<std::string> colorbar_labels(const std::vector<double>& ticks, double lo, double hi);
+
+/// One value as text, rounded at the decimal place of `step` as colorbar_labels rounds it, in
+/// the notation the largest magnitude `largest_magnitude` takes there: "0.25", "150",
+/// "1.5e+06"; never "-0". No offsets and no check against neighbours: colorbar_labels does both.
 std::string tick_label(double v, double step, double largest_magnitude);
 
 }  // namespace tessera

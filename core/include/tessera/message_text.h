@@ -24,6 +24,24 @@ inline constexpr std::size_t kShownPathMax = 200;
 /// sequence cut short), or std::string_view::npos when all of `s` is valid UTF-8.
 std::size_t first_invalid_utf8(std::string_view s);
 
+/// One step of decoding UTF-8: the character at a byte offset, or where the bytes there are
+/// not UTF-8, U+FFFD standing for the maximal subpart of the ill-formed sequence (Unicode's
+/// recommended practice, chapter 3, "U+FFFD Substitution of Maximal Subparts": the bytes
+/// that begin a well-formed sequence but do not complete it, else the one byte).
+struct Utf8Char {
+  std::size_t length = 1;   ///< bytes taken, at least 1
+  char32_t code_point = 0;  ///< U+FFFD where !valid
+  bool valid = true;
+};
+
+/// The character at s[i] (i < s.size()).
+Utf8Char next_utf8_char(std::string_view s, std::size_t i);
+
+/// `s` with each maximal subpart of an ill-formed UTF-8 sequence replaced by U+FFFD (bytes EF BF
+/// BD): "\xE2\x82" (cut short) is one, "\xC0\xAF" (never UTF-8) two, a surrogate's three
+/// bytes three. Valid UTF-8 is returned unchanged, and the result is always valid UTF-8.
+std::string with_replacement_characters(std::string_view s);
+
 /// `s` with the escapes above, not cut. A newline is kept only when `keep_newlines`.
 std::string printable_text(std::string_view s, bool keep_newlines = false);
 

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 namespace tessera {
@@ -61,17 +60,6 @@ struct Item {
 
 PixelBox shifted(PixelBox b, int dx, int dy) { return {b.x0 + dx, b.y0 + dy, b.x1 + dx, b.y1 + dy}; }
 
-double nice_step(double lo, double hi, int target) {
-  const double raw = (hi - lo) / target;
-  if (!(raw > 0.0) || !std::isfinite(raw)) return 0.0;
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  const double norm = raw / mag;
-  const double step = (norm < 1.5 ? 1.0 : norm < 3.0 ? 2.0 : norm < 7.0 ? 5.0 : 10.0) * mag;
-  // Multiples of the step must still be exact enough to tell apart
-  if (!(step > 0.0) || !std::isfinite(step) || std::max(std::abs(lo), std::abs(hi)) / step > 1e12) return 0.0;
-  return step;
-}
-
 Item text_item(const Font& font, const Metrics& m, const AnnotationText& t, int width) {
   Item it;
   it.corner = t.corner;
@@ -94,7 +82,9 @@ Item bar_item(const Font& font, const Metrics& m, const AnnotationDesc& d, int w
   const int line = font.line_height();
 
   const auto along = [&](double v) {  // pixel index along the bar of a data value
-    const double u = (v - d.tf.lo) / (d.tf.hi - d.tf.lo);
+    // Halves where the range's width overflows (a range of +-1e308)
+    const double lo = d.tf.lo, hi = d.tf.hi;
+    const double u = std::isfinite(hi - lo) ? (v - lo) / (hi - lo) : (0.5 * v - 0.5 * lo) / (0.5 * hi - 0.5 * lo);
     return static_cast<int>(std::lround(std::clamp(u, 0.0, 1.0) * (length - 1)));
   };
 
@@ -103,16 +93,14 @@ Item bar_item(const Font& font, const Metrics& m, const AnnotationDesc& d, int w
   std::vector<double> values;
   std::vector<TextMask> labels;
   int label_w = 0;
-  const double largest = std::max(std::abs(d.tf.lo), std::abs(d.tf.hi));
   for (int target = b.ticks; target >= 0; --target) {
     values = target >= 2   ? colorbar_ticks(d.tf.lo, d.tf.hi, target)
              : target == 1 ? std::vector<double>{d.tf.lo, d.tf.hi}
                            : std::vector<double>{d.tf.lo};
-    const double step = values.size() >= 2 ? values[1] - values[0] : d.tf.hi - d.tf.lo;
     labels.clear();
     label_w = 0;
-    for (const double v : values) {
-      labels.push_back(font.render(tick_label(v, step, largest), width));
+    for (const std::string& text : colorbar_labels(values, d.tf.lo, d.tf.hi)) {
+      labels.push_back(font.render(text, width));
       label_w = std::max(label_w, labels.back().width);
     }
     bool crowded = false;
@@ -360,37 +348,6 @@ void draw_annotations(int width, int height, std::uint8_t* rgba8, const Annotati
   for (const PixelBox& b : p.layout.boxes) cv.fill(b, kBacking, 0.55);
   if (d.colorbar) draw_bar(cv, d, p);
   for (const PlacedText& t : p.texts) draw_text(cv, t, m.outline);
-}
-
-std::vector<double> colorbar_ticks(double lo, double hi, int target) {
-  target = std::clamp(target, 2, 10);
-  const double step = nice_step(lo, hi, target);
-  if (step == 0.0) return {lo, hi};
-  const double k0 = std::ceil(lo / step - 1e-9), k1 = std::floor(hi / step + 1e-9);
-  if (!(k1 >= k0) || k1 - k0 > 2 * target + 1) return {lo, hi};
-  std::vector<double> ticks;
-  for (double k = k0; k <= k1; k += 1.0) ticks.push_back(std::clamp(k * step, lo, hi));
-  return ticks;
-}
-
-std::string tick_label(double v, double step, double largest) {
-  if (step > 0.0 && std::abs(v) < step * 1e-6) v = 0.0;
-  char buf[64];
-  const bool scientific = largest >= 1e5 || (largest > 0.0 && largest < 1e-3);
-  if (!(step > 0.0) || !std::isfinite(step)) {
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-  } else if (scientific) {
-    const int digits =
-        std::clamp(static_cast<int>(std::floor(std::log10(largest)) - std::floor(std::log10(step))), 0, 6);
-    std::snprintf(buf, sizeof buf, "%.*e", digits, v);
-  } else {
-    const int digits = step >= 1.0 ? 0 : std::clamp(static_cast<int>(std::ceil(-std::log10(step) - 1e-9)), 0, 10);
-    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  }
-  std::string s = buf;
-  // "-0", "-0.00": the sign of a zero says nothing
-  if (!s.empty() && s[0] == '-' && s.find_first_of("123456789") == std::string::npos) s.erase(0, 1);
-  return s;
 }
 
 }  // namespace tessera

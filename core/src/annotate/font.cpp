@@ -2,6 +2,7 @@
 #include "annotate/font.h"
 
 #include <tessera/annotate.h>
+#include <tessera/message_text.h>
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
@@ -18,27 +19,10 @@ int ceil_26_6(long v) { return static_cast<int>((v + 63) >> 6); }
 
 std::vector<char32_t> decode_utf8(const std::string& s, std::size_t max_points) {
   std::vector<char32_t> out;
-  std::size_t i = 0;
-  while (i < s.size() && out.size() < max_points) {
-    const auto b = static_cast<unsigned char>(s[i]);
-    int len = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xe ? 3 : (b >> 3) == 0x1e ? 4 : 0;
-    char32_t cp = len == 1 ? b : len == 2 ? (b & 0x1f) : len == 3 ? (b & 0x0f) : (b & 0x07);
-    bool ok = len > 0 && i + len <= s.size();
-    for (int k = 1; ok && k < len; ++k) {
-      const auto c = static_cast<unsigned char>(s[i + k]);
-      if ((c & 0xc0) != 0x80) ok = false;
-      else cp = (cp << 6) | (c & 0x3f);
-    }
-    // Overlong forms, surrogates and values past U+10FFFF are invalid too
-    const char32_t min_for_len[5] = {0, 0, 0x80, 0x800, 0x10000};
-    if (ok && (cp < min_for_len[len] || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff))) ok = false;
-    if (!ok) {
-      out.push_back(0xfffd);
-      ++i;
-      continue;
-    }
-    out.push_back(cp);
-    i += len;
+  for (std::size_t i = 0; i < s.size() && out.size() < max_points;) {
+    const Utf8Char c = next_utf8_char(s, i);  // U+FFFD for each maximal invalid subpart
+    out.push_back(c.code_point);
+    i += c.length;
   }
   return out;
 }

@@ -41,8 +41,8 @@ class Font {
   int m_ascent = 0, m_descent = 0;
 };
 
-/// UTF-8 to code points; an invalid or truncated sequence gives U+FFFD and resynchronises at
-/// the next byte. At most `max_points` code points.
+/// UTF-8 to code points; each maximal subpart of an invalid or truncated sequence gives one
+/// U+FFFD (next_utf8_char, message_text.h). At most `max_points` code points.
 std::vector<char32_t> decode_utf8(const std::string& s, std::size_t max_points);
 
 }  // namespace tessera::annotate

@@ -11,34 +11,10 @@ namespace {
 /// does not start one (a stray continuation byte, an overlong form, a surrogate, > U+10FFFF,
 /// a sequence cut short).
 std::size_t utf8_char(std::string_view s, std::size_t i, char32_t& cp) {
-  const auto b0 = static_cast<unsigned char>(s[i]);
-  if (b0 < 0x80) {
-    cp = b0;
-    return 1;
-  }
-  std::size_t n = 0;
-  char32_t min = 0;
-  if ((b0 & 0xE0) == 0xC0) {
-    n = 2;
-    cp = b0 & 0x1F;
-    min = 0x80;
-  } else if ((b0 & 0xF0) == 0xE0) {
-    n = 3;
-    cp = b0 & 0x0F;
-    min = 0x800;
-  } else if ((b0 & 0xF8) == 0xF0) {
-    n = 4;
-    cp = b0 & 0x07;
-    min = 0x10000;
-  } else return 0;
-  if (i + n > s.size()) return 0;
-  for (std::size_t k = 1; k < n; ++k) {
-    const auto b = static_cast<unsigned char>(s[i + k]);
-    if ((b & 0xC0) != 0x80) return 0;
-    cp = (cp << 6) | (b & 0x3F);
-  }
-  if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return 0;
-  return n;
+  const Utf8Char c = next_utf8_char(s, i);
+  if (!c.valid) return 0;
+  cp = c.code_point;
+  return c.length;
 }
 
 /// Characters that print as nothing (or move the text around) on a terminal.
@@ -72,6 +48,53 @@ std::size_t cut_after(std::string_view s, std::size_t n) {
 }
 
 }  // namespace
+
+Utf8Char next_utf8_char(std::string_view s, std::size_t i) {
+  const auto b0 = static_cast<unsigned char>(s[i]);
+  if (b0 < 0x80) return {1, b0, true};
+  // Well-formed sequences (Unicode table 3-7): the lead byte fixes the length and the range
+  // of the second byte (no overlong forms, surrogates or code points past U+10FFFF)
+  std::size_t n = 0;
+  char32_t cp = 0;
+  unsigned char lo = 0x80, hi = 0xBF;
+  if (b0 >= 0xC2 && b0 <= 0xDF) {
+    n = 2;
+    cp = b0 & 0x1F;
+  } else if (b0 >= 0xE0 && b0 <= 0xEF) {
+    n = 3;
+    cp = b0 & 0x0F;
+    if (b0 == 0xE0) lo = 0xA0;
+    if (b0 == 0xED) hi = 0x9F;
+  } else if (b0 >= 0xF0 && b0 <= 0xF4) {
+    n = 4;
+    cp = b0 & 0x07;
+    if (b0 == 0xF0) lo = 0x90;
+    if (b0 == 0xF4) hi = 0x8F;
+  } else {
+    return {1, 0xFFFD, false};
+  }
+  for (std::size_t k = 1; k < n; ++k) {
+    const auto b = i + k < s.size() ? static_cast<unsigned char>(s[i + k]) : 0;
+    if (i + k >= s.size() || b < lo || b > hi) return {k, 0xFFFD, false};  // the maximal subpart
+    cp = (cp << 6) | (b & 0x3F);
+    lo = 0x80;
+    hi = 0xBF;
+  }
+  return {n, cp, true};
+}
+
+std::string with_replacement_characters(std::string_view s) {
+  if (first_invalid_utf8(s) == std::string_view::npos) return std::string(s);
+  std::string out;
+  out.reserve(s.size() + s.size() / 2);
+  for (std::size_t i = 0; i < s.size();) {
+    const Utf8Char c = next_utf8_char(s, i);
+    if (c.valid) out.append(s.substr(i, c.length));
+    else out += "\xEF\xBF\xBD";
+    i += c.length;
+  }
+  return out;
+}
 
 std::size_t first_invalid_utf8(std::string_view s) {
   char32_t cp = 0;

@@ -12,7 +12,9 @@
 ///     font_size: 0.03           # fraction of the image's smaller edge
 ///
 /// `text` and `title` are patterns with the placeholders and format specs of output file
-/// names (output_path.h) except {rank}: {name} (the render's name), {step}, {time}.
+/// names (output_path.h) except {rank}: {name} (the render's name), {step}, {time}. In them and
+/// in `label`, bytes that are not valid UTF-8 are replaced at load by U+FFFD, one per maximal
+/// invalid subsequence, so the spec holds UTF-8 that is drawn and written back as it reads.
 #include <tessera/annotate.h>
 #include <tessera/transfer_function.h>
 
@@ -30,7 +32,7 @@ inline constexpr const char* kDefaultFontPath = "/usr/share/fonts/truetype/dejav
 inline constexpr const char* kFallbackFontPaths[] = {"/usr/share/fonts/dejavu-sans-fonts/DejaVuSans.ttf",
                                                      "/usr/share/fonts/TTF/DejaVuSans.ttf",
                                                      "/usr/share/fonts/truetype/DejaVuSans.ttf"};
-/// Longest `text` / `title` pattern and longest `label`, in bytes.
+/// Longest `text` / `title` pattern and longest `label`, in bytes (with invalid UTF-8 made U+FFFD).
 inline constexpr std::size_t kMaxAnnotationPattern = 256;
 
 struct ColorBarSpec {
