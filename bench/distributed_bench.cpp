@@ -13,7 +13,7 @@
 // (--shift changes it), tiles in row-major order (--morton: Morton order).
 // scripts/run_distributed_bench.sh and scripts/run_distributed_cache_sweep.sh run the sweeps.
 #include "bench_args.h"
-#include "field_plan.h"
+#include "data/field_plan.h"
 #include "mpi/parallel_context_mpi.h"
 #include "mpi_bench_field.h"
 

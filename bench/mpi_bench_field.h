@@ -2,7 +2,7 @@
 /// The field the MPI benchmarks render (mpi_render_bench, distributed_bench): a heat-like
 /// float32 field (warm blobs on 300 K, world size 1) split into k-slabs over the ranks, each
 /// rank's slab held as a simulation holds it: C order with one ghost layer per side.
-#include "parallel_context.h"
+#include "parallel/parallel_context.h"
 
 #include <tessera/field_view.h>
 #include <tessera/scene.h>

@@ -3,7 +3,7 @@
 #include <tessera/adapter.h>
 
 #include "adapter_impl.h"
-#include "call_gate.h"
+#include "agreement/call_gate.h"
 
 namespace tessera::insitu {
 
@@ -86,6 +86,15 @@ tessera_status Adapter::close() noexcept {
   if (s == TESSERA_OK || !was_open) m_impl->m_error.clear();
   m_impl->m_gate.end_close();
   return s;
+}
+
+bool Adapter::fires(std::int64_t step, bool final_step) const noexcept {
+  // The decision run_call takes first (adapter_impl.cpp), before any field is looked at
+  if (!m_impl || !m_impl->m_ctx) return false;
+  if (final_step && m_impl->m_config.global.render_final_step && !m_impl->m_renders.empty()) return true;
+  for (const RenderState& r : m_impl->m_renders)
+    if (r.trigger.needs_field_max() || r.trigger.fires_on_step(step)) return true;
+  return false;
 }
 
 bool Adapter::is_open() const noexcept { return m_impl && m_impl->m_ctx != nullptr; }

@@ -2,12 +2,12 @@
 /// Adapter::Impl: the adapter's state and its open / execute / close logic. Shared by the C++
 /// class (adapter.cpp, which adds the `on_error: abort` rethrow) and the C API (c_api.cpp).
 /// No member throws.
-#include "call_gate.h"
-#include "error_policy.h"
-#include "parallel_context.h"
-#include "render_budget.h"
-#include "render_pass.h"
-#include "summary_cache.h"
+#include "agreement/call_gate.h"
+#include "outputs/error_policy.h"
+#include "parallel/parallel_context.h"
+#include "budget/render_budget.h"
+#include "pass/render_pass.h"
+#include "data/summary_cache.h"
 
 #include <tessera/adapter.h>
 #include <tessera/config/config.h>

@@ -5,7 +5,7 @@
 #include <tessera/adapter.h>
 
 #include "adapter_impl.h"
-#include "call_gate.h"
+#include "agreement/call_gate.h"
 
 #include <cstdint>
 #include <memory>

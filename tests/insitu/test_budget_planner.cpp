@@ -1,7 +1,7 @@
 // BudgetPlanner (insitu/src/budget_planner.h): the plan of each call under tessera.budget,
 // driven here by a fake clock (a cost model of seconds = overhead + per_spp x spp and a fixed
 // simulation time per call), so that every figure is exact and the same in every run.
-#include "budget_planner.h"
+#include "budget/budget_planner.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // The refusals of tessera_execute_domains' descriptors name the element, axis or index at
 // fault, in the data's own terms (cell or vertex), without overflow (domain_binding.h).
-#include "domain_binding.h"
+#include "data/domain_binding.h"
 #include "domain_cuts.h"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // FieldPlan (insitu/src/field_plan.h): the `distribution` rule, the brick size and the cache's
 // bound, decided before anything is allocated.
-#include "field_plan.h"
+#include "data/field_plan.h"
 
 #include <tessera/brick_cache.h>
 #include <tessera/config/config.h>

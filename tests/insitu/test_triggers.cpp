@@ -1,7 +1,7 @@
 // Triggers decide from the step alone, before any data is touched: a call where nothing fires
 // (or a field no firing render uses) reads no field memory, even memory that cannot be read.
 #include "insitu_test_support.h"
-#include "triggers.h"
+#include "outputs/triggers.h"
 
 #include <tessera/adapter.h>
 

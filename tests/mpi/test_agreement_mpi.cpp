@@ -7,7 +7,7 @@
 // CTest timeout.
 #include "mpi_test_support.h"
 #include "published_block.h"
-#include "rank_agreement.h"
+#include "agreement/rank_agreement.h"
 
 #include <tessera/tessera.h>
 

@@ -4,7 +4,7 @@
 // clock (TESSERA_TEST_CLOCK) the plan is the one a BudgetPlanner computes from the samples
 // alone, on any number of ranks. Run at -n 2 and -n 3. Each test arms an alarm, so a
 // regression that hangs (a rank skipping while another renders) kills the job.
-#include "budget_planner.h"
+#include "budget/budget_planner.h"
 #include "mpi_test_support.h"
 #include "published_block.h"
 #include "scoped_env.h"

@@ -6,7 +6,7 @@
 #include "../insitu/insitu_test_support.h"
 #include "cli_run.h"
 #include "file_size_limit.h"
-#include "outputs.h"
+#include "outputs/outputs.h"
 
 #include <tessera/atomic_output.h>
 #include <tessera/image_io.h>

@@ -151,6 +151,14 @@ class Adapter {
   tessera_status execute_domains(std::int64_t step, double time, const tessera_mesh& mesh,
                                  std::span<const tessera_domain> domains, bool final_step = false);
 
+  /// Whether execute(step, ..., final_step) would evaluate any render: a trigger fires on the
+  /// step, a `when` trigger must look at the field, or final_step with render_final_step.
+  /// False: that call touches no field memory and returns at once (no MPI communication), so
+  /// a binding need not even describe its arrays (the Python package walks a million domains
+  /// only when this is true). A function of the config and the arguments alone (false when
+  /// not open); the accessors' thread rules apply. Never throws.
+  bool fires(std::int64_t step, bool final_step) const noexcept;
+
   /// The simulation's promise that the values of the field called `field_name` (its
   /// tessera_field name) at the next execute() are bit-for-bit those it had at the last one
   /// (the C API's tessera_field_unchanged). That execute then reuses the field's summary (the

@@ -2,7 +2,7 @@
 // (brick_service.h says how).
 #include "mpi/brick_service.h"
 
-#include "block_ops.h"
+#include "data/block_ops.h"
 #include "mpi/mpi_check.h"
 #include "mpi/mpi_datatypes.h"
 

@@ -22,7 +22,7 @@
 #include <tessera/brick_cache.h>
 #include <tessera/field_view.h>
 
-#include "parallel_context.h"
+#include "parallel/parallel_context.h"
 
 #include <mpi.h>
 

@@ -7,7 +7,7 @@
 #include <tessera/film.h>
 #include <tessera/tiles.h>
 
-#include "parallel_context.h"
+#include "parallel/parallel_context.h"
 
 #include <mpi.h>
 

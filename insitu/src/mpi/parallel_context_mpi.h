@@ -24,10 +24,10 @@
 /// (MPI_THREAD_FUNNELED suffices). Passive-target RMA on rank 0's counter relies on the MPI
 /// library progressing it while rank 0 renders; within a node Open MPI's osc/sm does this in
 /// hardware (shared-memory atomics).
-#include "block_layout.h"
+#include "data/block_layout.h"
 #include "mpi/brick_service.h"
 #include "mpi/mpi_datatypes.h"
-#include "parallel_context.h"
+#include "parallel/parallel_context.h"
 
 #include <mpi.h>
 

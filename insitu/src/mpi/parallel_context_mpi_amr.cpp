@@ -4,8 +4,8 @@
 #include "mpi/mpi_datatypes.h"
 #include "mpi/parallel_context_mpi.h"
 
-#include "amr_layout.h"
-#include "block_ops.h"
+#include "data/amr_layout.h"
+#include "data/block_ops.h"
 
 #include <vector>
 

@@ -4,7 +4,7 @@
 #include "mpi/mpi_datatypes.h"
 #include "mpi/parallel_context_mpi.h"
 
-#include "block_ops.h"
+#include "data/block_ops.h"
 
 #include <climits>
 #include <cstring>

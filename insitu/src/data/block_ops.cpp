@@ -1,0 +1,130 @@
+// A rank's blocks on the rank itself: copies into dense arrays, combined summaries (block_ops.h).
+#include "data/block_ops.h"
+
+#include "data/block_layout.h"
+
+#include <tessera/render.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+namespace tessera::insitu {
+namespace {
+
+template <std::size_t E>
+void copy_typed(const FieldView& v, unsigned char* dst0, const std::int64_t dims[3], const std::int64_t offset[3]) {
+  const auto* src0 = static_cast<const unsigned char*>(v.data);
+  const std::int64_t s0 = v.byte_strides[0];
+  for (std::int64_t k = 0; k < v.dims[2]; ++k)
+    for (std::int64_t j = 0; j < v.dims[1]; ++j) {
+      const unsigned char* src = src0 + j * v.byte_strides[1] + k * v.byte_strides[2];
+      unsigned char* dst = dst0 + E * (((offset[2] + k) * dims[1] + offset[1] + j) * dims[0] + offset[0]);
+      if (s0 == static_cast<std::int64_t>(E)) {
+        std::memcpy(dst, src, E * static_cast<std::size_t>(v.dims[0]));
+      } else {
+        for (std::int64_t i = 0; i < v.dims[0]; ++i) std::memcpy(dst + E * i, src + i * s0, E);
+      }
+    }
+}
+
+}  // namespace
+
+void copy_block(const FieldView& v, void* dst, const std::int64_t dims[3], const std::int64_t offset[3]) {
+  auto* d = static_cast<unsigned char*>(dst);
+  switch (dtype_size(v.dtype)) {
+    case 1: copy_typed<1>(v, d, dims, offset); break;
+    case 2: copy_typed<2>(v, d, dims, offset); break;
+    case 4: copy_typed<4>(v, d, dims, offset); break;
+    default: copy_typed<8>(v, d, dims, offset); break;
+  }
+}
+
+void combine_parts(FieldSummary::Parts& a, const FieldSummary::Parts& b) {
+  for (std::size_t n = 0; n < a.lo.size(); ++n) {
+    a.lo[n] = std::min(a.lo[n], b.lo[n]);
+    a.hi[n] = std::max(a.hi[n], b.hi[n]);
+    a.flags[n] |= b.flags[n];
+  }
+  a.nan += b.nan;
+  a.elements += b.elements;
+  a.vmin = std::min(a.vmin, b.vmin);
+  a.vmax = std::max(a.vmax, b.vmax);
+}
+
+FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3], int edge) {
+  // One set of global parts, each block merged in at the cost of its own vertices and cells
+  // (not a full-size partial per block: 10^4 small domains stay cheap)
+  FieldSummary::Parts parts = FieldSummary::partial(FieldView{}, global, global, edge);  // data null: empty parts
+  for (const FieldBlock& b : blocks) FieldSummary::accumulate(parts, b.view, b.offset, global, edge);
+  return parts;
+}
+
+std::optional<std::pair<double, double>> blocks_range(std::span<const FieldBlock> blocks) {
+  std::optional<std::pair<double, double>> r;
+  for (const FieldBlock& b : blocks)
+    if (const auto br = field_range(b.view)) {
+      if (!r) r = br;
+      else r = std::pair{std::min(r->first, br->first), std::max(r->second, br->second)};
+    }
+  return r;
+}
+
+namespace {
+
+std::string box_text(const std::int64_t offset[3], const std::int64_t dims[3]) {
+  return std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]) + " at offset (" +
+         std::to_string(offset[0]) + ", " + std::to_string(offset[1]) + ", " + std::to_string(offset[2]) + ")";
+}
+
+/// The blocks tile the grid (block_layout.h), or for tessera_execute's one block, cover it.
+/// True: one block covering the grid (read in place).
+bool check_one_rank(std::span<const FieldBlock> blocks, const std::int64_t global[3]) {
+  for (const FieldBlock& b : blocks) b.view.validate(b.domain >= 0 ? "domain " + std::to_string(b.domain) : "field");
+  if (blocks.size() == 1 && blocks[0].domain < 0) {
+    for (int a = 0; a < 3; ++a)
+      if (blocks[0].offset[a] != 0 || blocks[0].view.dims[a] != global[a])
+        throw LayoutError("one rank must hold the whole grid: its real vertices " +
+                          box_text(blocks[0].offset, blocks[0].view.dims) + " do not cover global_dims " +
+                          std::to_string(global[0]) + "x" + std::to_string(global[1]) + "x" +
+                          std::to_string(global[2]));
+    return true;
+  }
+  std::vector<BlockRecord> records(blocks.size());
+  for (std::size_t n = 0; n < blocks.size(); ++n) {
+    for (int a = 0; a < 3; ++a) {
+      records[n].offset[a] = blocks[n].offset[a];
+      records[n].dims[a] = blocks[n].view.dims[a];
+    }
+    records[n].rank = 0;
+    records[n].domain = blocks[n].domain;
+  }
+  check_tiling(records, global, "elements");
+  return blocks.size() == 1;
+}
+
+}  // namespace
+
+FieldView assemble_one_rank(std::span<const FieldBlock> blocks, const std::int64_t global[3], DType dtype,
+                            std::vector<unsigned char>& replica) {
+  if (check_one_rank(blocks, global)) return blocks[0].view;  // zero copy
+  const std::size_t bytes = static_cast<std::size_t>(global[0] * global[1] * global[2]) * dtype_size(dtype);
+  if (replica.size() != bytes) {
+    replica.clear();
+    replica.shrink_to_fit();
+    replica.resize(bytes);
+  }
+  for (const FieldBlock& b : blocks) copy_block(b.view, replica.data(), global, b.offset);
+  return FieldView::contiguous(replica.data(), dtype, global[0], global[1], global[2]);
+}
+
+std::shared_ptr<const FieldSummary> summarize_one_rank(std::span<const FieldBlock> blocks, const std::int64_t global[3],
+                                                       DType dtype, int edge) {
+  if (check_one_rank(blocks, global) && blocks[0].domain < 0) return FieldSummary::build(blocks[0].view, edge);
+  FieldView primary;
+  primary.dtype = dtype;
+  if (!blocks.empty()) primary = blocks[0].view;
+  return FieldSummary::from_parts(partial_of_blocks(blocks, global, edge), FieldLayout::of(primary), edge);
+}
+
+}  // namespace tessera::insitu

@@ -1,0 +1,77 @@
+// The bind phase of a render (bind_phase.h).
+#include "pass/bind_phase.h"
+
+#include "data/domain_binding.h"
+
+#include <limits>
+#include <span>
+#include <stdexcept>
+
+namespace tessera::insitu {
+namespace {
+
+/// tessera_execute: the grid and its field list.
+void bind_grid(const PassContext& pass, BoundField& f) {
+  const Publication& pub = pass.call.pub;
+  if (pub.nfields < 0 || (pub.nfields > 0 && !pub.fields))
+    throw std::invalid_argument("field list is invalid (fields = " + std::string(pub.fields ? "non-null" : "NULL") +
+                                ", nfields = " + std::to_string(pub.nfields) + ")");
+  if (!pub.grid) throw std::invalid_argument("grid descriptor is NULL");
+  const std::span<const tessera_field> fields(pub.fields, static_cast<std::size_t>(pub.nfields));
+  const tessera_field& field = fields[find_field(fields, pass.spec.field, pass.spec.name)];
+  f.binding = bind_field(field, *pub.grid);
+  if (pass.ctx.size() == 1) require_whole_grid(field, f.binding);
+  f.name = field.name;
+}
+
+/// tessera_execute_domains: this rank's domains (domain_binding.h), then the ranks agree on
+/// the field's dtype (a rank without domains learns it; ranks whose dtypes differ, or no
+/// domain anywhere, fail alike on every rank with TESSERA_ERROR_DATA).
+bool bind_all_domains(PhaseGate& gate, const PassContext& pass, BoundField& f) {
+  const Publication& pub = pass.call.pub;
+  if (!gate.run(TESSERA_ERROR_DATA, [&] {
+        f.binding = bind_domains(pub.mesh, pub.domains, pub.ndomains, pass.spec.field, pass.spec.name);
+        f.name = pass.spec.field;
+        if (!f.binding.blocks.empty()) {
+          const std::span<const tessera_field> fields(pub.domains[0].fields,
+                                                      static_cast<std::size_t>(pub.domains[0].nfields));
+          f.name = fields[find_field(fields, pass.spec.field, pass.spec.name)].name;
+        }
+      }))
+    return false;
+  return gate.run(TESSERA_ERROR_DATA, [&] {
+    constexpr int kNone = std::numeric_limits<int>::max();
+    const bool has = !f.binding.blocks.empty();
+    const int mine = has ? static_cast<int>(f.binding.local.dtype) : kNone;
+    const int lo = pass.ctx.min(mine);
+    const int hi = -pass.ctx.min(has ? -mine : kNone);  // the largest over the ranks with domains
+    if (lo == kNone)
+      throw LayoutError("no rank passed a domain (ndomains = 0 everywhere): the domains must cover the mesh");
+    if (lo != hi)
+      throw LayoutError("ranks publish field '" + f.name + "' with different dtypes (" +
+                        dtype_name(static_cast<DType>(lo)) + " and " + dtype_name(static_cast<DType>(hi)) + ")");
+    f.binding.local.dtype = static_cast<DType>(lo);
+  });
+}
+
+}  // namespace
+
+std::optional<BoundField> bind_phase(PhaseGate& gate, const PassContext& pass) {
+  BoundField f;
+  const Publication& pub = pass.call.pub;
+  if (pub.refusal) {
+    gate.run(TESSERA_ERROR_DATA, [&] { throw std::invalid_argument(pub.refusal); });
+    return std::nullopt;
+  }
+  if (pub.domains_call ? !bind_all_domains(gate, pass, f) : !gate.run(TESSERA_ERROR_DATA, [&] { bind_grid(pass, f); }))
+    return std::nullopt;
+  // Refinement levels: every rank's boxes checked as one hierarchy, on every rank alike
+  if (f.binding.nlevels > 1 && !gate.run(TESSERA_ERROR_DATA, [&] {
+        f.amr = pass.ctx.amr_layout(f.binding.blocks, amr_meta(f.binding, f.binding.local.dtype),
+                                    f.binding.geometry.association);
+      }))
+    return std::nullopt;
+  return f;
+}
+
+}  // namespace tessera::insitu

@@ -1,0 +1,68 @@
+// The range phase of a render (range_phase.h).
+#include "pass/range_phase.h"
+
+#include "data/block_ops.h"
+
+#include <tessera/field_summary.h>
+
+#include <limits>
+#include <memory>
+
+namespace tessera::insitu {
+namespace {
+
+/// Global finite min/max of a field: this rank's finite values (all its blocks), then
+/// ParallelContext::range. A rank without finite values contributes nothing; with none
+/// anywhere, lo > hi.
+std::pair<double, double> global_range(ParallelContext& ctx, std::span<const FieldBlock> blocks) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const auto [lo, hi] = blocks_range(blocks).value_or(std::pair{kInf, -kInf});
+  return ctx.range(lo, hi);
+}
+
+std::pair<double, double> cached_range(const PassContext& pass, const BoundField& field, RenderResult& result) {
+  for (const auto& [key, range] : pass.call.ranges)
+    if (key == pass.spec.field) return range;
+  // From a summary of the global field: one kept from the last call (agreed by all ranks,
+  // so all skip the reduction alike), or on one rank, where the global field is this
+  // rank's view, the one this call made or makes now for prepare; else a pass here
+  SummaryCache::Entry& entry = pass.summaries.entry(field.name);
+  // (One rank with several domains, or levels: no summary of the whole field before the
+  // replica; whole() is false with levels)
+  const FieldBinding& b = field.binding;
+  const bool whole = pass.ctx.size() == 1 && b.whole();
+  std::shared_ptr<const FieldSummary> s = entry.kept || whole ? entry.find(0) : nullptr;
+  if (!s && whole) {
+    s = FieldSummary::build(b.local, majorant_edge(b.local, pass.spec.integrator.desc));
+    ++result.field_passes;
+    entry.keep(s);
+  }
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const auto range = !s                ? global_range(pass.ctx, b.blocks)
+                     : s->has_finite() ? std::pair{s->value_min(), s->value_max()}
+                                       : std::pair{kInf, -kInf};
+  pass.call.ranges.emplace_back(pass.spec.field, range);
+  return range;
+}
+
+}  // namespace
+
+void agree_on_kept_summaries(const PassContext& pass, const BoundField& field) {
+  SummaryCache::Entry& entry = pass.summaries.entry(field.name);
+  if (entry.decided) return;
+  const SummaryKey key = SummaryKey::of(field.binding);
+  const bool keep = pass.ctx.agree(entry.carried && !entry.summaries.empty() && entry.key == key);
+  if (!keep) entry.summaries.clear();
+  entry.kept = keep;
+  entry.key = key;
+  entry.decided = true;
+}
+
+std::optional<std::pair<double, double>> range_phase(PhaseGate& gate, const PassContext& pass, const BoundField& field,
+                                                     RenderResult& result) {
+  std::pair<double, double> range{0.0, 0.0};
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] { range = cached_range(pass, field, result); })) return std::nullopt;
+  return range;
+}
+
+}  // namespace tessera::insitu
