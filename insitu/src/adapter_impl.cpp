@@ -1,7 +1,7 @@
 #include "adapter_impl.h"
 
-#include "outputs/outputs.h"
 #include "agreement/rank_agreement.h"
+#include "outputs/outputs.h"
 
 #include <tessera/denoiser.h>
 #include <tessera/message_text.h>

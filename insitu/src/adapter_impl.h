@@ -3,11 +3,11 @@
 /// class (adapter.cpp, which adds the `on_error: abort` rethrow) and the C API (c_api.cpp).
 /// No member throws.
 #include "agreement/call_gate.h"
+#include "budget/render_budget.h"
+#include "data/summary_cache.h"
 #include "outputs/error_policy.h"
 #include "parallel/parallel_context.h"
-#include "budget/render_budget.h"
 #include "pass/render_pass.h"
-#include "data/summary_cache.h"
 
 #include <tessera/adapter.h>
 #include <tessera/config/config.h>

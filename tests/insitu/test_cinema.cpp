@@ -1,7 +1,7 @@
 // Cinema image databases: an orbit of azimuth x elevation cameras per timestep, data.csv
 // (Cinema Spec D) with time,phi,theta,FILE, rows appended per timestep and across runs.
-#include "outputs/cinema.h"
 #include "insitu_test_support.h"
+#include "outputs/cinema.h"
 
 #include <tessera/adapter.h>
 #include <tessera/image_io.h>

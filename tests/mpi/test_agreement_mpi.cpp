@@ -5,9 +5,9 @@
 // rank. Run at -n 2 and -n 3; the last rank is the odd one out. Each test arms an alarm, so a
 // regression that hangs kills the job (and fails the CTest entry) instead of waiting for the
 // CTest timeout.
+#include "agreement/rank_agreement.h"
 #include "mpi_test_support.h"
 #include "published_block.h"
-#include "agreement/rank_agreement.h"
 
 #include <tessera/tessera.h>
 

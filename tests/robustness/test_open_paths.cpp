@@ -8,9 +8,9 @@
 // loads nothing. An existing Cinema data.csv that is a FIFO is refused without blocking, and
 // the temporary files of atomic writes are made new (atomic_output.h): a FIFO or a link planted
 // under the name is passed over, never opened.
-#include "outputs/cinema.h"
 #include "cli_run.h"
 #include "denoise_scene.h"
+#include "outputs/cinema.h"
 #include "scoped_env.h"
 
 #include <tessera/denoiser.h>

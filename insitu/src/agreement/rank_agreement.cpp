@@ -2,8 +2,8 @@
 
 #include "agreement/publication_agreement.h"
 
-#include "outputs/error_policy.h"
 #include "data/hash64.h"
+#include "outputs/error_policy.h"
 
 #include <tessera/message_text.h>
 #include <tessera/number_text.h>
