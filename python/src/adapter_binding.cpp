@@ -1,22 +1,26 @@
 // tessera._tessera.Adapter: tessera.Adapter's C++ half over tessera::insitu::Adapter (the C
 // API's own implementation). Open, execute and close run with the GIL released; the fields
-// arrive as descriptors of the caller's arrays (tessera/_arrays.py), read in place. A close()
-// from another Python thread waits for a running execute (the Adapter's gate) and for the
-// accessors (m_state), so nothing is read after it was freed.
+// arrive as descriptors of the caller's arrays (tessera/_arrays.py), read in place. Each
+// execute returns its own outcome (status, message, results), read while it still holds the
+// adapter (m_call): another thread's call is refused meanwhile, never handed this one's
+// results, and a close() from another thread waits, so nothing is read after it was freed.
 #include "binding_support.h"
 
 #include <tessera/adapter.h>
 
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <mutex>
 #include <new>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -28,6 +32,8 @@ using Int3 = std::array<std::int64_t, 3>;
 using Double3 = std::array<double, 3>;
 /// name, data address, dtype code, dims, byte strides, ghosts low, ghosts high
 using FieldTuple = std::tuple<std::string, std::uintptr_t, int, Int3, Int3, Int3, Int3>;
+/// A rectilinear axis' coordinates, read in place (tessera/_arrays.py coordinate_array)
+using CoordArray = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 
 /// The C descriptors of the fields (names point into `fields`).
 std::vector<tessera_field> descriptors(const std::vector<FieldTuple>& fields) {
@@ -49,14 +55,21 @@ std::vector<tessera_field> descriptors(const std::vector<FieldTuple>& fields) {
   return descs;
 }
 
+/// The refused call's message, in the C++ Adapter's words (agreement/call_gate.cpp).
+std::string refusal(const char* function, bool closing) {
+  return std::string(function) + ": refused: " +
+         (closing ? "adapter is being closed by another thread (this call did nothing)"
+                  : "another thread is inside a call on this adapter (calls on one adapter must not overlap; this "
+                    "call did nothing)");
+}
+
 class PyAdapter {
  public:
-  /// Validates the config here first (a ConfigError with its key path), then opens.
+  /// Opens (collective); the package has loaded the config and the ranks have agreed first.
   PyAdapter(const std::string& source, bool is_text, const std::string& name, int comm_f, const std::string& output_dir,
             bool quiet) {
     if (!is_text) require_no_nul(source, "config");
     require_no_nul(output_dir, "output_dir");
-    load_config_source(source, is_text, name);
     insitu::OpenOptions options;
     options.output_dir = output_dir;
     if (is_text) options.yaml_text = source;
@@ -69,9 +82,18 @@ class PyAdapter {
     if (s != TESSERA_OK) throw error_for_status(s, m_adapter.last_error());
   }
 
-  /// Returns the status; with `on_error: abort` a failure raises instead.
-  int execute(std::int64_t step, double time, Double3 origin, Double3 spacing, Int3 global_dims, Int3 offset,
-              const std::vector<FieldTuple>& fields, bool final_step) {
+  /// Whether execute at `step` would evaluate any render (Adapter::fires); true while another
+  /// thread is inside a call (that call's refusal then tells).
+  bool fires(std::int64_t step, bool final_step) {
+    std::unique_lock<std::mutex> call(m_call, std::try_to_lock);
+    return !call.owns_lock() || m_adapter.fires(step, final_step);
+  }
+
+  /// Returns (status, message, results) of this call; with `on_error: abort` a failure raises.
+  nb::tuple execute(std::int64_t step, double time, Double3 origin, Double3 spacing, Int3 global_dims, Int3 offset,
+                    const std::vector<FieldTuple>& fields, bool final_step) {
+    std::unique_lock<std::mutex> call(m_call, std::try_to_lock);
+    if (!call.owns_lock()) return refused(final_step ? "execute (final step)" : "execute");
     tessera_grid grid{};
     for (int a = 0; a < 3; ++a) {
       grid.origin[a] = origin[a];
@@ -80,24 +102,37 @@ class PyAdapter {
       grid.offset[a] = offset[a];
     }
     const std::vector<tessera_field> descs = descriptors(fields);
+    tessera_status s;
     try {
       nb::gil_scoped_release unlocked;
-      return m_adapter.execute(step, time, grid, descs, final_step);
+      s = m_adapter.execute(step, time, grid, descs, final_step);
     } catch (const insitu::AdapterError& e) {
       throw error_for_status(e.status(), e.what());
     }
+    return outcome(s);
   }
 
-  /// execute_domains: the mesh (association 0 vertex / 1 cell, origin, spacing, per axis the
-  /// address of a float64 coordinate array or 0 for a uniform axis, whose length the caller has
-  /// checked, global_dims, nlevels and the nlevels - 1 refinement ratios, whose count the
-  /// caller has checked) and the domains (level, offset, fields as in execute()).
-  int execute_domains(std::int64_t step, double time, int association, Double3 origin, Double3 spacing,
-                      std::array<std::uintptr_t, 3> coords, Int3 global_dims, int nlevels,
-                      const std::vector<int>& refinement,
-                      const std::vector<std::tuple<int, Int3, std::vector<FieldTuple>>>& domains, bool final_step) {
+  /// execute_domains: the mesh (association 0 vertex / 1 cell, origin, spacing, per axis None
+  /// for a uniform axis or the float64 coordinates, global_dims, nlevels and the nlevels - 1
+  /// refinement ratios) and the domains (level, offset, fields as in execute()). The lengths
+  /// the C side reads (coordinates, ratios) are checked here too: nothing past an array.
+  nb::tuple execute_domains(std::int64_t step, double time, int association, Double3 origin, Double3 spacing,
+                            const std::array<std::optional<CoordArray>, 3>& coords, Int3 global_dims, int nlevels,
+                            const std::vector<int>& refinement,
+                            const std::vector<std::tuple<int, Int3, std::vector<FieldTuple>>>& domains,
+                            bool final_step) {
     if (nlevels < 1 || refinement.size() != static_cast<std::size_t>(nlevels - 1))
       throw nb::value_error("refinement: nlevels - 1 ratios are needed");
+    if (association != 0 && association != 1) throw nb::value_error("association: 0 (vertex) or 1 (cell)");
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t n = global_dims[a];
+      if (coords[a] && (n < 0 || coords[a]->shape(0) != static_cast<std::uint64_t>(n) + (association == 1 ? 1 : 0)))
+        throw nb::value_error(("coords[" + std::to_string(a) + "]: " + std::to_string(coords[a]->shape(0)) +
+                               " values for global_dims[" + std::to_string(a) + "] = " + std::to_string(n))
+                                  .c_str());
+    }
+    std::unique_lock<std::mutex> call(m_call, std::try_to_lock);
+    if (!call.owns_lock()) return refused(final_step ? "execute_domains (final step)" : "execute_domains");
     tessera_mesh mesh{};
     mesh.association = static_cast<tessera_association>(association);
     mesh.nlevels = nlevels;
@@ -105,7 +140,7 @@ class PyAdapter {
     for (int a = 0; a < 3; ++a) {
       mesh.origin[a] = origin[a];
       mesh.spacing[a] = spacing[a];
-      mesh.coords[a] = reinterpret_cast<const double*>(coords[a]);
+      mesh.coords[a] = coords[a] ? coords[a]->data() : nullptr;
       mesh.global_dims[a] = global_dims[a];
     }
     std::vector<std::vector<tessera_field>> fields(domains.size());
@@ -118,50 +153,67 @@ class PyAdapter {
       descs[d].fields = fields[d].data();
       descs[d].nfields = static_cast<int>(fields[d].size());
     }
+    tessera_status s;
     try {
       nb::gil_scoped_release unlocked;
-      return m_adapter.execute_domains(step, time, mesh, descs, final_step);
+      s = m_adapter.execute_domains(step, time, mesh, descs, final_step);
     } catch (const insitu::AdapterError& e) {
       throw error_for_status(e.status(), e.what());
     }
+    return outcome(s);
   }
 
   /// Waits (GIL released) for a call another Python thread is making on this adapter, then
-  /// closes; returns the status (with MPI, a rank that disagreed about the calls is reported).
-  int close() {
-    nb::gil_scoped_release unlocked;
-    std::lock_guard<std::mutex> lock(m_state);
-    return m_adapter.close();
+  /// closes; returns (status, message) (with MPI, a rank that disagreed about the calls is
+  /// reported). Calls arriving meanwhile are refused as "being closed".
+  nb::tuple close() {
+    m_closing = true;
+    int s;
+    std::string message;
+    {
+      nb::gil_scoped_release unlocked;
+      std::lock_guard<std::mutex> call(m_call);
+      s = m_adapter.close();
+      message = m_adapter.last_error();
+    }
+    return nb::make_tuple(s, text(message));
   }
 
-  std::string last_error() const {
-    auto lock = lock_state();
-    return m_adapter.last_error();
-  }
-  bool is_open() const {
-    auto lock = lock_state();
+  bool is_open() {
+    nb::gil_scoped_release unlocked;
+    std::lock_guard<std::mutex> call(m_call);
     return m_adapter.is_open();
   }
 
-  /// The renders of the last execute, one dict each; `image`: a float32 (H, W, 4) copy of the
-  /// image on rank 0 when the render succeeded, else None.
-  nb::list results() const {
-    auto lock = lock_state();
+ private:
+  /// A call refused because another thread's call (or close) holds m_call: nothing done, no
+  /// results (not the other call's).
+  nb::tuple refused(const char* function) const {
+    return nb::make_tuple(static_cast<int>(TESSERA_ERROR_CONFIG), text(refusal(function, m_closing)), nb::list());
+  }
+
+  /// (status, message, results) of the call that holds m_call, read before it lets go: the
+  /// renders of that call, one dict each; `image`: a float32 (H, W, 4) copy of the image on
+  /// rank 0 when the render succeeded, else None.
+  nb::tuple outcome(tessera_status status) const {
     nb::list out;
     for (const insitu::RenderResult& r : m_adapter.last_results()) {
       nb::dict d;
-      d["name"] = r.name;
+      d["name"] = text(r.name);
       d["step"] = r.step;
       d["time"] = r.time;
       d["status"] = static_cast<int>(r.status);
-      d["error"] = r.error;
-      d["files"] = nb::cast(r.files);
+      d["error"] = text(r.error);
+      nb::list files, warnings;
+      for (const std::string& f : r.files) files.append(text(f));
+      for (const std::string& w : r.warnings) warnings.append(text(w));
+      d["files"] = files;
       d["render_seconds"] = r.render_seconds;
       d["prepare_seconds"] = r.prepare_seconds;
       d["samples_per_second"] = r.samples_per_second;
       d["simulation_seconds"] = r.simulation_seconds;
       d["cost_ratio"] = r.cost_ratio;
-      d["warnings"] = nb::cast(r.warnings);
+      d["warnings"] = warnings;
       d["planned_spp"] = r.planned_spp;
       d["actual_spp"] = r.actual_spp;
       d["budget_skipped"] = r.budget_skipped;
@@ -178,19 +230,15 @@ class PyAdapter {
       }
       out.append(d);
     }
-    return out;
-  }
-
- private:
-  /// The state the last call left (results, message) against a close() on another thread:
-  /// taken with the GIL released, and never held while waiting for the GIL.
-  std::unique_lock<std::mutex> lock_state() const {
-    nb::gil_scoped_release unlocked;
-    return std::unique_lock<std::mutex>(m_state);
+    return nb::make_tuple(static_cast<int>(status), text(m_adapter.last_error()), out);
   }
 
   insitu::Adapter m_adapter;
-  mutable std::mutex m_state;  ///< held by close() and while the accessors read
+  /// Held by a call from its start until its outcome is read (so that a call's results are
+  /// its own), and by close() while it closes; a call that finds it held is refused, as the
+  /// Adapter refuses overlapping calls. Never held while waiting for the GIL by close.
+  std::mutex m_call;
+  std::atomic<bool> m_closing{false};  ///< close() has begun: refusals say so
 };
 
 }  // namespace
@@ -204,10 +252,9 @@ void register_adapter(nb::module_& m) {
       .def("execute_domains", &PyAdapter::execute_domains, nb::arg("step"), nb::arg("time"), nb::arg("association"),
            nb::arg("origin"), nb::arg("spacing"), nb::arg("coords"), nb::arg("global_dims"), nb::arg("nlevels"),
            nb::arg("refinement"), nb::arg("domains"), nb::arg("final_step"))
+      .def("fires", &PyAdapter::fires, nb::arg("step"), nb::arg("final_step"))
       .def("close", &PyAdapter::close)
-      .def("last_error", &PyAdapter::last_error)
-      .def("is_open", &PyAdapter::is_open)
-      .def("results", &PyAdapter::results);
+      .def("is_open", &PyAdapter::is_open);
 }
 
 }  // namespace tessera::python

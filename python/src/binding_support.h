@@ -44,7 +44,13 @@ config::Config load_config_source(const std::string& source, bool is_text, const
 /// this keeps the extension from ever passing a cut name or path on.
 void require_no_nul(const std::string& text, const char* what);
 
-/// Registers the translator and _set_error_types (called once by tessera/__init__.py).
+/// `s` as a Python str: UTF-8, any invalid byte shown as U+FFFD (a message quoting bytes of a
+/// file, say) rather than a UnicodeDecodeError in place of the message.
+nb::str text(const std::string& s);
+
+/// Registers the translator, _set_error_types (called once by tessera/__init__.py) and
+/// check_config (the config loaded as the adapter will load it: a ConfigError with its key
+/// path, before the ranks agree and open).
 void register_errors(nb::module_& m);
 
 void register_render(nb::module_& m);

@@ -47,6 +47,12 @@ config::Config load_config_source(const std::string& source, bool is_text, const
   }
 }
 
+nb::str text(const std::string& s) {
+  PyObject* str = PyUnicode_DecodeUTF8(s.data(), static_cast<Py_ssize_t>(s.size()), "replace");
+  if (!str) throw nb::python_error();  // out of memory
+  return nb::steal<nb::str>(str);
+}
+
 void require_no_nul(const std::string& text, const char* what) {
   const std::size_t at = text.find('\0');
   if (at != std::string::npos)
@@ -62,6 +68,14 @@ void register_errors(nb::module_& m) {
             g_error_types[i] = types[i].inc_ref().ptr();
           }
         });
+  m.def(
+      "check_config",
+      [](const std::string& source, bool is_text, const std::string& name) {
+        if (!is_text) require_no_nul(source, "config");
+        nb::gil_scoped_release unlocked;
+        load_config_source(source, is_text, name);
+      },
+      nb::arg("source"), nb::arg("is_text"), nb::arg("name"));
   nb::register_exception_translator([](const std::exception_ptr& p, void*) {
     try {
       std::rethrow_exception(p);
@@ -72,8 +86,9 @@ void register_errors(nb::module_& m) {
         return;
       }
       nb::handle type(type_ptr);
-      nb::object exc =
-          e.kind == ErrorKind::Config ? type(e.message, e.file, e.line, e.column, e.key_path) : type(e.message);
+      nb::object exc = e.kind == ErrorKind::Config
+                           ? type(text(e.message), text(e.file), e.line, e.column, text(e.key_path))
+                           : type(text(e.message));
       PyErr_SetObject(type_ptr, exc.ptr());
     }
   });

@@ -1,12 +1,65 @@
 """tessera.Adapter: the in situ adapter (C API, docs/c-api.md) for simulations in Python."""
+import sys
+import threading
 import warnings
 
 from . import _checks, _tessera
-from ._arrays import field_descriptor
+from ._arrays import coordinate_array, field_descriptor
 from ._config import config_source
-from ._errors import TesseraError, TesseraWarning
+from ._errors import (ConfigError, DataError, DisabledError, OutputError, RenderError, TesseraError,
+                      TesseraWarning)
 
 MAX_LEVELS = 8  # the most refinement levels a mesh may have
+# The classes a rank's refusal of the constructor is raised as on the other ranks, by name
+_REFUSALS = {c.__name__: c for c in (TypeError, ValueError, ConfigError, DataError, RenderError, OutputError,
+                                     DisabledError, TesseraError)}
+
+
+def _mpi_of(comm):
+    """mpi4py's MPI module for an mpi4py communicator, checked to be usable (TypeError for
+    anything else, RenderError once MPI is finalized: a call on it would abort the process)."""
+    mpi = sys.modules.get("mpi4py.MPI")
+    if mpi is None or not isinstance(comm, mpi.Comm):
+        raise TypeError(f"comm: an mpi4py communicator or None is needed, got {type(comm).__name__}")
+    if mpi.Is_finalized():
+        raise RenderError("comm: MPI is finalized (MPI.Finalize() has run): the communicator cannot be used any "
+                          "more; open, execute and close the adapter before MPI.Finalize()")
+    if not mpi.Is_initialized():
+        raise RenderError("comm: MPI is not initialized (mpi4py.rc.initialize = False?): call MPI.Init() first")
+    if comm == mpi.COMM_NULL:
+        raise ValueError("comm: MPI.COMM_NULL is not a communicator (a rank outside the group it was split from "
+                         "does not open the adapter)")
+    return mpi
+
+
+def _agree_on_opening(comm, error):
+    """Collective over ``comm``: every rank learns whether any rank refused its arguments or
+    its config, so that all raise, or none, before the collective open. Returns the exception
+    this rank raises: its own, else the first refusing rank's (same class, its rank named),
+    else None."""
+    mine = None
+    if error is not None:
+        mine = (type(error).__name__, str(error), getattr(error, "file", ""), getattr(error, "line", 0),
+                getattr(error, "column", 0), getattr(error, "key_path", ""))
+    every = comm.allgather(mine)
+    if error is not None:
+        return error
+    for rank, refusal in enumerate(every):
+        if refusal is not None:
+            name, message, file, line, column, key_path = refusal
+            cls = _REFUSALS.get(name, TesseraError)
+            text = f"rank {rank} of {len(every)} refused to open the adapter: {message}"
+            return cls(text, file, line, column, key_path) if cls is ConfigError else cls(text)
+    return None
+
+
+class _LastCall(threading.local):
+    """What the calling thread's last call on an adapter left (each thread sees its own)."""
+
+    def __init__(self):
+        self.status = 0
+        self.error = ""
+        self.results = []
 
 
 class Adapter:
@@ -16,24 +69,51 @@ class Adapter:
     config: a YAML file name or a dict of the same schema; checked at once (ConfigError with
         the key path).
     comm: an mpi4py communicator (every rank of it constructs, executes and closes together)
-        or None for one process.
+        or None for one process. Under MPI the ranks agree before opening: when one rank
+        refuses an argument or fails to load the config, every rank raises (the others the
+        same class, naming that rank); none is left waiting.
     output_dir: replaces the config's ``tessera.output_dir`` (None: the config's).
     quiet: no per-render log line on stderr (failures are still reported).
+
+    ``last_status``, ``last_error`` and ``results`` describe the calling thread's last call.
     """
 
     def __init__(self, config, comm=None, output_dir=None, quiet=False):
         self._impl = None
-        source, is_text, name = config_source(config)
-        if comm is not None and not callable(getattr(comm, "py2f", None)):
-            raise TypeError(f"comm: an mpi4py communicator or None is needed, got {type(comm).__name__}")
-        out = "" if output_dir is None else _checks.path(output_dir, "output_dir")
-        quiet = _checks.flag(quiet, "quiet")
+        self._last = _LastCall()
+        self._comm = self._mpi = None
+        mpi = None if comm is None else _mpi_of(comm)  # not agreed: without a communicator there is no one to ask
+        error = None
+        try:
+            source, is_text, name = config_source(config)
+            out = "" if output_dir is None else _checks.path(output_dir, "output_dir")
+            quiet = _checks.flag(quiet, "quiet")
+            _tessera.check_config(source, is_text, name)  # a ConfigError with its key path
+        except Exception as e:  # raised below on every rank, after the ranks agree
+            error = e
+        if mpi is not None:
+            error = _agree_on_opening(comm, error)
+        if error is not None:
+            raise error
         comm_f = -1 if comm is None else int(comm.py2f())
         self._comm = comm  # kept alive while the adapter uses its duplicate
+        self._mpi = mpi
         self._impl = _tessera.Adapter(source, is_text, name, comm_f, out, quiet)
-        self.last_status = 0
-        self.last_error = ""
-        self.results = []
+
+    @property
+    def last_status(self):
+        """0 or the tessera_status of the calling thread's last call (execute or close)."""
+        return self._last.status
+
+    @property
+    def last_error(self):
+        """The message of the calling thread's last call; "" after one that succeeded."""
+        return self._last.error
+
+    @property
+    def results(self):
+        """One dict per render that fired in the calling thread's last execute()."""
+        return self._last.results
 
     def execute(self, step, time, fields=None, *, spacing=1.0, origin=0.0, global_dims=None, offset=0,
                 ghosts=0, ghosts_hi=None, final=False, domains=None, association="vertex", coords=None,
@@ -73,11 +153,17 @@ class Adapter:
 
         Arguments are checked, never converted (docs/python.md, "Arguments"): step an integer,
         time a real number, ghosts / global_dims / offset integers, spacing / origin finite
-        numbers, field names str without NUL; TypeError or ValueError naming the argument.
+        numbers, field names non-empty str in UTF-8 without NUL; TypeError or ValueError naming
+        the argument. ``fields`` and ``domains`` are looked into only at a step where a render
+        fires (Adapter::fires): a call where nothing fires costs the same for any number of
+        domains, and checks only the few numbers around them.
         """
         impl = self._impl  # another thread's close() may clear self._impl meanwhile
         if impl is None:
             raise TesseraError("execute: the adapter is closed")
+        if self._mpi is not None and self._mpi.Is_finalized():  # any MPI call now aborts the process
+            raise RenderError("execute: MPI is finalized (MPI.Finalize() has run): the adapter's communicator "
+                              "cannot be used any more; close the adapter before MPI.Finalize()")
         try:
             step_i = _checks.integer(step, "step")
             time_f = _checks.real(time, "time")
@@ -85,47 +171,56 @@ class Adapter:
             if domains is not None:
                 if fields is not None:
                     raise TypeError("fields and domains: give one of them, not both")
-                call = self._domains_call(domains, spacing, origin, global_dims, association, coords, nlevels,
-                                          refinement)
-            elif nlevels != 1 or refinement is not None:
+                mesh = self._mesh(spacing, origin, global_dims, association, coords, nlevels, refinement)
+                if not isinstance(domains, (list, tuple)):
+                    raise TypeError(f"domains: a list of dicts is needed, got {type(domains).__name__}")
+            elif _checks.integer(nlevels, "nlevels", bits=32) != 1 or refinement is not None:
                 raise TypeError("nlevels and refinement: refinement levels need domains (each with its level)")
             elif not isinstance(fields, dict):
                 raise TypeError(f"fields: a dict {{name: array}} is needed, got {type(fields).__name__}")
-            if domains is None:
-                call = self._fields_call(fields, spacing, origin, global_dims, offset, ghosts, ghosts_hi)
+            else:
+                lo = _checks.integer_triple(ghosts, "ghosts")
+                hi = lo if ghosts_hi is None else _checks.integer_triple(ghosts_hi, "ghosts_hi")
+                grid = [_checks.real_triple(origin, "origin"), _checks.real_triple(spacing, "spacing"),
+                        None if global_dims is None else _checks.integer_triple(global_dims, "global_dims"),
+                        _checks.integer_triple(offset, "offset")]
+            # The arrays are looked at only when a render fires (or may: `when`), as in the C
+            # API: a call where nothing fires costs the same for one domain or a million
+            fires = impl.fires(step_i, final_b)
+            if domains is not None:
+                held, blocks = self._blocks(domains) if fires else ([], [])
+            else:
+                held, descs = self._descriptors(fields, lo, hi, "fields") if fires else ([], [])
+                if grid[2] is None:  # this rank's real vertices
+                    first = descs[0][3] if descs else (1, 1, 1)
+                    grid[2] = tuple(first[a] - lo[a] - hi[a] for a in range(3))
         except Exception:
             if self._comm is not None:
                 self._enter_without_fields(impl, step, time, final)
             raise
-        held, args = call
         if domains is None:
-            status = impl.execute(step_i, time_f, *args, final_b)
+            outcome = impl.execute(step_i, time_f, *grid, descs, final_b)
         else:
-            status = impl.execute_domains(step_i, time_f, *args, final_b)
+            outcome = impl.execute_domains(step_i, time_f, *mesh, blocks, final_b)
         del held  # the arrays were read in place during the call
-        return self._outcome(impl, status, step)
+        return self._outcome(outcome, step)
 
     @staticmethod
-    def _fields_call(fields, spacing, origin, global_dims, offset, ghosts, ghosts_hi):
-        """(arrays held, the binding's execute arguments but step, time, final)."""
-        lo = _checks.integer_triple(ghosts, "ghosts")
-        hi = lo if ghosts_hi is None else _checks.integer_triple(ghosts_hi, "ghosts_hi")
+    def _descriptors(fields, lo, hi, what):
+        """(arrays held, the binding's field tuples) of a dict {name: array}."""
         held, descs = [], []
         for fname, array in fields.items():
-            fname = _checks.name(fname, "fields key")
-            a, address, code, dims, strides = field_descriptor(array, f"fields['{fname}']")
+            fname = _checks.name(fname, f"{what} key")
+            a, address, code, dims, strides = field_descriptor(array, f"{what}[{fname!r}]")
             held.append(a)
             descs.append((fname, address, code, dims, strides, lo, hi))
-        if global_dims is None:
-            first = descs[0][3] if descs else (1, 1, 1)
-            global_dims = tuple(first[a] - lo[a] - hi[a] for a in range(3))
-        grid = (_checks.real_triple(origin, "origin"), _checks.real_triple(spacing, "spacing"),
-                _checks.integer_triple(global_dims, "global_dims"), _checks.integer_triple(offset, "offset"))
-        return held, (*grid, descs)
+        return held, descs
 
     @staticmethod
-    def _domains_call(domains, spacing, origin, global_dims, association, coords, nlevels, refinement):
-        """(arrays held, the binding's execute_domains arguments but step, time, final)."""
+    def _mesh(spacing, origin, global_dims, association, coords, nlevels, refinement):
+        """The binding's execute_domains arguments between time and the domains: everything
+        but the domains, checked (a few numbers and the coordinate arrays, whatever the number
+        of domains)."""
         levels = _checks.integer(nlevels, "nlevels", bits=32)
         if not 1 <= levels <= MAX_LEVELS:
             raise ValueError(f"nlevels: 1 .. {MAX_LEVELS} levels are allowed, got {levels}")
@@ -142,62 +237,59 @@ class Adapter:
                 raise ValueError(f"refinement: nlevels - 1 = {levels - 1} ratio(s) are needed, got "
                                  f"{len(refinement)}")
             ratios = [_checks.integer(r, f"refinement[{n}]", bits=32) for n, r in enumerate(refinement)]
-        if association not in ("vertex", "cell"):
-            raise ValueError(f"association: 'vertex' or 'cell' is needed, got {association!r}")
+        if not isinstance(association, str) or association not in ("vertex", "cell"):
+            raise ValueError(f"association: 'vertex' or 'cell' is needed, got {_checks._shown(association)}")
         if global_dims is None:
             raise TypeError("global_dims: required with domains (the whole mesh's elements)")
         dims = _checks.integer_triple(global_dims, "global_dims")
-        if not isinstance(domains, (list, tuple)):
-            raise TypeError(f"domains: a list of dicts is needed, got {type(domains).__name__}")
-        held, addresses = [], [0, 0, 0]
+        axes = [None, None, None]
         if coords is not None:
             if not isinstance(coords, (list, tuple)) or len(coords) != 3:
-                raise TypeError("coords: None or three entries (None or a 1-D float64 array each) are needed")
+                got = f"{len(coords)} entries" if isinstance(coords, (list, tuple)) else _checks._shown(coords)
+                raise TypeError(f"coords: None or a list of three entries (None or a 1-D float64 array each) is "
+                                f"needed, got {got}")
+            extra = 1 if association == "cell" else 0
             for a, c in enumerate(coords):
-                if c is None:
-                    continue
-                n = dims[a] + (1 if association == "cell" else 0)
-                ok = (getattr(c, "dtype", None) is not None and str(c.dtype) == "float64" and c.ndim == 1
-                      and c.flags["C_CONTIGUOUS"] and c.shape[0] == n)
-                if not ok:
-                    raise ValueError(f"coords[{a}]: a 1-D contiguous float64 array of {n} values is needed "
-                                     f"(global_dims[{a}] = {dims[a]}, {association} data)")
-                held.append(c)
-                addresses[a] = int(c.ctypes.data)
+                if c is not None:
+                    axes[a] = coordinate_array(c, f"coords[{a}]", dims[a] + extra,
+                                               f"global_dims[{a}] = {dims[a]}" + (" + 1, cell data" if extra else
+                                                                                  ", vertex data"))
+        return (0 if association == "vertex" else 1, _checks.real_triple(origin, "origin"),
+                _checks.real_triple(spacing, "spacing"), axes, dims, levels, ratios)
+
+    @classmethod
+    def _blocks(cls, domains):
+        """(arrays held, the binding's domain tuples (level, offset, fields))."""
         known = {"fields", "offset", "ghosts", "ghosts_hi", "level"}
-        blocks = []
+        held, blocks = [], []
         for d, dom in enumerate(domains):
             if not isinstance(dom, dict):
                 raise TypeError(f"domains[{d}]: a dict is needed, got {type(dom).__name__}")
-            unknown = sorted(set(dom) - known)
+            unknown = [k for k in dom if k not in known]
             if unknown:
-                raise ValueError(f"domains[{d}]: unknown keys {unknown} (known: {sorted(known)})")
+                raise ValueError(f"domains[{d}]: unknown keys {', '.join(map(repr, unknown))} (known: "
+                                 f"{', '.join(sorted(known))})")
             fields = dom.get("fields")
             if not isinstance(fields, dict):
                 raise TypeError(f"domains[{d}]['fields']: a dict {{name: array}} is needed")
             lo = _checks.integer_triple(dom.get("ghosts", 0), f"domains[{d}]['ghosts']")
             hi = lo if dom.get("ghosts_hi") is None else _checks.integer_triple(dom["ghosts_hi"], f"domains[{d}]['ghosts_hi']")
-            descs = []
-            for fname, array in fields.items():
-                fname = _checks.name(fname, f"domains[{d}]['fields'] key")
-                a, address, code, fdims, strides = field_descriptor(array, f"domains[{d}]['fields']['{fname}']")
-                held.append(a)
-                descs.append((fname, address, code, fdims, strides, lo, hi))
+            a, descs = cls._descriptors(fields, lo, hi, f"domains[{d}]['fields']")
+            held += a
             level = _checks.integer(dom.get("level", 0), f"domains[{d}]['level']", bits=32)
             blocks.append((level, _checks.integer_triple(dom.get("offset", 0), f"domains[{d}]['offset']"), descs))
-        args = (0 if association == "vertex" else 1, _checks.real_triple(origin, "origin"),
-                _checks.real_triple(spacing, "spacing"), tuple(addresses), dims, levels, ratios, blocks)
-        return held, args
+        return held, blocks
 
-    def _outcome(self, impl, status, step):
-        """Records the call's status, warns, and returns rank 0's images."""
-        self.last_status = status
-        self.last_error = impl.last_error()
-        self.results = impl.results()
+    def _outcome(self, outcome, step):
+        """Records the call's own outcome (status, message, results: what this call left, not
+        another thread's) for the calling thread, warns, and returns rank 0's images."""
+        status, error, results = outcome
+        last = self._last
+        last.status, last.error, last.results = status, error, results
         if status != 0:
-            warnings.warn(f"tessera: step {step}: {self.last_error}", TesseraWarning, stacklevel=3)
+            warnings.warn(f"tessera: step {step}: {error}", TesseraWarning, stacklevel=3)
         images = {}
-        for r in self.results:
+        for r in results:
             for w in r["warnings"]:
                 warnings.warn(f"render '{r['name']}' at step {step}: {w}", TesseraWarning, stacklevel=3)
             if r["image"] is not None:
@@ -224,11 +316,10 @@ class Adapter:
         reported here as a TesseraWarning; everything is released all the same."""
         impl, self._impl = self._impl, None
         if impl is not None:
-            status = impl.close()
+            status, error = impl.close()
             if status != 0:
-                self.last_status = status
-                self.last_error = impl.last_error()
-                warnings.warn(f"tessera: close: {self.last_error}", TesseraWarning, stacklevel=2)
+                self._last.status, self._last.error = status, error
+                warnings.warn(f"tessera: close: {error}", TesseraWarning, stacklevel=2)
 
     def __enter__(self):
         return self

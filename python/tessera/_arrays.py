@@ -18,14 +18,17 @@ def field_descriptor(array, what="volume"):
     array goes through np.asarray first (a list is copied; an ndarray never is). A masked
     array is refused: the values under its mask would be rendered.
     """
-    if isinstance(array, np.ma.MaskedArray):
+    if type(array) is np.ndarray:
+        a = array  # the common case (a million domains' arrays): no conversion to try
+    elif isinstance(array, np.ma.MaskedArray):
         raise TypeError(f"{what}: a numpy masked array is not accepted (the values under its mask "
                         f"would be rendered); pass a.filled(value), or a.data to render them all")
-    try:
-        a = np.asarray(array)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{what}: a 3D array is needed, got {type(array).__name__}, which numpy "
-                        f"cannot turn into one ({e})") from None
+    else:
+        try:
+            a = np.asarray(array)
+        except (TypeError, ValueError) as e:
+            raise TypeError(f"{what}: a 3D array is needed, got {type(array).__name__}, which numpy "
+                            f"cannot turn into one ({e})") from None
     if a.ndim != 3:
         raise ValueError(f"{what}: a 3D array is needed (volume[i, j, k] is vertex (i, j, k)), "
                          f"got {a.ndim} dimension(s) of shape {a.shape}")
@@ -39,5 +42,33 @@ def field_descriptor(array, what="volume"):
     if a.size == 0:
         raise ValueError(f"{what}: empty array of shape {a.shape}")
     address = a.__array_interface__["data"][0]
-    return a, address, code, tuple(int(n) for n in a.shape), tuple(int(s) for s in a.strides)
+    return a, address, code, a.shape, a.strides  # tuples of Python ints
 
+
+
+def coordinate_array(value, what, n, why):
+    """A rectilinear axis' coordinates, read in place: a 1-D, C-contiguous, aligned float64
+    numpy array (native byte order) of exactly ``n`` values; ``why`` says where ``n`` comes
+    from. Anything else is refused with what it is (never copied or converted: a masked array
+    would hand over the values under its mask)."""
+    if isinstance(value, np.ma.MaskedArray):
+        raise TypeError(f"{what}: a numpy masked array is not accepted (the coordinates under its mask "
+                        f"would be used); pass c.filled(value), or c.data to use them all")
+    if not isinstance(value, np.ndarray):
+        raise TypeError(f"{what}: a 1-D float64 numpy array of {n} values is needed ({why}), got "
+                        f"{type(value).__name__} (np.asarray(c, dtype=np.float64) makes one)")
+    problems = []
+    if value.dtype != np.dtype(np.float64):
+        problems.append(f"dtype {value.dtype.name if value.dtype.isnative else value.dtype.str}")
+    if value.ndim != 1:
+        problems.append(f"{value.ndim} dimension(s) of shape {value.shape}")
+    elif value.shape[0] != n:
+        problems.append(f"{value.shape[0]} values")
+    if not value.flags["C_CONTIGUOUS"]:
+        problems.append("a strided view (np.ascontiguousarray(c) copies it)")
+    elif not value.flags["ALIGNED"]:
+        problems.append("unaligned memory")
+    if problems:
+        raise ValueError(f"{what}: a 1-D contiguous float64 array of {n} values is needed ({why}), got "
+                         f"{', '.join(problems)}")
+    return value

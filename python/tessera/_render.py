@@ -30,7 +30,8 @@ def render(volume, config, render=None, spacing=None, origin=None, step=0):
 
     Every argument is checked, never converted: TypeError or ValueError naming the argument
     for a step that is not an integer, a spacing that is not numbers, a NUL in a name or path,
-    a masked array (docs/python.md, "Arguments").
+    a name or path that is not UTF-8, an empty render name, a masked array (docs/python.md,
+    "Arguments").
 
     Raises ConfigError (a ValueError, with the key path), TypeError (dtype), DataError,
     RenderError. Warnings about the image (e.g. a transfer-function range that misses the data)

@@ -47,6 +47,56 @@ if len(sys.argv) > 3 and sys.argv[3] == "bad-array-on-last-rank":
         np.save(sys.argv[1], np.zeros(1))
     sys.exit(0)
 
+if len(sys.argv) > 3 and sys.argv[3] == "refused-open":
+    # The last rank refuses what it is given (a config, a path, an argument) while the others
+    # accept theirs: every rank raises from the constructor (the others the same class, naming
+    # the rank), none waits forever in the collective open; an adapter opens normally after.
+    import os
+    last = comm.rank == comm.size - 1
+    good = dict(CONFIG, tessera=dict(CONFIG["tessera"], output_dir=sys.argv[2]))
+    cases = [  # (what every rank raises, key path of the ConfigError, config, keyword arguments)
+        (tessera.ConfigError, "tessera.colour", dict(good, tessera=dict(good["tessera"], colour="red")) if last else good,
+         {}),
+        (tessera.ConfigError, "", os.path.join(sys.argv[2], "missing.yaml") if last else good, {}),
+        (TypeError, None, good, {"quiet": "no" if last else True}),
+        (ValueError, None, good, {"output_dir": sys.argv[2] + ("\0" if last else "")}),
+        (ValueError, None, good, {"output_dir": sys.argv[2] + ("\udcff" if last else "")}),
+    ]
+    for kind, key_path, config, kw in cases:
+        try:
+            tessera.Adapter(config, comm, **kw)
+        except kind as e:
+            assert last or f"rank {comm.size - 1} of {comm.size} refused" in str(e), e
+            assert key_path is None or e.key_path == key_path, e.key_path  # the refusing rank's key path
+        else:
+            raise AssertionError(f"rank {comm.rank}: {kind.__name__} expected")
+    with tessera.Adapter(good, comm, quiet=True) as viz:
+        viz.execute(2, 0.0, {"temperature": block}, global_dims=data.shape, offset=(0, 0, lo), ghosts=1)
+        assert viz.last_status == 0, viz.last_error
+    if comm.rank == 0:
+        np.save(sys.argv[1], np.zeros(1))
+    sys.exit(0)
+
+if len(sys.argv) > 3 and sys.argv[3] == "finalized":
+    # MPI finalized: a communicator cannot be used any more; the adapter says so (RenderError)
+    # instead of a call into MPI aborting the process. An adapter opened before is closed.
+    viz = tessera.Adapter(CONFIG, comm, output_dir=sys.argv[2], quiet=True)
+    rank = comm.rank
+    MPI.Finalize()
+    for call in (lambda: tessera.Adapter(CONFIG, comm, output_dir=sys.argv[2]),
+                 lambda: viz.execute(2, 0.0, {"temperature": block}, global_dims=data.shape, offset=(0, 0, lo),
+                                     ghosts=1)):
+        try:
+            call()
+        except tessera.RenderError as e:
+            assert "MPI is finalized" in str(e), e
+        else:
+            raise AssertionError("RenderError expected")
+    viz.close()
+    if rank == 0:
+        np.save(sys.argv[1], np.zeros(1))
+    sys.exit(0)
+
 if len(sys.argv) > 3 and sys.argv[3] == "domains":
     mine = []
     for n, ((i, j, k), (a, b, c)) in enumerate(DOMAIN_CUTS):

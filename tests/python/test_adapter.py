@@ -141,6 +141,23 @@ def test_mpi4py_an_array_one_rank_cannot_describe_fails_everywhere_without_a_han
     run_mpi(2, tmp_path, "bad-array-on-last-rank")  # the script asserts; timeout = hang
 
 
+def test_mpi4py_a_constructor_one_rank_refuses_fails_on_every_rank_without_a_hang(tmp_path):
+    """A config that fails to load, or an argument refused, on the last rank only: every rank
+    raises from the constructor (mpi_adapter_run.py "refused-open" asserts; timeout = hang)."""
+    pytest.importorskip("mpi4py")
+    if shutil.which("mpirun") is None:
+        pytest.skip("no mpirun")
+    run_mpi(2, tmp_path, "refused-open")
+    run_mpi(1, tmp_path, "refused-open")
+
+
+def test_mpi4py_a_communicator_after_mpi_finalize_raises_instead_of_aborting(tmp_path):
+    pytest.importorskip("mpi4py")
+    if shutil.which("mpirun") is None:
+        pytest.skip("no mpirun")
+    run_mpi(2, tmp_path, "finalized")
+
+
 def test_mpi4py_cell_domains_on_a_stretched_axis_two_ranks_bit_identical_to_one(tmp_path):
     """Cell data on a stretched y axis, cut into 5 uneven domains dealt over the ranks of an
     mpi4py communicator (mpi_adapter_run.py "domains"): 1 and 2 ranks, replicated and
@@ -200,3 +217,43 @@ def test_domains_bad_input_names_the_domain(tmp_path):
             viz.execute(0, 0.0, domains=[], global_dims=data.shape, coords=(None, np.zeros(3), None))
         with pytest.raises(TypeError, match="not both"):
             viz.execute(0, 0.0, {"temperature": data}, domains=[], global_dims=data.shape)
+
+
+class Watched(dict):
+    """A dict that counts how often the adapter looks inside it."""
+    looks = 0
+
+    def get(self, *args):
+        Watched.looks += 1
+        return super().get(*args)
+
+    def items(self):
+        Watched.looks += 1
+        return super().items()
+
+    def __iter__(self):
+        Watched.looks += 1
+        return super().__iter__()
+
+
+def test_a_call_where_nothing_fires_never_walks_the_domains(tmp_path):
+    """Cost proportional to what fires: at a step no trigger fires, execute looks at none of
+    the domains or fields (a million domains cost nothing then; docs/python.md), and at a step
+    one fires it reads them all."""
+    data = field().T
+    cuts = [((i, 0, 0), (1, 16, 12)) for i in range(20)]
+    domains = [Watched(fields=Watched(temperature=data[i:i + a]), offset=(i, j, k)) for (i, j, k), (a, _, _) in cuts]
+    fields = Watched(temperature=data)
+    Watched.looks = 0
+    with tessera.Adapter(CONFIG, output_dir=tmp_path, quiet=True) as viz:  # trigger: every 2
+        for step in (1, 3, 5):
+            assert viz.execute(step, 0.0, domains=domains, global_dims=data.shape, **GRID) == {}
+            assert viz.execute(step, 0.0, fields, **GRID) == {}
+            assert viz.last_status == 0
+        assert Watched.looks == 0
+        assert "main" in viz.execute(4, 0.0, domains=domains, global_dims=data.shape, **GRID)
+        assert viz.last_status == 0, viz.last_error
+        assert Watched.looks >= 2 * len(domains)
+        looks = Watched.looks
+        assert "main" in viz.execute(6, 0.0, fields, **GRID)
+        assert Watched.looks > looks

@@ -2,6 +2,7 @@
 step, float ghosts or dims, a str spacing, a NUL inside a name or path, a masked array are
 refused with a message naming the argument (docs/python.md, "Arguments")."""
 import pathlib
+import re
 
 import numpy as np
 import pytest
@@ -143,3 +144,135 @@ def test_execute_takes_numpy_scalars_and_arrays_of_the_right_kind(tmp_path, data
                           origin=np.array([-3, 0, 1]), global_dims=np.array([20, 16, 12]), offset=np.int32(0),
                           ghosts=np.zeros(3, dtype=np.int16), final=np.False_)["main"]
     assert same_bits(img, ref)
+
+
+# ---- messages that name the argument, the item and the fault (issue 40, item 8) ------------
+
+NOT_UTF8 = "is not valid UTF-8 text: '\\\\udcff' at position"
+
+
+def test_names_and_paths_that_are_not_utf8_name_the_argument_and_position(viz, data, tmp_path):
+    """A lone surrogate (Python's stand-in for a byte of a file name that is not UTF-8) has
+    no UTF-8 form: refused naming the argument and the position, not nanobind's
+    "incompatible function arguments"."""
+    bad = "temp\udcff"
+    with pytest.raises(ValueError, match=f"^fields key: 'temp\\\\udcff' {NOT_UTF8} 4"):
+        viz.execute(2, 1.0, {bad: data}, **GRID)
+    with pytest.raises(ValueError, match=rf"^domains\[0\]\['fields'\] key: .*{NOT_UTF8} 4"):
+        viz.execute(2, 1.0, domains=[{"fields": {bad: data}}], global_dims=data.shape, **GRID)
+    with pytest.raises(ValueError, match=f"^output_dir: .*{NOT_UTF8} 3"):
+        tessera.Adapter(CONFIG, output_dir="out\udcff")
+    with pytest.raises(ValueError, match=f"^config: .*{NOT_UTF8} 1"):
+        tessera.Adapter(pathlib.Path("v\udcff.yaml"))
+    with pytest.raises(ValueError, match=f"^render: .*{NOT_UTF8} 4"):
+        tessera.render(data, CONFIG, render="main\udcff")
+    with pytest.raises(tessera.ConfigError, match=rf"^config dict: renders\[0\]\.name: .*{NOT_UTF8} 1") as e:
+        tessera.render(data, {"renders": [dict(CONFIG["renders"][0], name="m\udcff")]})
+    assert e.value.key_path == "renders[0].name"
+
+
+def test_integers_beyond_float_range_name_the_argument(viz, data):
+    huge = 10 ** 400  # an int without a float value
+    with pytest.raises(ValueError, match=r"^time: int \(an integer of about 401 digits\) is beyond the range of a float"):
+        viz.execute(2, huge, {"temperature": data}, **GRID)
+    with pytest.raises(ValueError, match=r"^spacing\[1\]: int .* is beyond the range of a float"):
+        viz.execute(2, 1.0, {"temperature": data}, spacing=(1, huge, 1))
+    with pytest.raises(ValueError, match=r"^origin: int .* is beyond the range of a float"):
+        tessera.render(data, CONFIG, origin=-huge)
+    with pytest.raises(ValueError, match=r"^step: -\(an integer of about 5001 digits\) is outside the 64-bit range"):
+        viz.execute(-10 ** 5000, 1.0, {"temperature": data}, **GRID)  # too long for str(): still named
+    with pytest.raises(tessera.ConfigError, match=r"^config dict: renders\[0\]\.image\.width: int .* beyond the range"):
+        tessera.render(data, {"renders": [dict(CONFIG["renders"][0], image={"width": huge})]})
+    assert viz.results == []
+
+
+def test_an_empty_field_or_render_name_is_refused(viz, data):
+    """"" would publish a field no render can name (the render then blamed a missing field),
+    or select the first render silently."""
+    with pytest.raises(ValueError, match="^fields key: an empty name is not allowed"):
+        viz.execute(2, 1.0, {"": data}, **GRID)
+    with pytest.raises(ValueError, match=r"^domains\[0\]\['fields'\] key: an empty name is not allowed"):
+        viz.execute(2, 1.0, domains=[{"fields": {"": data}}], global_dims=data.shape, **GRID)
+    with pytest.raises(ValueError, match="^render: an empty name is not allowed"):
+        tessera.render(data, CONFIG, render="")
+    assert viz.results == []
+
+
+def endless(limit=1000):
+    """An iterator of ones that fails the test when read past ``limit`` items (an endless one
+    would take memory until it runs out)."""
+    for _ in range(limit):
+        yield 1
+    raise AssertionError(f"read more than {limit} items where 3 numbers are expected")
+
+
+@pytest.mark.parametrize("kw", ["spacing", "origin", "ghosts", "ghosts_hi", "global_dims", "offset"])
+def test_an_endless_iterator_for_three_numbers_is_refused_after_four(viz, data, kw):
+    with pytest.raises(ValueError, match=f"^{kw}: expected 3 values \\(x, y, z\\), got more than 3$"):
+        viz.execute(2, 1.0, {"temperature": data}, **{kw: endless()})
+    with pytest.raises(ValueError, match="^global_dims: expected 3 values"):
+        viz.execute(2, 1.0, domains=[], global_dims=endless())
+    with pytest.raises(ValueError, match="^spacing: expected 3 values"):
+        tessera.render(data, CONFIG, spacing=endless())
+
+
+def test_a_masked_coordinate_array_is_refused(viz, data):
+    """Its masked values would be used as coordinates (the mask is not seen through the array's memory)."""
+    y = np.ma.masked_array(np.linspace(0.0, 24.0, data.shape[1]), mask=np.arange(data.shape[1]) == 3)
+    with pytest.raises(TypeError, match=r"^coords\[1\]: a numpy masked array is not accepted"):
+        viz.execute(2, 1.0, domains=[{"fields": {"temperature": data}}], global_dims=data.shape,
+                    coords=(None, y, None), **GRID)
+    assert viz.results == []
+
+
+@pytest.mark.parametrize("axis, words", [
+    ([0.0, 1.0], r"got list \(np\.asarray\(c, dtype=np\.float64\) makes one\)"),
+    (np.arange(16, dtype=np.float32), "got dtype float32$"),
+    (np.arange(32.0)[::2], r"got a strided view \(np\.ascontiguousarray\(c\) copies it\)$"),
+    (np.zeros((4, 4)), r"got 2 dimension\(s\) of shape \(4, 4\)$"),
+    (np.arange(17.0), "got 17 values$"),
+])
+def test_a_refused_coordinate_array_says_what_was_given(viz, data, axis, words):
+    with pytest.raises((TypeError, ValueError),
+                       match=rf"^coords\[1\]: a 1-D (contiguous )?float64 (numpy )?array of 16 values is needed "
+                             rf"\(global_dims\[1\] = 16, vertex data\), {words}"):
+        viz.execute(2, 1.0, domains=[], global_dims=data.shape, coords=(None, axis, None), **GRID)
+    with pytest.raises(TypeError, match=r"^coords: None or a list of three entries .*, got 2 entries$"):
+        viz.execute(2, 1.0, domains=[], global_dims=data.shape, coords=(None, None), **GRID)
+
+
+def test_the_binding_checks_coordinate_lengths_itself(viz, data):
+    """Under the package's check, the extension never hands C an axis shorter than the mesh
+    claims (issue 40 item 1: nothing C could read past)."""
+    with pytest.raises(ValueError, match=r"coords\[1\]: 3 values for global_dims\[1\] = 16"):
+        viz._impl.execute_domains(2, 1.0, 0, (0.0,) * 3, (1.0,) * 3, [None, np.zeros(3), None], data.shape, 1, [],
+                                  [], False)
+    with pytest.raises(ValueError, match="refinement: nlevels - 1 ratios are needed"):
+        viz._impl.execute_domains(2, 1.0, 0, (0.0,) * 3, (1.0,) * 3, [None] * 3, data.shape, 3, [2], [], False)
+
+
+@pytest.mark.parametrize("value, where, words", [
+    (float("nan"), "renders[0].image.width", "nan is not allowed"),
+    (object(), "renders[0].image.width", "a value of type object is not allowed"),
+    ({(1, 2): 3}, "renders[0].image.width", r"key tuple \(1, 2\) is not a str"),
+    ({1: 3}, "renders[0].image.width", "key int 1 is not a str"),
+    ({"a\0b": 1}, "renders[0].image.width", "key: 'a\\\\x00b' contains a NUL character at position 1"),
+    (iter([1, 2]), "renders[0].image.width", "a value of type list_iterator is not allowed"),
+])
+def test_dict_config_errors_name_the_key_path(data, value, where, words):
+    cfg = {"renders": [dict(CONFIG["renders"][0], image={"width": value})]}
+    with pytest.raises(tessera.ConfigError, match=rf"^config dict: {re.escape(where)}:? .*{words}") as e:
+        tessera.render(data, cfg)
+    assert e.value.key_path == where and e.value.file == "config dict"
+
+
+def test_dict_config_that_contains_itself_or_nests_too_deep_is_refused(data):
+    loop = {"width": 8}
+    loop["again"] = loop
+    with pytest.raises(tessera.ConfigError, match=r"^config dict: renders\[0\]\.image\.again: contains itself"):
+        tessera.render(data, {"renders": [dict(CONFIG["renders"][0], image=loop)]})
+    deep = []
+    for _ in range(10000):
+        deep = [deep]
+    with pytest.raises(tessera.ConfigError, match=r"^config dict: renders(\[0\])+: nested more than 64 levels deep"):
+        tessera.render(data, {"renders": deep})

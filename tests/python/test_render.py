@@ -145,8 +145,9 @@ def test_dict_errors_name_the_key(scene):
     with pytest.raises(tessera.ConfigError, match=r"config dict: renders\[0\]\.image\.spp"):
         tessera.render(data.T, {"renders": [{"name": "a", "image": {"spp": -1}, "camera": {"position": [40, 30, 30]},
                                              "transfer_function": {"opacity": [[0, 0], [1, 1]]}}]})
-    with pytest.raises(TypeError, match="config dict: a value of type object"):
+    with pytest.raises(tessera.ConfigError, match=r"^config dict: renders\[0\]\.name: a value of type object") as e:
         tessera.render(data.T, {"renders": [{"name": object()}]})
+    assert e.value.key_path == "renders[0].name"
     with pytest.raises(TypeError, match="a YAML file name or a dict"):
         tessera.render(data.T, 42)
 
