@@ -89,12 +89,7 @@ tessera_status Adapter::close() noexcept {
 }
 
 bool Adapter::fires(std::int64_t step, bool final_step) const noexcept {
-  // The decision run_call takes first (adapter_impl.cpp), before any field is looked at
-  if (!m_impl || !m_impl->m_ctx) return false;
-  if (final_step && m_impl->m_config.global.render_final_step && !m_impl->m_renders.empty()) return true;
-  for (const RenderState& r : m_impl->m_renders)
-    if (r.trigger.needs_field_max() || r.trigger.fires_on_step(step)) return true;
-  return false;
+  return m_impl && m_impl->m_ctx && m_impl->any_fires(step, final_step);
 }
 
 bool Adapter::is_open() const noexcept { return m_impl && m_impl->m_ctx != nullptr; }

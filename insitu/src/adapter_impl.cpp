@@ -1,6 +1,7 @@
 #include "adapter_impl.h"
 
 #include "agreement/rank_agreement.h"
+#include "budget/adapter_time.h"
 #include "outputs/outputs.h"
 
 #include <tessera/denoiser.h>
@@ -32,6 +33,8 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f, const 
       if (!yaml_path) throw std::invalid_argument("config path is NULL");
       m_config = yaml_text ? config::parse_config(*yaml_text, yaml_path, "") : config::load_config(yaml_path);
       if (output_dir && *output_dir) m_config.global.output_dir = output_dir;
+      // Two adapters of this process never write the same files (output_claims.h)
+      m_claim = OutputClaim(m_config.global.output_dir, m_config.path);
       // image.denoise: the library is found now, not after days of simulation (rank 0 denoises)
       for (std::size_t i = 0; i < m_config.renders.size() && m_ctx->rank() == 0; ++i) {
         if (!m_config.renders[i].image.denoise) continue;
@@ -105,6 +108,7 @@ tessera_status Adapter::Impl::open(const char* yaml_path, int mpi_comm_f, const 
     m_closed = false;
     m_sim_seconds = -1.0;  // unknown until the first execute has returned
     m_sim_since = std::chrono::steady_clock::now();
+    m_adapter_time_mark = adapter_time_total();
     return TESSERA_OK;
   } catch (const std::exception& e) {
     m_error = std::string("tessera_open: ") + e.what();
@@ -143,19 +147,42 @@ tessera_status Adapter::Impl::execute_refused(std::int64_t step, double time, bo
   return run_call(step, time, pub, final_step);
 }
 
+Adapter::Impl::Decision Adapter::Impl::decide(std::size_t i, std::int64_t step, bool force) const noexcept {
+  const Trigger& t = m_renders[i].trigger;
+  return force                   ? Decision::Fire
+         : t.needs_field_max()   ? Decision::WhenTrigger
+         : t.fires_on_step(step) ? Decision::Fire
+                                 : Decision::Skip;
+}
+
+bool Adapter::Impl::any_fires(std::int64_t step, bool final_step) const noexcept {
+  const bool force = final_step && m_config.global.render_final_step;
+  for (std::size_t i = 0; i < m_renders.size(); ++i)
+    if (decide(i, step, force) != Decision::Skip) return true;
+  return false;
+}
+
 tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Publication& pub,
                                        bool final_step) noexcept {
-  // The simulation's time since the last call, added on entry; on every return the clock
-  // restarts, and a call in which a render fired starts the sum afresh
-  if (m_sim_seconds >= 0.0)
-    m_sim_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - m_sim_since).count();
+  // The simulation's time since the last call, added on entry: the wall time less what any
+  // other adapter of the process spent meanwhile (adapter_time.h: their rendering is never
+  // the simulation's time). On every return the clock restarts, this call's time joins the
+  // process's sum, and a call in which a render fired starts the sum afresh
+  const auto entry = std::chrono::steady_clock::now();
+  if (m_sim_seconds >= 0.0) {
+    const double elapsed = std::chrono::duration<double>(entry - m_sim_since).count();
+    m_sim_seconds += std::max(0.0, elapsed - (adapter_time_total() - m_adapter_time_mark));
+  }
   struct SimClock {
     Impl& impl;
+    std::chrono::steady_clock::time_point entry;
     ~SimClock() {
       if (impl.m_sim_seconds < 0.0 || !impl.m_results.empty()) impl.m_sim_seconds = 0.0;
       impl.m_sim_since = std::chrono::steady_clock::now();
+      add_adapter_time(std::chrono::duration<double>(impl.m_sim_since - entry).count());
+      impl.m_adapter_time_mark = adapter_time_total();
     }
-  } sim_clock{*this};
+  } sim_clock{*this, entry};
   try {
     m_results.clear();
     m_error.clear();
@@ -178,11 +205,7 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
     const bool force = final_step && m_config.global.render_final_step;
     bool any = false;
     for (std::size_t i = 0; i < m_renders.size(); ++i) {
-      const Trigger& t = m_renders[i].trigger;
-      m_decisions[i] = force                   ? Decision::Fire
-                       : t.needs_field_max()   ? Decision::WhenTrigger
-                       : t.fires_on_step(step) ? Decision::Fire
-                                               : Decision::Skip;
+      m_decisions[i] = decide(i, step, force);
       any = any || m_decisions[i] != Decision::Skip;
     }
     if (!any) return TESSERA_OK;  // no communication: identical configs decide alike
@@ -335,6 +358,7 @@ void Adapter::Impl::teardown() noexcept {
   m_decisions.clear();
   m_call = CallData{};
   m_budget.reset();
+  m_claim = OutputClaim();
   try {
     m_ctx.reset();
   } catch (...) {

@@ -6,6 +6,7 @@
 #include "budget/render_budget.h"
 #include "data/summary_cache.h"
 #include "outputs/error_policy.h"
+#include "outputs/output_claims.h"
 #include "parallel/parallel_context.h"
 #include "pass/render_pass.h"
 
@@ -71,6 +72,15 @@ struct Adapter::Impl {
 
   /// Read as bytes by the agreement (rank_agreement.h CallView::fired): keep these values.
   enum class Decision : unsigned char { Skip = 0, Fire = 1, WhenTrigger = 2 };
+
+ public:
+  /// Whether a call at `step` evaluates any render (Adapter::fires): the decision run_call
+  /// takes first, from the config and the arguments alone. The adapter must be open.
+  bool any_fires(std::int64_t step, bool final_step) const noexcept;
+
+ private:
+  /// Render i's decision for a call at `step` (force: final_step with render_final_step).
+  Decision decide(std::size_t i, std::int64_t step, bool force) const noexcept;
   std::vector<Decision> m_decisions;  ///< per render, sized at open: no allocation per call
   CallData m_call;
   SummaryCache m_summaries;
@@ -80,6 +90,11 @@ struct Adapter::Impl {
   /// the first call has no simulation time to compare with.
   std::chrono::steady_clock::time_point m_sim_since{};
   double m_sim_seconds = 0.0;
+  /// adapter_time_total() when this adapter's last call returned (or at open): what the
+  /// process's adapters spent since then is not the simulation's time.
+  double m_adapter_time_mark = 0.0;
+  /// This adapter's output_dir, claimed while it is open (output_claims.h).
+  OutputClaim m_claim;
   /// tessera.budget: the account and the planner (render_budget.h); empty without a budget.
   std::optional<RenderBudget> m_budget;
 };

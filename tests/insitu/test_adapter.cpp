@@ -186,11 +186,13 @@ TEST_CASE("OpenOptions::yaml_text: a config from memory renders as the same file
   REQUIRE(from_file.open(cfg) == TESSERA_OK);
   REQUIRE(from_file.execute(0, 0.0, unit_grid(n), {&field, 1}) == TESSERA_OK);
 
-  // The text, under a name that is no file: the same image
+  // The text, under a name that is no file: the same image (in another output_dir: two open
+  // adapters may not share one)
   Adapter from_text;
   from_text.set_quiet(true);
   OpenOptions options;
   options.yaml_text = text;
+  options.output_dir = dir.file("out_text");
   REQUIRE(from_text.open("config dict", -1, options) == TESSERA_OK);
   REQUIRE(from_text.execute(0, 0.0, unit_grid(n), {&field, 1}) == TESSERA_OK);
   CHECK(same_pixels(*from_file.last_image("main"), *from_text.last_image("main")));
