@@ -2,6 +2,9 @@
 // fault, in the data's own terms (cell or vertex), without overflow (domain_binding.h).
 #include "data/domain_binding.h"
 #include "domain_cuts.h"
+#include "insitu_test_support.h"
+
+#include <tessera/adapter.h>
 
 #include <catch2/catch.hpp>
 
@@ -11,6 +14,7 @@
 #include <vector>
 
 using namespace tessera::insitu;
+using namespace tessera::insitu::test;
 using Catch::Matchers::Contains;
 using tessera_test::CutBox;
 using tessera_test::Dims;
@@ -86,4 +90,45 @@ TEST_CASE("domain messages: an offset near INT64_MAX prints the interval it clai
   // 12 cells from INT64_MAX - 2: the interval ends at 2^63 + 9, past INT64_MAX
   CHECK_THAT(e, Contains("real cells [9223372036854775805..9223372036854775817) along i") &&
                     Contains("leave the mesh's [0..12)"));
+}
+
+TEST_CASE("every published field's descriptors are checked at a call that renders, the render's or not",
+          "[insitu][domains][errors]") {
+  TempDir dir;
+  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), render_yaml("main", "{every: 2}")));
+  constexpr int n = 8;
+  const std::vector<float> values = to_float(blob_values(n));
+  const tessera_field density = dense_field("density", values.data(), n);
+  tessera_field pressure = dense_field("pressure", values.data(), n);
+  pressure.ghosts_lo[2] = n;  // no real element left: never rendered, still wrong
+
+  // tessera_execute: the grid's fields
+  Adapter a;
+  a.set_quiet(true);
+  REQUIRE(a.open(cfg) == TESSERA_OK);
+  const tessera_field both[2] = {density, pressure};
+  CHECK(a.execute(1, 0.1, unit_grid(n), {both, 2}) == TESSERA_OK);  // nothing fires: nothing read
+  CHECK(a.execute(2, 0.2, unit_grid(n), {both, 2}) == TESSERA_ERROR_DATA);
+  CHECK_THAT(a.last_error(), Contains("field 'pressure'") && Contains("ghost layers along k"));
+  CHECK(a.execute(4, 0.4, unit_grid(n), {&density, 1}) == TESSERA_OK);
+  a.close();
+
+  // tessera_execute_domains: every domain's fields
+  const HeldDomains two(kG, {CutBox{{0, 0, 0}, {6, 10, 8}}, CutBox{{6, 0, 0}, {6, 10, 8}}});
+  const tessera_mesh mesh = tessera_test::unit_mesh(kG, TESSERA_CELL);
+  std::vector<tessera_domain> d = two.of_rank(0, 1);
+  std::vector<std::vector<tessera_field>> lists(d.size());
+  for (std::size_t q = 0; q < d.size(); ++q) {
+    lists[q] = {d[q].fields[0], d[q].fields[0]};
+    lists[q][1].name = "pressure";
+    d[q].fields = lists[q].data();
+    d[q].nfields = 2;
+  }
+  CHECK(refusal(mesh, d).empty());
+  lists[1][1].byte_strides[0] = 0;  // domain 1's pressure: a zero stride
+  CHECK_THAT(refusal(mesh, d), Contains("domain 1: field 'pressure'") && Contains("stride"));
+  lists[1][1] = lists[1][0];
+  lists[1][1].name = "pressure";
+  lists[1][1].ghosts_hi[0] = 9;  // domain 1's pressure: ghosts leave no real cell
+  CHECK_THAT(refusal(mesh, d), Contains("domain 1: field 'pressure'") && Contains("leave no real cell"));
 }

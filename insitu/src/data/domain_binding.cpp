@@ -245,24 +245,27 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
         fail(who + ": " + field_label(f) + " has dtype " + dtype_text(f.dtype) + ", domain 0's has " +
              dtype_text(f0.dtype) + " (every domain must publish the same dtypes)");
     }
-    const auto it = std::lower_bound(list.begin(), list.end(), std::pair<std::string_view, int>(name, -1));
-    const tessera_field& f = d.fields[it->second];
-    const std::string label = who + ": " + field_label(f);
-    FieldBlock block;
-    block.view = bind_array(f, label, cells);
-    block.domain = static_cast<int>(n);
-    block.level = d.level;
-    for (int a = 0; a < 3; ++a) {
-      block.offset[a] = d.offset[a];
-      const std::int64_t extent = level_extent(*mesh, d.level, a);
-      if (d.offset[a] < 0 || block.view.dims[a] > extent - d.offset[a])
-        fail(label + ": real " + (cells ? "cells [" : "vertices [") + std::to_string(d.offset[a]) + ".." +
-             sum_text(d.offset[a], block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" + axis(a) +
-             " = " + std::to_string(d.offset[a]) + ") leave " +
-             (d.level == 0 ? std::string("the mesh's") : "level " + std::to_string(d.level) + "'s") + " [0.." +
-             std::to_string(extent) + ")");
+    // Every published field's descriptors, rendered or not (a wrong one is found at the
+    // first call that renders, not when a render first draws it); the render's is kept
+    for (const auto& [field_name_q, index] : list) {
+      const tessera_field& f = d.fields[index];
+      const std::string label = who + ": " + field_label(f);
+      FieldBlock block;
+      block.view = bind_array(f, label, cells);
+      block.domain = static_cast<int>(n);
+      block.level = d.level;
+      for (int a = 0; a < 3; ++a) {
+        block.offset[a] = d.offset[a];
+        const std::int64_t extent = level_extent(*mesh, d.level, a);
+        if (d.offset[a] < 0 || block.view.dims[a] > extent - d.offset[a])
+          fail(label + ": real " + (cells ? "cells [" : "vertices [") + std::to_string(d.offset[a]) + ".." +
+               sum_text(d.offset[a], block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" +
+               axis(a) + " = " + std::to_string(d.offset[a]) + ") leave " +
+               (d.level == 0 ? std::string("the mesh's") : "level " + std::to_string(d.level) + "'s") + " [0.." +
+               std::to_string(extent) + ")");
+      }
+      if (field_name_q == name) b.blocks.push_back(block);
     }
-    b.blocks.push_back(block);
   }
   // Largest first: distributed mode reads the first in place
   std::stable_sort(b.blocks.begin(), b.blocks.end(), [](const FieldBlock& x, const FieldBlock& y) {

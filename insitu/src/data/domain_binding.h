@@ -36,8 +36,9 @@ bool mesh_valid(const tessera_mesh* mesh) noexcept;
 /// Binds the render's field (`field_name`, or the only published field when empty) of every
 /// domain: domains non-null when ndomains > 0; 0 <= ndomains <= TESSERA_MAX_DOMAINS; each
 /// domain at a level in [0, nlevels) with a valid field list (non-null when nfields > 0, names non-null and
-/// distinct) publishing the same names and dtypes as domain 0; the field's array valid
-/// (bind_array) and its real elements inside its level's extent (level_extent). How the levels
+/// distinct) publishing the same names and dtypes as domain 0; every published field's array
+/// valid (bind_array) and its real elements inside its level's extent (level_extent), the
+/// render's field or not (descriptors only: no value is read). How the levels
 /// nest is checked later, with every rank's boxes (amr_layout.h). Blocks come largest first (ties in
 /// domain order). A rank without domains gets no blocks (local.data null, dtype unknown).
 FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domains, std::int64_t ndomains,

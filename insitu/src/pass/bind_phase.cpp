@@ -20,6 +20,10 @@ void bind_grid(const PassContext& pass, BoundField& f) {
   const std::span<const tessera_field> fields(pub.fields, static_cast<std::size_t>(pub.nfields));
   const tessera_field& field = fields[find_field(fields, pass.spec.field, pass.spec.name)];
   f.binding = bind_field(field, *pub.grid);
+  // Every other published field's descriptors against the grid (descriptors only: no value is
+  // read), so that a wrong one is found at the first call that renders, not when drawn
+  for (const tessera_field& other : fields)
+    if (&other != &field) (void)bind_field(other, *pub.grid);
   if (pass.ctx.size() == 1) require_whole_grid(field, f.binding);
   f.name = field.name;
 }
