@@ -4,6 +4,7 @@
 #   "Moving cameras"  docs/images/moving_turn_NNNN.png, a turning orbit, and
 #                     docs/images/moving_fly_NNNN.png, a keyframed fly-in (moving_cameras.yaml)
 #   "annotations:"    docs/images/annotations.png (annotations.yaml, on synthetic blobs)
+#   "The smallest config" docs/images/minimal.png (minimal.yaml, the same blobs)
 #   README.md         docs/images/heat_annotated.png: tessera-heat with configs/heat_movie.yaml
 #                     (turning camera, title, step text, colour bar), its frame of step 80
 #   docs/miniapp.md   docs/images/heat_amr.png: tessera-heat --amr --levels 3 with
@@ -27,6 +28,8 @@ done
 # Annotations: a title, a text line and a colour bar on synthetic blobs (annotations.yaml)
 "$build/bin/tessera-synth" /tmp/blobs.raw --dims 64 64 64 --kind blobs
 "$build/bin/tessera-render" docs/images/annotations.yaml --step 120 -o docs/images/annotations.png --quiet
+# The smallest config: a field name alone, every default (minimal.yaml), at 256x256
+"$build/bin/tessera-render" docs/images/minimal.yaml --width 256 --height 256 -o docs/images/minimal.png --quiet
 # Moving cameras: the orbit at azimuth 0, 45, 90 and 135 (1.5 degrees a step); the keyframes
 # at steps 0, 30 and 60, and halfway between them
 for n in 0 30 60 90; do

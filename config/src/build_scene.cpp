@@ -250,6 +250,20 @@ TransferFunction build_transfer_function(const TransferFunctionSpec& spec, std::
   return tf;
 }
 
+double resolve_density_scale(const TransferFunctionSpec& tf, const Bounds& data_bounds) {
+  if (!tf.density_relative) return tf.density_scale;
+  const double diagonal = glm::length(data_bounds.hi - data_bounds.lo);
+  const double scale = tf.density_scale / diagonal;
+  if (!(diagonal > 0.0) || !std::isfinite(scale))
+    throw std::invalid_argument("transfer_function.density_scale {optical_depth: " + format_number(tf.density_scale) +
+                                "} is relative to the data's diagonal, but the data's bounds " +
+                                vec_text(data_bounds.lo) + " to " + vec_text(data_bounds.hi) + " have a diagonal of " +
+                                format_number(diagonal) +
+                                " (allowed: data with 2 or more vertices along some axis, or a number: the "
+                                "extinction per world unit)");
+  return scale;
+}
+
 std::shared_ptr<const Image> load_envmap(const BackgroundSpec& bg) {
   if (bg.type != BackgroundType::EnvMap) return nullptr;
   return std::make_shared<const Image>(read_exr(bg.file));
@@ -282,6 +296,13 @@ SceneDesc build_scene(const RenderSpec& spec, const Bounds& data_bounds, std::pa
   for (int a = 0; a < 3; ++a)
     if (!geom.coords[a]) h = std::min(h, geom.spacing[a]);
   const Resolver res{spec.name, h >= kMinSpacing && h <= kMaxSpacing ? kMaxCoordinateVoxels * h : INFINITY};
+
+  // Extinction relative to the data's diagonal, when the TF says so
+  try {
+    s.tf.density_scale = resolve_density_scale(spec.transfer_function, data_bounds);
+  } catch (const std::invalid_argument& e) {
+    res.fail(e.what());
+  }
   if (spec.camera.keyframes.empty()) {
     const double fit_radii = fit_distance(spec.camera.fov, spec.image.width, spec.image.height);
     res.orbit_extent("camera.position", spec.camera.position, data_bounds);

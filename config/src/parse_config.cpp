@@ -1,5 +1,6 @@
 // The top level of a config: parse_config, load_config, `tessera:` and `volume:`.
 #include <tessera/config/config.h>
+#include <tessera/config/render_defaults.h>
 #include <tessera/loop_bounds.h>
 
 #include "enum_names.h"
@@ -24,6 +25,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace tessera::config {
 namespace fs = std::filesystem;
@@ -60,22 +62,40 @@ Config parse_root(const detail::Document& doc) {
 
   // Renders, names unique
   const auto renders = m.require("renders", "a list of renders")
-                           .list("a list of renders (mappings with name, camera, "
+                           .list("a list of renders (mappings with field, name, camera, "
                                  "transfer_function, ...)",
                                  1);
+  // A render without a name is named after its field, never taking a name the file gives
+  std::unordered_set<std::string> taken;
+  for (const Value& r : renders)
+    if (r.is_map())
+      if (const auto n = r.map().get("name"); n && n->is_scalar()) taken.emplace(n->text());
+  const auto unique_name = [&taken](const std::string& field) {
+    const std::string base = default_render_name(field);
+    std::string name = base;
+    for (int k = 2; taken.count(name) != 0; ++k) {
+      const std::string digits = std::to_string(k);
+      name = base.substr(0, RenderSpec::kMaxName - 1 - digits.size());
+      name += '_';
+      name += digits;
+    }
+    taken.insert(name);
+    return name;
+  };
   std::unordered_map<std::string, SourceMark> name_marks;  // name -> where first used
   for (const Value& r : renders) {
-    RenderSpec spec = detail::parse_render(r);
+    RenderSpec spec = detail::parse_render(r, unique_name);
     // With a budget the EXR shows the samples each pixel got, unless the render says otherwise
     if (c.global.budget > 0.0 && spec.output.has_format(ImageFormat::Exr)) {
       const auto out = r.map().get("output");
       if (!out || !out->map().get("samples")) spec.output.samples = true;
     }
-    const Value name = *r.map().get("name");
-    const auto [it, fresh] = name_marks.emplace(spec.name, name.mark());
-    if (!fresh) {
-      name.fail("duplicate render name \"" + detail::cut_for_message(spec.name) + "\" (first used at line " +
-                std::to_string(it->second.line) + "; allowed: a name used once)");
+    if (const auto name = r.map().get("name")) {
+      const auto [it, fresh] = name_marks.emplace(spec.name, name->mark());
+      if (!fresh) {
+        name->fail("duplicate render name \"" + detail::cut_for_message(spec.name) + "\" (first used at line " +
+                   std::to_string(it->second.line) + "; allowed: a name used once)");
+      }
     }
     c.renders.push_back(std::move(spec));
   }

@@ -1,6 +1,8 @@
 // One entry of `renders:`: name, field, trigger, image, camera, output (the larger blocks,
-// transfer function, lights, background and integrator, have files of their own).
+// transfer function, lights, background and integrator, have files of their own), and which
+// of the defaults of render_defaults.h a render that leaves blocks out takes.
 #include <tessera/config/output_path.h>
+#include <tessera/config/render_defaults.h>
 #include <tessera/config/render_spec.h>
 #include <tessera/image_format.h>
 
@@ -8,6 +10,7 @@
 #include "parsers.h"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -25,7 +28,7 @@ constexpr std::int64_t kMaxImageEdge = ImageDesc::kMaxEdge;
 constexpr std::size_t kMaxFieldName = 256;
 
 /// Render names end up in file names ({name}), log lines and every message about the render.
-constexpr std::size_t kMaxRenderName = 128;
+constexpr std::size_t kMaxRenderName = RenderSpec::kMaxName;
 
 bool valid_name(const std::string& s) {
   return !s.empty() && s.size() <= kMaxRenderName && std::all_of(s.begin(), s.end(), [](char c) {
@@ -149,7 +152,8 @@ CameraSpec parse_camera(const Value& v) {
   if (const auto i = m.get("interpolation"))
     i->fail("interpolation is how keyframes are joined, and this camera has none (allowed: interpolation beside "
             "keyframes)");
-  c.position = parse_point(m.require("position", point_allowed() + " (distance: a number or fit), or keyframes"), true);
+  if (const auto p = m.get("position")) c.position = parse_point(*p, true);
+  else c.position = default_camera_position();
   if (const auto p = m.get("look_at")) c.look_at = parse_point(*p);
   parse_camera_common(m, c);
   c.fov = m.number_or("fov", c.fov, Range::open(0.0, 180.0));
@@ -205,15 +209,16 @@ OutputSpec parse_output(const Value& v) {
   return o;
 }
 
-RenderSpec parse_render(const Value& v) {
+RenderSpec parse_render(const Value& v, const std::function<std::string(const std::string&)>& unique_name) {
   const Map m = v.map_with_keys({"name", "field", "trigger", "image", "camera", "transfer_function", "lights",
                                  "background", "integrator", "output", "annotations"});
   RenderSpec r;
-  const Value name = m.require("name", "a name of 1 to 128 letters, digits, _ and -");
-  r.name = name.string();
-  if (!valid_name(r.name)) {
-    name.fail(name.describe() + " is not a valid name (allowed: 1 to " + std::to_string(kMaxRenderName) +
-              " letters, digits, _ and -)");
+  if (const auto name = m.get("name")) {
+    r.name = name->string();
+    if (!valid_name(r.name)) {
+      name->fail(name->describe() + " is not a valid name (allowed: 1 to " + std::to_string(kMaxRenderName) +
+                 " letters, digits, _ and -)");
+    }
   }
   if (const auto f = m.get("field")) {
     r.field = f->string();
@@ -224,10 +229,20 @@ RenderSpec parse_render(const Value& v) {
               " printable characters)");
     }
   }
+  if (r.name.empty()) r.name = unique_name(r.field);
   if (const auto t = m.get("trigger")) r.trigger = parse_trigger(*t);
   if (const auto i = m.get("image")) parse_image(*i, r);
-  r.camera = parse_camera(m.require("camera", "a mapping with at least position"));
-  r.transfer_function = parse_transfer_function(m.require("transfer_function", "a mapping with at least opacity"));
+  if (const auto c = m.get("camera")) r.camera = parse_camera(*c);
+  else r.camera.position = default_camera_position();
+
+  // No transfer function: the default look, its light and background too where not given
+  if (const auto tf = m.get("transfer_function")) {
+    r.transfer_function = parse_transfer_function(*tf);
+  } else {
+    r.transfer_function = default_transfer_function();
+    if (!m.has("lights")) r.lights = default_lights();
+    if (!m.has("background")) r.background = default_background();
+  }
   if (const auto l = m.get("lights")) {
     std::vector<std::string> shapes;
     for (const std::string& type : detail::names_of(detail::kLightTypeNames))

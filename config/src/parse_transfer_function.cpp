@@ -1,9 +1,14 @@
 // `transfer_function:`: range, density scale and the piecewise-linear TFs of u.
 #include <tessera/config/colormaps.h>
+#include <tessera/config/render_defaults.h>
 #include <tessera/config/transfer_function_spec.h>
 #include <tessera/transfer_function.h>
 
 #include "parsers.h"
+
+#include <cctype>
+#include <string>
+#include <string_view>
 
 namespace tessera::config::detail {
 namespace {
@@ -65,6 +70,34 @@ RangeSpec parse_range(const Value& v) {
   return RangeSpec{false, lo, hi};
 }
 
+// `density_scale: {optical_depth: t}`: extinction relative to the data's diagonal
+constexpr KeyShape kDensityKeys[] = {{"optical_depth", "t"}};
+
+/// `density_scale`: a number >= 0 (per world unit), `auto` or `{optical_depth: t}`.
+void parse_density_scale(const Value& v, TransferFunctionSpec& tf) {
+  const std::string allowed = "a number >= 0, the extinction per world unit at opacity 1; auto; or " +
+                              braced(kDensityKeys) + ", t >= 0 the optical depth of the data's diagonal at opacity 1";
+  if (v.is_word("auto")) {
+    tf.density_scale = kDefaultOpticalDepth;
+    tf.density_relative = true;
+    return;
+  }
+  if (v.is_scalar()) {
+    // A word (`atuo`) is told what is allowed; a number, or what tries to be one, gets number()'s range check
+    const std::string_view t = v.text();
+    if (!t.empty() && std::isalpha(static_cast<unsigned char>(t.front())))
+      v.fail(v.describe() + " is not a density scale (allowed: " + allowed + ")");
+    tf.density_scale = v.number(Range::at_least(0.0));
+    tf.density_relative = false;
+    return;
+  }
+  const Map m = v.map(allowed);
+  m.allow(kDensityKeys);
+  tf.density_scale = m.require("optical_depth", "t >= 0, the optical depth of the data's diagonal at opacity 1")
+                         .number(Range::at_least(0.0));
+  tf.density_relative = true;
+}
+
 }  // namespace
 
 TransferFunctionSpec parse_transfer_function(const Value& v) {
@@ -72,9 +105,9 @@ TransferFunctionSpec parse_transfer_function(const Value& v) {
   TransferFunctionSpec tf;
   tf.range.automatic = true;
   if (const auto r = m.get("range")) tf.range = parse_range(*r);
-  tf.density_scale = m.number_or("density_scale", tf.density_scale, Range::at_least(0.0));
-  tf.opacity = parse_scalar_points(m.require("opacity", "[[u, value], ...], u in [0, 1] non-decreasing, value >= 0"),
-                                   Range::at_least(0.0));
+  if (const auto d = m.get("density_scale")) parse_density_scale(*d, tf);
+  const auto opacity = m.get("opacity");
+  tf.opacity = opacity ? parse_scalar_points(*opacity, Range::at_least(0.0)) : default_opacity();
   if (const auto d = m.get("diffuse")) tf.diffuse = parse_color_points(*d, kU);
   if (const auto s = m.get("specular")) tf.specular = parse_color_points(*s, kU);
   if (const auto r = m.get("roughness")) tf.roughness = parse_scalar_points(*r, kU);

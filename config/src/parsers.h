@@ -5,13 +5,15 @@
 
 #include "yaml_reader.h"
 
+#include <functional>
 #include <string>
 
 namespace tessera::config::detail {
 
 GlobalOptions parse_global(const Value& v);
 VolumeSpec parse_volume(const Value& v);
-RenderSpec parse_render(const Value& v);
+/// One render; `unique_name(field)` names a render that gives no name (unique in the file).
+RenderSpec parse_render(const Value& v, const std::function<std::string(const std::string&)>& unique_name);
 TriggerSpec parse_trigger(const Value& v);
 CameraSpec parse_camera(const Value& v);
 OutputSpec parse_output(const Value& v);

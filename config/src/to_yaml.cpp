@@ -216,7 +216,15 @@ void write(YAML::Emitter& out, const TransferFunctionSpec& tf) {
   key(out, "range");
   if (tf.range.automatic) out << "auto";
   else flow_seq(out, tf.range.lo, tf.range.hi);
-  field(out, "density_scale", tf.density_scale);
+  // Relative to the data's diagonal: the optical depth, resolved per render by build_scene
+  if (tf.density_relative) {
+    key(out, "density_scale");
+    out << YAML::Flow << YAML::BeginMap;
+    field(out, "optical_depth", tf.density_scale);
+    out << YAML::EndMap;
+  } else {
+    field(out, "density_scale", tf.density_scale);
+  }
   field(out, "opacity", tf.opacity);
   if (tf.diffuse.present()) field(out, "diffuse", tf.diffuse);
   if (tf.specular.present()) field(out, "specular", tf.specular);

@@ -118,15 +118,17 @@ TEST_CASE("out-of-range values give the allowed range", "[config][errors]") {
 }
 
 TEST_CASE("missing required keys are reported at the enclosing block", "[config][errors]") {
-  CHECK_THAT(config_error(with_camera("      fov: 30\n")),
-             StartsWith("scene.yaml:3:5: renders[0].camera.position: missing required key (allowed: "
-                        "[x, y, z], center or {orbit:"));
+  // name, camera, camera.position, transfer_function and opacity have defaults
+  // (render_defaults.h; test_render_defaults.cpp)
+  CHECK(config_error(with_camera("      fov: 30\n")).empty());
   CHECK_THAT(config_error("tessera:\n  threads: 1\n"), StartsWith("scene.yaml:1:1: renders: missing required key"));
-  CHECK_THAT(config_error("renders:\n  - camera: {position: [0, 0, 5]}\n"
-                          "    transfer_function: {opacity: [[0, 1]]}\n"),
-             StartsWith("scene.yaml:2:5: renders[0].name: missing required key"));
-  CHECK_THAT(config_error(render_with("    transfer_function: {density_scale: 2}\n")),
-             StartsWith("scene.yaml:4:5: renders[0].transfer_function.opacity: missing required key"));
+  CHECK(config_error("renders:\n  - camera: {position: [0, 0, 5]}\n"
+                     "    transfer_function: {opacity: [[0, 1]]}\n")
+            .empty());
+  CHECK(config_error(render_with("    transfer_function: {density_scale: 2}\n")).empty());
+  CHECK_THAT(config_error(render_with("    transfer_function: {density_scale: {}}\n")),
+             StartsWith("scene.yaml:4:25: renders[0].transfer_function.density_scale.optical_depth: missing required "
+                        "key (allowed: t >= 0, the optical depth of the data's diagonal at opacity 1)"));
   CHECK_THAT(config_error(render_with("    transfer_function: {opacity: [[0, 1]]}\n"
                                       "    lights:\n"
                                       "      - {position: [0, 0, 1]}\n")),

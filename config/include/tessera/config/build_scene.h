@@ -14,7 +14,8 @@
 /// the two fields of view, so the whole data fills that direction of the image without being
 /// cut, and the other direction has room to spare. The framing assumes look_at is `center`
 /// (the default); the aperture of a thin-lens camera does not change it.
-/// Lengths `{relative: r}` resolve to r * R.
+/// Lengths `{relative: r}` resolve to r * R; a density scale `{optical_depth: t}` to
+/// t / (2 R) per world unit (resolve_density_scale).
 #include <tessera/config/config.h>
 #include <tessera/config/render_spec.h>
 #include <tessera/image.h>
@@ -49,8 +50,18 @@ Vec3 resolve_point(const PointSpec& p, const Bounds& data_bounds, const Vec3& up
 /// would vanish in rounding (|lo| > 2^39), so that lo < hi always holds.
 std::pair<double, double> resolve_range(const RangeSpec& r, std::pair<double, double> auto_range);
 
-/// Core transfer function; colormap names are expanded (colormaps.h).
+/// Core transfer function; colormap names are expanded (colormaps.h). A density scale
+/// relative to the data (`{optical_depth: t}`, `auto`) needs the data's extent: here it is
+/// t, as for data whose diagonal is 1; build_scene sets resolve_density_scale's value.
 TransferFunction build_transfer_function(const TransferFunctionSpec& tf, std::pair<double, double> auto_range);
+
+/// The extinction scale of `tf` per world unit (sigma_t = scale * opacity(u)): density_scale
+/// as written, or, for `{optical_depth: t}` and `auto`, t / |hi - lo| with |hi - lo| the data
+/// bounds' diagonal, so the diagonal has optical depth t at opacity 1 whatever the data's
+/// length unit (data 1000 times larger in world units gets 1/1000 of the scale). Throws
+/// std::invalid_argument naming the key for a relative scale on data of no extent (a single
+/// vertex) or one whose scale is not finite (a diagonal below about t / 1e308).
+double resolve_density_scale(const TransferFunctionSpec& tf, const Bounds& data_bounds);
 
 /// Reads the background's envmap EXR (tessera::read_exr); nullptr unless type is envmap.
 /// Throws std::runtime_error naming the file.

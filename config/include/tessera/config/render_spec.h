@@ -41,7 +41,9 @@ struct CameraKeyframe {
 enum class CameraInterpolation { Linear, Smooth };
 
 struct CameraSpec {
-  PointSpec position;  ///< required unless keyframes are given
+  /// The parser's default, where the config gives neither position nor keyframes, is
+  /// default_camera_position() (render_defaults.h); a default-constructed spec has `center`.
+  PointSpec position;
   PointSpec look_at = PointSpec::center();
   Vec3 up{0.0, 0.0, 1.0};       ///< non-zero
   double fov = 30.0;            ///< vertical, degrees, (0, 180)
@@ -84,8 +86,11 @@ struct OutputSpec {
   ToneMap tone_map() const { return ToneMap{exposure, tonemap}; }
 };
 
+/// One render. What the config leaves out is filled in by the parser: per key as
+/// docs/config.md's tables say, and whole blocks (name, camera, transfer function, light,
+/// background) as render_defaults.h says, so that `renders: [{field: f}]` is a complete render.
 struct RenderSpec {
-  std::string name;                    ///< required, unique, [A-Za-z0-9_-]+
+  std::string name;                    ///< unique, [A-Za-z0-9_-]+, 1 to kMaxName; default: the field's
   std::string field;                   ///< adapter: published field name; "" = not given
   std::optional<TriggerSpec> trigger;  ///< adapter only; absent = every step
   ImageDesc image;                     ///< width, height in [1, 16384], spp >= 1
@@ -93,13 +98,15 @@ struct RenderSpec {
   /// image, in [1, image.spp]; a render the budget cannot give that many is skipped. Default 1.
   int min_spp = 1;
   CameraSpec camera;
-  TransferFunctionSpec transfer_function;  ///< required (opacity required inside)
+  TransferFunctionSpec transfer_function;  ///< default: default_transfer_function()
   std::vector<LightSpec> lights;
   BackgroundSpec background;
   IntegratorSpec integrator;
   OutputSpec output;
   /// `annotations:`: a colour bar and text drawn into the PNG (never the EXR); absent = none.
   std::optional<AnnotationsSpec> annotations;
+
+  static constexpr std::size_t kMaxName = 128;  ///< names end up in file names and every message
 };
 
 }  // namespace tessera::config

@@ -32,8 +32,16 @@ struct RangeSpec {
 
 struct TransferFunctionSpec {
   RangeSpec range;
-  double density_scale = 1.0;          ///< >= 0
-  std::vector<ScalarPoint> opacity;    ///< required, at least one point; values >= 0
+  /// >= 0. As written (`density_scale: 20`): the extinction per world unit at opacity 1.
+  /// With density_relative (`density_scale: {optical_depth: t}`, or `auto` for
+  /// t = kDefaultOpticalDepth, render_defaults.h): t, the optical depth of the data's diagonal
+  /// at opacity 1; build_scene resolves it to t / diagonal per world unit
+  /// (resolve_density_scale), so the look does not depend on the data's length unit.
+  double density_scale = 1.0;
+  bool density_relative = false;
+  /// At least one point; values >= 0. The parser fills in default_opacity() where the config
+  /// gives none (render_defaults.h); a default-constructed spec has none.
+  std::vector<ScalarPoint> opacity;
   ColorTFSpec diffuse;                 ///< absent: constant white (core default); values in [0, 1]
   ColorTFSpec specular;                ///< absent: zero; values in [0, 1]
   std::vector<ScalarPoint> roughness;  ///< absent: constant 0.5 (core default); values in [0, 1]
