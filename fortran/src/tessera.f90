@@ -63,6 +63,7 @@ module tessera
     integer(c_int64_t) :: byte_strides(3) = 0       !< address differences of neighbours
     integer(c_int64_t) :: ghosts_lo(3) = 0          !< ghost layers at the low end of each axis
     integer(c_int64_t) :: ghosts_hi(3) = 0          !< ... and at the high end
+    integer :: association = -1                     !< domains: TESSERA_VERTEX or TESSERA_CELL; -1: the mesh's
     ! What tessera_field_from measured of the array at data (checked at every execute, so that a
     ! descriptor changed since then never makes C read past the array): extent, byte strides,
     ! element size; 0 bytes: not made by tessera_field_from (read as given)

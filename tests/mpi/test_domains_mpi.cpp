@@ -292,6 +292,14 @@ TEST_CASE("domains: ranks that disagree on the mesh, or whose domains do not fit
        },
        "ranks disagree on the published fields at step 4: field 'pressure' (float64) is published on rank 1 but "
        "not on rank 0 (every domain of every rank must publish the same fields"},
+      {"rank 1 says its field is cell data",
+       [](int r, tessera_mesh&, std::vector<tessera_domain>& d) {
+         static const tessera_association cell[1] = {TESSERA_CELL};
+         if (r == 1)
+           for (tessera_domain& x : d) x.associations = cell;
+       },
+       "ranks disagree on the published fields at step 4: field 'density' is cell data (TESSERA_CELL) on rank 1, "
+       "vertex data (TESSERA_VERTEX) on rank 0"},
       {"rank 1's nlevels is 2",
        [](int r, tessera_mesh& m, auto&) {
          static const int ratio2[1] = {2};
@@ -342,4 +350,26 @@ TEST_CASE(
     images[m++] = r.image;
   }
   if (world_rank() == 0) CHECK(same_image(*images[0], *images[1]));
+}
+
+TEST_CASE("domains: cell data on a vertex mesh (per-field association), a rank without domains included, renders "
+          "as on a cell mesh",
+          "[mpi][domains][association]") {
+  SharedTempDir dir;
+  const int n = world_size();
+  const Dims cells{kG[0] - 1, kG[1] - 1, kG[2] - 1};
+  const HeldDomains seven(cells, tessera_test::seven_cuts(cells), 1);
+  const std::string cfg = write_config(dir, "assoc", "auto", "single");
+  const Run ref = run_on(1, cfg, seven, Deal::All, {}, tessera_test::unit_mesh(cells, TESSERA_CELL));
+  const Edit as_cells = [](int, tessera_mesh&, std::vector<tessera_domain>& d) {
+    static const tessera_association cell[1] = {TESSERA_CELL};
+    for (tessera_domain& x : d) x.associations = cell;
+  };
+  for (const Deal deal : {Deal::RoundRobin, Deal::NoneOnRank1}) {
+    const Run r = run_on(n, cfg, seven, deal, as_cells, uniform_vertex_mesh().mesh());
+    INFO(r.error);
+    CHECK(r.status == TESSERA_OK);
+    if (world_rank() == 0 && r.status == TESSERA_OK && ref.status == TESSERA_OK)
+      CHECK(same_image(*ref.image, *r.image));
+  }
 }

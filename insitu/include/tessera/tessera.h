@@ -108,10 +108,20 @@ typedef struct {                      /* one block this rank holds, never copied
   int64_t              offset[3];     /* global index, at its level, of its first real element */
   const tessera_field* fields;        /* its arrays, as in tessera_execute (dims incl. ghosts) */
   int                  nfields;
+  const tessera_association* associations; /* NULL: every field has the mesh's association;
+                                         else nfields entries: fields[f] is vertex or cell data
+                                         (Blueprint's per-field association) */
 } tessera_domain;
 /* Notes on tessera_domain:
  * - Every domain of every rank publishes the same fields: the same names with the same
- *   dtypes (in any order); strides and ghosts may differ from domain to domain.
+ *   dtypes and associations (in any order); strides and ghosts may differ from domain to
+ *   domain.
+ * - Mixed associations (Blueprint's vertex and element fields on one topology): a field's
+ *   association says how it sits on the mesh's points and cells. The mesh's global_dims count
+ *   elements of the mesh's own association; a field of the other association has one element
+ *   more (vertex data on a cell mesh) or one less (cell data on a vertex mesh) per axis, on the
+ *   same origin, spacing and coordinates, and its domain's offset and dims count its own
+ *   elements. A client that zero-initialises the struct (associations NULL) is unchanged.
  * - Ghost layers are skipped: the renderer reads every value from the domain that owns it
  *   (replica or brick cache), so ghosts are never needed and never read.
  * - Real (non-ghost) elements of all domains of one level over all ranks may not overlap;

@@ -56,6 +56,10 @@ std::string dtype_text(std::int64_t d) {
                                                     : "dtype " + std::to_string(d);
 }
 
+std::string what_data(std::int64_t association) {
+  return association == TESSERA_CELL ? "cell data (TESSERA_CELL)" : "vertex data (TESSERA_VERTEX)";
+}
+
 std::int64_t coord_count(const tessera_mesh& m, int a) {
   return m.global_dims[a] + (m.association == TESSERA_CELL ? 1 : 0);
 }
@@ -66,11 +70,15 @@ std::int64_t coord_count(const tessera_mesh& m, int a) {
 struct FieldEntry {
   std::string_view name;
   std::int32_t dtype;
-  bool operator<(const FieldEntry& o) const { return name != o.name ? name < o.name : dtype < o.dtype; }
+  std::int32_t association;  ///< the domain's associations[f], else the mesh's (as given)
+  bool operator<(const FieldEntry& o) const {
+    return name != o.name ? name < o.name : dtype != o.dtype ? dtype < o.dtype : association < o.association;
+  }
 };
 
 /// Domain 0's field list, sorted; nothing when it cannot be read (the bind phase reports it).
-std::optional<std::vector<FieldEntry>> field_list(const tessera_domain* domains, std::int64_t ndomains) {
+std::optional<std::vector<FieldEntry>> field_list(const tessera_mesh* mesh, const tessera_domain* domains,
+                                                  std::int64_t ndomains) {
   if (!domains || ndomains <= 0) return std::nullopt;
   const tessera_domain& d = domains[0];
   if (d.nfields < 0 || (d.nfields > 0 && !d.fields)) return std::nullopt;
@@ -81,7 +89,10 @@ std::optional<std::vector<FieldEntry>> field_list(const tessera_domain* domains,
     std::int32_t dtype;
     static_assert(sizeof dtype == sizeof d.fields[f].dtype);
     std::memcpy(&dtype, &d.fields[f].dtype, sizeof dtype);  // any int a C caller stored
-    list.push_back({d.fields[f].name, dtype});
+    std::int32_t assoc = 0;
+    if (d.associations) std::memcpy(&assoc, &d.associations[f], sizeof assoc);
+    else if (mesh) std::memcpy(&assoc, &mesh->association, sizeof assoc);
+    list.push_back({d.fields[f].name, dtype, assoc});
   }
   std::sort(list.begin(), list.end());
   return list;
@@ -91,11 +102,12 @@ std::optional<std::vector<FieldEntry>> field_list(const tessera_domain* domains,
 std::string serialised(const std::vector<FieldEntry>& list, std::size_t limit = std::string::npos) {
   std::string s;
   for (const FieldEntry& e : list) {
-    const std::size_t bytes = 8 + e.name.size();
+    const std::size_t bytes = 12 + e.name.size();
     if (s.size() + bytes > limit) break;
     const auto len = static_cast<std::uint32_t>(std::min<std::size_t>(e.name.size(), UINT32_MAX));
     s.append(reinterpret_cast<const char*>(&len), 4).append(e.name.substr(0, len));
     s.append(reinterpret_cast<const char*>(&e.dtype), 4);
+    s.append(reinterpret_cast<const char*>(&e.association), 4);
   }
   return s;
 }
@@ -106,11 +118,12 @@ std::vector<FieldEntry> parsed(const std::string& s) {
   while (p + 4 <= s.size()) {
     std::uint32_t len;
     std::memcpy(&len, s.data() + p, 4);
-    if (p + 8 + len > s.size()) break;
-    FieldEntry e{std::string_view(s).substr(p + 4, len), 0};
+    if (p + 12 + len > s.size()) break;
+    FieldEntry e{std::string_view(s).substr(p + 4, len), 0, 0};
     std::memcpy(&e.dtype, s.data() + p + 4 + len, 4);
+    std::memcpy(&e.association, s.data() + p + 8 + len, 4);
     list.push_back(e);
-    p += 8 + len;
+    p += 12 + len;
   }
   return list;
 }
@@ -130,6 +143,9 @@ std::string list_difference(const std::vector<FieldEntry>& mine, const std::vect
       if (mine[q].dtype != ref[q].dtype)
         return "field " + field_name(mine[q].name) + " is " + dtype_text(mine[q].dtype) + " on " + who + ", " +
                dtype_text(ref[q].dtype) + " on " + them;
+      if (mine[q].association != ref[q].association)
+        return "field " + field_name(mine[q].name) + " is " + what_data(mine[q].association) + " on " + who + ", " +
+               what_data(ref[q].association) + " on " + them;
       continue;
     }
     const bool extra = has_mine && (!has_ref || mine[q].name < ref[q].name);
@@ -144,7 +160,7 @@ std::string list_difference(const std::vector<FieldEntry>& mine, const std::vect
 std::string fields_difference(ParallelContext& ctx, const PublicationView& view, int r, int ref_rank) {
   std::string mine, ref;
   if (ctx.rank() == r || ctx.rank() == ref_rank) {
-    const auto list = field_list(view.domains, view.ndomains);
+    const auto list = field_list(view.mesh, view.domains, view.ndomains);
     const std::string bytes = list ? serialised(*list, kMaxFieldListBytes) : std::string();
     (ctx.rank() == r ? mine : ref) = bytes;
   }
@@ -205,10 +221,6 @@ std::string coords_difference(ParallelContext& ctx, const PublicationView& view,
 
 // ---------------------------------------------------------------------------------------
 // The fixed-size properties
-
-std::string what_data(std::int64_t association) {
-  return association == TESSERA_CELL ? "cell data (TESSERA_CELL)" : "vertex data (TESSERA_VERTEX)";
-}
 
 /// The first property of grid or mesh that differs between rank r and rank 0 (bit for bit),
 /// in words; "" if none differs. Needs the collective only for coordinates (`coords_axis`
@@ -299,7 +311,7 @@ PublicationRecord publication_record(bool domains_call, const tessera_grid* grid
       }
     }
   }
-  if (const auto list = field_list(domains, ndomains)) {
+  if (const auto list = field_list(mesh, domains, ndomains)) {
     const std::string bytes = serialised(*list);
     rec.has_fields = 1;
     rec.fields_count = list->size();

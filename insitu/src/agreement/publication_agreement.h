@@ -13,7 +13,7 @@
 /// spacing and origin (doubles bit for bit); a rectilinear axis' coordinates (a hash, then on
 /// the failure path only the values of the first differing chunk, bounded: see below); for
 /// meshes the association, nlevels and refinement ratios; for domains calls the sorted list of
-/// (name, dtype) that domain 0 of each rank publishes (every domain of a rank publishes the
+/// (name, dtype, association) that domain 0 of each rank publishes (every domain of a rank publishes the
 /// same: the bind phase checks that), so that a difference between ranks is the same error
 /// as a difference between the domains of one rank. A rank without domains publishes no list.
 /// A grid or mesh that fails its own checks on some rank is not compared (the bind phase
@@ -44,7 +44,7 @@ struct PublicationRecord {
   std::uint64_t coords_hash[3][2];  ///< of a rectilinear axis' values, bit for bit
   std::uint64_t has_fields;         ///< a domains call with domains and a readable field list
   std::uint64_t fields_count;
-  std::uint64_t fields_hash[2];  ///< of the sorted (name, dtype) list
+  std::uint64_t fields_hash[2];  ///< of the sorted (name, dtype, association) list
 };
 
 /// This rank's record. grid: tessera_execute's (may be NULL); mesh, domains, ndomains:

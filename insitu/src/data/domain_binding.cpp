@@ -58,6 +58,23 @@ std::string sum_text(std::int64_t a, std::int64_t b) {
   return negative ? "-" + digits : digits;
 }
 
+std::string association_text(int assoc) {
+  return assoc == TESSERA_CELL ? "cell data (TESSERA_CELL)" : "vertex data (TESSERA_VERTEX)";
+}
+
+/// What fields[f] of domain d is: the domain's associations[f], or the mesh's without them.
+int field_association(const tessera_mesh& m, const tessera_domain& d, int f, const std::string& who) {
+  if (!d.associations) return association_value(m);
+  int v;
+  static_assert(sizeof v == sizeof d.associations[f]);
+  std::memcpy(&v, &d.associations[f], sizeof v);  // any int a C caller stored
+  if (v != TESSERA_VERTEX && v != TESSERA_CELL)
+    fail(who + ": associations[" + std::to_string(f) + "] = " + std::to_string(v) + " (field '" +
+         std::string(d.fields[f].name ? d.fields[f].name : "(null)") +
+         "') is neither TESSERA_VERTEX (0) nor TESSERA_CELL (1)");
+  return v;
+}
+
 std::string dtype_text(tessera_dtype t) {
   const int d = static_cast<int>(t);
   return d >= TESSERA_UINT8 && d <= TESSERA_FLOAT64 ? dtype_name(static_cast<DType>(d)) : std::to_string(d);
@@ -155,6 +172,49 @@ bool mesh_valid(const tessera_mesh* mesh) noexcept {
   }
 }
 
+tessera_mesh mesh_for(const tessera_mesh& mesh, bool cells, std::string_view field) {
+  tessera_mesh seen = mesh;
+  if (cells == cell_data(mesh)) return seen;
+  seen.association = cells ? TESSERA_CELL : TESSERA_VERTEX;
+  for (int a = 0; a < 3; ++a) {
+    seen.global_dims[a] = mesh.global_dims[a] + (cells ? -1 : 1);
+    if (seen.global_dims[a] < 1)
+      fail("field '" + std::string(field) + "' is cell data, but the mesh has 1 vertex along " +
+           std::string(1, kAxis[a]) + " (global_dims" + axis(a) + " = 1): no cell to hold a value");
+  }
+  return seen;
+}
+
+void set_geometry(FieldBinding& b, const tessera_mesh& seen) {
+  for (int a = 0; a < 3; ++a) {
+    b.placement.global_dims[a] = seen.global_dims[a];
+    b.placement.offset[a] = 0;
+  }
+  // Geometry, passed through: a rectilinear axis' origin and spacing are its first
+  // coordinate and its mean spacing (for what reads them; the renderer uses the coordinates)
+  const bool cells = cell_data(seen);
+  b.geometry.association = cells ? Association::Cell : Association::Vertex;
+  Vec3 lo, hi;
+  for (int a = 0; a < 3; ++a) {
+    const std::int64_t n = seen.global_dims[a];
+    const double* c = seen.coords[a];
+    b.geometry.coords[a] = c;
+    if (c) {
+      const std::int64_t m = coord_count(seen, a);
+      b.geometry.origin[a] = c[0];
+      b.geometry.spacing[a] = m > 1 ? (c[m - 1] - c[0]) / static_cast<double>(m - 1) : 1.0;
+      lo[a] = c[0];
+      hi[a] = c[m - 1];
+    } else {
+      b.geometry.origin[a] = seen.origin[a];
+      b.geometry.spacing[a] = seen.spacing[a];
+      lo[a] = seen.origin[a];
+      hi[a] = seen.origin[a] + static_cast<double>(n - (cells ? 0 : 1)) * seen.spacing[a];
+    }
+  }
+  b.global_bounds = Bounds{lo, hi};
+}
+
 FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domains, std::int64_t ndomains,
                           const std::string& field_name, const std::string& render_name) {
   if (!mesh) fail("mesh descriptor is NULL");
@@ -168,34 +228,8 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
   b.domains = true;
   b.nlevels = mesh->nlevels;
   for (int l = 0; l + 1 < mesh->nlevels; ++l) b.refinement[l] = mesh->refinement[l];
-  for (int a = 0; a < 3; ++a) {
-    b.placement.global_dims[a] = mesh->global_dims[a];
-    b.placement.offset[a] = 0;
-  }
-  // Geometry, passed through: a rectilinear axis' origin and spacing are its first
-  // coordinate and its mean spacing (for what reads them; the renderer uses the coordinates)
-  const bool cells = cell_data(*mesh);
-  b.geometry.association = cells ? Association::Cell : Association::Vertex;
-  Vec3 lo, hi;
-  for (int a = 0; a < 3; ++a) {
-    const std::int64_t n = mesh->global_dims[a];
-    const double* c = mesh->coords[a];
-    b.geometry.coords[a] = c;
-    if (c) {
-      const std::int64_t m = coord_count(*mesh, a);
-      b.geometry.origin[a] = c[0];
-      b.geometry.spacing[a] = m > 1 ? (c[m - 1] - c[0]) / static_cast<double>(m - 1) : 1.0;
-      lo[a] = c[0];
-      hi[a] = c[m - 1];
-    } else {
-      b.geometry.origin[a] = mesh->origin[a];
-      b.geometry.spacing[a] = mesh->spacing[a];
-      lo[a] = mesh->origin[a];
-      hi[a] = mesh->origin[a] + static_cast<double>(n - (cells ? 0 : 1)) * mesh->spacing[a];
-    }
-  }
-  b.global_bounds = Bounds{lo, hi};
-  if (ndomains == 0) return b;
+  set_geometry(b, *mesh);
+  if (ndomains == 0) return b;  // the mesh's association (the ranks with domains tell the field's)
 
   // Domain 0's field list, sorted by name: every domain must publish the same
   const auto list_of = [&](const tessera_domain& d, std::int64_t index) {
@@ -224,6 +258,10 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
   const std::span<const tessera_field> fields0(d0.fields, static_cast<std::size_t>(d0.nfields));
   const int chosen = find_field(fields0, field_name, render_name);
   const std::string name = fields0[static_cast<std::size_t>(chosen)].name;
+  // The render's field as its own association sees the mesh (vertex data on a cell mesh, say)
+  const bool cells = field_association(*mesh, d0, chosen, "domain 0") == TESSERA_CELL;
+  const tessera_mesh seen = mesh_for(*mesh, cells, name);
+  set_geometry(b, seen);
 
   b.blocks.reserve(static_cast<std::size_t>(ndomains));
   for (std::int64_t n = 0; n < ndomains; ++n) {
@@ -244,21 +282,27 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
       if (f.dtype != f0.dtype)
         fail(who + ": " + field_label(f) + " has dtype " + dtype_text(f.dtype) + ", domain 0's has " +
              dtype_text(f0.dtype) + " (every domain must publish the same dtypes)");
+      const int assoc = field_association(*mesh, d, list[q].second, who);
+      if (assoc != field_association(*mesh, d0, first[q].second, "domain 0"))
+        fail(who + ": " + field_label(f) + " is " + association_text(assoc) + ", domain 0's is " +
+             association_text(1 - assoc) + " (every domain must give a field the same association)");
     }
     // Every published field's descriptors, rendered or not (a wrong one is found at the
     // first call that renders, not when a render first draws it); the render's is kept
     for (const auto& [field_name_q, index] : list) {
       const tessera_field& f = d.fields[index];
       const std::string label = who + ": " + field_label(f);
+      const bool own_cells = field_association(*mesh, d, index, who) == TESSERA_CELL;
+      const tessera_mesh& fm = own_cells == cells ? seen : mesh_for(*mesh, own_cells, f.name);
       FieldBlock block;
-      block.view = bind_array(f, label, cells);
+      block.view = bind_array(f, label, own_cells);
       block.domain = static_cast<int>(n);
       block.level = d.level;
       for (int a = 0; a < 3; ++a) {
         block.offset[a] = d.offset[a];
-        const std::int64_t extent = level_extent(*mesh, d.level, a);
+        const std::int64_t extent = level_extent(fm, d.level, a);
         if (d.offset[a] < 0 || block.view.dims[a] > extent - d.offset[a])
-          fail(label + ": real " + (cells ? "cells [" : "vertices [") + std::to_string(d.offset[a]) + ".." +
+          fail(label + ": real " + (own_cells ? "cells [" : "vertices [") + std::to_string(d.offset[a]) + ".." +
                sum_text(d.offset[a], block.view.dims[a]) + ") along " + std::string(1, kAxis[a]) + " (offset" +
                axis(a) + " = " + std::to_string(d.offset[a]) + ") leave " +
                (d.level == 0 ? std::string("the mesh's") : "level " + std::to_string(d.level) + "'s") + " [0.." +

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace tessera::insitu {
 
@@ -33,10 +34,21 @@ std::int64_t level_extent(const tessera_mesh& mesh, int level, int a);
 /// check_mesh without throwing.
 bool mesh_valid(const tessera_mesh* mesh) noexcept;
 
+/// The mesh as a field of the given association sees it: the same points and cells, counted
+/// as vertices (cells + 1 per axis) or as cells (vertices - 1); origin, spacing and coordinates
+/// unchanged. `mesh` itself when the associations agree. Throws (naming `field`) for cell data
+/// on a mesh with one vertex along an axis.
+tessera_mesh mesh_for(const tessera_mesh& mesh, bool cells, std::string_view field);
+
+/// The binding's geometry and global placement from the mesh as its field sees it (mesh_for).
+void set_geometry(FieldBinding& b, const tessera_mesh& seen);
+
 /// Binds the render's field (`field_name`, or the only published field when empty) of every
 /// domain: domains non-null when ndomains > 0; 0 <= ndomains <= TESSERA_MAX_DOMAINS; each
 /// domain at a level in [0, nlevels) with a valid field list (non-null when nfields > 0, names non-null and
-/// distinct) publishing the same names and dtypes as domain 0; every published field's array
+/// distinct) publishing the same names, dtypes and associations as domain 0 (a domain's
+/// associations, or the mesh's for every field without them); the geometry is the mesh as the
+/// render's field sees it (mesh_for); every published field's array
 /// valid (bind_array) and its real elements inside its level's extent (level_extent), the
 /// render's field or not (descriptors only: no value is read). How the levels
 /// nest is checked later, with every rank's boxes (amr_layout.h). Blocks come largest first (ties in

@@ -29,8 +29,9 @@ void bind_grid(const PassContext& pass, BoundField& f) {
 }
 
 /// tessera_execute_domains: this rank's domains (domain_binding.h), then the ranks agree on
-/// the field's dtype (a rank without domains learns it; ranks whose dtypes differ, or no
-/// domain anywhere, fail alike on every rank with TESSERA_ERROR_DATA).
+/// the field's dtype and association (a rank without domains learns them, and sees the mesh as
+/// the field does; ranks whose dtypes or associations differ, or no domain anywhere, fail
+/// alike on every rank with TESSERA_ERROR_DATA).
 bool bind_all_domains(PhaseGate& gate, const PassContext& pass, BoundField& f) {
   const Publication& pub = pass.call.pub;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
@@ -55,6 +56,13 @@ bool bind_all_domains(PhaseGate& gate, const PassContext& pass, BoundField& f) {
       throw LayoutError("ranks publish field '" + f.name + "' with different dtypes (" +
                         dtype_name(static_cast<DType>(lo)) + " and " + dtype_name(static_cast<DType>(hi)) + ")");
     f.binding.local.dtype = static_cast<DType>(lo);
+    // The field's association: a rank without domains bound the mesh's own
+    const int cells = f.binding.geometry.association == Association::Cell ? 1 : 0;
+    const int any_cells = -pass.ctx.min(has ? -cells : 0);
+    const int all_cells = pass.ctx.min(has ? cells : 1);
+    if (any_cells != all_cells)
+      throw LayoutError("ranks publish field '" + f.name + "' with different associations (vertex and cell data)");
+    if (!has && cells != all_cells) set_geometry(f.binding, mesh_for(*pub.mesh, all_cells == 1, f.name));
   });
 }
 

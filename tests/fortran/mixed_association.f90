@@ -1,0 +1,120 @@
+!> Fields of mixed association from Fortran (tessera_field%association, Blueprint's vertex and
+!> element fields on one topology): a cell field t (11x9x7 cells) published beside a vertex
+!> field v (12x10x8 vertices) on a vertex mesh renders byte-identically to t alone on a cell
+!> mesh of the same box; an association that is neither TESSERA_VERTEX nor TESSERA_CELL is
+!> refused with TESSERA_ERROR_DATA naming it. Runs in the current directory.
+program mixed_association
+  use, intrinsic :: iso_c_binding, only: c_int64_t
+  use, intrinsic :: iso_fortran_env, only: real64, error_unit
+  use tessera
+  implicit none
+  real(real64), allocatable, target :: t(:, :, :), v(:, :, :)
+  type(tessera_field) :: both(2), alone(1)
+  type(tessera_domain) :: mixed(1), plain(1)
+  type(tessera_mesh) :: vertex_mesh, cell_mesh
+  type(tessera_adapter) :: viz
+  integer :: st, i, j, k, failures
+
+  failures = 0
+  allocate(t(11, 9, 7), v(12, 10, 8))
+  do k = 1, 8
+    do j = 1, 10
+      do i = 1, 12
+        v(i, j, k) = real(i + j, real64) / 22
+        if (i <= 11 .and. j <= 9 .and. k <= 7) t(i, j, k) = sin(i / 3.0_real64) * cos(j / 4.0_real64) + k / 7.0_real64
+      end do
+    end do
+  end do
+  vertex_mesh%global_dims = [12, 10, 8]
+  vertex_mesh%spacing = [1.0_real64, 1.2_real64, 1.5_real64]
+  cell_mesh = vertex_mesh
+  cell_mesh%association = TESSERA_CELL
+  cell_mesh%global_dims = [11, 9, 7]
+
+  call write_text('mixed.yaml', 'tessera: {output_dir: out, threads: 2}' // new_line('a') // 'renders:' // &
+    new_line('a') // '  - {name: r, field: t, trigger: {every: 1}, image: {width: 32, height: 24, spp: 4},' // &
+    ' camera: {position: {orbit: {azimuth: 30, elevation: 20, distance: fit}}},' // &
+    ' transfer_function: {range: [-1.2, 2.2], density_scale: 0.1, opacity: [[0, 0], [1, 1]]},' // &
+    ' integrator: {seed: 7, tile: 8}, output: {file: "r_{step}", formats: [exr]}}' // new_line('a'))
+
+  both(1) = tessera_field_from('v', v)
+  both(2) = tessera_field_from('t', t)
+  both(2)%association = TESSERA_CELL          ! v keeps the mesh's (vertex)
+  mixed(1) = tessera_domain_from([0_c_int64_t, 0_c_int64_t, 0_c_int64_t], both)
+  alone(1) = tessera_field_from('t', t)
+  plain(1) = tessera_domain_from([0_c_int64_t, 0_c_int64_t, 0_c_int64_t], alone)
+  call render('mixed', vertex_mesh, mixed)
+  call render('plain', cell_mesh, plain)
+  call check(same_file('mixed/r_0.exr', 'plain/r_0.exr'), 'cell t beside vertex v on a vertex mesh = t on a cell mesh')
+
+  ! An association that is neither
+  mixed(1)%fields(2)%association = 7
+  st = tessera_open('mixed.yaml', TESSERA_NO_MPI, viz, 'bad')
+  st = tessera_execute_domains(viz, 0, 0.0_real64, vertex_mesh, mixed)
+  call check(st == TESSERA_ERROR_DATA .and. index(tessera_last_error(viz), 'associations[1] = 7') > 0, &
+    'association 7: ' // tessera_last_error(viz))
+  st = tessera_close(viz)
+
+  deallocate(t, v)
+  if (failures > 0) then
+    write(error_unit, '(i0, a)') failures, ' check(s) failed'
+    error stop 1
+  end if
+  print '(a)', 'mixed_association: all checks passed'
+
+contains
+
+  subroutine render(dir, m, domains)
+    character(*), intent(in) :: dir
+    type(tessera_mesh), intent(in) :: m
+    type(tessera_domain), intent(in) :: domains(:)
+    type(tessera_adapter) :: a
+    st = tessera_open('mixed.yaml', TESSERA_NO_MPI, a, dir)
+    call check(st == TESSERA_OK, 'open: ' // tessera_last_error(a))
+    st = tessera_execute_domains(a, 0, 0.0_real64, m, domains)
+    call check(st == TESSERA_OK, dir // ': ' // tessera_last_error(a))
+    st = tessera_close(a)
+  end subroutine render
+
+  logical function same_file(p, q)
+    character(*), intent(in) :: p, q
+    character(len=:), allocatable :: x, y
+    x = contents(p)
+    y = contents(q)
+    same_file = len(x) > 0 .and. x == y .and. len(x) == len(y)
+  end function same_file
+
+  function contents(path) result(text)
+    character(*), intent(in) :: path
+    character(len=:), allocatable :: text
+    integer :: unit, n, ios
+    logical :: there
+    inquire(file=path, exist=there, size=n)
+    if (.not. there .or. n <= 0) then
+      text = ''
+      return
+    end if
+    allocate(character(len=n) :: text)
+    open(newunit=unit, file=path, access='stream', form='unformatted', status='old', iostat=ios)
+    if (ios == 0) read(unit, iostat=ios) text
+    close(unit)
+    if (ios /= 0) text = ''
+  end function contents
+
+  subroutine write_text(path, text)
+    character(*), intent(in) :: path, text
+    integer :: unit
+    open(newunit=unit, file=path, status='replace', action='write', form='formatted')
+    write(unit, '(a)', advance='no') text
+    close(unit)
+  end subroutine write_text
+
+  subroutine check(ok, what)
+    logical, intent(in) :: ok
+    character(*), intent(in) :: what
+    if (.not. ok) then
+      write(error_unit, '(2a)') 'FAILED: ', what
+      failures = failures + 1
+    end if
+  end subroutine check
+end program mixed_association
