@@ -2,6 +2,7 @@
 
 #include "agreement/rank_agreement.h"
 #include "budget/adapter_time.h"
+#include "data/axis_pieces.h"
 #include "outputs/outputs.h"
 
 #include <tessera/denoiser.h>
@@ -147,6 +148,25 @@ tessera_status Adapter::Impl::execute_refused(std::int64_t step, double time, bo
   return run_call(step, time, pub, final_step);
 }
 
+std::optional<std::string> Adapter::Impl::assemble_axes_of(const Publication& pub) {
+  bool ok = true;
+  std::string fault;
+  try {
+    const std::vector<std::string> all =
+        m_ctx->allgather_bytes(pack_pieces(*pub.mesh, pub.domains, pub.ndomains), max_piece_bytes(*pub.mesh));
+    m_axes = assemble_axes(*pub.mesh, all);  // the same verdict on every rank: every rank has every piece
+    m_call_mesh = *pub.mesh;
+    for (int a = 0; a < 3; ++a)
+      if (!m_axes[a].empty()) m_call_mesh.coords[a] = m_axes[a].data();
+    m_call_mesh.axes_from_domains = 0;
+  } catch (const std::exception& e) {
+    ok = false;
+    fault = e.what();
+  }
+  if (m_ctx->agree(ok)) return std::nullopt;
+  return ok ? std::string("the axes the domains give in pieces could not be assembled on another rank") : fault;
+}
+
 Adapter::Impl::Decision Adapter::Impl::decide(std::size_t i, std::int64_t step, bool force) const noexcept {
   const Trigger& t = m_renders[i].trigger;
   return force                   ? Decision::Fire
@@ -222,17 +242,28 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
     view.mesh = pub.mesh;
     view.domains = pub.domains;
     view.ndomains = pub.ndomains;
-    if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view, kAgreementWarnSeconds, &plan)) {
+    int pieced_axes = 0;
+    if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view, kAgreementWarnSeconds, &plan, &pieced_axes)) {
       if (root) log_line(d->message);
       if (d->rank_closed) m_broken = d->message;
       m_error = std::move(d->message);
       return d->status;
     }
+    // Axes the domains give in pieces: assembled on every rank alike, then the call's mesh
+    Publication call_pub = pub;
+    if (pieced_axes != 0) {
+      if (std::optional<std::string> fault = assemble_axes_of(pub)) {
+        m_error = "step " + std::to_string(step) + ": " + std::move(*fault);
+        if (root) log_line(m_error);
+        return TESSERA_ERROR_DATA;
+      }
+      call_pub.mesh = &m_call_mesh;
+    }
 
     // Renders that fire (or may: `when`), in config order
     m_call.step = step;
     m_call.time = time;
-    m_call.pub = pub;
+    m_call.pub = call_pub;
     m_call.simulation_seconds = std::max(0.0, m_sim_seconds);
     m_call.budget_plan = plan;
     m_call.budget = m_budget ? &*m_budget : nullptr;
@@ -283,6 +314,7 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
     m_call.assembled_key.reset();
     m_call.assembled = FieldView{};
     m_call.assembled_patches.clear();
+    for (std::vector<double>& axis : m_axes) axis.clear();
     return status;
   } catch (const std::exception& e) {
     try {

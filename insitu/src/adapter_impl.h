@@ -13,6 +13,7 @@
 #include <tessera/adapter.h>
 #include <tessera/config/config.h>
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -95,6 +96,13 @@ struct Adapter::Impl {
   double m_adapter_time_mark = 0.0;
   /// This adapter's output_dir, claimed while it is open (output_claims.h).
   OutputClaim m_claim;
+  /// The call's mesh when the domains give axes in pieces (axis_pieces.h): the caller's, with
+  /// those axes' coordinates in m_axes (kept during the call only).
+  tessera_mesh m_call_mesh{};
+  std::array<std::vector<double>, 3> m_axes;
+  /// Gathers every rank's pieces and assembles the axes into m_call_mesh (collective); the
+  /// message (the same on every rank) when they do not fit.
+  std::optional<std::string> assemble_axes_of(const Publication& pub);
   /// tessera.budget: the account and the planner (render_budget.h); empty without a budget.
   std::optional<RenderBudget> m_budget;
 };

@@ -5,6 +5,7 @@
 // multiple scattering; ranks that disagree on the mesh, or whose domains do not fit together,
 // all get TESSERA_ERROR_DATA and none hangs. For vertex and cell data, on uniform and
 // stretched (rectilinear) axes.
+#include "axis_pieces.h"
 #include "domain_cuts.h"
 #include "mpi_test_support.h"
 
@@ -371,5 +372,45 @@ TEST_CASE("domains: cell data on a vertex mesh (per-field association), a rank w
     CHECK(r.status == TESSERA_OK);
     if (world_rank() == 0 && r.status == TESSERA_OK && ref.status == TESSERA_OK)
       CHECK(same_image(*ref.image, *r.image));
+  }
+}
+
+TEST_CASE("domains: per-domain coordinates dealt over the ranks (a rank without domains included) assemble into the "
+          "axis and render as the whole axis",
+          "[mpi][domains][pieces]") {
+  SharedTempDir dir;
+  const int n = world_size();
+  static const tessera_test::TestMesh stretched(kG, TESSERA_VERTEX, tessera_test::Axes::StretchedY);
+  const HeldDomains seven(kG, tessera_test::seven_cuts(kG), 1);
+  const std::string cfg = write_config(dir, "pieces", "auto", "single");
+  const Run ref = run_on(1, cfg, seven, Deal::All, {}, stretched.mesh());
+  const Edit in_pieces = [](int, tessera_mesh& m, std::vector<tessera_domain>& d) {
+    static tessera_test::AxisPieces pieces;
+    const std::vector<double> axis(stretched.mesh().coords[1], stretched.mesh().coords[1] + kG[1]);
+    pieces.give(d, 1, axis, 1);
+    m.coords[1] = nullptr;
+    m.axes_from_domains = 2;
+  };
+  for (const Deal deal : {Deal::RoundRobin, Deal::NoneOnRank1}) {
+    const Run r = run_on(n, cfg, seven, deal, in_pieces, stretched.mesh());
+    INFO(r.error);
+    CHECK(r.status == TESSERA_OK);
+    if (world_rank() == 0 && r.status == TESSERA_OK && ref.status == TESSERA_OK)
+      CHECK(same_image(*ref.image, *r.image));
+  }
+  // Rank 1's piece disagrees with a neighbour's: every rank fails, naming both
+  if (n >= 2) {
+    const Edit differ = [&](int r, tessera_mesh& m, std::vector<tessera_domain>& d) {
+      in_pieces(r, m, d);
+      static std::vector<double> changed;
+      if (r != 1 || d.empty()) return;
+      changed.assign(d[0].coords[1], d[0].coords[1] + d[0].coords_count[1]);
+      for (double& v : changed) v += 1e-3;
+      d[0].coords[1] = changed.data();
+    };
+    const Run r = run_on(n, cfg, seven, Deal::RoundRobin, differ, stretched.mesh());
+    INFO(r.error);
+    CHECK(r.status == TESSERA_ERROR_DATA);
+    if (world_rank() == 0) CHECK_THAT(r.error, Catch::Contains("rank 1 domain") && Catch::Contains("bit for bit"));
   }
 }

@@ -88,6 +88,10 @@ typedef struct {                      /* the whole mesh; the same on every rank 
   int           nlevels;              /* 1 = single level; AMR: levels 0 (coarsest) .. nlevels-1 */
   const int*    refinement;           /* nlevels-1 ratios (2 or 4): level l+1 splits each level-l
                                          cell (or interval) into ratio^3 (NULL when nlevels = 1) */
+  int           axes_from_domains;    /* bit a (1, 2, 4 for i, j, k) set: axis a is rectilinear and
+                                         its coordinates come in pieces from the domains
+                                         (tessera_domain coords[a]); coords[a] then NULL and
+                                         spacing[a] ignored. 0 (zero-initialised): none */
 } tessera_mesh;
 /* Notes on tessera_mesh:
  * - A rectilinear axis (coords[a] non-NULL) is read in place, never copied; its values must be
@@ -111,6 +115,12 @@ typedef struct {                      /* one block this rank holds, never copied
   const tessera_association* associations; /* NULL: every field has the mesh's association;
                                          else nfields entries: fields[f] is vertex or cell data
                                          (Blueprint's per-field association) */
+  const double*        coords[3];     /* axes_from_domains: this domain's piece of axis a, read in
+                                         place: coords_count[a] vertex coordinates (ghosts may be
+                                         included), the first at global level-0 vertex index
+                                         coords_start[a]; NULL: this domain gives none */
+  int64_t              coords_start[3];
+  int64_t              coords_count[3];
 } tessera_domain;
 /* Notes on tessera_domain:
  * - Every domain of every rank publishes the same fields: the same names with the same
@@ -122,6 +132,12 @@ typedef struct {                      /* one block this rank holds, never copied
  *   more (vertex data on a cell mesh) or one less (cell data on a vertex mesh) per axis, on the
  *   same origin, spacing and coordinates, and its domain's offset and dims count its own
  *   elements. A client that zero-initialises the struct (associations NULL) is unchanged.
+ * - Per-domain coordinates (Blueprint's rectilinear coordset per domain): with bit a of the
+ *   mesh's axes_from_domains set, the ranks gather every domain's piece of axis a (vertex
+ *   indices outside the mesh are ignored) and assemble the global axis: every vertex must be
+ *   covered, and pieces that overlap (ghosts) must agree bit for bit; otherwise
+ *   TESSERA_ERROR_DATA naming the rank, domain, axis and index. Single-level meshes only.
+ *   Collective at each call where a render fires: every rank's pieces travel to every rank.
  * - Ghost layers are skipped: the renderer reads every value from the domain that owns it
  *   (replica or brick cache), so ghosts are never needed and never read.
  * - Real (non-ghost) elements of all domains of one level over all ranks may not overlap;

@@ -243,6 +243,12 @@ std::string property_difference(const PublicationRecord& mine, const Publication
       return who + "'s mesh has refinement[" + std::to_string(l) + "] = " + std::to_string(mine.refinement[l]) +
              " (level " + std::to_string(l) + " -> " + std::to_string(l + 1) + "), rank 0's " +
              std::to_string(ref.refinement[l]);
+  for (int a = 0; mesh && a < 3; ++a)
+    if (((mine.axes_from_domains ^ ref.axes_from_domains) >> a) & 1) {
+      const bool here = ((mine.axes_from_domains >> a) & 1) != 0;
+      return axis_label(a) + " takes its coordinates from the domains' pieces (bit " + std::to_string(1 << a) +
+             " of axes_from_domains) on " + (here ? who : "rank 0") + " but not on " + (here ? "rank 0" : who);
+    }
   for (int a = 0; a < 3; ++a)
     if (mine.rectilinear[a] != ref.rectilinear[a]) {
       const bool rect = mine.rectilinear[a] != 0;
@@ -295,14 +301,16 @@ PublicationRecord publication_record(bool domains_call, const tessera_grid* grid
     rec.has_grid = 1;
     rec.association = mesh->association == TESSERA_CELL ? TESSERA_CELL : TESSERA_VERTEX;
     rec.nlevels = mesh->nlevels;
+    rec.axes_from_domains = mesh->axes_from_domains;
     for (int l = 0; l + 1 < mesh->nlevels; ++l) rec.refinement[l] = mesh->refinement[l];
     for (int a = 0; a < 3; ++a) {
       const double* c = mesh->coords[a];
       rec.global_dims[a] = mesh->global_dims[a];
       rec.rectilinear[a] = c ? 1 : 0;
-      // A rectilinear axis: its spacing and origin are not read (0 here), its values are
-      rec.origin_bits[a] = c ? 0 : std::bit_cast<std::uint64_t>(mesh->origin[a]);
-      rec.spacing_bits[a] = c ? 0 : std::bit_cast<std::uint64_t>(mesh->spacing[a]);
+      // A rectilinear axis (or one in pieces): its spacing and origin are not read (0 here)
+      const bool pieces = ((mesh->axes_from_domains >> a) & 1) != 0;
+      rec.origin_bits[a] = c || pieces ? 0 : std::bit_cast<std::uint64_t>(mesh->origin[a]);
+      rec.spacing_bits[a] = c || pieces ? 0 : std::bit_cast<std::uint64_t>(mesh->spacing[a]);
       if (c) {
         const std::string_view bytes(reinterpret_cast<const char*>(c),
                                      static_cast<std::size_t>(coord_count(*mesh, a)) * sizeof(double));

@@ -41,6 +41,7 @@ struct PublicationRecord {
   std::int64_t nlevels;
   std::int64_t refinement[kMaxAmrLevels - 1];
   std::uint64_t rectilinear[3];     ///< 1 where coords[a] is set
+  std::int64_t axes_from_domains;   ///< meshes: the axes the domains give in pieces
   std::uint64_t coords_hash[3][2];  ///< of a rectilinear axis' values, bit for bit
   std::uint64_t has_fields;         ///< a domains call with domains and a readable field list
   std::uint64_t fields_count;

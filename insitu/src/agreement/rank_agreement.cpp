@@ -1,6 +1,7 @@
 #include "agreement/rank_agreement.h"
 
 #include "agreement/publication_agreement.h"
+#include "data/domain_binding.h"
 
 #include "data/hash64.h"
 #include "outputs/error_policy.h"
@@ -259,10 +260,15 @@ std::string waiting_message(int rank, const CallView& call, double waited) {
 }
 
 std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call, double warn_after,
-                                          double* rank0_plan) {
+                                          double* rank0_plan, int* pieced_axes) {
   const int n = ctx.size();
   if (rank0_plan) *rank0_plan = call.plan;
-  if (n == 1) return std::nullopt;
+  if (pieced_axes) *pieced_axes = 0;
+  if (n == 1) {
+    if (pieced_axes && call.kind != CallKind::Close && call.domains_call && mesh_valid(call.mesh))
+      *pieced_axes = call.mesh->axes_from_domains;
+    return std::nullopt;
+  }
   const CallRecord mine = call_record(call);
   std::vector<CallRecord> all(static_cast<std::size_t>(n));
   const int rank = ctx.rank();
@@ -311,6 +317,9 @@ std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& 
   if (std::optional<std::string> diff =
           publication_disagreement(ctx, ref.step, pubs, PublicationView{call.mesh, call.domains, call.ndomains}))
     return Disagreement{TESSERA_ERROR_DATA, std::move(*diff)};
+  bool grids = ref.pub.domains_call != 0;
+  for (const PublicationRecord& rec : pubs) grids = grids && rec.has_grid;
+  if (pieced_axes && grids) *pieced_axes = static_cast<int>(ref.pub.axes_from_domains);
   return std::nullopt;
 }
 

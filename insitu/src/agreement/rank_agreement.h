@@ -108,8 +108,12 @@ struct CallView {
 /// hang is visible and names the call.
 /// rank0_plan (may be NULL): receives rank 0's call.plan, bit for bit (this rank's own with
 /// one rank), when the ranks agree.
+/// pieced_axes (may be NULL): receives, when the ranks agree, the mesh's axes_from_domains
+/// (the same on every rank), or 0 when some rank's mesh failed its own checks or the call
+/// is no domains call.
 std::optional<Disagreement> agree_on_call(ParallelContext& ctx, const CallView& call,
-                                          double warn_after = kAgreementWarnSeconds, double* rank0_plan = nullptr);
+                                          double warn_after = kAgreementWarnSeconds, double* rank0_plan = nullptr,
+                                          int* pieced_axes = nullptr);
 
 /// The line a rank logs while it waits in agree_on_call (exposed for tests).
 std::string waiting_message(int rank, const CallView& call, double waited);

@@ -42,6 +42,9 @@ int association_value(const tessera_mesh& m) {
 
 bool cell_data(const tessera_mesh& m) { return association_value(m) == TESSERA_CELL; }
 
+/// Axis a's coordinates come in pieces from the domains (axes_from_domains).
+bool pieced(const tessera_mesh& m, int a) { return ((m.axes_from_domains >> a) & 1) != 0; }
+
 /// Coordinates along rectilinear axis a: global_dims (vertex) or global_dims + 1 (cell).
 std::int64_t coord_count(const tessera_mesh& m, int a) { return m.global_dims[a] + (cell_data(m) ? 1 : 0); }
 
@@ -100,8 +103,12 @@ void check_mesh(const tessera_mesh& m) {
            std::to_string(l) + " -> " + std::to_string(l + 1) + "), must be 2 or 4");
     finest *= m.refinement[l];
   }
+  if (m.axes_from_domains & ~7)
+    fail("mesh: axes_from_domains = " + std::to_string(m.axes_from_domains) +
+         " has bits other than 1, 2 and 4 (axes i, j, k)");
   double lo[3], hi[3], h = INFINITY;
-  std::string h_where;  // where the smallest spacing is, for the message
+  bool known[3] = {true, true, true};  // the axis' extent (not for pieces still to assemble)
+  std::string h_where;                 // where the smallest spacing is, for the message
   const auto smallest = [&](double s, int a, std::int64_t q) {
     if (!(s < h)) return;
     h = s;
@@ -112,6 +119,17 @@ void check_mesh(const tessera_mesh& m) {
     if (m.global_dims[a] < 1 || m.global_dims[a] > INT_MAX)
       fail("mesh: global_dims" + axis(a) + " = " + std::to_string(m.global_dims[a]) + ", must be in [1, " +
            std::to_string(INT_MAX) + "]");
+    if (pieced(m, a)) {
+      // Coordinates that the domains give in pieces (axis_pieces.h assembles them)
+      if (m.coords[a])
+        fail("mesh: axis " + std::string(1, kAxis[a]) + " has both coords" + axis(a) + " and bit " +
+             std::to_string(1 << a) + " of axes_from_domains set: give the axis once");
+      if (m.nlevels > 1)
+        fail("mesh: axes_from_domains sets axis " + std::string(1, kAxis[a]) + " with nlevels = " +
+             std::to_string(m.nlevels) + ": per-domain coordinates with refinement levels are not yet supported");
+      known[a] = false;
+      continue;
+    }
     if (!std::isfinite(m.origin[a]))
       fail("mesh: origin" + axis(a) + " = " + short_number(m.origin[a]) + " is not finite");
     if (!m.coords[a]) {
@@ -148,7 +166,7 @@ void check_mesh(const tessera_mesh& m) {
   h /= static_cast<double>(finest);
   if (std::isfinite(h))
     for (int a = 0; a < 3; ++a)
-      if (!(std::fabs(lo[a]) <= kMaxCoordinateVoxels * h && std::fabs(hi[a]) <= kMaxCoordinateVoxels * h))
+      if (known[a] && !(std::fabs(lo[a]) <= kMaxCoordinateVoxels * h && std::fabs(hi[a]) <= kMaxCoordinateVoxels * h))
         fail("mesh: along " + std::string(1, kAxis[a]) + " it spans [" + short_number(lo[a]) + ", " +
              short_number(hi[a]) + "], beyond 2^40 times the mesh's smallest spacing from 0 (" +
              short_number(kMaxCoordinateVoxels * h) + "; the smallest spacing, " + short_number(h) + ", is " + h_where +
@@ -219,6 +237,9 @@ FieldBinding bind_domains(const tessera_mesh* mesh, const tessera_domain* domain
                           const std::string& field_name, const std::string& render_name) {
   if (!mesh) fail("mesh descriptor is NULL");
   check_mesh(*mesh);
+  if (mesh->axes_from_domains)
+    fail("mesh: the axes the domains give in pieces (axes_from_domains) were not assembled: another rank's mesh "
+         "failed its checks");
   if (ndomains < 0 || ndomains > TESSERA_MAX_DOMAINS)
     fail("ndomains = " + std::to_string(ndomains) + ", must be in [0, " + std::to_string(TESSERA_MAX_DOMAINS) +
          "] (TESSERA_MAX_DOMAINS)");

@@ -84,6 +84,26 @@ class ParallelContext {
   /// Rank `root`'s `text` on every rank (other ranks' `text` is replaced). Two collectives
   /// (length, then bytes); meant for failure paths, not per call.
   virtual void broadcast(std::string& text, int root) = 0;
+  /// Every rank's `mine`, in rank order, on every rank (sizes may differ). Throws
+  /// std::length_error, on every rank alike, when the sum passes `max_total` bytes. This form:
+  /// one allgather of the sizes, then one broadcast per rank; MPI overrides it with one
+  /// MPI_Allgatherv.
+  virtual std::vector<std::string> allgather_bytes(const std::string& mine, std::size_t max_total) {
+    const std::uint64_t size = mine.size();
+    std::vector<std::uint64_t> sizes(static_cast<std::size_t>(this->size()));
+    allgather(&size, sizeof size, sizes.data());
+    std::uint64_t total = 0;
+    for (const std::uint64_t s : sizes) total += s;
+    if (total > max_total)
+      throw std::length_error("the ranks' pieces hold " + std::to_string(total) + " bytes, more than " +
+                              std::to_string(max_total));
+    std::vector<std::string> all(sizes.size());
+    for (int r = 0; r < this->size(); ++r) {
+      if (r == rank()) all[static_cast<std::size_t>(r)] = mine;
+      broadcast(all[static_cast<std::size_t>(r)], r);
+    }
+    return all;
+  }
 
   /// The whole field, for rendering, from each rank's view of its real vertices.
   /// One rank whose view covers the global grid: returns that view itself (zero copy).
