@@ -107,7 +107,7 @@ module tessera
   public :: tessera_field_from, tessera_field_from_unsigned, tessera_execute, &
     tessera_execute_final, tessera_open, tessera_open_with_output_dir, tessera_close, &
     tessera_field_unchanged, tessera_last_error, tessera_mesh_coords, tessera_domain_from, &
-    tessera_execute_domains, tessera_execute_domains_final
+    tessera_domain_coords, tessera_execute_domains, tessera_execute_domains_final
 
   !> The last argument the module itself refused (a NUL inside a name or path, an array shorter
   !> than its descriptor claims): its message,
