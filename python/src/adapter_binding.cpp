@@ -114,13 +114,14 @@ class PyAdapter {
 
   /// execute_domains: the mesh (association 0 vertex / 1 cell, origin, spacing, per axis None
   /// for a uniform axis or the float64 coordinates, global_dims, nlevels and the nlevels - 1
-  /// refinement ratios) and the domains (level, offset, fields as in execute()). The lengths
+  /// refinement ratios) and the domains (level, offset, fields as in execute(), and either no
+  /// associations (every field the mesh's) or one per field, 0 vertex / 1 cell). The lengths
   /// the C side reads (coordinates, ratios) are checked here too: nothing past an array.
-  nb::tuple execute_domains(std::int64_t step, double time, int association, Double3 origin, Double3 spacing,
-                            const std::array<std::optional<CoordArray>, 3>& coords, Int3 global_dims, int nlevels,
-                            const std::vector<int>& refinement,
-                            const std::vector<std::tuple<int, Int3, std::vector<FieldTuple>>>& domains,
-                            bool final_step) {
+  nb::tuple execute_domains(
+      std::int64_t step, double time, int association, Double3 origin, Double3 spacing,
+      const std::array<std::optional<CoordArray>, 3>& coords, Int3 global_dims, int nlevels,
+      const std::vector<int>& refinement,
+      const std::vector<std::tuple<int, Int3, std::vector<FieldTuple>, std::vector<int>>>& domains, bool final_step) {
     if (nlevels < 1 || refinement.size() != static_cast<std::size_t>(nlevels - 1))
       throw nb::value_error("refinement: nlevels - 1 ratios are needed");
     if (association != 0 && association != 1) throw nb::value_error("association: 0 (vertex) or 1 (cell)");
@@ -144,9 +145,17 @@ class PyAdapter {
       mesh.global_dims[a] = global_dims[a];
     }
     std::vector<std::vector<tessera_field>> fields(domains.size());
+    std::vector<std::vector<tessera_association>> associations(domains.size());
     std::vector<tessera_domain> descs(domains.size());
     for (std::size_t d = 0; d < domains.size(); ++d) {
-      const auto& [level, offset, list] = domains[d];
+      const auto& [level, offset, list, assoc] = domains[d];
+      if (!assoc.empty() && assoc.size() != list.size())
+        throw nb::value_error("associations: none or one per field are needed");
+      for (int a : assoc) {
+        if (a != 0 && a != 1) throw nb::value_error("associations: 0 (vertex) or 1 (cell)");
+        associations[d].push_back(static_cast<tessera_association>(a));
+      }
+      descs[d].associations = associations[d].empty() ? nullptr : associations[d].data();
       fields[d] = descriptors(list);
       descs[d].level = level;
       for (int a = 0; a < 3; ++a) descs[d].offset[a] = offset[a];

@@ -3,7 +3,7 @@ import sys
 import threading
 import warnings
 
-from . import _checks, _tessera
+from . import _blueprint, _checks, _tessera
 from ._arrays import coordinate_array, field_descriptor
 from ._config import config_source
 from ._errors import (ConfigError, DataError, DisabledError, OutputError, RenderError, TesseraError,
@@ -139,7 +139,9 @@ class Adapter:
         "cell"; ``coords`` None or three entries, each None (a uniform axis) or a 1-D
         contiguous float64 array of the axis' increasing coordinates (global_dims[a] values,
         + 1 for cell data), read in place. Every domain publishes the same field names and
-        dtypes; their real elements tile the mesh.
+        dtypes; their real elements tile the mesh. A domain's ``"associations"``: ``{name:
+        "vertex" | "cell"}`` for fields whose association is not the mesh's (one element more
+        or fewer per axis, on the same points and cells).
 
         Refinement levels (AMR, docs/data-model.md): ``nlevels`` levels (1 .. 8), level 0 the
         mesh above; ``refinement`` a list of nlevels - 1 integer ratios (2 or 4), level l + 1
@@ -188,7 +190,7 @@ class Adapter:
             # API: a call where nothing fires costs the same for one domain or a million
             fires = impl.fires(step_i, final_b)
             if domains is not None:
-                held, blocks = self._blocks(domains) if fires else ([], [])
+                held, blocks = self._blocks(domains, mesh[0]) if fires else ([], [])
             else:
                 held, descs = self._descriptors(fields, lo, hi, "fields") if fires else ([], [])
                 if grid[2] is None:  # this rank's real vertices
@@ -204,6 +206,26 @@ class Adapter:
             outcome = impl.execute_domains(step_i, time_f, *mesh, blocks, final_b)
         del held  # the arrays were read in place during the call
         return self._outcome(outcome, step)
+
+    def execute_blueprint(self, step, time, mesh, *, final=False, topology=None,
+                          ghost_field_name=_blueprint.GHOST_FIELDS):
+        """execute() for a Conduit Mesh Blueprint hierarchy as nested dicts (docs/python.md,
+        "Mesh Blueprint"): ``mesh`` is one domain ``{"coordsets": ..., "topologies": ...,
+        "fields": ..., "state": ...}`` (Conduit's path keys ``"coordsets/coords/type"`` too), a
+        list of them or a dict of named ones, numpy arrays as values (read in place). Uniform
+        and rectilinear topologies, vertex or element fields, several domains per rank,
+        refinement levels (``state/level_id``); the global mesh and each domain's offset are
+        worked out from the coordinates of every rank's domains. ``topology``: the one to
+        render where a domain has several; ``ghost_field_name``: the element field(s) marking
+        ghost elements (nonzero), as whole layers at the faces. Nothing is looked at where
+        no render fires; faults raise naming their path in the hierarchy, on every rank."""
+        impl = self._impl
+        if impl is None:
+            raise TesseraError("execute_blueprint: the adapter is closed")
+        if self._mpi is not None and self._mpi.Is_finalized():
+            raise RenderError("execute_blueprint: MPI is finalized (MPI.Finalize() has run): the adapter's "
+                              "communicator cannot be used any more; close the adapter before MPI.Finalize()")
+        return _blueprint.execute(self, impl, step, time, mesh, final, topology, ghost_field_name)
 
     @staticmethod
     def _descriptors(fields, lo, hi, what):
@@ -258,9 +280,9 @@ class Adapter:
                 _checks.real_triple(spacing, "spacing"), axes, dims, levels, ratios)
 
     @classmethod
-    def _blocks(cls, domains):
-        """(arrays held, the binding's domain tuples (level, offset, fields))."""
-        known = {"fields", "offset", "ghosts", "ghosts_hi", "level"}
+    def _blocks(cls, domains, association):
+        """(arrays held, the binding's domain tuples (level, offset, fields, associations))."""
+        known = {"fields", "offset", "ghosts", "ghosts_hi", "level", "associations"}
         held, blocks = [], []
         for d, dom in enumerate(domains):
             if not isinstance(dom, dict):
@@ -277,8 +299,27 @@ class Adapter:
             a, descs = cls._descriptors(fields, lo, hi, f"domains[{d}]['fields']")
             held += a
             level = _checks.integer(dom.get("level", 0), f"domains[{d}]['level']", bits=32)
-            blocks.append((level, _checks.integer_triple(dom.get("offset", 0), f"domains[{d}]['offset']"), descs))
+            blocks.append((level, _checks.integer_triple(dom.get("offset", 0), f"domains[{d}]['offset']"), descs,
+                           cls._associations(dom.get("associations"), fields, association,
+                                             f"domains[{d}]['associations']")))
         return held, blocks
+
+    @staticmethod
+    def _associations(given, fields, mesh, what):
+        """The binding's per-field associations (0 vertex, 1 cell) of a domain's ``{name:
+        "vertex" | "cell"}``; fields it does not name have the mesh's (code ``mesh``); [] when
+        it names none (every field the mesh's)."""
+        if given is None or not given:
+            return []
+        if not isinstance(given, dict):
+            raise TypeError(f"{what}: a dict {{field name: 'vertex' or 'cell'}} is needed, got "
+                            f"{_checks._shown(given)}")
+        for name, a in given.items():
+            if name not in fields:
+                raise ValueError(f"{what}: {name!r} is not one of the domain's fields")
+            if not isinstance(a, str) or a not in ("vertex", "cell"):
+                raise ValueError(f"{what}[{name!r}]: 'vertex' or 'cell' is needed, got {_checks._shown(a)}")
+        return [{"vertex": 0, "cell": 1}.get(given.get(name), mesh) for name in fields]
 
     def _outcome(self, outcome, step):
         """Records the call's own outcome (status, message, results: what this call left, not

@@ -1,5 +1,6 @@
 """tessera.Adapter: the in situ adapter from Python (serial, and mpi4py at -n 2)."""
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -257,3 +258,22 @@ def test_a_call_where_nothing_fires_never_walks_the_domains(tmp_path):
         looks = Watched.looks
         assert "main" in viz.execute(6, 0.0, fields, **GRID)
         assert Watched.looks > looks
+
+
+def test_domains_may_give_fields_their_own_association(tmp_path):
+    """A domain's "associations": a cell field beside the vertex field on a vertex mesh (one
+    element fewer per axis) leaves the vertex field's image as it is; bad entries are refused
+    naming them."""
+    data = field().T
+    cells = np.ascontiguousarray(data[1:, 1:, 1:])
+    dom = {"fields": {"temperature": data, "energy": cells}, "associations": {"energy": "cell"}}
+    with tessera.Adapter(CONFIG, output_dir=tmp_path, quiet=True) as viz:
+        plain = viz.execute(0, 0.0, {"temperature": data}, **GRID)["main"]
+        mixed = viz.execute(0, 0.0, domains=[dom], global_dims=data.shape, **GRID)["main"]
+        assert viz.last_status == 0, viz.last_error
+        for bad, message in (({"energy": "element"}, "['energy']: 'vertex' or 'cell' is needed"),
+                             ({"pressure": "cell"}, "'pressure' is not one of the domain's fields")):
+            with pytest.raises(ValueError, match=re.escape(f"domains[0]['associations']{message}"
+                                                           if message.startswith("[") else message)):
+                viz.execute(0, 0.0, domains=[dict(dom, associations=bad)], global_dims=data.shape, **GRID)
+    assert same_bits(plain, mixed)
