@@ -182,6 +182,128 @@ bool Adapter::Impl::any_fires(std::int64_t step, bool final_step) const noexcept
   return false;
 }
 
+std::optional<tessera_status> Adapter::Impl::refused_call() {
+  if (!m_ctx) {
+    m_error = m_closed ? "adapter was closed: execute after close" : "the adapter is not open";
+    return TESSERA_ERROR_CONFIG;
+  }
+  if (!m_broken.empty()) {
+    m_error = m_broken;
+    return TESSERA_ERROR_CONFIG;
+  }
+  if (m_policy.blocked()) {
+    m_error = m_policy.blocked_message();
+    return m_policy.blocked_status();
+  }
+  return std::nullopt;
+}
+
+bool Adapter::Impl::decide_all(std::int64_t step, bool final_step) {
+  const bool force = final_step && m_config.global.render_final_step;
+  bool any = false;
+  for (std::size_t i = 0; i < m_renders.size(); ++i) {
+    m_decisions[i] = decide(i, step, force);
+    any = any || m_decisions[i] != Decision::Skip;
+  }
+  return any;
+}
+
+std::optional<tessera_status> Adapter::Impl::agree_call(std::int64_t step, bool final_step, const Publication& pub,
+                                                        double& plan, Publication& call_pub) {
+  // Ranks agree on the step, the renders that fire and the grid, before any other
+  // collective; with a budget every rank adopts rank 0's plan for the call in the same step
+  const bool root = m_ctx->rank() == 0;
+  const std::span<const unsigned char> fired{reinterpret_cast<const unsigned char*>(m_decisions.data()),
+                                             m_decisions.size()};
+  plan = m_budget ? m_budget->plan(step, std::max(0.0, m_sim_seconds), fired) : 1.0;
+  CallView view{final_step ? CallKind::Final : CallKind::Execute, step, fired, m_config.renders, pub.grid, plan};
+  view.domains_call = pub.domains_call;
+  view.mesh = pub.mesh;
+  view.domains = pub.domains;
+  view.ndomains = pub.ndomains;
+  int pieced_axes = 0;
+  if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view, kAgreementWarnSeconds, &plan, &pieced_axes)) {
+    if (root) log_line(d->message);
+    if (d->rank_closed) m_broken = d->message;
+    m_error = std::move(d->message);
+    return d->status;
+  }
+  // Axes the domains give in pieces: assembled on every rank alike, then the call's mesh
+  call_pub = pub;
+  if (pieced_axes != 0) {
+    if (std::optional<std::string> fault = assemble_axes_of(pub)) {
+      m_error = "step " + std::to_string(step) + ": " + std::move(*fault);
+      if (root) log_line(m_error);
+      return TESSERA_ERROR_DATA;
+    }
+    call_pub.mesh = &m_call_mesh;
+  }
+  return std::nullopt;
+}
+
+void Adapter::Impl::begin_call(std::int64_t step, double time, const Publication& pub, double plan) {
+  m_call.step = step;
+  m_call.time = time;
+  m_call.pub = pub;
+  m_call.simulation_seconds = std::max(0.0, m_sim_seconds);
+  m_call.budget_plan = plan;
+  m_call.budget = m_budget ? &*m_budget : nullptr;
+  m_call.ranges.clear();
+  m_call.assembled_key.reset();
+}
+
+tessera_status Adapter::Impl::run_renders() {
+  // Renders that fire (or may: `when`), in config order
+  const bool root = m_ctx->rank() == 0;
+  tessera_status status = TESSERA_OK;
+  const config::RenderSpec* skipped = nullptr;  // a disabled render that would have fired
+  for (std::size_t i = 0; i < m_renders.size() && !m_policy.blocked(); ++i) {
+    if (m_decisions[i] == Decision::Skip) continue;
+    if (m_policy.disabled(i)) {
+      if (m_decisions[i] == Decision::Fire && !skipped) skipped = m_renders[i].spec;
+      continue;
+    }
+    const auto pass_start = std::chrono::steady_clock::now();
+    PassOutcome out = run_render(*m_ctx, m_config, m_renders[i], m_call, m_summaries,
+                                 m_decisions[i] == Decision::WhenTrigger, m_quiet);
+    if (!out.fired) continue;
+    if (m_budget)
+      m_budget->record(i, out.result,
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count());
+    if (out.result.budget_skipped) {
+      // neither a success nor a failure for on_error
+    } else if (out.result.status == TESSERA_OK) {
+      m_policy.record_success(i);
+    } else {
+      if (out.report_here) log_line(out.result.error);
+      if (m_policy.record_failure(i, out.result.status, out.result.error) && root)
+        log_line("render '" + m_renders[i].spec->name + "' disabled after " + std::to_string(m_policy.max_failures()) +
+                 " consecutive failures (on_error: disable)");
+      if (status == TESSERA_OK) {
+        status = out.result.status;
+        m_error = out.result.error;
+      }
+    }
+    m_results.push_back(std::move(out.result));
+  }
+  if (m_policy.blocked() && root) log_line(m_policy.blocked_message());
+  if (status == TESSERA_OK && skipped) {
+    status = TESSERA_ERROR_DISABLED;
+    m_error = "render '" + skipped->name + "' is disabled after " + std::to_string(m_policy.max_failures()) +
+              " consecutive failures (on_error: disable)";
+  }
+  return status;
+}
+
+void Adapter::Impl::end_call() {
+  // The descriptors are only valid during this call
+  m_call.pub = Publication{};
+  m_call.assembled_key.reset();
+  m_call.assembled = FieldView{};
+  m_call.assembled_patches.clear();
+  for (std::vector<double>& axis : m_axes) axis.clear();
+}
+
 tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Publication& pub,
                                        bool final_step) noexcept {
   // The simulation's time since the last call, added on entry: the wall time less what any
@@ -206,115 +328,21 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
   try {
     m_results.clear();
     m_error.clear();
-    if (!m_ctx) {
-      m_error = m_closed ? "adapter was closed: execute after close" : "the adapter is not open";
-      return TESSERA_ERROR_CONFIG;
-    }
-    if (!m_broken.empty()) {
-      m_error = m_broken;
-      return TESSERA_ERROR_CONFIG;
-    }
-    if (m_policy.blocked()) {
-      m_error = m_policy.blocked_message();
-      return m_policy.blocked_status();
-    }
+    if (const std::optional<tessera_status> refused = refused_call()) return *refused;
     // field_unchanged marks apply to this call only, whether a render fires or not
     m_summaries.begin_call();
-
     // Triggers, decided from the step alone where possible: no field memory touched yet
-    const bool force = final_step && m_config.global.render_final_step;
-    bool any = false;
-    for (std::size_t i = 0; i < m_renders.size(); ++i) {
-      m_decisions[i] = decide(i, step, force);
-      any = any || m_decisions[i] != Decision::Skip;
-    }
-    if (!any) return TESSERA_OK;  // no communication: identical configs decide alike
-    const bool root = m_ctx->rank() == 0;
+    if (!decide_all(step, final_step)) return TESSERA_OK;  // no communication: identical configs decide alike
     const auto call_start = std::chrono::steady_clock::now();
-
-    // Ranks agree on the step, the renders that fire and the grid, before any other
-    // collective; with a budget every rank adopts rank 0's plan for the call in the same step
-    const std::span<const unsigned char> fired{reinterpret_cast<const unsigned char*>(m_decisions.data()),
-                                               m_decisions.size()};
-    double plan = m_budget ? m_budget->plan(step, std::max(0.0, m_sim_seconds), fired) : 1.0;
-    CallView view{final_step ? CallKind::Final : CallKind::Execute, step, fired, m_config.renders, pub.grid, plan};
-    view.domains_call = pub.domains_call;
-    view.mesh = pub.mesh;
-    view.domains = pub.domains;
-    view.ndomains = pub.ndomains;
-    int pieced_axes = 0;
-    if (std::optional<Disagreement> d = agree_on_call(*m_ctx, view, kAgreementWarnSeconds, &plan, &pieced_axes)) {
-      if (root) log_line(d->message);
-      if (d->rank_closed) m_broken = d->message;
-      m_error = std::move(d->message);
-      return d->status;
-    }
-    // Axes the domains give in pieces: assembled on every rank alike, then the call's mesh
-    Publication call_pub = pub;
-    if (pieced_axes != 0) {
-      if (std::optional<std::string> fault = assemble_axes_of(pub)) {
-        m_error = "step " + std::to_string(step) + ": " + std::move(*fault);
-        if (root) log_line(m_error);
-        return TESSERA_ERROR_DATA;
-      }
-      call_pub.mesh = &m_call_mesh;
-    }
-
-    // Renders that fire (or may: `when`), in config order
-    m_call.step = step;
-    m_call.time = time;
-    m_call.pub = call_pub;
-    m_call.simulation_seconds = std::max(0.0, m_sim_seconds);
-    m_call.budget_plan = plan;
-    m_call.budget = m_budget ? &*m_budget : nullptr;
-    m_call.ranges.clear();
-    m_call.assembled_key.reset();
-    tessera_status status = TESSERA_OK;
-    const config::RenderSpec* skipped = nullptr;  // a disabled render that would have fired
-    for (std::size_t i = 0; i < m_renders.size() && !m_policy.blocked(); ++i) {
-      if (m_decisions[i] == Decision::Skip) continue;
-      if (m_policy.disabled(i)) {
-        if (m_decisions[i] == Decision::Fire && !skipped) skipped = m_renders[i].spec;
-        continue;
-      }
-      const auto pass_start = std::chrono::steady_clock::now();
-      PassOutcome out = run_render(*m_ctx, m_config, m_renders[i], m_call, m_summaries,
-                                   m_decisions[i] == Decision::WhenTrigger, m_quiet);
-      if (!out.fired) continue;
-      if (m_budget)
-        m_budget->record(i, out.result,
-                         std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count());
-      if (out.result.budget_skipped) {
-        // neither a success nor a failure for on_error
-      } else if (out.result.status == TESSERA_OK) {
-        m_policy.record_success(i);
-      } else {
-        if (out.report_here) log_line(out.result.error);
-        if (m_policy.record_failure(i, out.result.status, out.result.error) && root)
-          log_line("render '" + m_renders[i].spec->name + "' disabled after " +
-                   std::to_string(m_policy.max_failures()) + " consecutive failures (on_error: disable)");
-        if (status == TESSERA_OK) {
-          status = out.result.status;
-          m_error = out.result.error;
-        }
-      }
-      m_results.push_back(std::move(out.result));
-    }
+    double plan = 1.0;
+    Publication call_pub;
+    if (const std::optional<tessera_status> failed = agree_call(step, final_step, pub, plan, call_pub)) return *failed;
+    begin_call(step, time, call_pub, plan);
+    const tessera_status status = run_renders();
     if (m_budget)
       m_budget->end_call(std::chrono::duration<double>(std::chrono::steady_clock::now() - call_start).count(),
                          m_results);
-    if (m_policy.blocked() && root) log_line(m_policy.blocked_message());
-    if (status == TESSERA_OK && skipped) {
-      status = TESSERA_ERROR_DISABLED;
-      m_error = "render '" + skipped->name + "' is disabled after " + std::to_string(m_policy.max_failures()) +
-                " consecutive failures (on_error: disable)";
-    }
-    // The descriptors are only valid during this call
-    m_call.pub = Publication{};
-    m_call.assembled_key.reset();
-    m_call.assembled = FieldView{};
-    m_call.assembled_patches.clear();
-    for (std::vector<double>& axis : m_axes) axis.clear();
+    end_call();
     return status;
   } catch (const std::exception& e) {
     try {

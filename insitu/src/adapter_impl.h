@@ -103,6 +103,22 @@ struct Adapter::Impl {
   /// Gathers every rank's pieces and assembles the axes into m_call_mesh (collective); the
   /// message (the same on every rank) when they do not fit.
   std::optional<std::string> assemble_axes_of(const Publication& pub);
+
+  // The phases of run_call, in order:
+  /// Not open, broken by a rank that closed, or blocked by on_error: the status (m_error set).
+  std::optional<tessera_status> refused_call();
+  /// Each render's decision for the step into m_decisions; whether any may fire.
+  bool decide_all(std::int64_t step, bool final_step);
+  /// The ranks' agreement (and rank 0's budget plan into `plan`), then the axes the domains give
+  /// in pieces; `call_pub` the publication the renders read. The status when it fails.
+  std::optional<tessera_status> agree_call(std::int64_t step, bool final_step, const Publication& pub, double& plan,
+                                           Publication& call_pub);
+  /// m_call for this call's renders.
+  void begin_call(std::int64_t step, double time, const Publication& pub, double plan);
+  /// Every render that fires, in config order, through on_error; the call's status.
+  tessera_status run_renders();
+  /// Forgets the call's descriptors (valid during the call only).
+  void end_call();
   /// tessera.budget: the account and the planner (render_budget.h); empty without a budget.
   std::optional<RenderBudget> m_budget;
 };
