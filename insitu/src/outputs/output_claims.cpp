@@ -13,15 +13,18 @@
 namespace tessera::insitu {
 namespace {
 
+// Never destroyed (still reachable, not a leak): an adapter that is a static object, or one a
+// language runtime releases late, may release its claim after the statics of this file would
+// have been destroyed at exit.
 std::mutex& claims_mutex() {
-  static std::mutex m;
-  return m;
+  static std::mutex* const m = new std::mutex;
+  return *m;
 }
 
 /// normalised directory -> the config path of the adapter holding it
 std::map<std::string, std::string>& claims() {
-  static std::map<std::string, std::string> c;
-  return c;
+  static auto* const c = new std::map<std::string, std::string>;
+  return *c;
 }
 
 std::string normalised(const std::string& dir) {
