@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 pkgs=(build-essential cmake pkg-config libtbb-dev libopenexr-dev libglm-dev libyaml-cpp-dev
       catch2 libopenmpi-dev openmpi-bin libpng-dev gfortran
-      libfreetype-dev fonts-dejavu-core valgrind)
+      libfreetype-dev fonts-dejavu-core valgrind clang-format)
 # Opt-in extras, not needed by the normal build:
 #   TESSERA_SETUP_FUZZ=1        clang and its libFuzzer / sanitizer runtimes (scripts/fuzz.sh)
 #   TESSERA_SETUP_SKIP_BUILD=1  install packages only, do not configure or build ./build
