@@ -14,6 +14,8 @@
 #include <tessera/field_summary.h>
 #include <tessera/field_view.h>
 #include <tessera/film.h>
+#include <tessera/magnitude_field.h>
+#include <tessera/mesh.h>
 #include <tessera/scene.h>
 #include <tessera/stats.h>
 
@@ -48,6 +50,8 @@ class PreparedScene {
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const AmrField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
+  friend PreparedScene prepare(const Mesh&, const SceneDesc&);
+  friend PreparedScene prepare(const MagnitudeField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   /// The prepared data, for core's own sources (core/src/scene/prepared_scene_impl.h).
   friend const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
   std::unique_ptr<PreparedSceneImpl> m_impl;
@@ -122,6 +126,26 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shar
 /// bounds, warnings, majorants, tiles and culling are those of a field of level 0's dims.
 /// The image does not depend on how the levels are cut into patches, nor on their order.
 PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary);
+
+/// A curvilinear or unstructured mesh (mesh.h), read in place: check_mesh(mesh) (throws
+/// std::invalid_argument naming the domain and element), then the mesh's tables (canonical
+/// element order, location cells: mesh/mesh_tables.h, O(n log n), built at every call) and a
+/// uniform vertex grid over the mesh's box whose macrocells carry the elements' value ranges
+/// as majorants. scene.geometry is not used (the mesh places itself): desc().geometry and
+/// bounds() are that grid's. Outside every element the medium is empty. Validation of the
+/// rest of the scene, lights, tiles and culling are prepare(FieldView)'s. The image does not
+/// depend on how the cells are cut into domains, on their order, nor on the thread count.
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene);
+
+/// A vector's magnitude (magnitude_field.h), read in place: each lookup reads the three
+/// components and takes magnitude() of them, so the image is bit-identical to prepare() of a
+/// float64 array holding the magnitudes. `summary`: magnitude_summary() of this field with
+/// majorant_edge() of its components, used as it is (the caller's promise that the values are
+/// unchanged), or null to build it (one pass). Throws std::invalid_argument as
+/// prepare(FieldView) does, and for components that are invalid or of different dims (named),
+/// or a summary of another edge or cell count.
+PreparedScene prepare(const MagnitudeField& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> summary = nullptr);
 
 /// Render the tiles with the given indices into `film` (which must be width x height), with
 /// TBB over tiles. Adds spp samples to each pixel, continuing each pixel's sample indices.

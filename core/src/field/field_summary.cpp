@@ -1,5 +1,7 @@
 #include <tessera/field_summary.h>
 
+#include "field/summary_accumulate.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -13,15 +15,18 @@
 namespace tessera {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr CellRange kEmpty{kInf, -kInf, false, false, false};
+using summary_detail::accumulate_values;
+using summary_detail::canonical;
+using summary_detail::check_block_inside;
+using summary_detail::check_parts;
+using summary_detail::cells_along;
+using summary_detail::kEmpty;
+using summary_detail::kInf;
+using summary_detail::merge_value;
+
 /// Slabs aimed at when the field has few cell layers along k (a fixed number, so that the
 /// split, and with it the result, does not depend on the thread count).
 constexpr std::int64_t kTargetSlabs = 32;
-
-std::int64_t cells_along(std::int64_t dims, int edge) {
-  return std::max<std::int64_t>(1, (dims - 1 + edge - 1) / edge);
-}
 
 /// b folded into a, b after a: among equal values the earlier one stays (as std::min/max).
 void merge(CellRange& a, const CellRange& b) {
@@ -30,21 +35,6 @@ void merge(CellRange& a, const CellRange& b) {
   a.nan = a.nan || b.nan;
   a.pos_inf = a.pos_inf || b.pos_inf;
   a.neg_inf = a.neg_inf || b.neg_inf;
-}
-
-/// Zeros as +0.0: min / max of -0.0 and +0.0 depend on the order, so that a summary combined
-/// from parts in any order equals the one pass's, every zero is +0.0 in the ranges.
-inline double canonical(double v) { return v == 0.0 ? 0.0 : v; }
-
-void merge_value(CellRange& a, double v) {
-  v = canonical(v);
-  if (std::isnan(v)) a.nan = true;
-  else if (v == kInf) a.pos_inf = true;
-  else if (v == -kInf) a.neg_inf = true;
-  else {
-    a.lo = v < a.lo ? v : a.lo;
-    a.hi = a.hi < v ? v : a.hi;
-  }
 }
 
 template <class T>
@@ -229,62 +219,14 @@ FieldSummary::Parts FieldSummary::partial(const FieldView& block, const std::int
 
 void FieldSummary::accumulate(Parts& parts, const FieldView& block, const std::int64_t offset[3],
                               const std::int64_t global_dims[3], int edge) {
-  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
-  std::int64_t n = 1;
-  for (int a = 0; a < 3; ++a) n *= parts.cells[a];
-  for (int a = 0; a < 3; ++a)
-    if (parts.cells[a] != cells_along(global_dims[a], edge) || parts.lo.size() != static_cast<std::size_t>(n) ||
-        parts.hi.size() != parts.lo.size() || parts.flags.size() != parts.lo.size())
-      throw std::invalid_argument("summary parts of " + std::to_string(parts.cells[0]) + "x" +
-                                  std::to_string(parts.cells[1]) + "x" + std::to_string(parts.cells[2]) +
-                                  " cells do not fit the field with edge " + std::to_string(edge));
+  check_parts(parts, global_dims, edge);
   if (block.data == nullptr) return;
   block.validate("block");
-  for (int a = 0; a < 3; ++a)
-    if (offset[a] < 0 || offset[a] + block.dims[a] > global_dims[a])
-      throw std::invalid_argument("block of " + std::to_string(block.dims[0]) + "x" + std::to_string(block.dims[1]) +
-                                  "x" + std::to_string(block.dims[2]) + " at offset " + std::to_string(offset[0]) +
-                                  "," + std::to_string(offset[1]) + "," + std::to_string(offset[2]) +
-                                  " is not inside the field");
-  // Per axis and block vertex: the cell that owns it and the one whose +1 overlap holds it
-  // (the same cell except on an inner cell boundary)
-  std::vector<std::int64_t> own[3], prev[3];
-  for (int a = 0; a < 3; ++a) {
-    own[a].resize(static_cast<std::size_t>(block.dims[a]));
-    prev[a].resize(static_cast<std::size_t>(block.dims[a]));
-    for (std::int64_t v = 0; v < block.dims[a]; ++v) {
-      const std::int64_t g = offset[a] + v;
-      const std::int64_t c = std::min(g / edge, parts.cells[a] - 1);
-      own[a][v] = c;
-      prev[a][v] = g % edge == 0 && g > 0 && g / edge <= parts.cells[a] - 1 ? g / edge - 1 : c;
-    }
-  }
-  CellRange total = kEmpty;
+  check_block_inside(block.dims, offset, global_dims);
   dispatch_dtype(block, [&](auto view) {
-    for (std::int64_t k = 0; k < block.dims[2]; ++k)
-      for (std::int64_t j = 0; j < block.dims[1]; ++j)
-        for (std::int64_t i = 0; i < block.dims[0]; ++i) {
-          const double v = canonical(view.load(i, j, k));
-          parts.nan += v != v;
-          merge_value(total, v);
-          const std::int64_t cx[2] = {own[0][i], prev[0][i]}, cy[2] = {own[1][j], prev[1][j]},
-                             cz[2] = {own[2][k], prev[2][k]};
-          for (int z = 0; z < (cz[1] != cz[0] ? 2 : 1); ++z)
-            for (int y = 0; y < (cy[1] != cy[0] ? 2 : 1); ++y)
-              for (int x = 0; x < (cx[1] != cx[0] ? 2 : 1); ++x) {
-                const auto c = static_cast<std::size_t>((cz[z] * parts.cells[1] + cy[y]) * parts.cells[0] + cx[x]);
-                if (v != v) parts.flags[c] |= 1;
-                else if (v == kInf) parts.flags[c] |= 2;
-                else if (v == -kInf) parts.flags[c] |= 4;
-                else {
-                  parts.lo[c] = std::min(parts.lo[c], v);
-                  parts.hi[c] = std::max(parts.hi[c], v);
-                }
-              }
-        }
+    accumulate_values(parts, block.dims, offset, edge,
+                      [&](std::int64_t i, std::int64_t j, std::int64_t k) { return view.load(i, j, k); });
   });
-  parts.vmin = std::min(parts.vmin, total.lo);
-  parts.vmax = std::max(parts.vmax, total.hi);
 }
 
 std::shared_ptr<const FieldSummary> FieldSummary::from_parts(Parts&& parts, const FieldLayout& layout, int edge) {

@@ -15,6 +15,7 @@
 #include "field/majorant_grid.h"
 #include "kernel/amr_view.h"
 #include "kernel/axis_map.h"
+#include "kernel/magnitude_view.h"
 #include "kernel/trilinear.h"
 
 #include <algorithm>
@@ -36,6 +37,10 @@ struct Rectilinear {};
 /// The kernels' Value for a hierarchy of refinement levels (amr.h): every value comes from
 /// AmrFieldView::value (the dtype is read per load, as for PagedValue).
 struct AmrValue {};
+
+/// The kernels' Value for the magnitude of a vector's three components (magnitude_field.h):
+/// every value comes from MagnitudeFieldView::load (each component's dtype read per load).
+struct MagnitudeValue {};
 
 /// A Value's load type and whether it carries rectilinear axes or refinement levels.
 template <class V>
@@ -65,6 +70,10 @@ template <>
 struct FieldAccessor<AmrValue> {
   using type = AmrFieldView;
 };
+template <>
+struct FieldAccessor<MagnitudeValue> {
+  using type = MagnitudeFieldView;
+};
 template <class T>
 struct FieldAccessor<Rectilinear<T>> : FieldAccessor<T> {};
 
@@ -72,7 +81,8 @@ struct FieldAccessor<Rectilinear<T>> : FieldAccessor<T> {};
 /// any dtype: the test is exact, never true, for integer values).
 template <class T>
 inline constexpr bool kMayBeNonFinite = std::is_floating_point_v<typename ValueTraits<T>::base> ||
-                                        std::is_same_v<typename ValueTraits<T>::base, PagedValue>;
+                                        std::is_same_v<typename ValueTraits<T>::base, PagedValue> ||
+                                        std::is_same_v<typename ValueTraits<T>::base, MagnitudeValue>;
 
 template <class T>
 struct GridMedium {

@@ -25,13 +25,16 @@ struct TypeTag {
 };
 
 /// Calls fn(TypeTag<V>{}) with V the kernels' Value for the scene: AmrValue for a hierarchy of
-/// refinement levels (ks.amr.nlevels > 0), PagedValue when the field
+/// refinement levels (ks.amr.nlevels > 0), MagnitudeValue for a vector's magnitude
+/// (ks.magnitude active), PagedValue when the field
 /// is paged (ks.paged.cache set), else the C++ type of the field's dtype; wrapped in
 /// Rectilinear<> when some axis is rectilinear.
 template <class Fn>
 decltype(auto) with_value(const KernelScene& ks, Fn&& fn) {
   if (ks.amr.nlevels > 0) return fn(TypeTag<AmrValue>{});
+  if (ks.mesh.element != nullptr) return fn(TypeTag<MeshValue>{});  // a mesh (kernel/mesh_medium.h)
   const bool rect = ks.axis[0].coords || ks.axis[1].coords || ks.axis[2].coords;
+  if (ks.magnitude.active()) return rect ? fn(TypeTag<Rectilinear<MagnitudeValue>>{}) : fn(TypeTag<MagnitudeValue>{});
   if (ks.paged.cache != nullptr) return rect ? fn(TypeTag<Rectilinear<PagedValue>>{}) : fn(TypeTag<PagedValue>{});
   return dispatch_dtype(ks.field, [&](auto view) -> decltype(auto) {
     using T = typename decltype(view)::value_type;
@@ -46,6 +49,7 @@ GridMedium<T> make_medium(const KernelScene& ks) {
   using Base = typename ValueTraits<T>::base;
   if constexpr (std::is_same_v<Base, AmrValue>) m.field = ks.amr;
   else if constexpr (std::is_same_v<Base, PagedValue>) m.field = ks.paged;
+  else if constexpr (std::is_same_v<Base, MagnitudeValue>) m.field = ks.magnitude;
   else m.field = typed<Base>(ks.field);
   for (int a = 0; a < 3; ++a) {
     m.n[a] = ks.field.dims[a];

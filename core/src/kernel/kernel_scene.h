@@ -15,7 +15,9 @@
 
 #include "kernel/amr_view.h"
 #include "kernel/axis_map.h"
+#include "kernel/magnitude_view.h"
 #include "lights/light_set.h"
+#include "mesh/mesh_field_view.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -33,9 +35,11 @@ struct KernelScene {
   Camera camera;
 
   // Medium: the field, its placement, its majorants and the transfer functions
-  FieldView field;       ///< paged: the global dims and dtype, data null (never read)
-  PagedFieldView paged;  ///< paged mode (brick_cache.h) when paged.cache is set
-  AmrFieldView amr;      ///< refinement levels (amr_view.h) when amr.nlevels > 0
+  FieldView field;               ///< paged: the global dims and dtype, data null (never read)
+  PagedFieldView paged;          ///< paged mode (brick_cache.h) when paged.cache is set
+  AmrFieldView amr;              ///< refinement levels (amr_view.h) when amr.nlevels > 0
+  MagnitudeFieldView magnitude;  ///< a vector's magnitude (magnitude_view.h) when active()
+  MeshFieldView mesh;  ///< a curvilinear or unstructured mesh (mesh_field_view.h) when mesh.element is set
   const TransferFunction* tf = nullptr;
   /// The medium's p space (grid_medium.h): p = (x - origin) * inv_spacing per axis. Uniform
   /// axis: origin the world position of sample 0 (a vertex, or the first cell's centre),

@@ -46,5 +46,13 @@ extern template TileKernel tile_kernel_for<Rectilinear<double>>();
 extern template PreviewKernel preview_kernel_for<Rectilinear<double>>();
 extern template TileKernel tile_kernel_for<Rectilinear<PagedValue>>();
 extern template PreviewKernel preview_kernel_for<Rectilinear<PagedValue>>();
+// A vector's magnitude (tile_kernel_magnitude.cpp)
+extern template TileKernel tile_kernel_for<MagnitudeValue>();
+extern template PreviewKernel preview_kernel_for<MagnitudeValue>();
+extern template TileKernel tile_kernel_for<Rectilinear<MagnitudeValue>>();
+extern template PreviewKernel preview_kernel_for<Rectilinear<MagnitudeValue>>();
+// A curvilinear or unstructured mesh (tile_kernel_mesh.cpp, kernel/mesh_medium.h)
+extern template TileKernel tile_kernel_for<MeshValue>();
+extern template PreviewKernel preview_kernel_for<MeshValue>();
 
 }  // namespace tessera

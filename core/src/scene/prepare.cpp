@@ -3,6 +3,7 @@
 #include <tessera/loop_bounds.h>
 #include <tessera/number_text.h>
 
+#include "mesh/mesh_summary.h"
 #include "scene/adaptive_preview.h"
 #include "scene/amr_tables.h"
 #include "scene/axis_tables.h"
@@ -283,7 +284,7 @@ namespace {
 /// paged view are settled; the scene is validated.
 void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc& scene,
                   std::shared_ptr<const FieldSummary> summary, const PagedFieldView* paged,
-                  const AmrField* amr = nullptr) {
+                  const AmrField* amr = nullptr, const MagnitudeField* magnitude = nullptr) {
   p.desc = scene;
   p.field = field;
   const VolumeGeometry& g = scene.geometry;
@@ -328,6 +329,7 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
   p.kernel = make_kernel_scene(p);
   if (paged) p.kernel.paged = *paged;
   if (amr) p.kernel.amr = p.amr.view();
+  if (magnitude) p.kernel.magnitude = MagnitudeFieldView::of(*magnitude);
   p.kernel.adaptive_scale = adaptive_preview_scale(p.kernel, scene.options);  // renders with the above
 }
 
@@ -342,6 +344,31 @@ PreparedScene prepare(const FieldView& field, const SceneDesc& scene, std::share
   const int edge = majorant_edge(field, scene.integrator);
   p.summary_reused = reuse && reuse->matches(field, edge);
   prepare_from(p, field, scene, p.summary_reused ? std::move(reuse) : FieldSummary::build(field, edge), nullptr);
+  return ps;
+}
+
+PreparedScene prepare(const MagnitudeField& field, const SceneDesc& scene,
+                      std::shared_ptr<const FieldSummary> summary) {
+  field.validate();
+  // The scene is checked against component 0: dims and placement are the field's
+  const FieldView& first = field.components[0];
+  validate_scene(first, scene);
+  const int edge = majorant_edge(first, scene.integrator);
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  if (summary) {
+    require(summary->edge() == edge, "vector field: the field summary has macrocell edge " +
+                                         std::to_string(summary->edge()) + ", this scene needs " +
+                                         std::to_string(edge));
+    for (int a = 0; a < 3; ++a)
+      require(summary->cells()[a] == std::max<std::int64_t>(1, (first.dims[a] - 1 + edge - 1) / edge),
+              "vector field: the field summary's " + dims_text(summary->cells()) + " cells do not fit dims " +
+                  dims_text(first.dims) + " with edge " + std::to_string(edge));
+    p.summary_reused = true;
+  } else {
+    summary = magnitude_summary(field, edge);
+  }
+  prepare_from(p, first, scene, std::move(summary), nullptr, nullptr, &field);
   return ps;
 }
 
@@ -427,6 +454,24 @@ PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared
     summary = amr_summary(field, g.association, edge);
   }
   prepare_from(p, global, scene, std::move(summary), field.cache ? &view : nullptr, &field);
+  return ps;
+}
+
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene) {
+  check_mesh(mesh);
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  p.mesh.build(mesh);
+  // The scene over the grid laid over the mesh's box (mesh/mesh_tables.h)
+  SceneDesc s = scene;
+  s.geometry = p.mesh.geometry();
+  PagedField grid;
+  grid.dtype = DType::Float64;
+  for (int a = 0; a < 3; ++a) grid.dims[a] = p.mesh.dims()[a];
+  const FieldView global = global_descriptor(grid);
+  validate_scene(global, s);
+  const int edge = majorant_edge(global, s.integrator);
+  prepare_from(p, global, s, mesh_summary(p.mesh, edge), nullptr);
   return ps;
 }
 
