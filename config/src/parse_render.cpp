@@ -209,6 +209,46 @@ OutputSpec parse_output(const Value& v) {
   return o;
 }
 
+/// A published field's name: 1 to kMaxFieldName printable characters.
+std::string field_name(const Value& f) {
+  std::string name = f.string();
+  const bool printable =
+      std::all_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f; });
+  if (!printable || name.size() > kMaxFieldName)
+    f.fail(f.describe() + " is not a field name (allowed: 1 to " + std::to_string(kMaxFieldName) +
+           " printable characters)");
+  return name;
+}
+
+/// `field: name` or `field: {magnitude: [a, b, c]}` (RenderSpec::magnitude).
+void parse_field(const Value& f, RenderSpec& r) {
+  if (!f.is_map()) {
+    r.field = field_name(f);
+    return;
+  }
+  const Map m = f.map_with_keys({"magnitude"}, "(or a field name)");
+  const auto names = m.get("magnitude");
+  if (!names) f.fail(f.path() + " is a mapping without `magnitude` (allowed: a field name, or {magnitude: [a, b, c]})");
+  for (const Value& n : names->list("a list of three field names", 3, 3)) r.magnitude.push_back(field_name(n));
+  r.field = "|" + r.magnitude[0] + ", " + r.magnitude[1] + ", " + r.magnitude[2] + "|";
+}
+
+}  // namespace detail
+
+bool RenderSpec::uses(const std::string& published) const {
+  if (field.empty()) return true;
+  if (magnitude.empty()) return field == published;
+  return std::find(magnitude.begin(), magnitude.end(), published) != magnitude.end();
+}
+
+std::string RenderSpec::field_key() const {
+  // A render's field name never holds a control character (the parser refuses them), so no
+  // scalar render's key equals a magnitude's
+  return magnitude.empty() ? field : "\x01magnitude\x01" + magnitude[0] + "\x01" + magnitude[1] + "\x01" + magnitude[2];
+}
+
+namespace detail {
+
 RenderSpec parse_render(const Value& v, const std::function<std::string(const std::string&)>& unique_name) {
   const Map m = v.map_with_keys({"name", "field", "trigger", "image", "camera", "transfer_function", "lights",
                                  "background", "integrator", "output", "annotations"});
@@ -220,16 +260,10 @@ RenderSpec parse_render(const Value& v, const std::function<std::string(const st
                  " letters, digits, _ and -)");
     }
   }
-  if (const auto f = m.get("field")) {
-    r.field = f->string();
-    const bool printable = std::all_of(r.field.begin(), r.field.end(),
-                                       [](char c) { return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f; });
-    if (!printable || r.field.size() > kMaxFieldName) {
-      f->fail(f->describe() + " is not a field name (allowed: 1 to " + std::to_string(kMaxFieldName) +
-              " printable characters)");
-    }
-  }
-  if (r.name.empty()) r.name = unique_name(r.field);
+  if (const auto f = m.get("field")) parse_field(*f, r);
+  if (r.name.empty())
+    r.name = unique_name(
+        r.magnitude.empty() ? r.field : r.magnitude[0] + "_" + r.magnitude[1] + "_" + r.magnitude[2] + "_magnitude");
   if (const auto t = m.get("trigger")) r.trigger = parse_trigger(*t);
   if (const auto i = m.get("image")) parse_image(*i, r);
   if (const auto c = m.get("camera")) r.camera = parse_camera(*c);

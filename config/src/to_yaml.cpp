@@ -348,7 +348,14 @@ void write(YAML::Emitter& out, const AnnotationsSpec& a) {
 void write(YAML::Emitter& out, const RenderSpec& r) {
   out << YAML::BeginMap;
   field(out, "name", r.name);
-  if (!r.field.empty()) field(out, "field", r.field);
+  if (!r.magnitude.empty()) {
+    key(out, "field");
+    out << YAML::BeginMap << YAML::Key << "magnitude" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (const std::string& name : r.magnitude) out << name;
+    out << YAML::EndSeq << YAML::EndMap;
+  } else if (!r.field.empty()) {
+    field(out, "field", r.field);
+  }
   if (r.trigger) field(out, "trigger", *r.trigger);
   key(out, "image");
   write_image(out, r);

@@ -372,7 +372,7 @@ tessera_status Adapter::Impl::field_unchanged(const char* field_name) noexcept {
     // A render names the field, or takes the only published field (any name)
     std::string names;
     for (const config::RenderSpec& r : m_config.renders) {
-      if (r.field.empty() || r.field == field_name) {
+      if (r.uses(field_name)) {
         m_summaries.mark_unchanged(field_name);
         return TESSERA_OK;
       }

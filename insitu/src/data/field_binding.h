@@ -33,6 +33,9 @@ struct FieldBinding {
   /// FieldBlock::level in [0, nlevels); refinement[l] (2 or 4) takes level l to l + 1.
   int nlevels = 1;
   int refinement[kMaxAmrLevels - 1] = {};
+  /// Bytes Tessera allocated to stage the blocks' values (a vector's magnitude,
+  /// vector_binding.h), counted against the memory limit; 0 when read in place.
+  std::uint64_t staged_bytes = 0;
   /// The blocks are one block covering the whole grid of a single-level mesh (then the field
   /// is read in place on one rank, with no replica).
   bool whole() const;

@@ -52,6 +52,7 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
 
   FieldPlan plan;
   plan.base = estimate_render_memory(f);
+  if (binding.staged_bytes > 0) plan.base.add("vector magnitude (this rank's blocks, staged)", binding.staged_bytes);
   plan.threads = f.threads;
   config::MemoryLimit limit = config::memory_limit(cfg.global, node_ranks);
   plan.limit = limit.bytes;

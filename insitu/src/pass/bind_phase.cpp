@@ -2,6 +2,11 @@
 #include "pass/bind_phase.h"
 
 #include "data/domain_binding.h"
+#include "data/vector_binding.h"
+
+#include <tessera/config/render_memory.h>
+
+#include <algorithm>
 
 #include <limits>
 #include <span>
@@ -10,15 +15,15 @@
 namespace tessera::insitu {
 namespace {
 
-/// tessera_execute: the grid and its field list.
-void bind_grid(const PassContext& pass, BoundField& f) {
+/// tessera_execute: the grid and its field list; `field_name` the render's field.
+void bind_grid(const PassContext& pass, const std::string& field_name, BoundField& f) {
   const Publication& pub = pass.call.pub;
   if (pub.nfields < 0 || (pub.nfields > 0 && !pub.fields))
     throw std::invalid_argument("field list is invalid (fields = " + std::string(pub.fields ? "non-null" : "NULL") +
                                 ", nfields = " + std::to_string(pub.nfields) + ")");
   if (!pub.grid) throw std::invalid_argument("grid descriptor is NULL");
   const std::span<const tessera_field> fields(pub.fields, static_cast<std::size_t>(pub.nfields));
-  const tessera_field& field = fields[find_field(fields, pass.spec.field, pass.spec.name)];
+  const tessera_field& field = fields[find_field(fields, field_name, pass.spec.name)];
   f.binding = bind_field(field, *pub.grid);
   // Every other published field's descriptors against the grid (descriptors only: no value is
   // read), so that a wrong one is found at the first call that renders, not when drawn
@@ -32,15 +37,15 @@ void bind_grid(const PassContext& pass, BoundField& f) {
 /// the field's dtype and association (a rank without domains learns them, and sees the mesh as
 /// the field does; ranks whose dtypes or associations differ, or no domain anywhere, fail
 /// alike on every rank with TESSERA_ERROR_DATA).
-bool bind_all_domains(PhaseGate& gate, const PassContext& pass, BoundField& f) {
+bool bind_all_domains(PhaseGate& gate, const PassContext& pass, const std::string& field_name, BoundField& f) {
   const Publication& pub = pass.call.pub;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
-        f.binding = bind_domains(pub.mesh, pub.domains, pub.ndomains, pass.spec.field, pass.spec.name);
-        f.name = pass.spec.field;
+        f.binding = bind_domains(pub.mesh, pub.domains, pub.ndomains, field_name, pass.spec.name);
+        f.name = field_name;
         if (!f.binding.blocks.empty()) {
           const std::span<const tessera_field> fields(pub.domains[0].fields,
                                                       static_cast<std::size_t>(pub.domains[0].nfields));
-          f.name = fields[find_field(fields, pass.spec.field, pass.spec.name)].name;
+          f.name = fields[find_field(fields, field_name, pass.spec.name)].name;
         }
       }))
     return false;
@@ -66,6 +71,36 @@ bool bind_all_domains(PhaseGate& gate, const PassContext& pass, BoundField& f) {
   });
 }
 
+/// The field `field_name` by the call's kind (grid or domains).
+bool bind_one(PhaseGate& gate, const PassContext& pass, const std::string& field_name, BoundField& f) {
+  if (pass.call.pub.domains_call) return bind_all_domains(gate, pass, field_name, f);
+  return gate.run(TESSERA_ERROR_DATA, [&] { bind_grid(pass, field_name, f); });
+}
+
+/// `field: {magnitude: [a, b, c]}`: each component bound as a field, then combined
+/// (vector_binding.h): in place on one rank holding the grid whole, else staged. The bound
+/// field's name is the render's field_key(), so that what the adapter keeps for it is apart
+/// from what it keeps for the components.
+bool bind_magnitude(PhaseGate& gate, const PassContext& pass, BoundField& f) {
+  FieldBinding parts[3];
+  std::string names[3];
+  for (int c = 0; c < 3; ++c) {
+    BoundField one;
+    if (!bind_one(gate, pass, pass.spec.magnitude[static_cast<std::size_t>(c)], one)) return false;
+    parts[c] = std::move(one.binding);
+    names[c] = one.name;
+  }
+  return gate.run(TESSERA_ERROR_DATA, [&] {
+    const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
+    VectorField v = combine_components(parts, names, pass.ctx.size() == 1, limit.bytes, limit.text);
+    f.binding = std::move(v.binding);
+    f.magnitude = v.in_place;
+    f.staged = std::move(v.staged);
+    f.binding.staged_bytes = v.staged_bytes;
+    f.name = pass.spec.field_key();
+  });
+}
+
 }  // namespace
 
 std::optional<BoundField> bind_phase(PhaseGate& gate, const PassContext& pass) {
@@ -75,8 +110,11 @@ std::optional<BoundField> bind_phase(PhaseGate& gate, const PassContext& pass) {
     gate.run(TESSERA_ERROR_DATA, [&] { throw std::invalid_argument(pub.refusal); });
     return std::nullopt;
   }
-  if (pub.domains_call ? !bind_all_domains(gate, pass, f) : !gate.run(TESSERA_ERROR_DATA, [&] { bind_grid(pass, f); }))
+  if (!pass.spec.magnitude.empty()) {
+    if (!bind_magnitude(gate, pass, f)) return std::nullopt;
+  } else if (!bind_one(gate, pass, pass.spec.field, f)) {
     return std::nullopt;
+  }
   // Refinement levels: every rank's boxes checked as one hierarchy, on every rank alike
   if (f.binding.nlevels > 1 && !gate.run(TESSERA_ERROR_DATA, [&] {
         f.amr = pass.ctx.amr_layout(f.binding.blocks, amr_meta(f.binding, f.binding.local.dtype),

@@ -7,8 +7,11 @@
 #include "data/field_binding.h"
 #include "pass/pass_context.h"
 
+#include <tessera/magnitude_field.h>
+
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace tessera::insitu {
 
@@ -16,7 +19,12 @@ namespace tessera::insitu {
 struct BoundField {
   FieldBinding binding;
   std::optional<AmrLayout> amr;  ///< refinement levels: every rank's boxes (empty: one level)
-  std::string name;              ///< the simulation's name of the bound field
+  std::string name;              ///< the simulation's name of the bound field (a magnitude: its field_key)
+  /// `field: {magnitude: [...]}` on one rank holding the grid whole: the components, read in
+  /// place (vector_binding.h); the binding is then component 0's.
+  std::optional<MagnitudeField> magnitude;
+  /// A magnitude otherwise: each block's magnitudes, which the binding's blocks view.
+  std::vector<std::vector<double>> staged;
 };
 
 /// Binds the field of pass.call.pub (a language binding's refusal stands in for this rank's

@@ -45,6 +45,7 @@ std::optional<PlacedField> assemble_phase(PhaseGate& gate, const PassContext& pa
   const FieldBinding& b = field.binding;
   PlacedField placed;
   placed.plan = std::move(plan);
+  const std::string key = pass.spec.field_key();
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (placed.plan.distributed && field.amr) {
           // Refinement levels: every rank's patches paged through one virtual grid
@@ -60,15 +61,17 @@ std::optional<PlacedField> assemble_phase(PhaseGate& gate, const PassContext& pa
           placed.paged = ctx.distribute_blocks(b.blocks, b.placement.global_dims, b.local.dtype, placed.plan.shift,
                                                placed.plan.capacity);
         } else if (field.amr) {
-          if (call.assembled_key != pass.spec.field) {
+          if (call.assembled_key != key) {
             call.assembled_key.reset();
             call.assembled_patches = ctx.assemble_amr(b.blocks, *field.amr);
-            call.assembled_key = pass.spec.field;
+            call.assembled_key = key;
           }
-        } else if (call.assembled_key != pass.spec.field) {
+        } else if (field.magnitude) {
+          // A vector's magnitude on one rank holding the grid whole: read in place
+        } else if (call.assembled_key != key) {
           call.assembled_key.reset();
           call.assembled = ctx.assemble_blocks(b.blocks, b.placement.global_dims, b.local.dtype);
-          call.assembled_key = pass.spec.field;
+          call.assembled_key = key;
         }
       }))
     return std::nullopt;

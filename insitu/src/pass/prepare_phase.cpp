@@ -71,6 +71,10 @@ PreparedScene prepare_scene(const PassContext& pass, const BoundField& field, Pl
       level0.dtype = amr.dtype;
       for (int a = 0; a < 3; ++a) level0.dims[a] = amr.dims[a];
       prepared = prepare(amr, scene, entry.find(majorant_edge(level0, scene.integrator)));
+    } else if (field.magnitude) {
+      // A vector's magnitude read in place: its summary (range phase) at the scene's edge
+      const FieldView& first = field.magnitude->components[0];
+      prepared = prepare(*field.magnitude, scene, entry.find(majorant_edge(first, scene.integrator)));
     } else {
       prepared = prepare(call.assembled, scene, entry.find(majorant_edge(call.assembled, scene.integrator)));
     }

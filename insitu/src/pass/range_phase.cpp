@@ -21,8 +21,9 @@ std::pair<double, double> global_range(ParallelContext& ctx, std::span<const Fie
 }
 
 std::pair<double, double> cached_range(const PassContext& pass, const BoundField& field, RenderResult& result) {
-  for (const auto& [key, range] : pass.call.ranges)
-    if (key == pass.spec.field) return range;
+  const std::string key = pass.spec.field_key();
+  for (const auto& [k, range] : pass.call.ranges)
+    if (k == key) return range;
   // From a summary of the global field: one kept from the last call (agreed by all ranks,
   // so all skip the reduction alike), or on one rank, where the global field is this
   // rank's view, the one this call made or makes now for prepare; else a pass here
@@ -33,7 +34,8 @@ std::pair<double, double> cached_range(const PassContext& pass, const BoundField
   const bool whole = pass.ctx.size() == 1 && b.whole();
   std::shared_ptr<const FieldSummary> s = entry.kept || whole ? entry.find(0) : nullptr;
   if (!s && whole) {
-    s = FieldSummary::build(b.local, majorant_edge(b.local, pass.spec.integrator.desc));
+    const int edge = majorant_edge(b.local, pass.spec.integrator.desc);
+    s = field.magnitude ? magnitude_summary(*field.magnitude, edge) : FieldSummary::build(b.local, edge);
     ++result.field_passes;
     entry.keep(s);
   }
@@ -41,7 +43,7 @@ std::pair<double, double> cached_range(const PassContext& pass, const BoundField
   const auto range = !s                ? global_range(pass.ctx, b.blocks)
                      : s->has_finite() ? std::pair{s->value_min(), s->value_max()}
                                        : std::pair{kInf, -kInf};
-  pass.call.ranges.emplace_back(pass.spec.field, range);
+  pass.call.ranges.emplace_back(key, range);
   return range;
 }
 

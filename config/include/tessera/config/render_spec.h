@@ -90,8 +90,13 @@ struct OutputSpec {
 /// docs/config.md's tables say, and whole blocks (name, camera, transfer function, light,
 /// background) as render_defaults.h says, so that `renders: [{field: f}]` is a complete render.
 struct RenderSpec {
-  std::string name;                    ///< unique, [A-Za-z0-9_-]+, 1 to kMaxName; default: the field's
-  std::string field;                   ///< adapter: published field name; "" = not given
+  std::string name;   ///< unique, [A-Za-z0-9_-]+, 1 to kMaxName; default: the field's
+  std::string field;  ///< adapter: published field name; "" = not given
+  /// `field: {magnitude: [a, b, c]}`: the three published fields whose Euclidean norm is
+  /// rendered, per lookup (magnitude_field.h); empty for a scalar field. `field` then reads
+  /// "|a, b, c|", for messages and labels only (no published field has that name to the
+  /// renderer: field_key() tells the two kinds apart).
+  std::vector<std::string> magnitude;
   std::optional<TriggerSpec> trigger;  ///< adapter only; absent = every step
   ImageDesc image;                     ///< width, height in [1, 16384], spp >= 1
   /// `image.min_spp`, adapter with tessera.budget: the fewest samples per pixel worth an
@@ -107,6 +112,13 @@ struct RenderSpec {
   std::optional<AnnotationsSpec> annotations;
 
   static constexpr std::size_t kMaxName = 128;  ///< names end up in file names and every message
+
+  /// True iff the render reads the published field `name`: its field, a component of its
+  /// magnitude, or any field when it names none (the only published one).
+  bool uses(const std::string& name) const;
+  /// The key under which the adapter keeps what it derived from the render's field (ranges,
+  /// replicas): the field's name, or for a magnitude a text no render's field name can equal.
+  std::string field_key() const;
 };
 
 }  // namespace tessera::config
