@@ -13,6 +13,7 @@
 #include "kernel/axis_map.h"
 #include "kernel/grid_medium.h"
 #include "kernel/kernel_scene.h"
+#include "kernel/mesh_medium.h"
 
 #include <type_traits>
 
@@ -49,6 +50,7 @@ GridMedium<T> make_medium(const KernelScene& ks) {
   using Base = typename ValueTraits<T>::base;
   if constexpr (std::is_same_v<Base, AmrValue>) m.field = ks.amr;
   else if constexpr (std::is_same_v<Base, PagedValue>) m.field = ks.paged;
+  else if constexpr (std::is_same_v<Base, MeshValue>) m.field = ks.mesh;
   else if constexpr (std::is_same_v<Base, MagnitudeValue>) m.field = ks.magnitude;
   else m.field = typed<Base>(ks.field);
   for (int a = 0; a < 3; ++a) {

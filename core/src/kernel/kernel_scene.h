@@ -39,7 +39,7 @@ struct KernelScene {
   PagedFieldView paged;          ///< paged mode (brick_cache.h) when paged.cache is set
   AmrFieldView amr;              ///< refinement levels (amr_view.h) when amr.nlevels > 0
   MagnitudeFieldView magnitude;  ///< a vector's magnitude (magnitude_view.h) when active()
-  MeshFieldView mesh;  ///< a curvilinear or unstructured mesh (mesh_field_view.h) when mesh.element is set
+  MeshFieldView mesh;            ///< a curvilinear or unstructured mesh (mesh_field_view.h) when mesh.element is set
   const TransferFunction* tf = nullptr;
   /// The medium's p space (grid_medium.h): p = (x - origin) * inv_spacing per axis. Uniform
   /// axis: origin the world position of sample 0 (a vertex, or the first cell's centre),

@@ -16,6 +16,7 @@ KernelScene make_kernel_scene(const PreparedSceneImpl& p) {
   k.camera = p.camera;
   // Medium
   k.field = p.field;
+  k.mesh = p.mesh.view();
   k.tf = &d.tf;
   k.origin = p.origin;
   k.inv_spacing = p.inv_spacing;

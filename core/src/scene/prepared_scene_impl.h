@@ -8,6 +8,7 @@
 #include "kernel/kernel_scene.h"
 #include "lights/environment.h"
 #include "lights/light_set.h"
+#include "mesh/mesh_tables.h"
 #include "scene/amr_tables.h"
 #include "scene/axis_tables.h"
 
@@ -32,6 +33,7 @@ struct PreparedSceneImpl {
   double box_hi[3] = {0.0, 0.0, 0.0};
   AxisTables axes;
   AmrTables amr;            ///< refinement levels' lookup tables (empty for other fields)
+  MeshTables mesh;          ///< a mesh's elements and location cells (empty for other fields)
   double march_step = 0.5;  ///< raymarch step in world units
   double sigma_max = 0.0;   ///< extinction clamp, 1 / world unit (loop_bounds.h)
   bool has_emission = false;

@@ -1,0 +1,100 @@
+#pragma once
+/// Curvilinear and unstructured meshes (Blueprint's `explicit` coordsets with `structured` and
+/// `unstructured` topologies; interfaces.md 7.2, physics.md section 10) as non-owning,
+/// zero-copy views of the caller's arrays. Nothing here is copied or converted: every array
+/// must stay valid and unchanged while a prepared scene made from it lives.
+///
+/// A Mesh is one or more domains; each domain is a curvilinear grid (dims > 0: a logical
+/// i, j, k grid of explicit vertices, i fastest) or a list of elements of one shape
+/// (connectivity in Blueprint's / VTK's vertex order), with one scalar field per vertex or
+/// per cell and an optional ghost mask per cell (nonzero: a ghost, never sampled). The image
+/// does not depend on how the cells are cut into domains nor on their order.
+#include <tessera/field_view.h>
+#include <tessera/scene.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tessera {
+
+/// The integer type of a connectivity array.
+enum class IndexType : int { Int32 = 0, Int64 = 1 };
+
+/// An unstructured element shape (VTK's vertex order, as Blueprint's): hex 8 vertices (0-3
+/// the bottom face counter-clockwise seen from 4-7 above it), tet 4 (0-2 counter-clockwise
+/// seen from 3), wedge 6, pyramid 5. Wedge and pyramid are refused for now.
+enum class Shape : int { Hex = 0, Tet = 1, Wedge = 2, Pyramid = 3 };
+
+/// Vertices of one element of `shape`.
+int shape_vertex_count(Shape shape);
+const char* shape_name(Shape shape);
+
+/// Explicit vertex coordinates: vertex v's x at (const char*)x + v * byte_stride (likewise
+/// y, z), in dtype Float32 or Float64.
+struct MeshCoords {
+  const void* x = nullptr;
+  const void* y = nullptr;
+  const void* z = nullptr;
+  DType dtype = DType::Float64;
+  std::int64_t byte_stride = 0;  ///< >= the dtype's size; the same for x, y and z
+  std::int64_t count = 0;        ///< vertices
+};
+
+/// One scalar array: element e at (const char*)data + e * byte_stride.
+struct MeshField {
+  const void* data = nullptr;
+  DType dtype = DType::Float32;
+  std::int64_t byte_stride = 0;  ///< >= the dtype's size
+  std::int64_t count = 0;        ///< values: coords.count (vertex data) or the cell count (cell data)
+  Association association = Association::Vertex;
+};
+
+/// An optional ghost mask: one uint8 per cell, nonzero = a ghost (never sampled).
+struct MeshGhosts {
+  const std::uint8_t* data = nullptr;  ///< null: no ghosts
+  std::int64_t byte_stride = 1;
+  std::int64_t count = 0;  ///< the cell count when data is set
+};
+
+/// One curvilinear or unstructured domain.
+struct MeshDomain {
+  MeshCoords coords;
+  /// Curvilinear: vertices per logical axis (each >= 2; coords.count = dims[0] dims[1]
+  /// dims[2]); cell (i, j, k) is the hex of vertices (i..i+1, j..j+1, k..k+1).
+  /// Unstructured: all 0.
+  std::int64_t dims[3] = {0, 0, 0};
+  Shape shape = Shape::Hex;            ///< unstructured: the element shape
+  const void* connectivity = nullptr;  ///< unstructured: ncells x shape_vertex_count indices
+  IndexType index_type = IndexType::Int32;
+  std::int64_t ncells = 0;  ///< unstructured: elements; curvilinear: ignored
+  MeshField field;
+  MeshGhosts ghosts;
+
+  bool structured() const { return dims[0] != 0 || dims[1] != 0 || dims[2] != 0; }
+  /// Cells: ncells, or (dims[0]-1)(dims[1]-1)(dims[2]-1) for a curvilinear grid (after check_mesh).
+  std::int64_t cell_count() const;
+  /// The shape of every cell: Hex for a curvilinear grid.
+  Shape cell_shape() const { return structured() ? Shape::Hex : shape; }
+};
+
+/// The whole mesh: its domains (views; the vector is the caller's small list of them).
+struct Mesh {
+  std::vector<MeshDomain> domains;
+};
+
+/// Checks every domain, in time and memory linear in the mesh (one pass over the elements and
+/// the values, no allocation proportional to it), and throws std::invalid_argument whose
+/// message begins "mesh domain D" (and names "element E" where one element is at fault) for:
+/// no domain or no cell; negative counts or strides below the dtype size; counts x strides
+/// overflowing int64; a non-float coordinate dtype or unknown index type or shape (wedge and
+/// pyramid: not supported yet); null arrays; dims that do not match the vertex count; an index
+/// out of range; NaN or Inf coordinates of an element's vertex; a degenerate or inverted
+/// element (a corner Jacobian of a hex, or a tet's volume, not above 1e-12 of its edge length
+/// cubed, or of the wrong sign: unstructured elements must be positively oriented in VTK's
+/// order, a curvilinear grid's cells must all share the first one's orientation); a hex whose
+/// trilinear map Newton's method cannot invert at interior test points to 1e-10 of its size;
+/// a field or ghost mask whose length is not the vertex or cell count.
+void check_mesh(const Mesh& mesh);
+
+}  // namespace tessera

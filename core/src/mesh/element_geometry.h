@@ -1,0 +1,112 @@
+#pragma once
+/// The geometry of one element from its vertex positions (VTK's vertex order): the tet's
+/// barycentric coordinates, the hex's trilinear map, its Jacobian and its inverse by Newton's
+/// method (physics.md section 10). Pure functions of the corners: no allocation, no virtual
+/// call, the same arithmetic in the same order whatever domain or position the element has.
+#include <tessera/math.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace tessera {
+
+/// Parametric corner of a hex's vertex v (VTK order): r, s, t in {0, 1}.
+inline constexpr int kHexCornerR[8] = {0, 1, 1, 0, 0, 1, 1, 0};
+inline constexpr int kHexCornerS[8] = {0, 0, 1, 1, 0, 0, 1, 1};
+inline constexpr int kHexCornerT[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+
+/// Newton's method on the trilinear map: the update that counts as converged (parametric,
+/// i.e. relative to the cell's size), and the most iterations tried.
+inline constexpr double kNewtonTolerance = 1e-10;
+inline constexpr int kNewtonMaxIterations = 24;
+/// Parametric (or barycentric) slack within which a point still lies in an element, so that
+/// a point on a shared face, rounded either way, is found in one of its two elements.
+inline constexpr double kInsideSlack = 1e-9;
+
+/// det[a b c] (columns).
+inline double det3(const Vec3& a, const Vec3& b, const Vec3& c) { return glm::dot(a, glm::cross(b, c)); }
+
+/// Six times the signed volume of tet (p0, p1, p2, p3): positive in VTK's orientation.
+inline double tet_volume6(const Vec3* c) { return det3(c[1] - c[0], c[2] - c[0], c[3] - c[0]); }
+
+/// Barycentric weights w[0..3] of x in tet c (Cramer's rule); false for a flat tet.
+inline bool tet_barycentric(const Vec3* c, const Vec3& x, double w[4]) {
+  const Vec3 e1 = c[1] - c[0], e2 = c[2] - c[0], e3 = c[3] - c[0], d = x - c[0];
+  const double det = det3(e1, e2, e3);
+  if (!(det != 0.0)) return false;
+  const double inv = 1.0 / det;
+  w[1] = det3(d, e2, e3) * inv;
+  w[2] = det3(e1, d, e3) * inv;
+  w[3] = det3(e1, e2, d) * inv;
+  w[0] = 1.0 - w[1] - w[2] - w[3];
+  return true;
+}
+
+/// The hex's trilinear shape functions at parametric r (VTK order).
+inline void hex_weights(const double r[3], double w[8]) {
+  const double a[2] = {1.0 - r[0], r[0]}, b[2] = {1.0 - r[1], r[1]}, c[2] = {1.0 - r[2], r[2]};
+  for (int v = 0; v < 8; ++v) w[v] = a[kHexCornerR[v]] * b[kHexCornerS[v]] * c[kHexCornerT[v]];
+}
+
+/// x(r) of the hex's trilinear map.
+inline Vec3 hex_map(const Vec3* c, const double r[3]) {
+  double w[8];
+  hex_weights(r, w);
+  Vec3 x(0.0);
+  for (int v = 0; v < 8; ++v) x += w[v] * c[v];
+  return x;
+}
+
+/// The Jacobian's columns dx/dr, dx/ds, dx/dt at parametric r.
+inline void hex_jacobian(const Vec3* c, const double r[3], Vec3 J[3]) {
+  const double a[2] = {1.0 - r[0], r[0]}, b[2] = {1.0 - r[1], r[1]}, t[2] = {1.0 - r[2], r[2]};
+  J[0] = J[1] = J[2] = Vec3(0.0);
+  for (int v = 0; v < 8; ++v) {
+    const int i = kHexCornerR[v], j = kHexCornerS[v], k = kHexCornerT[v];
+    const double si = i ? 1.0 : -1.0, sj = j ? 1.0 : -1.0, sk = k ? 1.0 : -1.0;
+    J[0] += (si * b[j] * t[k]) * c[v];
+    J[1] += (a[i] * sj * t[k]) * c[v];
+    J[2] += (a[i] * b[j] * sk) * c[v];
+  }
+}
+
+/// det J at the parametric corner of vertex v.
+inline double hex_corner_jacobian(const Vec3* c, int v) {
+  const double r[3] = {static_cast<double>(kHexCornerR[v]), static_cast<double>(kHexCornerS[v]),
+                       static_cast<double>(kHexCornerT[v])};
+  Vec3 J[3];
+  hex_jacobian(c, r, J);
+  return det3(J[0], J[1], J[2]);
+}
+
+/// Parametric r of world point x in hex c by Newton's method from the centre: true once an
+/// update is below kNewtonTolerance (r then holds the converged point, inside or not), false
+/// when the Jacobian is singular or kNewtonMaxIterations pass (r unusable).
+inline bool hex_inverse(const Vec3* c, const Vec3& x, double r[3]) {
+  r[0] = r[1] = r[2] = 0.5;
+  for (int it = 0; it < kNewtonMaxIterations; ++it) {
+    Vec3 J[3];
+    hex_jacobian(c, r, J);
+    const double det = det3(J[0], J[1], J[2]);
+    if (!(det != 0.0) || !std::isfinite(det)) return false;
+    const Vec3 f = hex_map(c, r) - x;
+    const double inv = 1.0 / det;
+    const double d[3] = {det3(f, J[1], J[2]) * inv, det3(J[0], f, J[2]) * inv, det3(J[0], J[1], f) * inv};
+    r[0] -= d[0];
+    r[1] -= d[1];
+    r[2] -= d[2];
+    const double step = std::max({std::fabs(d[0]), std::fabs(d[1]), std::fabs(d[2])});
+    if (!(step < 4.0)) return false;  // diverging: x is far outside the element
+    if (step < kNewtonTolerance) return true;
+  }
+  return false;
+}
+
+/// True when every parametric coordinate lies in [-kInsideSlack, 1 + kInsideSlack].
+inline bool inside_unit(const double r[3]) {
+  for (int a = 0; a < 3; ++a)
+    if (!(r[a] >= -kInsideSlack && r[a] <= 1.0 + kInsideSlack)) return false;
+  return true;
+}
+
+}  // namespace tessera

@@ -1,0 +1,191 @@
+/// check_mesh (mesh.h): every domain's arrays, then every element, in one pass each.
+#include <tessera/mesh.h>
+#include <tessera/number_text.h>
+
+#include "mesh/domain_access.h"
+#include "mesh/element_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace tessera {
+namespace {
+
+/// Throws std::invalid_argument "mesh domain D: what" when !ok.
+struct DomainCheck {
+  std::size_t domain;
+  void require(bool ok, const std::string& what) const {
+    if (!ok) throw std::invalid_argument("mesh domain " + std::to_string(domain) + ": " + what);
+  }
+  void require(bool ok, std::int64_t element, const std::string& what) const {
+    require(ok, "element " + std::to_string(element) + ": " + what);
+  }
+};
+
+bool valid_dtype(DType t) {
+  return static_cast<int>(t) >= 0 && static_cast<int>(t) <= static_cast<int>(DType::Float64);
+}
+
+/// True when count elements of `size` bytes, byte_stride apart, span an int64 byte range.
+bool span_fits(std::int64_t count, std::int64_t byte_stride, std::int64_t size) {
+  std::int64_t bytes = 0;
+  return count <= 0 ||
+         (!__builtin_mul_overflow(count - 1, byte_stride, &bytes) && !__builtin_add_overflow(bytes, size, &bytes));
+}
+
+void check_coords(const DomainCheck& c, const MeshCoords& x) {
+  c.require(x.dtype == DType::Float32 || x.dtype == DType::Float64,
+            "coordinates must be float32 or float64, not " +
+                std::string(valid_dtype(x.dtype) ? dtype_name(x.dtype) : "an unknown dtype"));
+  const auto size = static_cast<std::int64_t>(dtype_size(x.dtype));
+  c.require(x.count >= 0, "vertex count " + std::to_string(x.count) + " is negative");
+  c.require(x.byte_stride >= size, "coordinate byte_stride " + std::to_string(x.byte_stride) +
+                                       " is below the coordinate size " + std::to_string(size));
+  c.require(span_fits(x.count, x.byte_stride, size),
+            std::to_string(x.count) + " vertices x byte_stride " + std::to_string(x.byte_stride) + " overflow int64");
+  c.require(x.count == 0 || (x.x && x.y && x.z), "a coordinate array (x, y or z) is null");
+}
+
+/// The domain's cell count, its topology checked.
+std::int64_t check_topology(const DomainCheck& c, const MeshDomain& d) {
+  if (d.structured()) {
+    std::int64_t n = 1;
+    for (int a = 0; a < 3; ++a) {
+      c.require(d.dims[a] >= 2, "curvilinear dims[" + std::to_string(a) + "] = " + std::to_string(d.dims[a]) +
+                                    " (vertices per axis) must be >= 2");
+      c.require(!__builtin_mul_overflow(n, d.dims[a], &n), "curvilinear dims overflow int64");
+    }
+    c.require(n == d.coords.count, "curvilinear dims " + std::to_string(d.dims[0]) + "x" + std::to_string(d.dims[1]) +
+                                       "x" + std::to_string(d.dims[2]) + " need " + std::to_string(n) +
+                                       " vertices, the coordinates have " + std::to_string(d.coords.count));
+    return d.cell_count();
+  }
+  const int s = static_cast<int>(d.shape);
+  c.require(s >= 0 && s <= static_cast<int>(Shape::Pyramid), "unknown element shape " + std::to_string(s));
+  c.require(d.shape == Shape::Hex || d.shape == Shape::Tet,
+            std::string(shape_name(d.shape)) + " elements are not supported yet (hex and tet are)");
+  c.require(d.index_type == IndexType::Int32 || d.index_type == IndexType::Int64,
+            "unknown connectivity index type " + std::to_string(static_cast<int>(d.index_type)));
+  c.require(d.ncells >= 0, "element count " + std::to_string(d.ncells) + " is negative");
+  const std::int64_t isize = d.index_type == IndexType::Int64 ? 8 : 4;
+  std::int64_t entries = 0;
+  c.require(
+      !__builtin_mul_overflow(d.ncells, shape_vertex_count(d.shape), &entries) && span_fits(entries, isize, isize),
+      std::to_string(d.ncells) + " elements x " + std::to_string(shape_vertex_count(d.shape)) +
+          " indices overflow int64");
+  c.require(d.ncells == 0 || d.connectivity, "the connectivity array is null");
+  return d.ncells;
+}
+
+void check_field(const DomainCheck& c, const MeshDomain& d, std::int64_t cells) {
+  const MeshField& f = d.field;
+  c.require(valid_dtype(f.dtype), "unknown field dtype " + std::to_string(static_cast<int>(f.dtype)));
+  c.require(f.association == Association::Vertex || f.association == Association::Cell,
+            "field association " + std::to_string(static_cast<int>(f.association)) + " is neither vertex nor cell");
+  const bool cell = f.association == Association::Cell;
+  const std::int64_t want = cell ? cells : d.coords.count;
+  c.require(f.count == want, "the field has " + std::to_string(f.count) + " values, " + (cell ? "cell" : "vertex") +
+                                 " data needs " + std::to_string(want) + " (one per " + (cell ? "cell" : "vertex") +
+                                 ")");
+  const auto size = static_cast<std::int64_t>(dtype_size(f.dtype));
+  c.require(f.byte_stride >= size,
+            "field byte_stride " + std::to_string(f.byte_stride) + " is below the value size " + std::to_string(size));
+  c.require(span_fits(f.count, f.byte_stride, size),
+            std::to_string(f.count) + " values x byte_stride " + std::to_string(f.byte_stride) + " overflow int64");
+  c.require(f.count == 0 || f.data, "the field's data is null");
+  const MeshGhosts& g = d.ghosts;
+  if (!g.data) return;
+  c.require(g.count == cells, "the ghost mask has " + std::to_string(g.count) + " entries, the domain " +
+                                  std::to_string(cells) + " cells");
+  c.require(g.byte_stride >= 1, "ghost mask byte_stride " + std::to_string(g.byte_stride) + " must be >= 1");
+  c.require(span_fits(g.count, g.byte_stride, 1), std::to_string(g.count) + " ghost entries x byte_stride " +
+                                                      std::to_string(g.byte_stride) + " overflow int64");
+}
+
+std::string point_text(const Vec3& p) {
+  return "(" + short_number(p.x) + ", " + short_number(p.y) + ", " + short_number(p.z) + ")";
+}
+
+/// The diagonal of the element's bounding box (a size for the relative tests; at least its
+/// longest edge).
+double element_size(const Vec3* v, int n) {
+  Vec3 lo = v[0], hi = v[0];
+  for (int i = 1; i < n; ++i) {
+    lo = glm::min(lo, v[i]);
+    hi = glm::max(hi, v[i]);
+  }
+  return glm::length(hi - lo);
+}
+
+/// The hex's shape: corner Jacobians of one sign (`*sign`: +1 or -1, 0 = take this cell's)
+/// and above 1e-12 L^3, and Newton's inverse at interior points. "" when sound.
+std::string hex_fault(const Vec3* v, int* sign) {
+  const double L = element_size(v, 8), tiny = 1e-12 * L * L * L;
+  if (*sign == 0) *sign = hex_corner_jacobian(v, 0) < 0.0 ? -1 : 1;
+  for (int c = 0; c < 8; ++c) {
+    const double J = hex_corner_jacobian(v, c) * *sign;
+    if (!(J > tiny))
+      return (J < -tiny ? "inverted (the Jacobian at vertex " : "degenerate (the Jacobian at vertex ") +
+             std::to_string(c) + " is " + short_number(J * *sign) + ", element size " + short_number(L) + ")";
+  }
+  static constexpr double kTest[3][3] = {{0.5, 0.5, 0.5}, {0.1, 0.2, 0.3}, {0.9, 0.8, 0.7}};
+  for (const auto& r0 : kTest) {
+    double r[3];
+    const bool ok = hex_inverse(v, hex_map(v, r0), r);
+    if (!ok || std::max({std::fabs(r[0] - r0[0]), std::fabs(r[1] - r0[1]), std::fabs(r[2] - r0[2])}) > 1e-8)
+      return "degenerate (Newton's method does not invert its trilinear map to 1e-10 of its size)";
+  }
+  return "";
+}
+
+std::string tet_fault(const Vec3* v) {
+  const double L = element_size(v, 4), V = tet_volume6(v), tiny = 1e-12 * L * L * L;
+  if (V > tiny) return "";
+  return std::string(V < -tiny ? "inverted" : "degenerate") + " (six times its signed volume is " + short_number(V) +
+         ", element size " + short_number(L) + ")";
+}
+
+/// Every real cell: indices in range, finite vertices, a sound shape.
+void check_cells(const DomainCheck& c, const MeshDomain& d, std::int64_t cells) {
+  const DomainAccess a = DomainAccess::of(d);
+  int sign = d.structured() ? 0 : 1;
+  std::int64_t idx[8];
+  Vec3 v[8];
+  for (std::int64_t e = 0; e < cells; ++e) {
+    if (d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0) continue;
+    a.cell_vertices(e, idx);
+    // Each message is made only on a fault (the checks run per element)
+    for (int k = 0; k < a.nv; ++k) {
+      if (!(idx[k] >= 0 && idx[k] < d.coords.count))
+        c.require(false, e,
+                  "vertex index " + std::to_string(idx[k]) + " (entry " + std::to_string(k) + ") is outside [0, " +
+                      std::to_string(d.coords.count) + ")");
+      v[k] = a.vertex(idx[k]);
+      if (!(std::isfinite(v[k].x) && std::isfinite(v[k].y) && std::isfinite(v[k].z)))
+        c.require(false, e, "vertex " + std::to_string(idx[k]) + " has a non-finite coordinate " + point_text(v[k]));
+    }
+    const std::string fault = a.shape == Shape::Tet ? tet_fault(v) : hex_fault(v, &sign);
+    if (!fault.empty()) c.require(false, e, std::string(shape_name(a.shape)) + " is " + fault);
+  }
+}
+
+}  // namespace
+
+void check_mesh(const Mesh& mesh) {
+  if (mesh.domains.empty()) throw std::invalid_argument("mesh: no domain");
+  std::int64_t real = 0;
+  for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
+    const MeshDomain& d = mesh.domains[i];
+    const DomainCheck c{i};
+    check_coords(c, d.coords);
+    const std::int64_t cells = check_topology(c, d);
+    check_field(c, d, cells);
+    check_cells(c, d, cells);
+    for (std::int64_t e = 0; e < cells; ++e) real += !(d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0);
+  }
+  if (real == 0) throw std::invalid_argument("mesh: no real (non-ghost) cell in any domain");
+}
+
+}  // namespace tessera
