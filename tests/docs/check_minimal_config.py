@@ -17,59 +17,21 @@ Prints what it measured; exits 1 on any failure.
 import glob
 import os
 import re
-import struct
-import subprocess
 import sys
 import tempfile
-import zlib
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path[:0] = [HERE, os.path.join(HERE, "..", "common")]
 from check_docs import blocks, run  # noqa: E402  (the same block conventions)
+from png_decode import read_png  # noqa: E402  (shared with tests/mpi/png_pixels_equal.py)
 
 MINIMAL = re.compile(r"^renders:\s*\[\s*\{\s*field:\s*[A-Za-z0-9_-]+\s*\}\s*\]\s*$")
 MIN_STDDEV, BRIGHT, DARK, MIN_SHARE = 10.0, 100, 60, 0.01
 
 
-def read_png(path):
-    """(width, height, rows of RGBA bytes) of an 8-bit RGB or RGBA, non-interlaced PNG."""
-    data = open(path, "rb").read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", f"{path}: not a PNG"
-    pos, idat, header = 8, b"", None
-    while pos < len(data):
-        (length,), kind = struct.unpack(">I", data[pos:pos + 4]), data[pos + 4:pos + 8]
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + length
-    width, height, depth, color, _, _, interlace = header
-    assert depth == 8 and color in (2, 6) and interlace == 0, f"{path}: unsupported PNG {header}"
-    bpp = 4 if color == 6 else 3
-    raw, stride, rows, prev = zlib.decompress(idat), width * bpp, [], bytearray(width * bpp)
-    for y in range(height):
-        kind, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - bpp] if i >= bpp else 0
-            b, c = prev[i], prev[i - bpp] if i >= bpp else 0
-            if kind == 1:
-                line[i] = (line[i] + a) & 255
-            elif kind == 2:
-                line[i] = (line[i] + b) & 255
-            elif kind == 3:
-                line[i] = (line[i] + (a + b) // 2) & 255
-            elif kind == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line) if bpp == 4 else bytes(v for x in range(width) for v in (*line[3 * x:3 * x + 3], 255)))
-        prev = line
-    return width, height, rows
-
-
 def luminances(path):
-    width, height, rows = read_png(path)
-    return [0.2126 * r[4 * x] + 0.7152 * r[4 * x + 1] + 0.0722 * r[4 * x + 2] for r in rows for x in range(width)]
+    width, height, bpp, rows = read_png(path)
+    return [0.2126 * r[bpp * x] + 0.7152 * r[bpp * x + 1] + 0.0722 * r[bpp * x + 2] for r in rows for x in range(width)]
 
 
 def picture_faults(path):

@@ -7,17 +7,17 @@
 !> message naming them. Runs in the current directory.
 program amr_render
   use, intrinsic :: iso_c_binding, only: c_int64_t
-  use, intrinsic :: iso_fortran_env, only: real64, error_unit
+  use, intrinsic :: iso_fortran_env, only: real64
   use tessera
+  use test_support, only: check, finish, render_domains, same_file, write_text
   implicit none
   real(real64), allocatable, target :: a0(:, :, :), a1(:, :, :)
   type(tessera_field) :: f(1)
   type(tessera_domain) :: whole(2), cut(4)
   type(tessera_mesh) :: mesh
   integer, parameter :: lo1(3) = [6, 4, 4]   ! level-1 box: level-0 vertices [3, 9] x [2, 8] x [2, 6]
-  integer :: st, i, j, k, failures
+  integer :: st, i, j, k
 
-  failures = 0
   allocate(a0(0:11, 0:9, 0:7), a1(lo1(1):lo1(1) + 12, lo1(2):lo1(2) + 12, lo1(3):lo1(3) + 8))
   do k = 0, 7
     do j = 0, 9
@@ -50,7 +50,7 @@ program amr_render
   whole(1) = tessera_domain_from([0_c_int64_t, 0_c_int64_t, 0_c_int64_t], f)
   f(1) = tessera_field_from('t', a1)
   whole(2) = tessera_domain_from(int(lo1, c_int64_t), f, level=1)
-  call render('whole', mesh, whole)
+  call render_domains('amr.yaml', 'whole', mesh, whole)
   ! Four patches in reverse order: level 1 cut at i = 9, level 0 at k = 3
   f(1) = tessera_field_from('t', a1(lo1(1) + 3:, :, :))
   cut(1) = tessera_domain_from(int([lo1(1) + 3, lo1(2), lo1(3)], c_int64_t), f, level=1)
@@ -60,12 +60,12 @@ program amr_render
   cut(3) = tessera_domain_from([0_c_int64_t, 0_c_int64_t, 3_c_int64_t], f)
   f(1) = tessera_field_from('t', a0(:, :, :2))
   cut(4) = tessera_domain_from([0_c_int64_t, 0_c_int64_t, 0_c_int64_t], f)
-  call render('cut', mesh, cut)
+  call render_domains('amr.yaml', 'cut', mesh, cut)
   call check(same_file('whole/r_0.exr', 'cut/r_0.exr'), 'two levels whole and cut into 4 patches: same EXR bytes')
   ! The fine level is read in place: shifting its values changes the image (level 0 alone may
   ! render the same bits: this view barely sees the fine detail at 4 spp)
   a1 = a1 + 0.5_real64
-  call render('shifted', mesh, whole)
+  call render_domains('amr.yaml', 'shifted', mesh, whole)
   call check(.not. same_file('whole/r_0.exr', 'shifted/r_0.exr'), 'the fine level is read: shifting it changes the image')
 
   ! Bad levels: the module's check of the refinement's length, the adapter's of the ratio
@@ -87,11 +87,7 @@ program amr_render
   end block
 
   deallocate(a0, a1, mesh%refinement)   ! (a main program's allocatables are not freed at its end)
-  if (failures > 0) then
-    write(error_unit, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  print '(a)', 'amr_render: all checks passed'
+  call finish('amr_render')
 
 contains
 
@@ -102,58 +98,4 @@ contains
     real(real64), parameter :: pi = 3.14159265358979323846_real64
     smooth = sin(x / 3) * cos(y / 4) + z / 8 + 0.3_real64 * sin(pi * x)**2 * sin(pi * y)**2
   end function smooth
-
-  subroutine render(dir, m, domains)
-    character(*), intent(in) :: dir
-    type(tessera_mesh), intent(in) :: m
-    type(tessera_domain), intent(in) :: domains(:)
-    type(tessera_adapter) :: viz
-    st = tessera_open('amr.yaml', TESSERA_NO_MPI, viz, dir)
-    call check(st == TESSERA_OK, 'open: ' // tessera_last_error(viz))
-    st = tessera_execute_domains(viz, 0, 0.0_real64, m, domains)
-    call check(st == TESSERA_OK, dir // ': ' // tessera_last_error(viz))
-    st = tessera_close(viz)
-  end subroutine render
-
-  logical function same_file(p, q)
-    character(*), intent(in) :: p, q
-    character(len=:), allocatable :: x, y
-    x = contents(p)
-    y = contents(q)
-    same_file = len(x) > 0 .and. x == y .and. len(x) == len(y)
-  end function same_file
-
-  function contents(path) result(text)
-    character(*), intent(in) :: path
-    character(len=:), allocatable :: text
-    integer :: unit, n, ios
-    logical :: there
-    inquire(file=path, exist=there, size=n)
-    if (.not. there .or. n <= 0) then
-      text = ''
-      return
-    end if
-    allocate(character(len=n) :: text)
-    open(newunit=unit, file=path, access='stream', form='unformatted', status='old', iostat=ios)
-    if (ios == 0) read(unit, iostat=ios) text
-    close(unit)
-    if (ios /= 0) text = ''
-  end function contents
-
-  subroutine write_text(path, text)
-    character(*), intent(in) :: path, text
-    integer :: unit
-    open(newunit=unit, file=path, status='replace', action='write', form='formatted')
-    write(unit, '(a)', advance='no') text
-    close(unit)
-  end subroutine write_text
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(*), intent(in) :: what
-    if (.not. ok) then
-      write(error_unit, '(2a)') 'FAILED: ', what
-      failures = failures + 1
-    end if
-  end subroutine check
 end program amr_render

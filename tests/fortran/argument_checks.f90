@@ -4,17 +4,17 @@
 !> to the NUL and go on with the cut name (a cut config path still opens, a cut field name
 !> still renders). Trailing blanks are still dropped. Runs in the current directory.
 program argument_checks
-  use, intrinsic :: iso_fortran_env, only: real64, error_unit
+  use, intrinsic :: iso_fortran_env, only: real64
   use tessera
+  use test_support, only: check, exists, finish, remove, write_text
   implicit none
   real(real64), allocatable, target :: a(:, :, :)
   type(tessera_field) :: one(1)
   type(tessera_adapter) :: viz, refused
   type(tessera_grid) :: grid
   character(len=:), allocatable :: msg
-  integer :: st, failures
+  integer :: st
 
-  failures = 0
   allocate(a(4, 5, 6))
   a = 1.0_real64
   grid%global_dims = [4, 5, 6]
@@ -75,42 +75,5 @@ program argument_checks
   call check(tessera_close(viz) == TESSERA_OK, 'close')
 
   deallocate(a, msg)
-  if (failures > 0) then
-    write(error_unit, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  print '(a)', 'argument_checks: all checks passed'
-
-contains
-
-  logical function exists(path)
-    character(*), intent(in) :: path
-    inquire(file=path, exist=exists)
-  end function exists
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(*), intent(in) :: what
-    if (.not. ok) then
-      write(error_unit, '(2a)') 'FAILED: ', what
-      failures = failures + 1
-    end if
-  end subroutine check
-
-  subroutine remove(path)
-    character(*), intent(in) :: path
-    integer :: u
-    if (.not. exists(path)) return
-    open(newunit=u, file=path, status='old')
-    close(u, status='delete')
-  end subroutine remove
-
-  subroutine write_text(path, text)
-    character(*), intent(in) :: path, text
-    integer :: u
-    open(newunit=u, file=path, access='stream', form='unformatted', status='replace')
-    write(u) text
-    close(u)
-  end subroutine write_text
-
+  call finish('argument_checks')
 end program argument_checks

@@ -20,14 +20,8 @@ if(NOT names STREQUAL "CMakeLists.txt;viz.yaml;sim.f90")
   message(FATAL_ERROR "${DOC}: expected the blocks CMakeLists.txt, viz.yaml, sim.f90; found: ${names}")
 endif()
 
-function(run_checked what)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
-                  TIMEOUT 250)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
-  endif()
-  set(last_output "${out}${err}" PARENT_SCOPE)
-endfunction()
+set(RUN_CHECKED_TIMEOUT 250)
+include("${CMAKE_CURRENT_LIST_DIR}/run_checked.cmake")
 
 if(NOT CONFIG_TYPE)
   set(CONFIG_TYPE Release)
@@ -61,7 +55,7 @@ file(WRITE "${WORK}/section/CMakeLists.txt" "cmake_minimum_required(VERSION 3.22
 project(section LANGUAGES Fortran)
 find_package(Tessera REQUIRED)
 add_executable(section \"${SOURCE_DIR}/tests/fortran/section_render.f90\"
-  \"${SOURCE_DIR}/miniapp/fortran/heat_parallel_serial.f90\")
+  \"${SOURCE_DIR}/tests/fortran/test_support.f90\" \"${SOURCE_DIR}/miniapp/fortran/heat_parallel_serial.f90\")
 target_link_libraries(section PRIVATE tessera::fortran)
 ")
 run_checked("configure the section project" "${CMAKE_COMMAND}" -S "${WORK}/section"

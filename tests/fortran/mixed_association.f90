@@ -7,17 +7,17 @@
 !> axis given once (tessera_mesh_coords). Runs in the current directory.
 program mixed_association
   use, intrinsic :: iso_c_binding, only: c_int64_t
-  use, intrinsic :: iso_fortran_env, only: real64, error_unit
+  use, intrinsic :: iso_fortran_env, only: real64
   use tessera
+  use test_support, only: check, finish, render_domains, same_file, write_text
   implicit none
   real(real64), allocatable, target :: t(:, :, :), v(:, :, :), y(:)
   type(tessera_field) :: both(2), alone(1)
   type(tessera_domain) :: mixed(1), plain(1), halves(2)
   type(tessera_mesh) :: vertex_mesh, cell_mesh
   type(tessera_adapter) :: viz
-  integer :: st, i, j, k, failures
+  integer :: st, i, j, k
 
-  failures = 0
   allocate(t(11, 9, 7), v(12, 10, 8))
   do k = 1, 8
     do j = 1, 10
@@ -45,8 +45,8 @@ program mixed_association
   mixed(1) = tessera_domain_from([0_c_int64_t, 0_c_int64_t, 0_c_int64_t], both)
   alone(1) = tessera_field_from('t', t)
   plain(1) = tessera_domain_from([0_c_int64_t, 0_c_int64_t, 0_c_int64_t], alone)
-  call render('mixed', vertex_mesh, mixed)
-  call render('plain', cell_mesh, plain)
+  call render_domains('mixed.yaml', 'mixed', vertex_mesh, mixed)
+  call render_domains('mixed.yaml', 'plain', cell_mesh, plain)
   call check(same_file('mixed/r_0.exr', 'plain/r_0.exr'), 'cell t beside vertex v on a vertex mesh = t on a cell mesh')
 
   ! Axis j (10 vertices, stretched) whole, then in two pieces sharing vertex 5 (0-based): the
@@ -55,7 +55,7 @@ program mixed_association
   allocate(y(10))
   y = [(1.2_real64 * j + 0.05_real64 * j * j, j = 0, 9)]
   call tessera_mesh_coords(vertex_mesh, 2, y)
-  call render('whole_axis', vertex_mesh, mixed)
+  call render_domains('mixed.yaml', 'whole_axis', vertex_mesh, mixed)
   call tessera_mesh_coords(vertex_mesh, 2, y(1:0))   ! (empty: uniform again)
   vertex_mesh%axes_from_domains = 2
   both(1) = tessera_field_from('v', v(:, 1:5, :))   ! vertices 0..4 (vertex 5 is the other's)
@@ -69,7 +69,7 @@ program mixed_association
   halves(2) = tessera_domain_from([0_c_int64_t, 5_c_int64_t, 0_c_int64_t], both)
   both(2)%association = -1
   call tessera_domain_coords(halves(2), 2, y(6:10), 5_c_int64_t)
-  call render('pieces', vertex_mesh, halves)
+  call render_domains('mixed.yaml', 'pieces', vertex_mesh, halves)
   call check(same_file('whole_axis/r_0.exr', 'pieces/r_0.exr'), 'axis j in two pieces = the whole axis')
   vertex_mesh%axes_from_domains = 0
 
@@ -82,65 +82,5 @@ program mixed_association
   st = tessera_close(viz)
 
   deallocate(t, v, y)
-  if (failures > 0) then
-    write(error_unit, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  print '(a)', 'mixed_association: all checks passed'
-
-contains
-
-  subroutine render(dir, m, domains)
-    character(*), intent(in) :: dir
-    type(tessera_mesh), intent(in) :: m
-    type(tessera_domain), intent(in) :: domains(:)
-    type(tessera_adapter) :: a
-    st = tessera_open('mixed.yaml', TESSERA_NO_MPI, a, dir)
-    call check(st == TESSERA_OK, 'open: ' // tessera_last_error(a))
-    st = tessera_execute_domains(a, 0, 0.0_real64, m, domains)
-    call check(st == TESSERA_OK, dir // ': ' // tessera_last_error(a))
-    st = tessera_close(a)
-  end subroutine render
-
-  logical function same_file(p, q)
-    character(*), intent(in) :: p, q
-    character(len=:), allocatable :: x, y
-    x = contents(p)
-    y = contents(q)
-    same_file = len(x) > 0 .and. x == y .and. len(x) == len(y)
-  end function same_file
-
-  function contents(path) result(text)
-    character(*), intent(in) :: path
-    character(len=:), allocatable :: text
-    integer :: unit, n, ios
-    logical :: there
-    inquire(file=path, exist=there, size=n)
-    if (.not. there .or. n <= 0) then
-      text = ''
-      return
-    end if
-    allocate(character(len=n) :: text)
-    open(newunit=unit, file=path, access='stream', form='unformatted', status='old', iostat=ios)
-    if (ios == 0) read(unit, iostat=ios) text
-    close(unit)
-    if (ios /= 0) text = ''
-  end function contents
-
-  subroutine write_text(path, text)
-    character(*), intent(in) :: path, text
-    integer :: unit
-    open(newunit=unit, file=path, status='replace', action='write', form='formatted')
-    write(unit, '(a)', advance='no') text
-    close(unit)
-  end subroutine write_text
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(*), intent(in) :: what
-    if (.not. ok) then
-      write(error_unit, '(2a)') 'FAILED: ', what
-      failures = failures + 1
-    end if
-  end subroutine check
+  call finish('mixed_association')
 end program mixed_association

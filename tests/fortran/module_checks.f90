@@ -7,8 +7,9 @@
 !> (a few bytes per call, which LeakSanitizer reports; docs/fortran.md).
 program module_checks
   use, intrinsic :: iso_c_binding, only: c_loc, c_ptr, c_intptr_t, c_int64_t, c_int8_t, c_int16_t
-  use, intrinsic :: iso_fortran_env, only: int64, real32, real64, error_unit
+  use, intrinsic :: iso_fortran_env, only: int64, real32, real64
   use tessera
+  use test_support, only: check, exists, finish, write_text
   implicit none
   real(real64), allocatable, target :: a(:, :, :)
   integer(c_int16_t), allocatable, target :: h(:, :, :)
@@ -17,9 +18,8 @@ program module_checks
   type(tessera_adapter) :: viz, never
   type(tessera_grid) :: grid
   character(len=:), allocatable :: msg
-  integer :: st, i, j, k, failures
+  integer :: st, i, j, k
 
-  failures = 0
   allocate(a(0:5, 0:4, 0:3), h(4, 5, 6), b(4, 5, 6))
   a = 1.0_real64
   do k = 1, 6
@@ -111,11 +111,7 @@ program module_checks
     'second close: ' // tessera_last_error(viz))
 
   deallocate(a, h, b, msg)
-  if (failures > 0) then
-    write(error_unit, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  print '(a)', 'module_checks: all checks passed'
+  call finish('module_checks')
 
 contains
 
@@ -123,27 +119,4 @@ contains
     type(c_ptr), intent(in) :: p, q
     same = transfer(p, 0_c_intptr_t) == transfer(q, 0_c_intptr_t)
   end function same
-
-  logical function exists(path)
-    character(*), intent(in) :: path
-    inquire(file=path, exist=exists)
-  end function exists
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(*), intent(in) :: what
-    if (.not. ok) then
-      write(error_unit, '(2a)') 'FAILED: ', what
-      failures = failures + 1
-    end if
-  end subroutine check
-
-  subroutine write_text(path, text)
-    character(*), intent(in) :: path, text
-    integer :: u
-    open(newunit=u, file=path, access='stream', form='unformatted', status='replace')
-    write(u) text
-    close(u)
-  end subroutine write_text
-
 end program module_checks

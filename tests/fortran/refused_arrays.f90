@@ -11,8 +11,9 @@
 !> afterwards renders. Runs in the current directory.
 program refused_arrays
   use, intrinsic :: iso_c_binding, only: c_int64_t
-  use, intrinsic :: iso_fortran_env, only: real32, real64, error_unit
+  use, intrinsic :: iso_fortran_env, only: real32, real64
   use tessera
+  use test_support, only: check, exists, finish, write_text
   implicit none
   real(real64), allocatable, target :: a(:, :, :), x(:), y(:)
   real(real32), allocatable, target :: s(:, :, :)
@@ -22,9 +23,8 @@ program refused_arrays
   type(tessera_field) :: one(1)
   type(tessera_domain) :: d(1)
   character(len=:), allocatable :: msg
-  integer :: st, failures
+  integer :: st
 
-  failures = 0
   allocate(a(8, 6, 5), s(8, 6, 5), x(5), y(6))
   a = 1.0_real64
   s = 1.0_real32
@@ -100,11 +100,7 @@ program refused_arrays
   call check(tessera_close(viz) == TESSERA_OK, 'close')
 
   deallocate(a, s, x, y, msg)
-  if (failures > 0) then
-    write(error_unit, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  print '(a)', 'refused_arrays: all checks passed'
+  call finish('refused_arrays')
 
 contains
 
@@ -134,27 +130,4 @@ contains
     call check(index(msg, 'no domains') == 0 .and. index(msg, 'no rank passed') == 0, &
       'step ' // trim(text) // ': no secondary complaint in: ' // msg)
   end subroutine expect
-
-  logical function exists(path)
-    character(*), intent(in) :: path
-    inquire(file=path, exist=exists)
-  end function exists
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(*), intent(in) :: what
-    if (.not. ok) then
-      write(error_unit, '(2a)')'FAILED: ', what
-      failures = failures + 1
-    end if
-  end subroutine check
-
-  subroutine write_text(path, text)
-    character(*), intent(in) :: path, text
-    integer :: u
-    open(newunit=u, file=path, access='stream', form='unformatted', status='replace')
-    write(u) text
-    close(u)
-  end subroutine write_text
-
 end program refused_arrays

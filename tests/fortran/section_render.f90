@@ -19,6 +19,7 @@ program section_render
   use, intrinsic :: iso_fortran_env, only: int64, real32, real64, error_unit
   use tessera
   use heat_parallel
+  use test_support, only: write_text
   implicit none
   integer, parameter :: NX = 20, NY = 16, NZ = 24
   real(real64), parameter :: GARBAGE = 1.0e6_real64
@@ -177,14 +178,6 @@ contains
       '  dtype: ' // dtype // new_line('a') // '  spacing: [0.05, 0.06, 0.04]' // new_line('a') // &
       '  origin: [0.1, -0.2, 0.3]' // new_line('a') // '  byte_order: little' // new_line('a')
   end function volume
-
-  subroutine write_text(path, text)
-    character(*), intent(in) :: path, text
-    integer :: u
-    open(newunit=u, file=path, access='stream', form='unformatted', status='replace')
-    write(u) text
-    close(u)
-  end subroutine write_text
 
   !> The descriptor points at the caller's element `first` with these extents and strides.
   subroutine expect_layout(fd, first, dtype, dims, strides)

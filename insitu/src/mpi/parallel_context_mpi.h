@@ -31,6 +31,8 @@
 
 #include <mpi.h>
 
+#include <climits>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -42,6 +44,20 @@ namespace tessera::insitu {
 
 /// One word for the ranks to compare: nlevels (8 bits) and each ratio (4 bits).
 std::int64_t levels_word(const AmrField& meta);
+
+/// How one MPI_Allgatherv moves every rank's piece (MpiParallelContext::allgather_bytes): each
+/// piece's bytes and where it lands among the gathered bytes, as MPI's int counts.
+struct AllgathervPlan {
+  std::vector<int> counts;  ///< bytes of each rank's piece, in rank order
+  std::vector<int> displs;  ///< offset of each rank's piece in the gathered bytes
+  std::size_t total = 0;    ///< the sum of counts
+};
+/// The plan for pieces of `sizes` bytes (every rank's, in rank order: the same list on every
+/// rank, so what this throws is thrown alike on every rank). Throws std::length_error when the
+/// total passes `max_total` (the message of ParallelContext::allgather_bytes) or `int_limit`
+/// bytes (INT_MAX: MPI counts and displacements are int; tests pass a smaller limit).
+AllgathervPlan allgatherv_plan(std::span<const std::uint64_t> sizes, std::size_t max_total,
+                               std::uint64_t int_limit = INT_MAX);
 
 /// Per-rank figures of the last assemble() / render(), for benchmarks and tests.
 struct MpiRenderReport {
@@ -95,6 +111,11 @@ class MpiParallelContext final : public ParallelContext {
   void allgather_waiting(const void* mine, std::size_t bytes, void* all, double warn_after,
                          const std::function<void(double)>& on_wait) override;
   void broadcast(std::string& text, int root) override;
+  /// One allgather of the sizes, then one MPI_Allgatherv of the bytes (the generic form: a
+  /// broadcast per rank). The same pieces and the same errors, thrown alike on every rank; a
+  /// total past INT_MAX bytes (one MPI_Allgatherv's int counts) is refused with
+  /// std::length_error. One rank: the generic form (no MPI call).
+  std::vector<std::string> allgather_bytes(const std::string& mine, std::size_t max_total) override;
   FieldView assemble_blocks(std::span<const FieldBlock> blocks, const std::int64_t global_dims[3],
                             DType dtype) override;
   std::shared_ptr<const FieldSummary> summarize_blocks(std::span<const FieldBlock> blocks,

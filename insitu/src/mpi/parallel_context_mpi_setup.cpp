@@ -1,5 +1,6 @@
 // MpiParallelContext: construction in two steps (the communicator, then the nodes) and the
-// byte collectives that the rank agreement uses in between (rank_agreement.h). The rest of
+// byte collectives that the rank agreement uses in between (rank_agreement.h), and
+// allgather_bytes (every rank's pieces in one MPI_Allgatherv). The rest of
 // the context is in the other parallel_context_mpi*.cpp files (parallel_context_mpi.cpp lists them).
 #include "mpi/mpi_check.h"
 #include "mpi/parallel_context_mpi.h"
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -144,6 +146,45 @@ void MpiParallelContext::allgather_waiting(const void* mine, std::size_t bytes, 
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(1000));
   }
+}
+
+AllgathervPlan allgatherv_plan(std::span<const std::uint64_t> sizes, std::size_t max_total, std::uint64_t int_limit) {
+  // The total, saturating (no size list can wrap it round to a small number)
+  std::uint64_t total = 0;
+  for (const std::uint64_t s : sizes) total = s > UINT64_MAX - total ? UINT64_MAX : total + s;
+  if (total > max_total)
+    throw std::length_error("the ranks' pieces hold " + std::to_string(total) + " bytes, more than " +
+                            std::to_string(max_total));
+  if (total > int_limit)
+    throw std::length_error("the ranks' pieces hold " + std::to_string(total) +
+                            " bytes, more than one MPI_Allgatherv carries (" + std::to_string(int_limit) + ")");
+  AllgathervPlan plan;
+  plan.total = static_cast<std::size_t>(total);
+  int at = 0;
+  for (const std::uint64_t s : sizes) {
+    plan.counts.push_back(static_cast<int>(s));
+    plan.displs.push_back(at);
+    at += static_cast<int>(s);
+  }
+  return plan;
+}
+
+std::vector<std::string> MpiParallelContext::allgather_bytes(const std::string& mine, std::size_t max_total) {
+  if (m_size == 1) return ParallelContext::allgather_bytes(mine, max_total);
+  // Every rank's size, then the plan: the same on every rank, and so are its refusals
+  const std::uint64_t size = mine.size();
+  std::vector<std::uint64_t> sizes(static_cast<std::size_t>(m_size));
+  allgather(&size, sizeof size, sizes.data());
+  const AllgathervPlan plan = allgatherv_plan(sizes, max_total);
+  // Every piece in one collective, then cut in rank order
+  std::string gathered(plan.total, '\0');
+  check(MPI_Allgatherv(mine.data(), plan.counts[static_cast<std::size_t>(m_rank)], MPI_BYTE, gathered.data(),
+                       plan.counts.data(), plan.displs.data(), MPI_BYTE, m_comm),
+        "MPI_Allgatherv");
+  std::vector<std::string> all(sizes.size());
+  for (std::size_t r = 0; r < all.size(); ++r)
+    all[r] = gathered.substr(static_cast<std::size_t>(plan.displs[r]), static_cast<std::size_t>(plan.counts[r]));
+  return all;
 }
 
 void MpiParallelContext::broadcast(std::string& text, int root) {
