@@ -69,6 +69,20 @@ tessera_status Adapter::execute_domains(std::int64_t step, double time, const te
   return s;
 }
 
+tessera_status Adapter::execute_mesh_domains(std::int64_t step, double time,
+                                             std::span<const tessera_mesh_domain> domains, bool final_step) {
+  if (!m_impl) return TESSERA_ERROR_CONFIG;  // moved from
+  GateCall inside(m_impl->m_gate);
+  if (inside.refusal() != CallGate::Refusal::None)
+    return refuse(m_impl.get(), inside.refusal(),
+                  final_step ? "execute_mesh_domains (final step)" : "execute_mesh_domains");
+  clear_refusal(m_impl.get());
+  const tessera_status s =
+      m_impl->execute_mesh_domains(step, time, domains.data(), static_cast<std::int64_t>(domains.size()), final_step);
+  if (s != TESSERA_OK && m_impl->abort_mode()) throw AdapterError(s, m_impl->m_error);
+  return s;
+}
+
 tessera_status Adapter::field_unchanged(const std::string& field_name) noexcept {
   if (!m_impl) return TESSERA_ERROR_CONFIG;
   GateCall inside(m_impl->m_gate);

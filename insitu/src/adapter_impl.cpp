@@ -140,10 +140,20 @@ tessera_status Adapter::Impl::execute_domains(std::int64_t step, double time, co
   return run_call(step, time, pub, final_step);
 }
 
-tessera_status Adapter::Impl::execute_refused(std::int64_t step, double time, bool domains_call, const char* reason,
+tessera_status Adapter::Impl::execute_mesh_domains(std::int64_t step, double time, const tessera_mesh_domain* domains,
+                                                   std::int64_t ndomains, bool final_step) noexcept {
+  Publication pub;
+  pub.mesh_call = true;
+  pub.mesh_domains = domains;
+  pub.ndomains = ndomains;
+  return run_call(step, time, pub, final_step);
+}
+
+tessera_status Adapter::Impl::execute_refused(std::int64_t step, double time, int call_kind, const char* reason,
                                               bool final_step) noexcept {
   Publication pub;
-  pub.domains_call = domains_call;
+  pub.domains_call = call_kind == 1;
+  pub.mesh_call = call_kind == 2;
   pub.refusal = reason;
   return run_call(step, time, pub, final_step);
 }
@@ -218,6 +228,7 @@ std::optional<tessera_status> Adapter::Impl::agree_call(std::int64_t step, bool 
   plan = m_budget ? m_budget->plan(step, std::max(0.0, m_sim_seconds), fired) : 1.0;
   CallView view{final_step ? CallKind::Final : CallKind::Execute, step, fired, m_config.renders, pub.grid, plan};
   view.domains_call = pub.domains_call;
+  view.mesh_call = pub.mesh_call;
   view.mesh = pub.mesh;
   view.domains = pub.domains;
   view.ndomains = pub.ndomains;

@@ -36,9 +36,14 @@ struct Adapter::Impl {
   /// only if a render fires (domain_binding.h, then the contexts' tiling check).
   tessera_status execute_domains(std::int64_t step, double time, const tessera_mesh* mesh,
                                  const tessera_domain* domains, std::int64_t ndomains, bool final_step) noexcept;
-  /// tessera_execute_refused: the call (domains or not) with no descriptors, whose renders that
-  /// fire fail with `reason` on this rank (non-null, NUL-terminated).
-  tessera_status execute_refused(std::int64_t step, double time, bool domains_call, const char* reason,
+  /// tessera_execute_mesh_domains: curvilinear and unstructured domains as the C API receives
+  /// them; checked only if a render fires (mesh_binding.h).
+  tessera_status execute_mesh_domains(std::int64_t step, double time, const tessera_mesh_domain* domains,
+                                      std::int64_t ndomains, bool final_step) noexcept;
+  /// tessera_execute_refused: the call (0 grid, 1 domains, 2 mesh domains) with no
+  /// descriptors, whose renders that fire fail with `reason` on this rank (non-null,
+  /// NUL-terminated).
+  tessera_status execute_refused(std::int64_t step, double time, int call_kind, const char* reason,
                                  bool final_step) noexcept;
   /// Collective with MPI: the ranks agree that every one of them is closing (one allgather
   /// of the call record, rank_agreement.h), so a rank still inside an execute call that

@@ -183,10 +183,27 @@ tessera_status tessera_execute_domains_final(tessera_adapter* adapter, int64_t s
   });
 }
 
+tessera_status tessera_execute_mesh_domains(tessera_adapter* adapter, int64_t step, double time,
+                                            const tessera_mesh_domain* domains, int ndomains) {
+  return guarded(adapter, "tessera_execute_mesh_domains", [&](tessera_adapter::Impl& impl) {
+    return impl.execute_mesh_domains(step, time, domains, ndomains, false);
+  });
+}
+
+tessera_status tessera_execute_mesh_domains_final(tessera_adapter* adapter, int64_t step, double time,
+                                                  const tessera_mesh_domain* domains, int ndomains) {
+  return guarded(adapter, "tessera_execute_mesh_domains_final", [&](tessera_adapter::Impl& impl) {
+    return impl.execute_mesh_domains(step, time, domains, ndomains, true);
+  });
+}
+
 tessera_status tessera_execute_refused(tessera_adapter* adapter, int64_t step, double time, int domains_call,
                                        int final_step, const char* reason) {
   return guarded(adapter, "tessera_execute_refused", [&](tessera_adapter::Impl& impl) {
-    return impl.execute_refused(step, time, domains_call != 0,
+    return impl.execute_refused(step, time,
+                                domains_call == 2   ? 2
+                                : domains_call != 0 ? 1
+                                                    : 0,
                                 reason && *reason ? reason : "the language binding refused this rank's descriptors",
                                 final_step != 0);
   });

@@ -151,6 +151,12 @@ class Adapter {
   tessera_status execute_domains(std::int64_t step, double time, const tessera_mesh& mesh,
                                  std::span<const tessera_domain> domains, bool final_step = false);
 
+  /// As execute(), for curvilinear and unstructured domains (the C API's
+  /// tessera_execute_mesh_domains and, with final_step, tessera_execute_mesh_domains_final;
+  /// see tessera.h for the checks and their TESSERA_ERROR_DATA).
+  tessera_status execute_mesh_domains(std::int64_t step, double time, std::span<const tessera_mesh_domain> domains,
+                                      bool final_step = false);
+
   /// Whether execute(step, ..., final_step) would evaluate any render: a trigger fires on the
   /// step, a `when` trigger must look at the field, or final_step with render_final_step.
   /// False: that call touches no field memory and returns at once (no MPI communication), so

@@ -40,7 +40,9 @@ typedef enum {
   TESSERA_INT16,
   TESSERA_UINT16,
   TESSERA_FLOAT32,
-  TESSERA_FLOAT64
+  TESSERA_FLOAT64,
+  TESSERA_INT32, /* index arrays only (connectivity of a curvilinear or unstructured mesh) */
+  TESSERA_INT64  /*   ... likewise */
 } tessera_dtype;
 
 /* One scalar field on a uniform grid, never copied. Vertex-centred: element (i, j, k) of the
@@ -204,8 +206,71 @@ tessera_status tessera_execute_domains_final(tessera_adapter* adapter, int64_t s
                                              const tessera_mesh* mesh,
                                              const tessera_domain* domains, int ndomains);
 
-/* For language bindings (the Fortran module): stands for one tessera_execute (domains_call 0)
- * or tessera_execute_domains (domains_call 1) call, tessera_execute_final /
+/* ---- Curvilinear and unstructured meshes (docs/data-model.md) ------------------------------
+ * Blueprint's other topologies: `explicit` coordinate sets with a `structured` topology (a
+ * curvilinear grid: a logical i, j, k grid whose vertices have explicit x, y, z) or an
+ * `unstructured` one (an element list of one shape). */
+
+typedef enum { TESSERA_HEX = 0, TESSERA_TET = 1, TESSERA_WEDGE = 2, TESSERA_PYRAMID = 3 } tessera_shape;
+
+typedef struct {                      /* explicit vertex coordinates, read in place */
+  const void*   x;                    /* vertex v's x at x + v * byte_stride; likewise y, z */
+  const void*   y;
+  const void*   z;
+  tessera_dtype dtype;                /* TESSERA_FLOAT32 or TESSERA_FLOAT64 */
+  int64_t       byte_stride;          /* between consecutive vertices (the same for x, y, z) */
+  int64_t       count;                /* vertices */
+} tessera_coordset;
+
+typedef struct {                      /* one curvilinear or unstructured domain this rank holds */
+  tessera_association  association;   /* the fields' values per vertex or per cell */
+  tessera_coordset     coords;
+  int64_t              dims[3];       /* curvilinear: vertices per logical axis (i fastest in
+                                         coords; count = dims[0]*dims[1]*dims[2]); unstructured: 0 */
+  tessera_shape        shape;         /* unstructured: the element shape */
+  const void*          connectivity;  /* unstructured: ncells x (8 hex, 4 tet, 6 wedge, 5 pyramid)
+                                         vertex indices, in Blueprint's (VTK's) order */
+  tessera_dtype        index_dtype;   /* TESSERA_INT32 or TESSERA_INT64 */
+  int64_t              ncells;        /* unstructured: elements; curvilinear: ignored */
+  const tessera_field* fields;        /* per vertex (coords.count values) or per cell (ncells, or
+                                         the logical cells of a curvilinear domain); a 1-D array
+                                         has dims {n, 1, 1} and its stride in byte_strides[0] */
+  int                  nfields;
+  const char*          ghost_field;   /* NULL, or a TESSERA_UINT8 cell field: nonzero = a ghost
+                                         cell, never sampled */
+} tessera_mesh_domain;
+/* Notes on tessera_mesh_domain:
+ * - The mesh is the union of every rank's domains; a rank may pass none. Every domain publishes
+ *   the same fields (names and dtypes). Real cells of different domains may not overlap (ghost
+ *   cells may); the image does not depend on how the cells are cut into domains or spread over
+ *   ranks: bit-identical for any decomposition, thread count and rank count.
+ * - Vertex data: barycentric on tetrahedra, trilinear in the element's parametric coordinates
+ *   on hexahedra and curvilinear cells; cell data is constant over the cell. Outside every
+ *   element the medium is empty.
+ * - Hexahedra and tetrahedra are rendered; wedges and pyramids are refused (not yet). Every
+ *   element must be positively oriented in VTK's order (a curvilinear grid may be of either
+ *   handedness, the same throughout). A field's ghosts_lo / ghosts_hi must be 0 (a ghost
+ *   cell is marked by ghost_field).
+ * - Under MPI every rank receives every rank's domains at each call that renders (replicated
+ *   mode: a copy per rank, counted against tessera.memory_limit_mb); distributed mode is
+ *   refused for these meshes (not yet). */
+
+/* As tessera_execute_domains, for curvilinear and unstructured domains. TESSERA_ERROR_DATA, on
+ * every rank alike and before anything is rendered or written, with a message naming the rank,
+ * domain and element, for: NULL domains with ndomains > 0; ndomains < 0 or above
+ * TESSERA_MAX_DOMAINS; NULL fields with nfields > 0; domains whose field lists differ in names
+ * or dtypes; a dtype or shape out of range; an index out of range; negative counts; counts
+ * times strides that overflow; NaN or infinite coordinates; a degenerate or inverted element; a
+ * field or ghost field of the wrong length or dtype; no domain on any rank. */
+tessera_status tessera_execute_mesh_domains(tessera_adapter* adapter, int64_t step, double time,
+                                            const tessera_mesh_domain* domains, int ndomains);
+/* As tessera_execute_mesh_domains, for the simulation's last step (see tessera_execute_final). */
+tessera_status tessera_execute_mesh_domains_final(tessera_adapter* adapter, int64_t step,
+                                                  double time, const tessera_mesh_domain* domains,
+                                                  int ndomains);
+
+/* For language bindings (the Fortran module): stands for one tessera_execute (domains_call 0),
+ * tessera_execute_domains (domains_call 1) or tessera_execute_mesh_domains (domains_call 2) call, tessera_execute_final /
  * tessera_execute_domains_final with final_step 1, whose descriptors the binding refused on
  * this rank before they reached the library (an array shorter than its descriptor claims,
  * which C cannot see). Collective like that call, whose place it takes on this rank; reads no

@@ -219,6 +219,11 @@ std::string coords_difference(ParallelContext& ctx, const PublicationView& view,
          " values)";
 }
 
+/// The C call a record's kind stands for.
+const char* call_name(std::uint64_t kind) {
+  return kind == 2 ? "tessera_execute_mesh_domains" : kind == 1 ? "tessera_execute_domains" : "tessera_execute";
+}
+
 // ---------------------------------------------------------------------------------------
 // The fixed-size properties
 
@@ -280,6 +285,12 @@ std::string property_difference(const PublicationRecord& mine, const Publication
 }
 
 }  // namespace
+
+PublicationRecord mesh_call_record() {
+  PublicationRecord rec{};
+  rec.domains_call = 2;
+  return rec;
+}
 
 PublicationRecord publication_record(bool domains_call, const tessera_grid* grid, const tessera_mesh* mesh,
                                      const tessera_domain* domains, std::int64_t ndomains) {
@@ -343,8 +354,7 @@ std::optional<std::string> publication_disagreement(ParallelContext& ctx, std::i
   for (int r = 1; r < n; ++r)
     if (all[r].domains_call != ref.domains_call)
       return std::string(ref.domains_call ? "ranks disagree on the mesh" : "ranks disagree on the grid") + at +
-             rank_name(r) + " calls " + (all[r].domains_call ? "tessera_execute_domains" : "tessera_execute") +
-             ", rank 0 " + (ref.domains_call ? "tessera_execute_domains" : "tessera_execute");
+             rank_name(r) + " calls " + call_name(all[r].domains_call) + ", rank 0 " + call_name(ref.domains_call);
   if (grids)
     for (int r = 1; r < n; ++r) {
       int coords_axis = -1;

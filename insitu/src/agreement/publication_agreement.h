@@ -32,7 +32,7 @@ namespace tessera::insitu {
 
 /// One rank's view of a call's publication (trivially copyable: raw bytes in an allgather).
 struct PublicationRecord {
-  std::uint64_t domains_call;  ///< 1: tessera_execute_domains, 0: tessera_execute
+  std::uint64_t domains_call;  ///< 2: tessera_execute_mesh_domains, 1: tessera_execute_domains, 0: tessera_execute
   std::uint64_t has_grid;      ///< the grid or mesh is present and valid
   std::uint64_t origin_bits[3];
   std::uint64_t spacing_bits[3];
@@ -51,6 +51,9 @@ struct PublicationRecord {
 /// This rank's record. grid: tessera_execute's (may be NULL); mesh, domains, ndomains:
 /// tessera_execute_domains' (domains_call true; may be NULL or invalid). Reads the coordinates
 /// of a rectilinear axis and the names of domain 0's fields (O(n log n) in its fields).
+/// The record of a tessera_execute_mesh_domains call: its kind alone (domains_call 2).
+PublicationRecord mesh_call_record();
+
 PublicationRecord publication_record(bool domains_call, const tessera_grid* grid, const tessera_mesh* mesh,
                                      const tessera_domain* domains, std::int64_t ndomains);
 

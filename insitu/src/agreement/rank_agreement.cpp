@@ -143,7 +143,8 @@ CallRecord call_record(const CallView& call) {
   rec.fired_hash = h;
   rec.plan_bits = std::bit_cast<std::uint64_t>(call.plan);
   if (call.kind != CallKind::Close)
-    rec.pub = publication_record(call.domains_call, call.grid, call.mesh, call.domains, call.ndomains);
+    rec.pub = call.mesh_call ? mesh_call_record()
+                             : publication_record(call.domains_call, call.grid, call.mesh, call.domains, call.ndomains);
   return rec;
 }
 

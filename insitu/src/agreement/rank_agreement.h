@@ -90,6 +90,9 @@ struct CallView {
   /// phase reports it), and the domains, whose field lists (domain 0's on each rank) the ranks
   /// compare. What is compared and how a difference is named: publication_agreement.h.
   bool domains_call = false;
+  /// tessera_execute_mesh_domains (curvilinear, unstructured): only the call's kind is
+  /// compared here; the bind phase agrees on the field.
+  bool mesh_call = false;
   const tessera_mesh* mesh = nullptr;
   const tessera_domain* domains = nullptr;
   std::int64_t ndomains = 0;

@@ -3,6 +3,7 @@
 
 #include "pass/bind_phase.h"
 #include "pass/cinema_phase.h"
+#include "pass/mesh_pass.h"
 #include "pass/pass_context.h"
 #include "pass/pass_report.h"
 #include "pass/placement_phase.h"
@@ -41,6 +42,10 @@ PassOutcome run(const PassContext& pass, bool check_when, bool quiet) {
   // The render budget cannot give this render min_spp: skipped before any work (a `when`
   // render once its trigger has fired)
   if (pass.spp == 0 && !check_when) return skipped(pass, std::move(out));
+  if (pass.call.pub.mesh_call) {
+    run_mesh(pass, gate, out, check_when, quiet);
+    return out;
+  }
 
   const std::optional<BoundField> field = bind_phase(gate, pass);
   if (!field) return out;

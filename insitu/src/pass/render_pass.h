@@ -54,6 +54,9 @@ struct Publication {
   /// Set (descriptors all null): a language binding refused this rank's descriptors before the
   /// call (tessera_execute_refused); the bind phase fails with this reason, on every rank alike.
   const char* refusal = nullptr;
+  /// tessera_execute_mesh_domains: curvilinear and unstructured domains (ndomains of them).
+  bool mesh_call = false;
+  const tessera_mesh_domain* mesh_domains = nullptr;
 };
 
 /// What one execute call derives from its descriptors, shared by its renders. Everything is

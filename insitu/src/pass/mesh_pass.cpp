@@ -1,0 +1,180 @@
+// A render over curvilinear and unstructured domains (mesh_pass.h).
+#include "pass/mesh_pass.h"
+
+#include "data/mesh_binding.h"
+#include "data/mesh_exchange.h"
+#include "data/mesh_plan.h"
+#include "pass/bind_phase.h"
+#include "pass/pass_report.h"
+#include "pass/prepare_phase.h"
+#include "pass/render_phase.h"
+#include "pass/write_phase.h"
+
+#include <tessera/brick_cache.h>
+#include <tessera/render.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tessera::insitu {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Element e of a strided array as double.
+double at(const void* base, DType t, std::int64_t stride, std::int64_t e) {
+  return detail::load_as_double(t, static_cast<const unsigned char*>(base) + e * stride);
+}
+
+/// This rank's mesh bound and checked; the ranks agree on the field's dtype and association.
+std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
+  const Publication& pub = pass.call.pub;
+  MeshBinding b;
+  if (!gate.run(TESSERA_ERROR_DATA, [&] {
+        if (pub.refusal) throw std::invalid_argument(pub.refusal);
+        if (!pass.spec.magnitude.empty())
+          throw std::invalid_argument("field: {magnitude: [...]} on curvilinear or unstructured domains is not "
+                                      "supported yet (publish the magnitude as a field)");
+        if (pass.spec.output.cinema)
+          throw std::invalid_argument("output.cinema with curvilinear or unstructured domains is not supported yet");
+        b = bind_mesh_domains(pub.mesh_domains, pub.ndomains, pass.spec.field, pass.spec.name);
+        if (!b.local.domains.empty()) check_mesh(b.local);
+      }))
+    return std::nullopt;
+  if (!gate.run(TESSERA_ERROR_DATA, [&] {
+        constexpr int kNone = std::numeric_limits<int>::max();
+        const bool has = !b.local.domains.empty();
+        const int key = static_cast<int>(b.dtype) * 2 + (b.association == Association::Cell ? 1 : 0);
+        const int lo = pass.ctx.min(has ? key : kNone);
+        const int hi = -pass.ctx.min(has ? -key : kNone);
+        if (lo == kNone)
+          throw std::invalid_argument("no rank passed a domain (ndomains = 0 everywhere): the domains make the mesh");
+        if (lo != hi)
+          throw std::invalid_argument("ranks publish field '" + b.field + "' as " +
+                                      dtype_name(static_cast<DType>(lo / 2)) + (lo % 2 ? " cell" : " vertex") +
+                                      " data and as " + dtype_name(static_cast<DType>(hi / 2)) +
+                                      (hi % 2 ? " cell" : " vertex") + " data");
+        b.dtype = static_cast<DType>(lo / 2);
+        b.association = lo % 2 ? Association::Cell : Association::Vertex;
+      }))
+    return std::nullopt;
+  return b;
+}
+
+/// The mesh's bounds over every rank's vertices, and every rank's cells.
+struct Extent {
+  Bounds bounds;
+  std::uint64_t cells = 0;         ///< over every rank
+  std::uint64_t others_bytes = 0;  ///< the packed bytes of the other ranks' domains
+};
+
+Extent extent_of(const PassContext& pass, const MeshBinding& b) {
+  double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+  std::uint64_t cells = 0;
+  for (const MeshDomain& d : b.local.domains) {
+    const void* xyz[3] = {d.coords.x, d.coords.y, d.coords.z};
+    for (int a = 0; a < 3; ++a)
+      for (std::int64_t v = 0; v < d.coords.count; ++v) {
+        const double x = at(xyz[a], d.coords.dtype, d.coords.byte_stride, v);
+        lo[a] = std::min(lo[a], x);
+        hi[a] = std::max(hi[a], x);
+      }
+    cells += static_cast<std::uint64_t>(d.cell_count());
+  }
+  Extent e;
+  for (int a = 0; a < 3; ++a) {
+    const auto [l, h] = pass.ctx.range(lo[a], hi[a]);
+    e.bounds.lo[a] = l;
+    e.bounds.hi[a] = h;
+  }
+  const auto n = static_cast<std::size_t>(pass.ctx.size());
+  const std::uint64_t mine[2] = {cells, pass.ctx.size() > 1 ? packed_mesh_bytes(b.local) : 0};
+  std::vector<std::uint64_t> all(2 * n);
+  pass.ctx.allgather(mine, sizeof mine, all.data());
+  for (std::size_t r = 0; r < n; ++r) {
+    e.cells += all[2 * r];
+    if (static_cast<int>(r) != pass.ctx.rank()) e.others_bytes += all[2 * r + 1];
+  }
+  return e;
+}
+
+/// The finite min / max of the field's values over every rank (ghost cells' values left out).
+std::pair<double, double> value_range(const PassContext& pass, const MeshBinding& b) {
+  double lo = kInf, hi = -kInf;
+  for (const MeshDomain& d : b.local.domains)
+    for (std::int64_t e = 0; e < d.field.count; ++e) {
+      if (d.field.association == Association::Cell && d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0)
+        continue;
+      const double v = at(d.field.data, d.field.dtype, d.field.byte_stride, e);
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+  return pass.ctx.range(lo, hi);
+}
+
+}  // namespace
+
+void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool check_when, bool quiet) {
+  std::optional<MeshBinding> bound = bind_mesh(gate, pass);
+  if (!bound) return;
+  Extent extent;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] { extent = extent_of(pass, *bound); })) return;
+  std::pair<double, double> range{0.0, 0.0};
+  if (check_when || pass.spec.transfer_function.range.automatic) {
+    std::pair<double, double> r{kInf, -kInf};
+    if (!gate.run(TESSERA_ERROR_RENDER, [&] { r = value_range(pass, *bound); })) return;
+    if (check_when && !pass.render.trigger.fires_on_max(r.second)) {
+      out.fired = false;
+      return;
+    }
+    if (r.first <= r.second) range = r;
+  }
+  if (pass.spp == 0) {
+    out = skipped(pass, std::move(out));
+    return;
+  }
+  FieldPlan plan;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] {
+        plan = plan_mesh(pass.cfg, pass.spec, pass.ctx.size(), pass.ctx.ranks_on_node(), pass.root(), extent.cells,
+                         extent.others_bytes);
+      }))
+    return;
+  // Several ranks: every rank's domains here (a copy of the others'); one rank: in place
+  std::vector<std::string> received;
+  Mesh whole;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] {
+        if (pass.ctx.size() == 1) {
+          whole = bound->local;
+          return;
+        }
+        received = pass.ctx.allgather_bytes(pack_mesh(bound->local), plan.limit);
+        whole = unpack_meshes(received);
+      }))
+    return;
+  BoundField field;  // what the scene phase reads of a field: its bounds
+  field.binding.global_bounds = extent.bounds;
+  field.name = bound->field;
+  const std::optional<SceneSetup> setup = scene_phase(gate, pass, field, range);
+  if (!setup) return;
+  PreparedScene prepared;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] {
+        const auto t0 = PassClock::now();
+        try {
+          prepared = prepare(whole, setup->scene);
+        } catch (const DeadlineExceeded& e) {
+          time_limit_passed(pass, e);
+        }
+        out.result.prepare_seconds += std::chrono::duration<double>(PassClock::now() - t0).count();
+        ++out.result.field_passes;
+      }))
+    return;
+  std::optional<Image> img = render_phase(gate, pass, prepared, out.result);
+  if (!img || !write_phase(gate, pass, setup->scene, std::move(*img), out.result)) return;
+  finish(pass, prepared, plan, 0, quiet, out);
+}
+
+}  // namespace tessera::insitu

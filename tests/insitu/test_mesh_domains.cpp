@@ -1,0 +1,130 @@
+// tessera_execute_mesh_domains on one rank: a warped box of hexahedra published as a
+// curvilinear grid, as unstructured hexahedra and cut into blocks in any order renders the
+// same image bit for bit; as tetrahedra it renders too; cell data; the descriptors' faults are
+// refused by name with TESSERA_ERROR_DATA, and nothing is written. (Several ranks: tests/mpi.)
+#include "insitu_test_support.h"
+#include "mesh_blocks.h"
+
+#include <tessera/adapter.h>
+
+#include <catch2/catch.hpp>
+
+#include <deque>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+using namespace tessera::insitu;
+using namespace tessera::insitu::test;
+using Catch::Matchers::Contains;
+using tessera_test::MeshBlock;
+using Form = tessera_test::MeshBlock::Form;
+
+namespace {
+
+const std::int64_t kN[3] = {9, 8, 10};
+
+struct Outcome {
+  tessera_status status;
+  std::string error;
+  std::optional<tessera::Image> image;
+};
+
+Outcome run(const TempDir& dir, const std::string& name, const std::vector<tessera_mesh_domain>& domains,
+            const std::string& field = "f") {
+  Adapter ad;
+  ad.set_quiet(true);
+  const std::string tf = "    transfer_function: {range: auto, density_scale: {optical_depth: 12}, "
+                         "opacity: [[0, 0], [1, 1]], diffuse: viridis}\n";
+  REQUIRE(ad.open(dir.write(name + ".yaml", config_yaml(dir.file(name), render_yaml("view", "", tf, field, 32, 2)))) ==
+          TESSERA_OK);
+  Outcome o;
+  o.status = ad.execute_mesh_domains(1, 0.0, domains);
+  o.error = ad.last_error();
+  if (const tessera::Image* img = ad.last_image("view")) o.image = *img;
+  return o;
+}
+
+/// The box cut along k at `cuts` (cell layers), as `form`.
+struct Cut {
+  std::deque<MeshBlock> blocks;
+  std::vector<tessera_mesh_domain> domains;
+  Cut(const std::vector<std::int64_t>& cuts, Form form, bool cell_data = false) {
+    for (std::size_t n = 0; n + 1 < cuts.size(); ++n) blocks.emplace_back(kN, cuts[n], cuts[n + 1]);
+    for (MeshBlock& b : blocks) domains.push_back(b.domain(form, cell_data));
+  }
+};
+
+}  // namespace
+
+TEST_CASE("mesh domains: curvilinear, unstructured hexahedra and any cut render the same image", "[insitu][mesh]") {
+  TempDir dir;
+  for (const bool cell_data : {false, true}) {
+    INFO((cell_data ? "cell data" : "vertex data"));
+    Cut curvilinear({0, 9}, Form::Curvilinear, cell_data);
+    const Outcome ref = run(dir, "curv", curvilinear.domains);
+    INFO(ref.error);
+    REQUIRE(ref.status == TESSERA_OK);
+    REQUIRE(ref.image);
+    CHECK(mean_luminance(*ref.image) > 0.0);
+    Cut hexes({0, 9}, Form::Hexes, cell_data);
+    const Outcome h = run(dir, "hex", hexes.domains);
+    REQUIRE(h.status == TESSERA_OK);
+    CHECK(same_pixels(*ref.image, *h.image));
+    // Three blocks, curvilinear and unstructured mixed, listed backwards
+    Cut three({0, 3, 7, 9}, Form::Hexes, cell_data);
+    Cut curv3({0, 3, 7, 9}, Form::Curvilinear, cell_data);
+    std::vector<tessera_mesh_domain> mixed = {three.domains[2], curv3.domains[1], three.domains[0]};
+    const Outcome m = run(dir, "mixed", mixed);
+    INFO(m.error);
+    REQUIRE(m.status == TESSERA_OK);
+    CHECK(same_pixels(*ref.image, *m.image));
+  }
+  // Tetrahedra of the same cells: a picture too (another interpolation: not the same bits)
+  Cut tets({0, 4, 9}, Form::Tets);
+  const Outcome t = run(dir, "tets", tets.domains);
+  INFO(t.error);
+  REQUIRE(t.status == TESSERA_OK);
+  CHECK(mean_luminance(*t.image) > 0.0);
+}
+
+TEST_CASE("mesh domains: faults are refused by domain and element, nothing is written", "[insitu][mesh][errors]") {
+  TempDir dir;
+  const auto refused = [&](const std::string& name, const std::vector<tessera_mesh_domain>& d, const std::string& what,
+                           const std::string& field = "f") {
+    const Outcome o = run(dir, name, d, field);
+    INFO(o.error);
+    CHECK(o.status == TESSERA_ERROR_DATA);
+    CHECK_THAT(o.error, Contains(what));
+    CHECK_FALSE(std::filesystem::exists(dir.file(name) + "/view_000001.exr"));
+  };
+  Cut cut({0, 4, 9}, Form::Hexes);
+  std::vector<tessera_mesh_domain> d = cut.domains;
+  cut.blocks[1].hexes[8 * 5 + 3] = 100000;  // element 5 of domain 1
+  refused("index", d, "domain 1");
+  refused("index2", d, "element 5");
+  cut.blocks[1].hexes[8 * 5 + 3] = cut.blocks[1].hexes[8 * 5 + 0];
+  refused("degenerate", d, "element 5");
+  Cut ok({0, 4, 9}, Form::Hexes);
+  d = ok.domains;
+  d[0].coords.dtype = TESSERA_INT32;
+  refused("coord_dtype", d, "domain 0: coords.dtype");
+  d = ok.domains;
+  d[1].index_dtype = TESSERA_FLOAT32;
+  refused("index_dtype", d, "domain 1: index_dtype");
+  d = ok.domains;
+  d[1].shape = TESSERA_WEDGE;
+  refused("wedge", d, "wedge");
+  d = ok.domains;
+  d[0].association = TESSERA_CELL;  // the vertex array is then the wrong length, and domain 1 disagrees
+  refused("assoc", d, "domain 1: is vertex data, domain 0 cell data");
+  d = ok.domains;
+  d[0].ghost_field = "g";
+  refused("ghost", d, "ghost_field 'g' is not among the domain's fields");
+  ok.blocks[0].x[3] = std::nan("");
+  refused("nan", ok.domains, "domain 0");
+  refused("unknown", Cut({0, 9}, Form::Hexes).domains, "field 'p'", "p");
+  refused("none", {}, "no rank passed a domain");
+  refused("magnitude", Cut({0, 9}, Form::Hexes).domains, "magnitude", "{magnitude: [f, f, f]}");
+}
