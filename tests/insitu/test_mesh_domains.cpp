@@ -128,3 +128,19 @@ TEST_CASE("mesh domains: faults are refused by domain and element, nothing is wr
   refused("none", {}, "no rank passed a domain");
   refused("magnitude", Cut({0, 9}, Form::Hexes).domains, "magnitude", "{magnitude: [f, f, f]}");
 }
+
+TEST_CASE("mesh domains: a mesh whose tables would pass memory_limit_mb is refused before they are built",
+          "[insitu][mesh][limits]") {
+  TempDir dir;
+  // 60 x 60 x 40 vertices: 135 700 cells, 54 MB of lookup tables at most, over a 16 MB limit
+  const std::int64_t n[3] = {60, 60, 40};
+  MeshBlock big(n, 0, 39);
+  const std::vector<tessera_mesh_domain> d = {big.domain(Form::Curvilinear)};
+  Adapter ad;
+  ad.set_quiet(true);
+  REQUIRE(ad.open(dir.write("limit.yaml", config_yaml(dir.file("limit"), render_yaml("view", "", "", "f", 16, 1),
+                                                      "  memory_limit_mb: 16\n"))) == TESSERA_OK);
+  CHECK(ad.execute_mesh_domains(1, 0.0, d) == TESSERA_ERROR_RENDER);
+  CHECK_THAT(ad.last_error(), Contains("mesh lookup tables"));
+  CHECK_THAT(ad.last_error(), Contains("tessera.memory_limit_mb = 16 MiB"));
+}
