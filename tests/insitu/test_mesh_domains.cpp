@@ -132,7 +132,7 @@ TEST_CASE("mesh domains: faults are refused by domain and element, nothing is wr
 TEST_CASE("mesh domains: a mesh whose tables would pass memory_limit_mb is refused before they are built",
           "[insitu][mesh][limits]") {
   TempDir dir;
-  // 60 x 60 x 40 vertices: 135 700 cells, 54 MB of lookup tables at most, over a 16 MB limit
+  // 60 x 60 x 40 vertices: 135 759 cells, 65 MB of lookup tables at most, over a 16 MB limit
   const std::int64_t n[3] = {60, 60, 40};
   MeshBlock big(n, 0, 39);
   const std::vector<tessera_mesh_domain> d = {big.domain(Form::Curvilinear)};

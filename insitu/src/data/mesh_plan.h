@@ -12,9 +12,11 @@
 
 namespace tessera::insitu {
 
-/// The bound on the core's tables per cell: its box (48 bytes), reference (16), value range
-/// (16), location cell head (8) and at most 64 list entries (4 each), plus sorting's scratch.
-inline constexpr std::uint64_t kMeshTableBytesPerCell = 400;
+/// The bound on the core's tables per cell at their peak (mesh/mesh_tables.cpp): its box (48
+/// bytes), reference (16) and value range (24), with either the sort's scratch (112) or the
+/// location lists (at most 64 entries of 4 bytes, and two heads of 8 bytes for each of at most
+/// 4 location cells per cell): 88 + max(112, 320) = 408, rounded up.
+inline constexpr std::uint64_t kMeshTableBytesPerCell = 480;
 
 /// The plan (never distributed). `cells`: every rank's cells; `received`: the bytes of the
 /// other ranks' domains this rank receives (0 on one rank). Throws std::runtime_error naming
