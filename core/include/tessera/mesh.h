@@ -97,4 +97,10 @@ struct Mesh {
 /// a field or ghost mask whose length is not the vertex or cell count.
 void check_mesh(const Mesh& mesh);
 
+/// What check_mesh checks of each domain's descriptors (counts, strides, dtypes, shapes,
+/// null arrays, the field's and ghost mask's lengths), in time linear in the domains, reading
+/// no coordinate, index or value: all a mesh needs whose elements an earlier check_mesh
+/// accepted and that the caller promises unchanged (prepare's `reuse`, render.h).
+void check_mesh_arrays(const Mesh& mesh);
+
 }  // namespace tessera

@@ -29,6 +29,7 @@
 namespace tessera {
 
 struct PreparedSceneImpl;
+class MeshLayout;  // mesh/mesh_layout.h: what a mesh's prepare builds from its geometry
 
 class PreparedScene {
  public:
@@ -45,12 +46,16 @@ class PreparedScene {
   const std::shared_ptr<const FieldSummary>& summary() const;
   /// True iff prepare() reused the summary it was given instead of scanning the field.
   bool summary_reused() const;
+  /// A mesh scene (prepare(const Mesh&, ...)): its layout, for the next prepare of the same
+  /// mesh; null for other fields. Whether this prepare reused the one it was given.
+  const std::shared_ptr<const MeshLayout>& mesh_layout() const;
+  bool mesh_layout_reused() const;
 
  private:
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const AmrField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
-  friend PreparedScene prepare(const Mesh&, const SceneDesc&);
+  friend PreparedScene prepare(const Mesh&, const SceneDesc&, std::shared_ptr<const MeshLayout>);
   friend PreparedScene prepare(const MagnitudeField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   /// The prepared data, for core's own sources (core/src/scene/prepared_scene_impl.h).
   friend const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
@@ -128,14 +133,22 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shar
 PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary);
 
 /// A curvilinear or unstructured mesh (mesh.h), read in place: check_mesh(mesh) (throws
-/// std::invalid_argument naming the domain and element), then the mesh's tables (canonical
-/// element order, location cells: mesh/mesh_tables.h, O(n log n), built at every call) and a
-/// uniform vertex grid over the mesh's box whose macrocells carry the elements' value ranges
-/// as majorants. scene.geometry is not used (the mesh places itself): desc().geometry and
-/// bounds() are that grid's. Outside every element the medium is empty. Validation of the
-/// rest of the scene, lights, tiles and culling are prepare(FieldView)'s. The image does not
-/// depend on how the cells are cut into domains, on their order, nor on the thread count.
-PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene);
+/// std::invalid_argument naming the domain and element), then the mesh's tables: its layout
+/// (canonical element order, location cells: mesh/mesh_layout.h, O(n log n)) and each
+/// element's value range, over a uniform vertex grid laid over the mesh's box whose
+/// macrocells carry the elements' value ranges as majorants. scene.geometry is not used (the
+/// mesh places itself): desc().geometry and bounds() are that grid's. Outside every element
+/// the medium is empty. Validation of the rest of the scene, lights, tiles and culling are
+/// prepare(FieldView)'s. The image does not depend on how the cells are cut into domains, on
+/// their order, nor on the thread count.
+///
+/// `reuse`: the mesh_layout() of an earlier prepare of the same mesh. When it fits (the same
+/// domains with the same counts and shapes: MeshLayout::fits), only check_mesh_arrays runs and
+/// the layout is shared, not built: the caller's promise that the coordinates, connectivity
+/// and ghost masks are bit for bit those it was built from (not checked: that is the pass it
+/// saves; a broken promise gives wrong lookups, never a read outside the arrays' counts). The
+/// image is then bit-identical to a prepare without `reuse`. When it does not fit, as without.
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse = nullptr);
 
 /// A vector's magnitude (magnitude_field.h), read in place: each lookup reads the three
 /// components and takes magnitude() of them, so the image is bit-identical to prepare() of a

@@ -8,8 +8,8 @@
 /// the medium's voxel walls), each listing the elements whose bounding box meets it, in the
 /// elements' canonical order (mesh_tables.h). A lookup finds its location cell in O(1) (no
 /// search from a root) and takes the first listed element that holds the point within
-/// kInsideSlack: since the order is a function of each element's own vertex coordinates and
-/// values, a point on a shared face takes the same element however the mesh is cut into
+/// kInsideSlack: since the order is a function of each element's own vertex coordinates
+/// (mesh_layout.h), a point on a shared face takes the same element however the mesh is cut into
 /// domains or ordered. A point in no element is outside the mesh: empty space (the medium's
 /// extinction there is 0; value() returns false).
 ///

@@ -275,6 +275,8 @@ Bounds PreparedScene::bounds() const { return m_impl->bounds; }
 
 const std::shared_ptr<const FieldSummary>& PreparedScene::summary() const { return m_impl->grid.summary(); }
 bool PreparedScene::summary_reused() const { return m_impl->summary_reused; }
+const std::shared_ptr<const MeshLayout>& PreparedScene::mesh_layout() const { return m_impl->mesh.layout(); }
+bool PreparedScene::mesh_layout_reused() const { return m_impl->mesh.layout_reused(); }
 
 PreparedScene prepare(const FieldView& field, const SceneDesc& scene) { return prepare(field, scene, nullptr); }
 
@@ -457,11 +459,13 @@ PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared
   return ps;
 }
 
-PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene) {
-  check_mesh(mesh);
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse) {
+  const bool fits = reuse && reuse->fits(mesh);
+  if (fits) check_mesh_arrays(mesh);
+  else check_mesh(mesh);
   PreparedScene ps;
   PreparedSceneImpl& p = *ps.m_impl;
-  p.mesh.build(mesh);
+  p.mesh.build(mesh, fits ? std::move(reuse) : nullptr);
   // The scene over the grid laid over the mesh's box (mesh/mesh_tables.h)
   SceneDesc s = scene;
   s.geometry = p.mesh.geometry();

@@ -1,0 +1,92 @@
+// A mesh's layout (mesh/mesh_layout.h) shared between prepares of the same mesh with other
+// values: the image is bit-identical to a prepare that builds it; a layout that does not fit
+// the mesh (another cell count, shape or domain count) is not used; the layout's canonical
+// order does not depend on the values.
+#include <tessera/render.h>
+
+#include <catch2/catch.hpp>
+
+#include "test_mesh_support.h"
+#include "test_support.h"
+
+#include <cmath>
+#include <cstring>
+
+using tessera::Vec3;
+using namespace tessera_mesh_test;
+using tessera_test::render_film;
+
+namespace {
+
+tessera::SceneDesc scene() {
+  tessera::SceneDesc s;
+  s.tf.lo = 0.0;
+  s.tf.hi = 1.0;
+  s.tf.density_scale = 8.0;
+  s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0});
+  s.tf.diffuse = tessera::ColorTF::constant(tessera::Color(0.6, 0.5, 0.4));
+  s.background.type = tessera::BackgroundType::Constant;
+  s.background.color = tessera::Color(0.8);
+  s.lights.push_back(tessera::SphereLightDesc{Vec3(1.6, 1.8, -0.6), 0.3, tessera::Color(20.0)});
+  s.camera.position = Vec3(0.5, 0.6, -2.2);
+  s.camera.look_at = Vec3(0.5);
+  s.camera.fov_deg = 35.0;
+  s.integrator.scattering = tessera::Scattering::Multiple;
+  s.integrator.max_bounces = 4;
+  s.image = {20, 16, 4, 0.0};
+  return s;
+}
+
+bool same(const tessera::Film& a, const tessera::Film& b) {
+  return a.pixels().size() == b.pixels().size() &&
+         std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0;
+}
+
+ElementList warped(double phase) {
+  return grid_hexes(
+      6, 5, 4, Vec3(0.0), Vec3(1.0 / 6, 1.0 / 5, 1.0 / 4),
+      [&](const Vec3& p) { return 0.5 + 0.5 * std::sin(6.0 * p.x + phase) * std::cos(4.0 * p.y + p.z); },
+      [](const Vec3& p) { return Vec3(p.x + 0.08 * p.y * p.y, p.y, p.z + 0.05 * p.x); });
+}
+
+}  // namespace
+
+TEST_CASE("mesh layout: reused for other values, the image is bit-identical to a fresh build", "[mesh][reuse]") {
+  const ElementList first = warped(0.0), second = warped(1.3);
+  for (const bool tets : {false, true}) {
+    const OwnedMesh a = cut(tets ? hexes_to_tets(first) : first, std::vector<int>(tets ? 720 : 120, 0), {0});
+    const OwnedMesh b = cut(tets ? hexes_to_tets(second) : second, std::vector<int>(tets ? 720 : 120, 0), {0});
+    const tessera::PreparedScene pa = tessera::prepare(a.mesh, scene());
+    REQUIRE(pa.mesh_layout());
+    CHECK_FALSE(pa.mesh_layout_reused());
+    // The second step's values on the same geometry (other arrays, same shapes and counts)
+    const tessera::PreparedScene reused = tessera::prepare(b.mesh, scene(), pa.mesh_layout());
+    CHECK(reused.mesh_layout_reused());
+    CHECK(reused.mesh_layout() == pa.mesh_layout());
+    const tessera::PreparedScene fresh = tessera::prepare(b.mesh, scene());
+    CHECK(same(render_film(reused), render_film(fresh)));
+    CHECK_FALSE(same(render_film(reused), render_film(pa)));  // the values did change the image
+  }
+}
+
+TEST_CASE("mesh layout: one that does not fit the mesh is rebuilt, not used", "[mesh][reuse]") {
+  const ElementList m = warped(0.0);
+  const OwnedMesh one = one_domain(m);
+  const tessera::PreparedScene p = tessera::prepare(one.mesh, scene());
+  // Two domains, another cell count, tets: each rebuilds, and renders as without the layout
+  std::vector<int> halves(120);
+  for (std::size_t e = 0; e < halves.size(); ++e) halves[e] = e < 60 ? 0 : 1;
+  const OwnedMesh two = cut(m, halves, {1, 0});
+  const OwnedMesh tets = one_domain(hexes_to_tets(m));
+  const OwnedMesh smaller =
+      one_domain(grid_hexes(5, 5, 4, Vec3(0.0), Vec3(0.2, 0.2, 0.25), [](const Vec3&) { return 0.5; }));
+  for (const OwnedMesh* other : {&two, &tets, &smaller}) {
+    const tessera::PreparedScene q = tessera::prepare(other->mesh, scene(), p.mesh_layout());
+    CHECK_FALSE(q.mesh_layout_reused());
+    CHECK(same(render_film(q), render_film(tessera::prepare(other->mesh, scene()))));
+  }
+  // A fitting mesh whose descriptors are bad is still refused (check_mesh_arrays)
+  OwnedMesh bad = one_domain(m);
+  bad.mesh.domains[0].field.count -= 1;
+  CHECK_THROWS_WITH(tessera::prepare(bad.mesh, scene(), p.mesh_layout()), Catch::Contains("mesh domain 0"));
+}
