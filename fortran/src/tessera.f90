@@ -14,6 +14,9 @@
 !>   * several blocks per rank (domains), cell or vertex data and rectilinear axes:
 !>     type(tessera_mesh), tessera_mesh_coords, tessera_domain_from and
 !>     tessera_execute_domains (tessera_domains.inc);
+!>   * curvilinear and unstructured (hex, tet) meshes: type(tessera_mesh_domain),
+!>     tessera_curvilinear_from, tessera_unstructured_from and tessera_execute_mesh_domains
+!>     (tessera_meshes.inc);
 !>   * what C cannot check, the length of every array it would read, checked at every execute
 !>     (the refinement ratios, each coordinate array against the mesh as it is then, each field
 !>     against the array tessera_field_from measured); a refused call passes none of its
@@ -74,6 +77,8 @@ module tessera
 
   include 'tessera_domain_types.inc'
 
+  include 'tessera_mesh_types.inc'
+
   !> The C layout of tessera_field (built inside tessera_execute only).
   type, bind(C) :: c_tessera_field
     type(c_ptr) :: name = c_null_ptr
@@ -83,16 +88,19 @@ module tessera
   end type c_tessera_field
 
   !> f = tessera_field_from(name, u [, ghosts] [, ghosts_lo] [, ghosts_hi]) for u real(4),
-  !> real(8) or integer(2) (TESSERA_INT16), dimension(:,:,:), u(i, j, k) = vertex (i, j, k).
+  !> real(8) or integer(2) (TESSERA_INT16), dimension(:,:,:), u(i, j, k) = vertex (i, j, k); or
+  !> dimension(:), one value per vertex or cell of a curvilinear or unstructured domain (dims
+  !> (n, 1, 1), no ghosts).
   !> ghosts: layers at both ends of every axis (default 0); ghosts_lo(3) / ghosts_hi(3), when
   !> present, replace it at that end. u is read in place (see the module header).
   interface tessera_field_from
-    module procedure field_from_r4, field_from_r8, field_from_i2
+    module procedure field_from_r4, field_from_r8, field_from_i2, field_from_r4_1d, field_from_r8_1d, &
+      field_from_i2_1d
   end interface tessera_field_from
   !> The unsigned dtypes, which have no Fortran kind: integer(1) read as TESSERA_UINT8 and
   !> integer(2) as TESSERA_UINT16, i.e. the bits as unsigned (a stored -1 is 255 / 65535).
   interface tessera_field_from_unsigned
-    module procedure field_from_u8, field_from_u16
+    module procedure field_from_u8, field_from_u16, field_from_u8_1d, field_from_u16_1d
   end interface tessera_field_from_unsigned
   !> st = tessera_execute(viz, step, time, grid, fields(:)); step integer(8) (or default
   !> integer), time real(8) (or real(4)). Renders whatever fires at this step (docs/c-api.md).
@@ -107,7 +115,9 @@ module tessera
   public :: tessera_field_from, tessera_field_from_unsigned, tessera_execute, &
     tessera_execute_final, tessera_open, tessera_open_with_output_dir, tessera_close, &
     tessera_field_unchanged, tessera_last_error, tessera_mesh_coords, tessera_domain_from, &
-    tessera_domain_coords, tessera_execute_domains, tessera_execute_domains_final
+    tessera_domain_coords, tessera_execute_domains, tessera_execute_domains_final, &
+    tessera_curvilinear_from, tessera_unstructured_from, tessera_execute_mesh_domains, &
+    tessera_execute_mesh_domains_final
 
   !> The last argument the module itself refused (a NUL inside a name or path, an array shorter
   !> than its descriptor claims): its message,
@@ -293,7 +303,7 @@ contains
     call forget_refusal(viz%handle)
     fault = fields_fault(fields, 'fields')
     if (len(fault) > 0) then
-      st = refuse_call(viz, step, time, .false., final, fault)
+      st = refuse_call(viz, step, time, 0, final, fault)
       return
     end if
 
@@ -352,6 +362,8 @@ contains
 
   include 'tessera_domains.inc'
 
+  include 'tessera_meshes.inc'
+
   include 'tessera_fields.inc'
 
   ! ---- Strings and refusals -----------------------------------------------------------------
@@ -384,9 +396,10 @@ contains
     type(tessera_adapter), intent(in) :: viz
     integer(c_int64_t), intent(in) :: step
     real(c_double), intent(in) :: time
-    logical, intent(in) :: domains_call, final
+    integer, intent(in) :: domains_call  !< the call refused: 0 execute, 1 domains, 2 mesh domains
+    logical, intent(in) :: final
     character(*), intent(in) :: fault
-    st = c_execute_refused(viz%handle, step, time, merge(1_c_int, 0_c_int, domains_call), &
+    st = c_execute_refused(viz%handle, step, time, int(domains_call, c_int), &
       merge(1_c_int, 0_c_int, final), fault // c_null_char)
     if (st == TESSERA_ERROR_CONFIG) return
     st = TESSERA_ERROR_DATA

@@ -34,6 +34,12 @@ using Double3 = std::array<double, 3>;
 using FieldTuple = std::tuple<std::string, std::uintptr_t, int, Int3, Int3, Int3, Int3>;
 /// A rectilinear axis' coordinates, read in place (tessera/_arrays.py coordinate_array)
 using CoordArray = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+/// x, y, z addresses, dtype code, byte stride, count (tessera/_mesh_domains.py _coords)
+using CoordsetTuple = std::tuple<std::uintptr_t, std::uintptr_t, std::uintptr_t, int, std::int64_t, std::int64_t>;
+/// association, coordinates, dims, shape, connectivity address, index dtype, ncells, fields,
+/// ghost field name (tessera/_mesh_domains.py _domain)
+using MeshDomainTuple = std::tuple<int, CoordsetTuple, Int3, int, std::uintptr_t, int, std::int64_t,
+                                   std::vector<FieldTuple>, std::optional<std::string>>;
 
 /// The C descriptors of the fields (names point into `fields`).
 std::vector<tessera_field> descriptors(const std::vector<FieldTuple>& fields) {
@@ -51,6 +57,38 @@ std::vector<tessera_field> descriptors(const std::vector<FieldTuple>& fields) {
       d.ghosts_lo[a] = lo[a];
       d.ghosts_hi[a] = hi[a];
     }
+  }
+  return descs;
+}
+
+/// The C descriptors of curvilinear and unstructured domains; `fields` holds their field
+/// descriptors (names point into `domains`' strings, ghost names likewise).
+std::vector<tessera_mesh_domain> mesh_descriptors(const std::vector<MeshDomainTuple>& domains,
+                                                  std::vector<std::vector<tessera_field>>& fields) {
+  std::vector<tessera_mesh_domain> descs(domains.size());
+  fields.resize(domains.size());
+  for (std::size_t d = 0; d < domains.size(); ++d) {
+    const auto& [association, coords, dims, shape, connectivity, index_dtype, ncells, list, ghost] = domains[d];
+    if (association != 0 && association != 1) throw nb::value_error("association: 0 (vertex) or 1 (cell)");
+    tessera_mesh_domain& m = descs[d];
+    m.association = static_cast<tessera_association>(association);
+    const auto& [x, y, z, dtype, stride, count] = coords;
+    m.coords.x = reinterpret_cast<const void*>(x);
+    m.coords.y = reinterpret_cast<const void*>(y);
+    m.coords.z = reinterpret_cast<const void*>(z);
+    m.coords.dtype = static_cast<tessera_dtype>(dtype);
+    m.coords.byte_stride = stride;
+    m.coords.count = count;
+    for (int a = 0; a < 3; ++a) m.dims[a] = dims[a];
+    m.shape = static_cast<tessera_shape>(shape);
+    m.connectivity = reinterpret_cast<const void*>(connectivity);
+    m.index_dtype = static_cast<tessera_dtype>(index_dtype);
+    m.ncells = ncells;
+    fields[d] = descriptors(list);
+    m.fields = fields[d].data();
+    m.nfields = static_cast<int>(fields[d].size());
+    if (ghost) require_no_nul(*ghost, "ghost_field");
+    m.ghost_field = ghost ? ghost->c_str() : nullptr;
   }
   return descs;
 }
@@ -172,6 +210,24 @@ class PyAdapter {
     return outcome(s);
   }
 
+  /// execute_mesh_domains: curvilinear and unstructured domains, described by the package
+  /// (tessera/_mesh_domains.py), which checked every length C reads against its array.
+  nb::tuple execute_mesh_domains(std::int64_t step, double time, const std::vector<MeshDomainTuple>& domains,
+                                 bool final_step) {
+    std::vector<std::vector<tessera_field>> fields;
+    const std::vector<tessera_mesh_domain> descs = mesh_descriptors(domains, fields);
+    std::unique_lock<std::mutex> call(m_call, std::try_to_lock);
+    if (!call.owns_lock()) return refused(final_step ? "execute_mesh_domains (final step)" : "execute_mesh_domains");
+    tessera_status s;
+    try {
+      nb::gil_scoped_release unlocked;
+      s = m_adapter.execute_mesh_domains(step, time, descs, final_step);
+    } catch (const insitu::AdapterError& e) {
+      throw error_for_status(e.status(), e.what());
+    }
+    return outcome(s);
+  }
+
   /// Waits (GIL released) for a call another Python thread is making on this adapter, then
   /// closes; returns (status, message) (with MPI, a rank that disagreed about the calls is
   /// reported). Calls arriving meanwhile are refused as "being closed".
@@ -261,6 +317,8 @@ void register_adapter(nb::module_& m) {
       .def("execute_domains", &PyAdapter::execute_domains, nb::arg("step"), nb::arg("time"), nb::arg("association"),
            nb::arg("origin"), nb::arg("spacing"), nb::arg("coords"), nb::arg("global_dims"), nb::arg("nlevels"),
            nb::arg("refinement"), nb::arg("domains"), nb::arg("final_step"))
+      .def("execute_mesh_domains", &PyAdapter::execute_mesh_domains, nb::arg("step"), nb::arg("time"),
+           nb::arg("domains"), nb::arg("final_step"))
       .def("fires", &PyAdapter::fires, nb::arg("step"), nb::arg("final_step"))
       .def("close", &PyAdapter::close)
       .def("is_open", &PyAdapter::is_open);

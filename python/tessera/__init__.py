@@ -8,11 +8,12 @@ See docs/python.md.
 """
 from . import _tessera
 from ._adapter import Adapter
+from ._mesh_domains import MeshDomain
 from ._errors import (ConfigError, DataError, DisabledError, OutputError, RenderError,
                       TesseraError, TesseraWarning)
 from ._render import render
 
-__all__ = ["render", "Adapter", "TesseraError", "ConfigError", "DataError", "RenderError",
+__all__ = ["render", "Adapter", "MeshDomain", "TesseraError", "ConfigError", "DataError", "RenderError",
            "OutputError", "DisabledError", "TesseraWarning"]
 __version__ = "0.1.0"
 

@@ -3,7 +3,7 @@ import sys
 import threading
 import warnings
 
-from . import _blueprint, _checks, _tessera
+from . import _blueprint, _checks, _mesh_domains, _tessera
 from ._arrays import coordinate_array, field_descriptor
 from ._config import config_source
 from ._errors import (ConfigError, DataError, DisabledError, OutputError, RenderError, TesseraError,
@@ -204,6 +204,46 @@ class Adapter:
             outcome = impl.execute(step_i, time_f, *grid, descs, final_b)
         else:
             outcome = impl.execute_domains(step_i, time_f, *mesh, blocks, final_b)
+        del held  # the arrays were read in place during the call
+        return self._outcome(outcome, step)
+
+    def execute_mesh_domains(self, step, time, domains, *, final=False):
+        """execute() for curvilinear and unstructured domains (docs/python.md, "Curvilinear and
+        unstructured meshes"; the C API's tessera_execute_mesh_domains): ``domains`` is a list
+        (empty allowed) of this rank's domains, each a dict or a tessera.MeshDomain with
+        ``coords`` (an (n, 3) array or three arrays x, y, z, float32 or float64, one dtype and
+        one stride), ``dims`` (curvilinear: vertices along i, j, k, i fastest) or ``shape``
+        ('hex' or 'tet') and ``connectivity`` (int32 or int64, (ncells, 8 | 4) or flat, 0-based,
+        VTK's order), ``fields`` ``{name: array}`` (1-D, any stride; curvilinear also 3-D [i, j,
+        k] held i fastest), ``association`` ('vertex', the default, or 'cell') or per field
+        ``associations``, and ``ghost_field`` (a uint8 cell field, nonzero = ghost). Every array
+        is read in place during this call only; the mesh is the union of every rank's domains.
+
+        Returns, warns and raises as execute() does; faults in the arguments raise TypeError or
+        ValueError naming the domain and key; an index out of range, an inverted element or
+        NaN coordinates are the adapter's DataError naming the domain and element. Nothing is
+        looked at where no render fires (final: the last step, as in execute()).
+        """
+        impl = self._impl
+        if impl is None:
+            raise TesseraError("execute_mesh_domains: the adapter is closed")
+        if self._mpi is not None and self._mpi.Is_finalized():
+            raise RenderError("execute_mesh_domains: MPI is finalized (MPI.Finalize() has run): the adapter's "
+                              "communicator cannot be used any more; close the adapter before MPI.Finalize()")
+        try:
+            step_i = _checks.integer(step, "step")
+            time_f = _checks.real(time, "time")
+            final_b = _checks.flag(final, "final")
+            if not isinstance(domains, (list, tuple)):
+                raise TypeError(f"domains: a list of dicts or tessera.MeshDomain is needed, got "
+                                f"{type(domains).__name__}")
+            # As execute(domains=...): the arrays are looked at only when a render fires
+            held, blocks = _mesh_domains.blocks(domains) if impl.fires(step_i, final_b) else ([], [])
+        except Exception:
+            if self._comm is not None:  # the other ranks' call fails too (the calls differ)
+                self._enter_without_fields(impl, step, time, final)
+            raise
+        outcome = impl.execute_mesh_domains(step_i, time_f, blocks, final_b)
         del held  # the arrays were read in place during the call
         return self._outcome(outcome, step)
 

@@ -11,7 +11,7 @@ import numbers
 
 import numpy as np
 
-from . import _checks
+from . import _checks, _mesh_domains
 from ._arrays import field_descriptor
 from ._blueprint_layout import Summary, layout
 from ._errors import ConfigError, DataError, DisabledError, OutputError, RenderError, TesseraError
@@ -243,13 +243,13 @@ def _topology(node, path, topology):
 
 def _coordset(node, path, topo, tpath):
     """(kind, vertex dims n, origin, spacing, axes) of the topology's coordinate set."""
-    kind = _need(topo, "type", tpath, str, "'uniform' or 'rectilinear'")
-    if kind in ("structured", "unstructured", "points"):
-        raise DataError(f"{_at(tpath, 'type')} = {kind!r}: {kind} topologies are {NOT_YET} (uniform and "
-                        f"rectilinear are)")
+    kind = _need(topo, "type", tpath, str, "'uniform', 'rectilinear', 'structured' or 'unstructured'")
+    if kind == "points":
+        raise DataError(f"{_at(tpath, 'type')} = {kind!r}: {kind} topologies are {NOT_YET} (uniform, "
+                        f"rectilinear, structured and unstructured are)")
     if kind not in ("uniform", "rectilinear"):
-        raise ValueError(f"{_at(tpath, 'type')} = {kind!r}: 'uniform' or 'rectilinear' is needed (Blueprint's "
-                         f"structured, unstructured and points are {NOT_YET})")
+        raise ValueError(f"{_at(tpath, 'type')} = {kind!r}: 'uniform', 'rectilinear', 'structured' or "
+                         f"'unstructured' is needed (Blueprint's points are {NOT_YET})")
     name = _need(topo, "coordset", tpath, str, "the name of a coordinate set in coordsets")
     sets = _need(node, "coordsets", path, dict, "a dict of coordinate sets {name: {type, ...}}")
     cpath = _at(_at(path, "coordsets"), name)
@@ -260,11 +260,10 @@ def _coordset(node, path, topo, tpath):
     if not isinstance(cs, dict):
         raise TypeError(f"{cpath} = {_shown(cs)}: a dict {{type, ...}} is needed")
     ctype = _need(cs, "type", cpath, str, f"'{kind}' (the topology's type)")
-    if ctype == "explicit":
-        raise DataError(f"{_at(cpath, 'type')} = 'explicit': explicit coordinates are {NOT_YET} (uniform and "
-                        f"rectilinear coordinate sets are)")
     if ctype != kind:
-        raise ValueError(f"{_at(cpath, 'type')} = {ctype!r}: a {kind} topology needs a {kind!r} coordinate set")
+        raise ValueError(f"{_at(cpath, 'type')} = {ctype!r}: a {kind} topology needs a {kind!r} coordinate set"
+                         + (" (explicit ones go with structured or unstructured topologies)"
+                            if ctype == "explicit" else ""))
     if kind == "uniform":
         n = _triple(_need(cs, "dims", cpath, dict, "a dict {i, j, k} of vertex counts"), _at(cpath, "dims"),
                     "ijk", "vertex counts", check=_positive_int)
@@ -363,9 +362,9 @@ def read_domain(path, node, topology, ghost_names):
 # ---- The call ------------------------------------------------------------------------------
 
 def _agree(comm, error, summaries):
-    """Collective: every rank's summaries, once every rank has read its domains; when one
-    rank could not, every rank raises (that rank its own error, the others the same class
-    naming it)."""
+    """Collective: every rank's summaries (what it read: a picklable value), once every rank
+    has read its domains; when one rank could not, every rank raises (that rank its own
+    error, the others the same class naming it)."""
     mine = None if error is None else (type(error).__name__, str(error))
     every = comm.allgather((mine, None if error is not None else summaries))
     if error is not None:
@@ -377,10 +376,26 @@ def _agree(comm, error, summaries):
     return [s for _, s in every]
 
 
+def _execute_meshes(adapter, impl, step, step_i, time, final_b, meshes, every):
+    """The call for structured and unstructured domains (every rank: the ranks agreed that some
+    rank has such a domain); uniform or rectilinear domains beside them are refused alike."""
+    grids = [(rank, len(s)) for rank, (s, _) in enumerate(every) if s]
+    if grids:
+        rank, n = grids[0]
+        where = f" (rank {rank})" if len(every) > 1 else ""
+        raise DataError(f"mesh: {n} uniform or rectilinear domain(s){where} beside structured or unstructured ones: "
+                        f"one call renders one kind of topology ({NOT_YET} otherwise)")
+    held = [a for h, _ in meshes for a in h]
+    outcome = impl.execute_mesh_domains(step_i, float(time), [t for _, t in meshes], final_b)
+    del held  # the arrays were read in place during the call
+    return adapter._outcome(outcome, step)
+
+
 def execute(adapter, impl, step, time, mesh, final, topology, ghost_field_name):
     """Adapter.execute_blueprint (see there)."""
+    from . import _blueprint_mesh  # it imports this module's helpers
     comm = adapter._comm
-    error, summaries, fields, associations = None, [], [], []
+    error, summaries, fields, associations, meshes = None, [], [], [], []
     try:
         step_i, final_b = _checks.integer(step, "step"), _checks.flag(final, "final")
     except Exception as e:  # under MPI this rank still takes part, as Adapter.execute does
@@ -406,6 +421,9 @@ def execute(adapter, impl, step, time, mesh, final, topology, ghost_field_name):
             raise TypeError(f"ghost_field_name: a str or a list of str is needed, got {_shown(names)}")
         names = {_checks.name(g, f"ghost_field_name[{i}]") for i, g in enumerate(names)}
         for path, node in domains_of(mesh):
+            if _blueprint_mesh.is_mesh(node, path, topology):  # explicit coordinates
+                meshes.append(_mesh_domains.domain(path, _blueprint_mesh.read(path, node, topology, names)))
+                continue
             summary, published, assoc = read_domain(path, node, topology, names)
             summaries.append(summary)
             fields.append(published)
@@ -415,9 +433,12 @@ def execute(adapter, impl, step, time, mesh, final, topology, ghost_field_name):
     if comm is None:
         if error is not None:
             raise error
-        every = [summaries]
+        every = [(summaries, len(meshes))]
     else:
-        every = _agree(comm, error, summaries)
+        every = _agree(comm, error, (summaries, len(meshes)))
+    if any(n for _, n in every):  # structured or unstructured topologies: tessera_execute_mesh_domains
+        return _execute_meshes(adapter, impl, step, step_i, time, final_b, meshes, every)
+    every = [s for s, _ in every]
     mesh_args, placements = layout(every)  # the same on every rank: all raise alike
     mesh_t = adapter._mesh(**mesh_args)
     blocks, held = [], []  # each field with its own ghosts: vertex fields leave shared faces to a neighbour
