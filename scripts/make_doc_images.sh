@@ -8,7 +8,9 @@
 #   README.md         docs/images/heat_annotated.png: tessera-heat with configs/heat_movie.yaml
 #                     (turning camera, title, step text, colour bar), its frame of step 80
 #   docs/miniapp.md   docs/images/heat_amr.png: tessera-heat --amr --levels 3 with
-#                     configs/heat_amr.yaml on 2 ranks, its image of step 40
+#                     configs/heat_amr.yaml on 2 ranks, its image of step 40; and
+#                     docs/images/heat_shell.png: tessera-heat-shell (a curvilinear cylindrical
+#                     shell, configs/heat_shell.yaml) on 2 ranks, its image of step 60
 # The first two render a linear ramp that tessera-synth writes to /tmp/ramp.raw. Builds
 # tessera-synth, tessera-render and tessera-heat first when they are missing. Takes about
 # twenty seconds.
@@ -17,7 +19,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${BUILD_DIR:-build}"
-for exe in tessera-synth tessera-render tessera-heat; do
+for exe in tessera-synth tessera-render tessera-heat tessera-heat-shell; do
   if [ ! -x "$build/bin/$exe" ]; then
     cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
     cmake --build "$build" -j"$(nproc)" --target "$exe"
@@ -52,4 +54,8 @@ rm -rf /tmp/tessera_heat_amr
 mpirun --oversubscribe -n 2 "$build/bin/tessera-heat" --config configs/heat_amr.yaml --amr --levels 3 \
   --steps 40 --grid 32 32 32 --output-dir /tmp/tessera_heat_amr >/dev/null
 cp /tmp/tessera_heat_amr/heat_amr_000040.png docs/images/heat_amr.png
+# The curvilinear miniapp's picture: the cylindrical shell, step 60 (bit-identical for any rank count)
+rm -rf /tmp/tessera_heat_shell
+mpirun --oversubscribe -n 2 "$build/bin/tessera-heat-shell" --steps 60 --output-dir /tmp/tessera_heat_shell >/dev/null
+cp /tmp/tessera_heat_shell/heat_shell_000060.png docs/images/heat_shell.png
 ls -l docs/images/*.png
