@@ -114,7 +114,7 @@ module tessera
 
   public :: tessera_field_from, tessera_field_from_unsigned, tessera_execute, &
     tessera_execute_final, tessera_open, tessera_open_with_output_dir, tessera_close, &
-    tessera_field_unchanged, tessera_last_error, tessera_mesh_coords, tessera_domain_from, &
+    tessera_field_unchanged, tessera_mesh_unchanged, tessera_last_error, tessera_mesh_coords, tessera_domain_from, &
     tessera_domain_coords, tessera_execute_domains, tessera_execute_domains_final, &
     tessera_curvilinear_from, tessera_unstructured_from, tessera_execute_mesh_domains, &
     tessera_execute_mesh_domains_final
@@ -207,6 +207,15 @@ contains
       st = c_field_unchanged(viz%handle, c_string(name))
     end if
   end function tessera_field_unchanged
+
+  !> The promise that the next tessera_execute_mesh_domains passes this rank's domains with the
+  !> same geometry as the last one, only the values changed (tessera_mesh_unchanged in C;
+  !> one-shot).
+  integer function tessera_mesh_unchanged(viz) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    call forget_refusal(viz%handle)
+    st = c_mesh_unchanged(viz%handle)
+  end function tessera_mesh_unchanged
 
   ! ---- Execute ------------------------------------------------------------------------------
 

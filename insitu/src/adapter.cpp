@@ -91,6 +91,14 @@ tessera_status Adapter::field_unchanged(const std::string& field_name) noexcept 
   return m_impl->field_unchanged(field_name.c_str());
 }
 
+tessera_status Adapter::mesh_unchanged() noexcept {
+  if (!m_impl) return TESSERA_ERROR_CONFIG;
+  GateCall inside(m_impl->m_gate);
+  if (inside.refusal() != CallGate::Refusal::None) return refuse(m_impl.get(), inside.refusal(), "mesh_unchanged");
+  clear_refusal(m_impl.get());
+  return m_impl->mesh_unchanged();
+}
+
 tessera_status Adapter::close() noexcept {
   if (!m_impl) return TESSERA_OK;  // moved from
   m_impl->m_gate.begin_close();    // waits for a call inside; refuses new ones meanwhile

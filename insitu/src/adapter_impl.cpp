@@ -261,6 +261,7 @@ void Adapter::Impl::begin_call(std::int64_t step, double time, const Publication
   m_call.budget = m_budget ? &*m_budget : nullptr;
   m_call.ranges.clear();
   m_call.assembled_key.reset();
+  if (pub.mesh_call) m_call.mesh_layout.begin_call();
 }
 
 tessera_status Adapter::Impl::run_renders() {
@@ -396,6 +397,16 @@ tessera_status Adapter::Impl::field_unchanged(const char* field_name) noexcept {
     m_error.clear();  // out of memory for the message: the status alone tells
   }
   return TESSERA_ERROR_DATA;
+}
+
+tessera_status Adapter::Impl::mesh_unchanged() noexcept {
+  m_error.clear();
+  if (!m_ctx) {
+    m_error = "mesh_unchanged: the adapter is not open";
+    return TESSERA_ERROR_CONFIG;
+  }
+  m_call.mesh_layout.marked = true;
+  return TESSERA_OK;
 }
 
 tessera_status Adapter::Impl::close() noexcept {

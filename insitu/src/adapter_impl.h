@@ -55,6 +55,8 @@ struct Adapter::Impl {
   void teardown() noexcept;
   /// Adapter::field_unchanged / tessera_field_unchanged (field_name may be NULL: an error).
   tessera_status field_unchanged(const char* field_name) noexcept;
+  /// Adapter::mesh_unchanged / tessera_mesh_unchanged.
+  tessera_status mesh_unchanged() noexcept;
 
   /// True once a config with `on_error: abort` is loaded.
   bool abort_mode() const { return m_ctx && m_policy.mode() == config::OnError::Abort; }

@@ -209,6 +209,10 @@ tessera_status tessera_execute_refused(tessera_adapter* adapter, int64_t step, d
   });
 }
 
+tessera_status tessera_mesh_unchanged(tessera_adapter* adapter) {
+  return guarded(adapter, "tessera_mesh_unchanged", [&](tessera_adapter::Impl& impl) { return impl.mesh_unchanged(); });
+}
+
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name) {
   return guarded(adapter, "tessera_field_unchanged",
                  [&](tessera_adapter::Impl& impl) { return impl.field_unchanged(field_name); });

@@ -144,3 +144,43 @@ TEST_CASE("mesh domains: a mesh whose tables would pass memory_limit_mb is refus
   CHECK_THAT(ad.last_error(), Contains("mesh lookup tables"));
   CHECK_THAT(ad.last_error(), Contains("tessera.memory_limit_mb = 16 MiB"));
 }
+
+TEST_CASE("mesh domains: the lookup structure is reused within a call, and across calls after mesh_unchanged",
+          "[insitu][mesh][reuse]") {
+  TempDir dir;
+  Cut cut({0, 4, 9}, Form::Hexes);
+  const std::string tf = "    transfer_function: {range: [0, 1], density_scale: 20, opacity: [[0, 0], [1, 1]]}\n";
+  const std::string renders = render_yaml("a", "", tf, "f", 24, 2) + render_yaml("b", "", tf, "f", 24, 2);
+  Adapter ad;
+  ad.set_quiet(true);
+  REQUIRE(ad.open(dir.write("reuse.yaml", config_yaml(dir.file("reuse"), renders))) == TESSERA_OK);
+  const auto reused = [&](const char* name) {
+    for (const RenderResult& r : ad.last_results())
+      if (r.name == name) return r.mesh_layout_reused;
+    FAIL("no result for " << name);
+    return false;
+  };
+  REQUIRE(ad.execute_mesh_domains(1, 0.0, cut.domains) == TESSERA_OK);
+  CHECK_FALSE(reused("a"));
+  CHECK(reused("b"));  // the same call's mesh
+  const tessera::Image first = *ad.last_image("a");
+  // Other values at step 2: without the promise the structure is built again
+  for (MeshBlock& b : cut.blocks)
+    for (double& v : b.vertex_values) v = 1.0 - v;
+  REQUIRE(ad.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_OK);
+  CHECK_FALSE(reused("a"));
+  const tessera::Image built = *ad.last_image("a");
+  CHECK_FALSE(same_pixels(first, built));
+  // With it, reused; the image as a build gives it
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  REQUIRE(ad.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_OK);
+  CHECK(reused("a"));
+  CHECK(same_pixels(built, *ad.last_image("a")));
+  // One-shot, and a mesh of other shapes is built again even after the promise
+  REQUIRE(ad.execute_mesh_domains(3, 0.2, cut.domains) == TESSERA_OK);
+  CHECK_FALSE(reused("a"));
+  Cut other({0, 9}, Form::Hexes);
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  REQUIRE(ad.execute_mesh_domains(4, 0.3, other.domains) == TESSERA_OK);
+  CHECK_FALSE(reused("a"));
+}

@@ -165,3 +165,32 @@ TEST_CASE("mesh domains: a bad element or a field published differently fails on
     if (world_rank() == 0) CHECK_THAT(dtype.error, Catch::Matchers::Contains("ranks publish field 'f' as"));
   }
 }
+
+TEST_CASE("mesh domains: the lookup structure is reused across calls only when every rank promised",
+          "[mpi][mesh][reuse]") {
+  SharedTempDir dir;
+  const std::string cfg = write_config(dir, "reuse");
+  const Blocks five({0, 2, 5, 6, 9, 11}, true);
+  const int n = std::min(world_size(), 3);
+  FirstRanks sub(n);
+  bool ok = true;
+  if (sub.member()) {
+    int r = 0;
+    MPI_Comm_rank(sub.comm(), &r);
+    tessera::insitu::Adapter ad;
+    ad.set_quiet(true);
+    REQUIRE(ad.open(cfg, MPI_Comm_c2f(sub.comm())) == TESSERA_OK);
+    std::vector<tessera_mesh_domain> mine;
+    for (std::size_t d = 0; d < five.domains.size(); ++d)
+      if (static_cast<int>(d % static_cast<std::size_t>(n)) == r) mine.push_back(five.domains[d]);
+    const auto reused = [&] { return !ad.last_results().empty() && ad.last_results()[0].mesh_layout_reused; };
+    ok = ok && ad.execute_mesh_domains(1, 0.0, mine) == TESSERA_OK && !reused();
+    // Only rank 0 promises: built again on every rank
+    if (r == 0) ad.mesh_unchanged();
+    ok = ok && ad.execute_mesh_domains(2, 0.1, mine) == TESSERA_OK && (n == 1 ? reused() : !reused());
+    // Every rank promises: reused on every rank
+    ad.mesh_unchanged();
+    ok = ok && ad.execute_mesh_domains(3, 0.2, mine) == TESSERA_OK && reused();
+  }
+  CHECK(all_ranks(ok));
+}

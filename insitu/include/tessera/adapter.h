@@ -81,6 +81,10 @@ struct RenderResult {
   /// another render, or kept from the last call after field_unchanged(); at most 1 per
   /// macrocell edge otherwise, however many Cinema cameras.
   int field_passes = 0;
+  /// A curvilinear or unstructured mesh: the render reused the mesh's lookup structure (an
+  /// earlier render's in the same call, or the last call's after mesh_unchanged()) instead of
+  /// building and checking every element again.
+  bool mesh_layout_reused = false;
   RenderStats stats;  ///< summed over ranks on rank 0 (and over Cinema cameras)
   /// Rank 0: what may be wrong with the image although it rendered, one sentence each
   /// (tessera::render_warnings(prepared, stats), scene_warnings.h: transfer-function range
@@ -179,6 +183,11 @@ class Adapter {
   /// not open, TESSERA_ERROR_DATA when no render of the config can use a field of that name
   /// (last_error() says why). Never throws.
   tessera_status field_unchanged(const std::string& field_name) noexcept;
+
+  /// The promise that the next execute_mesh_domains() passes this rank's domains with the same
+  /// geometry as the last one: only field values differ (the C API's tessera_mesh_unchanged,
+  /// whose comment says what is reused and how the ranks agree). One-shot. Never throws.
+  tessera_status mesh_unchanged() noexcept;
 
   /// Releases everything. Idempotent. Waits for a call another thread is making. Returns
   /// TESSERA_OK; with MPI collective, TESSERA_ERROR_CONFIG when a rank was still inside an

@@ -294,6 +294,21 @@ tessera_status tessera_execute_refused(tessera_adapter* adapter, int64_t step, d
  * (tessera_last_error(adapter) says which). */
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name);
 
+/* The simulation's promise that at the next tessera_execute_mesh_domains (or its final form)
+ * this rank passes the same domains, in the same order, with bit-for-bit the same coordinates,
+ * connectivity, dims, shapes and ghost fields as at the last such call: only field values may
+ * differ. That call then reuses the mesh's lookup structure (the elements' canonical order,
+ * boxes and location lists: about 200 to 480 bytes and an O(n log n) sort per cell) and checks
+ * only the descriptors, instead of building and checking every element again; the image is
+ * bit-identical. One-shot, like tessera_field_unchanged; with MPI not collective: the
+ * structure is reused only if every rank made this call (they agree inside the execute). The
+ * adapter still compares the domains' counts and shapes and builds again when they differ;
+ * the coordinates and indices themselves are not checked (a broken promise gives a wrong
+ * image, never a read outside the arrays). Within one execute call every render after the
+ * first reuses the structure anyway. Returns TESSERA_OK, or TESSERA_ERROR_CONFIG for a NULL
+ * or closed adapter. */
+tessera_status tessera_mesh_unchanged(tessera_adapter* adapter);
+
 /* Releases the adapter (NULL is allowed and returns TESSERA_OK). Handles are validated: a
  * second tessera_close of the same handle, or tessera_execute / tessera_execute_final /
  * tessera_field_unchanged after its close, returns TESSERA_ERROR_CONFIG and

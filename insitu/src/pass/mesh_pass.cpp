@@ -160,16 +160,25 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   field.name = bound->field;
   const std::optional<SceneSetup> setup = scene_phase(gate, pass, field, range);
   if (!setup) return;
+  // The layout of the last call (every rank promised the same geometry) or of this call's
+  // first render over the mesh
+  MeshLayoutKeep& keep = pass.call.mesh_layout;
+  if (!keep.decided) {
+    if (!pass.ctx.agree(keep.carried && keep.layout != nullptr)) keep.layout.reset();
+    keep.decided = true;
+  }
   PreparedScene prepared;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         const auto t0 = PassClock::now();
         try {
-          prepared = prepare(whole, setup->scene);
+          prepared = prepare(whole, setup->scene, keep.layout);
+          keep.layout = prepared.mesh_layout();
         } catch (const DeadlineExceeded& e) {
           time_limit_passed(pass, e);
         }
         out.result.prepare_seconds += std::chrono::duration<double>(PassClock::now() - t0).count();
-        ++out.result.field_passes;
+        ++out.result.field_passes;  // the values' ranges: always read
+        out.result.mesh_layout_reused = prepared.mesh_layout_reused();
       }))
     return;
   std::optional<Image> img = render_phase(gate, pass, prepared, out.result);

@@ -11,6 +11,7 @@
 /// takes the same path and none is left waiting in a collective. Nothing is prepared or read
 /// for a render that does not fire.
 #include "budget/render_budget.h"
+#include "data/mesh_layout_keep.h"
 #include "data/summary_cache.h"
 #include "outputs/cinema.h"
 #include "outputs/triggers.h"
@@ -75,6 +76,8 @@ struct CallData {
   const RenderBudget* budget = nullptr;
   /// Global finite min/max per field, computed at most once per call.
   std::vector<std::pair<std::string, std::pair<double, double>>> ranges;
+  /// A curvilinear or unstructured mesh's layout, kept from call to call (mesh_pass.h).
+  MeshLayoutKeep mesh_layout;
   /// The last assembled field (valid until the next assemble).
   std::optional<std::string> assembled_key;
   FieldView assembled;

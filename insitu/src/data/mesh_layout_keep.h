@@ -1,0 +1,28 @@
+#pragma once
+/// What the adapter keeps of a curvilinear or unstructured mesh between execute calls: the
+/// layout its last prepare built (core's MeshLayout: the elements' canonical order, boxes and
+/// location lists, which depend on the geometry alone) and the simulation's promise
+/// (tessera_mesh_unchanged) that the next call's geometry is the same. The ranks agree on
+/// reusing it once per call, at its first render over the mesh (mesh_pass.cpp); within a call
+/// every later render reuses the first one's layout (the same domains, so no promise needed).
+#include <tessera/render.h>
+
+#include <memory>
+
+namespace tessera::insitu {
+
+struct MeshLayoutKeep {
+  std::shared_ptr<const MeshLayout> layout;  ///< the last mesh render's
+  bool marked = false;                       ///< tessera_mesh_unchanged since the last mesh call
+  bool carried = false;                      ///< this call: it was marked when the call began
+  bool decided = false;                      ///< this call: the ranks have agreed on reusing
+
+  /// At each mesh call: the promise (if made) applies to this call, and is spent.
+  void begin_call() {
+    carried = marked;
+    marked = false;
+    decided = false;
+  }
+};
+
+}  // namespace tessera::insitu
