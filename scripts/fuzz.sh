@@ -23,7 +23,7 @@ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san" \
   -DTESSERA_BUILD_FUZZERS=ON -DTESSERA_BUILD_TESTS=OFF -DTESSERA_BUILD_APPS=OFF \
-  -DTESSERA_BUILD_BENCHMARKS=OFF -DTESSERA_WITH_MPI=OFF -DTESSERA_BUILD_PYTHON=OFF > build-fuzz/configure.log 2>&1 \
+  -DTESSERA_BUILD_BENCHMARKS=OFF -DTESSERA_WITH_MPI=OFF -DTESSERA_BUILD_PYTHON=OFF -DTESSERA_CUDA=OFF > build-fuzz/configure.log 2>&1 \
   || { cat build-fuzz/configure.log; exit 1; }
 cmake --build build-fuzz -j"${FUZZ_JOBS:-$(nproc)}" --target fuzz_parse_config fuzz_raw_volume fuzz_envmap
 

@@ -17,7 +17,7 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_FLAGS="$flags" -DCMAKE_CXX_FLAGS="$flags" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DTESSERA_BUILD_BENCHMARKS=OFF -DTESSERA_BUILD_PYTHON=OFF ${TESSERA_CMAKE_ARGS:-} > build-asan/configure.log 2>&1 \
+  -DTESSERA_BUILD_BENCHMARKS=OFF -DTESSERA_BUILD_PYTHON=OFF -DTESSERA_CUDA=OFF ${TESSERA_CMAKE_ARGS:-} > build-asan/configure.log 2>&1 \
   || { cat build-asan/configure.log; exit 1; }
 cmake --build build-asan -j"$(nproc)"
 

@@ -26,12 +26,13 @@ class Camera {
   /// non-finite values, width or height < 1.
   Camera(const CameraDesc& desc, int width, int height);
 
-  Ray generate(double px, double py, double lx, double ly) const;
+  /// Host and device (kernel/camera_ray.h holds the one definition).
+  TESSERA_HOST_DEVICE Ray generate(double px, double py, double lx, double ly) const;
 
   /// Pixel coordinates (px, py) of the pinhole ray through world point p; false when p is not
   /// strictly in front of the camera (then px, py are unset).
   bool project(const Vec3& p, double* px, double* py) const;
-  bool is_pinhole() const { return m_aperture <= 0.0; }
+  TESSERA_HOST_DEVICE bool is_pinhole() const { return m_aperture <= 0.0; }
 
  private:
   Vec3 m_pos{}, m_right{}, m_up{}, m_forward{};

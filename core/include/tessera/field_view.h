@@ -8,6 +8,8 @@
 /// array and one component of an array of structs are all expressible. Negative strides are
 /// allowed (mirrored arrays). The viewed memory must stay valid and unchanged while a render
 /// that uses it runs; the renderer only reads it and never copies, converts or re-bricks it.
+#include <tessera/host_device.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -53,9 +55,11 @@ struct TypedFieldView {
   using value_type = T;
   const unsigned char* base;
   std::int64_t sx, sy, sz;
-  double load(std::int64_t i, std::int64_t j, std::int64_t k) const { return load_at(base + i * sx + j * sy + k * sz); }
+  TESSERA_HOST_DEVICE double load(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return load_at(base + i * sx + j * sy + k * sz);
+  }
   /// The sample whose first byte is q (q inside the array; any alignment).
-  static double load_at(const unsigned char* q) {
+  TESSERA_HOST_DEVICE static double load_at(const unsigned char* q) {
     T v;
     __builtin_memcpy(&v, q, sizeof(T));
     return static_cast<double>(v);

@@ -1,6 +1,7 @@
 #pragma once
 /// Piecewise-linear transfer functions of the normalised value u in [0, 1], clamped at the
 /// ends. Stored inline (no heap) so that kernels can copy them; at most kMaxPoints points.
+#include <tessera/host_device.h>
 #include <tessera/math.h>
 
 #include <cstdint>
@@ -15,7 +16,7 @@ inline constexpr int kTfBins = 256;
 
 namespace detail {
 /// Index i such that x[i] <= u < x[i+1], for n >= 2 and x[0] <= u < x[n-1].
-inline int tf_segment(const double* x, int n, double u) {
+TESSERA_HOST_DEVICE inline int tf_segment(const double* x, int n, double u) {
   int lo = 0, hi = n - 1;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
@@ -28,7 +29,7 @@ inline int tf_segment(const double* x, int n, double u) {
 /// Piecewise-linear interpolation through (x[i], v[i]), clamped at the ends; zero if n == 0.
 /// Inline: it is evaluated at every density lookup of the render loop.
 template <class V>
-inline V tf_eval(const double* x, const V* v, int n, double u) {
+TESSERA_HOST_DEVICE inline V tf_eval(const double* x, const V* v, int n, double u) {
   if (n == 0) return V(0.0);
   if (u <= x[0]) return v[0];
   if (u >= x[n - 1]) return v[n - 1];
@@ -43,7 +44,8 @@ inline V tf_eval(const double* x, const V* v, int n, double u) {
 /// walk over the points inside its bin (usually none) instead of a binary search. The same
 /// segment, hence the same result bit for bit, as tf_eval.
 template <class V>
-[[gnu::always_inline]] inline V tf_eval_binned(const double* x, const V* v, const std::uint8_t* seg, int n, double u) {
+[[gnu::always_inline]] TESSERA_HOST_DEVICE inline V tf_eval_binned(const double* x, const V* v, const std::uint8_t* seg,
+                                                                   int n, double u) {
   if (n == 0) return V(0.0);
   if (u <= x[0]) return v[0];
   if (u >= x[n - 1]) return v[n - 1];
@@ -69,7 +71,9 @@ class ScalarTF {
   static ScalarTF constant(double v) { return ScalarTF({0.0}, {v}); }
 
   /// Inline, table-driven (detail::tf_eval_binned): the opacity is evaluated at every lookup.
-  [[gnu::always_inline]] double eval(double u) const { return detail::tf_eval_binned(m_x, m_v, m_seg, m_n, u); }
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double eval(double u) const {
+    return detail::tf_eval_binned(m_x, m_v, m_seg, m_n, u);
+  }
   /// Exact maximum of the TF over [u0, u1] (u0 <= u1), from the end values and the points
   /// strictly inside: a piecewise-linear function peaks at a point or an end.
   double max_over(double u0, double u1) const;
@@ -93,7 +97,7 @@ class ColorTF {
   ColorTF(const std::vector<double>& xs, const std::vector<Color>& vs);
   static ColorTF constant(const Color& c) { return ColorTF({0.0}, {c}); }
 
-  Color eval(double u) const { return detail::tf_eval(m_x, m_v, m_n, u); }
+  TESSERA_HOST_DEVICE Color eval(double u) const { return detail::tf_eval(m_x, m_v, m_n, u); }
   bool is_zero() const;
   int size() const { return m_n; }
 
@@ -114,7 +118,7 @@ struct TransferFunction {
   ColorTF emission;  ///< absent = zero
 
   /// u(v) = clamp((v - lo)/(hi - lo), 0, 1); NaN maps to 0 (no medium), see docs/physics.md.
-  [[gnu::always_inline]] double normalise(double v) const {
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double normalise(double v) const {
     if (!(v == v)) return 0.0;
     const double u = (v - lo) / (hi - lo);
     return u <= 0.0 ? 0.0 : (u >= 1.0 ? 1.0 : u);

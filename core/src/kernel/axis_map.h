@@ -5,6 +5,8 @@
 /// (axis_tables.h): the bin's first segment, then a walk over the few knots inside that bin
 /// (a binary search within the bin where the table was capped), so a lookup costs no search
 /// over the axis. Trivially copyable; points into the caller's array and the prepared scene.
+#include <tessera/host_device.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <type_traits>
@@ -22,11 +24,11 @@ struct AxisMap {
   const double* walls = nullptr;  ///< macrocell c spans [walls[c], walls[c + 1]], world units
 
   /// Position of knot i in [0, n), world units.
-  double knot(std::int64_t i) const { return cell ? 0.5 * (coords[i] + coords[i + 1]) : coords[i]; }
+  TESSERA_HOST_DEVICE double knot(std::int64_t i) const { return cell ? 0.5 * (coords[i] + coords[i + 1]) : coords[i]; }
 
   /// The segment s in [0, n - 2] (0 when n < 2) holding world coordinate x clamped to the
   /// knots [lo, hi], and the fraction f in [0, 1] of x along it.
-  void locate(double x, std::int64_t* seg, double* f) const {
+  TESSERA_HOST_DEVICE void locate(double x, std::int64_t* seg, double* f) const {
     if (n < 2) {
       *seg = 0;
       *f = 0.0;
@@ -55,7 +57,7 @@ struct AxisMap {
   }
 
   /// Width of the segment holding x (world units; 0 when n < 2).
-  double local_spacing(double x) const {
+  TESSERA_HOST_DEVICE double local_spacing(double x) const {
     if (n < 2) return 0.0;
     std::int64_t s;
     double f;

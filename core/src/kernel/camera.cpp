@@ -1,5 +1,6 @@
 #include <tessera/camera.h>
 
+#include "kernel/camera_ray.h"
 #include "sampling/warp.h"
 
 #include <stdexcept>
@@ -40,19 +41,6 @@ Camera::Camera(const CameraDesc& c, int width, int height) {
   m_focus = c.focus_distance > 0.0 ? c.focus_distance : dist;
   m_width = width;
   m_height = height;
-}
-
-Ray Camera::generate(double px, double py, double lx, double ly) const {
-  // Pinhole direction through the image-plane point.
-  const double sx = (2.0 * px / m_width - 1.0) * m_tan_half * m_aspect;
-  const double sy = (1.0 - 2.0 * py / m_height) * m_tan_half;
-  const Vec3 d = glm::normalize(m_forward + sx * m_right + sy * m_up);
-  if (m_aperture <= 0.0) return Ray{m_pos, d};
-  // Thin lens: every ray through the lens meets the pinhole ray on the focal plane.
-  const Vec3 focus_point = m_pos + d * (m_focus / glm::dot(d, m_forward));
-  const Vec2 lens = concentric_disk(lx, ly) * m_aperture;
-  const Vec3 o = m_pos + lens.x * m_right + lens.y * m_up;
-  return Ray{o, glm::normalize(focus_point - o)};
 }
 
 bool Camera::project(const Vec3& p, double* px, double* py) const {

@@ -111,11 +111,11 @@ struct GridMedium {
   AxisMap axis[3];  ///< per axis; axis[a].coords == nullptr: uniform
 
   /// Vertex value, with non-finite values mapped into the TF range (NaN, -Inf -> lo; +Inf -> hi).
-  [[gnu::always_inline]] double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double vertex(std::int64_t i, std::int64_t j, std::int64_t k) const {
     return finite_vertex(field.load(i, j, k));
   }
   /// v with NaN, -Inf -> tf->lo and +Inf -> tf->hi (compiled away for integer values).
-  [[gnu::always_inline]] double finite_vertex(double v) const {
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double finite_vertex(double v) const {
     if constexpr (kMayBeNonFinite<T>) {
       if (!std::isfinite(v)) return v > 0.0 ? tf->hi : tf->lo;
     }
@@ -123,7 +123,8 @@ struct GridMedium {
   }
 
   /// Segment and fraction of p along a uniform axis a (clamped to the samples).
-  [[gnu::always_inline]] void locate_uniform(int a, double pa, std::int64_t* i0, std::int64_t* i1, double* f) const {
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE void locate_uniform(int a, double pa, std::int64_t* i0, std::int64_t* i1,
+                                                                 double* f) const {
     if (pa >= 0.0 && pa < hi_index[a]) {
       // Inside the samples (the common case): the clamps below would change nothing
       const auto i = static_cast<std::int64_t>(pa);
@@ -143,7 +144,7 @@ struct GridMedium {
 
   /// Trilinear value at point p (clamped to the samples: over the outer half cell of cell
   /// data, the nearest centre's value along each axis).
-  [[gnu::always_inline]] double value(const Vec3& p) const {
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double value(const Vec3& p) const {
     if constexpr (kAmr) {
       return field.value(p, tf->lo, tf->hi);
     } else if constexpr (kRectilinear) {
@@ -157,7 +158,7 @@ struct GridMedium {
   }
 
   /// value() where some axis is rectilinear: that axis' segment from its AxisMap.
-  double value_rectilinear(const Vec3& p) const {
+  TESSERA_HOST_DEVICE double value_rectilinear(const Vec3& p) const {
     std::int64_t i0[3], i1[3];
     double f[3];
     for (int a = 0; a < 3; ++a) {
@@ -172,18 +173,19 @@ struct GridMedium {
   }
 
   /// The trilinear blend of the 8 samples i0/i1 per axis with fractions f.
-  [[gnu::always_inline]] double blend(const std::int64_t i0[3], const std::int64_t i1[3], const double f[3]) const {
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double blend(const std::int64_t i0[3], const std::int64_t i1[3],
+                                                          const double f[3]) const {
     return trilinear(
         [&](int x, int y, int z)
             __attribute__((always_inline)) { return vertex(x ? i1[0] : i0[0], y ? i1[1] : i0[1], z ? i1[2] : i0[2]); },
         f);
   }
 
-  [[gnu::always_inline]] double u(const Vec3& p) const { return tf->normalise(value(p)); }
-  [[gnu::always_inline]] double sigma_t_of_u(double uu) const {
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double u(const Vec3& p) const { return tf->normalise(value(p)); }
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double sigma_t_of_u(double uu) const {
     return std::min(tf->density_scale * tf->opacity.eval(uu), sigma_max);
   }
-  [[gnu::always_inline]] double sigma_t(const Vec3& p) const { return sigma_t_of_u(u(p)); }
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double sigma_t(const Vec3& p) const { return sigma_t_of_u(u(p)); }
 
   /// True for a Value read in place from a dtype's array on uniform axes (no cache, no
   /// AxisMap, no levels): its samples sit at fixed byte offsets from one another.
@@ -191,7 +193,7 @@ struct GridMedium {
 
   /// Gradient of u by central differences one voxel apart (one-sided at the faces), in
   /// units of 1 / voxel. Six field lookups.
-  Vec3 gradient_voxel(const Vec3& p) const {
+  TESSERA_HOST_DEVICE Vec3 gradient_voxel(const Vec3& p) const {
     if constexpr (kInPlace) {
       // One sample from every face (the common case): no clamp bites, each difference spans
       // exactly 2 voxels, and the six lookups share one cell and its 32 samples.
@@ -217,7 +219,7 @@ struct GridMedium {
   /// axis and keeps p's fractions along the other two; the difference is divided by
   /// (p + 1) - (p - 1)), with no clamp and no index arithmetic per sample: p's cell is found
   /// once and each lookup reads its 8 samples at byte offsets from it.
-  Vec3 gradient_interior(const Vec3& p) const {
+  TESSERA_HOST_DEVICE Vec3 gradient_interior(const Vec3& p) const {
     std::int64_t i[3];
     double f[3];
     for (int a = 0; a < 3; ++a) {
@@ -251,7 +253,7 @@ struct GridMedium {
   /// (a uniform axis as gradient_voxel; a rectilinear one by central differences one local
   /// interval apart, times that interval) and sets *world to the world-space gradient
   /// (inv_spacing: the scene's, for the uniform axes). Six field lookups.
-  Vec3 gradient_local(const Vec3& p, const Vec3& inv_spacing, Vec3* world) const {
+  TESSERA_HOST_DEVICE Vec3 gradient_local(const Vec3& p, const Vec3& inv_spacing, Vec3* world) const {
     Vec3 g(0.0), w(0.0);
     for (int a = 0; a < 3; ++a) {
       Vec3 pm = p, pp = p;
@@ -277,8 +279,8 @@ struct GridMedium {
 };
 
 /// The macrocell holding p along a rectilinear axis (its AxisMap's segment / edge, clamped).
-[[gnu::noinline]] inline std::int64_t rectilinear_cell(const AxisMap& ax, double p, std::int64_t edge,
-                                                       std::int64_t nc) {
+[[gnu::noinline]] TESSERA_HOST_DEVICE inline std::int64_t rectilinear_cell(const AxisMap& ax, double p,
+                                                                           std::int64_t edge, std::int64_t nc) {
   std::int64_t seg;
   double f;
   ax.locate(p, &seg, &f);
@@ -287,7 +289,8 @@ struct GridMedium {
 
 /// Where the ray p(t) = ov + t dv leaves the cube of macrocells c +- r (every axis that it
 /// moves along; uniform axes, edge E).
-inline double cube_exit(const Vec3& ov, const Vec3& dv, const std::int64_t c[3], std::int64_t r, double E) {
+TESSERA_HOST_DEVICE inline double cube_exit(const Vec3& ov, const Vec3& dv, const std::int64_t c[3], std::int64_t r,
+                                            double E) {
   double t = INFINITY;
   for (int a = 0; a < 3; ++a) {
     if (dv[a] > 0.0) t = std::min(t, (static_cast<double>(c[a] + r + 1) * E - ov[a]) / dv[a]);
@@ -307,7 +310,8 @@ inline double cube_exit(const Vec3& ov, const Vec3& dv, const std::int64_t c[3],
 /// at once, and the walk restarts at the cube's exit (a smaller cube does not pay for the
 /// restart). The segments still tile [t0, t1].
 template <class T, class Fn>
-bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Fn&& fn) {
+TESSERA_HOST_DEVICE bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0,
+                                             double t1, Fn&& fn) {
   if (!(t0 < t1)) return false;
   const double E = m.cell_edge;
   std::int64_t c[3], step[3];

@@ -42,7 +42,7 @@ struct SampleResult {
 /// Power-heuristic weight pa^2 / (pa^2 + pb^2); 0 when both are 0 or either is NaN. When a
 /// square overflows (a tiny light's pdf is huge, or infinite once its solid angle underflows)
 /// the same weight from the ratio of the two, so that inf / inf never makes a NaN sample.
-inline double power_heuristic(double pa, double pb) {
+TESSERA_HOST_DEVICE inline double power_heuristic(double pa, double pb) {
   const double a2 = pa * pa, b2 = pb * pb;
   const double sum = a2 + b2;
   if (sum < INFINITY) return sum > 0.0 ? a2 / sum : 0.0;
@@ -61,13 +61,13 @@ class PathTracer {
  public:
   /// `stop`, when given, is polled every kStopPollBounces collisions of a path; once it says
   /// stop the path ends there (the render is then failed by its caller, never written).
-  PathTracer(const KernelScene& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
+  TESSERA_HOST_DEVICE PathTracer(const KernelScene& s, const GridMedium<V>& m, StopCheck* stop = nullptr)
       : m_s(s), m_m(m), m_L(s.lights), m_stop(stop) {}
 
   /// One camera sample's radiance along `ray`. With `ld`, the first real collision's light
   /// pick and light sample, hybrid choice and direction sample come from it (sobol_sampler.h);
   /// everything else, and all of them without it, from `rng`.
-  SampleResult li(Ray ray, Rng& rng, KernelCounters& k, const SobolSampler* ld = nullptr) const {
+  TESSERA_HOST_DEVICE SampleResult li(Ray ray, Rng& rng, KernelCounters& k, const SobolSampler* ld = nullptr) const {
     const TransferFunction& tf = *m_s.tf;
     SampleResult out;
     Color beta(1.0);
@@ -85,7 +85,7 @@ class PathTracer {
       if (from_camera) out.alpha = 1.0;
       ++depth;
       // A long path polls the render's deadline now and then (the render then fails)
-      if ((depth & (kStopPollBounces - 1)) == 0 && m_stop && m_stop->stop()) break;
+      if ((depth & (kStopPollBounces - 1)) == 0 && poll_stop()) break;
       ++k.real_collisions;
       const Vec3 x = ray.o + t_hit * ray.d;
       const Vec3 pv = to_voxel(x);
@@ -172,10 +172,20 @@ class PathTracer {
   const LightSet m_L;
   StopCheck* m_stop;
 
-  Vec3 to_voxel(const Vec3& x) const { return (x - m_s.origin) * m_s.inv_spacing; }
+  /// The render's deadline, polled by long paths on the host. On the device it is never
+  /// polled: the host launches bounded slices and checks the deadline between them.
+  TESSERA_HOST_DEVICE bool poll_stop() const {
+#if defined(__CUDA_ARCH__)
+    return false;
+#else
+    return m_stop && m_stop->stop();
+#endif
+  }
+
+  TESSERA_HOST_DEVICE Vec3 to_voxel(const Vec3& x) const { return (x - m_s.origin) * m_s.inv_spacing; }
 
   /// Ray/box clip in the medium's p space (its box: the cells' box for cell data); returns false if the ray misses the box or it is degenerate.
-  bool clip(const Vec3& ov, const Vec3& dv, double* t0, double* t1) const {
+  TESSERA_HOST_DEVICE bool clip(const Vec3& ov, const Vec3& dv, double* t0, double* t1) const {
     double a = 0.0, b = INFINITY;
     for (int ax = 0; ax < 3; ++ax) {
       const double lo = m_m.box_lo[ax], hi = m_m.box_hi[ax];
@@ -194,7 +204,7 @@ class PathTracer {
   }
 
   /// Ends the path for a loop guard: counted once, *stalled set.
-  static bool stall(KernelCounters& k, bool* stalled) {
+  TESSERA_HOST_DEVICE static bool stall(KernelCounters& k, bool* stalled) {
     ++k.stalled_paths;
     *stalled = true;
     return true;
@@ -205,7 +215,8 @@ class PathTracer {
   /// and *t_hit on a real collision. Loop guards: a ray the box clip leaves unbounded (zero or
   /// NaN direction), a step that does not advance t, or a traversal over its step budget
   /// (loop_bounds.h) sets *stalled and returns false.
-  bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit, bool* stalled) const {
+  TESSERA_HOST_DEVICE bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit,
+                                       bool* stalled) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
     if (!clip(ov, dv, &t0, &t1) || m_s.max_majorant <= 0.0) return false;
@@ -237,7 +248,7 @@ class PathTracer {
   /// estimator on the tracking loop (shadow_walk, one branch per ray). The loop guards of
   /// free_flight end the estimate at 0 (an occluded shadow ray adds no light), counted in
   /// k.stalled_paths.
-  double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
+  TESSERA_HOST_DEVICE double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
     if (!clip(ov, dv, &t0, &t1)) return 1.0;
@@ -261,8 +272,8 @@ class PathTracer {
   /// The tracking loop of one shadow estimator over voxel-space ray ov + t dv, t in [t0, t1],
   /// updating the transmittance estimate T at each tentative collision.
   template <ShadowMode kMode>
-  TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng, KernelCounters& k,
-                       double& T) const {
+  TESSERA_HOST_DEVICE TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng,
+                                           KernelCounters& k, double& T) const {
     const bool roulette = m_s.shadow_roulette;
     return sample_majorant_steps(
         m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) __attribute__((always_inline)) {
@@ -275,8 +286,8 @@ class PathTracer {
   /// Emitters met along `ray` before distance t_end (all lights are transparent), plus the
   /// infinite lights when the ray escaped, MIS-weighted against light sampling unless from
   /// the camera (which sees the background as shown, emitting or not).
-  void gather_emitters(const Ray& ray, double t_end, bool hit, bool from_camera, double pdf_prev, const Color& beta,
-                       Color& L) const {
+  TESSERA_HOST_DEVICE void gather_emitters(const Ray& ray, double t_end, bool hit, bool from_camera, double pdf_prev,
+                                           const Color& beta, Color& L) const {
     for (int i = 0; i < m_L.area_count(); ++i) {
       const Light& l = m_L[i];
       const double t = l.intersect(ray);
@@ -298,8 +309,8 @@ class PathTracer {
 
   /// Like gather_emitters for the last collision's sampled direction, where no further free
   /// flight is sampled: each emitter is weighted by the transmittance up to it.
-  void gather_with_transmittance(const Ray& ray, double pdf_dir, const Color& beta, Rng& rng, KernelCounters& k,
-                                 Color& L) const {
+  TESSERA_HOST_DEVICE void gather_with_transmittance(const Ray& ray, double pdf_dir, const Color& beta, Rng& rng,
+                                                     KernelCounters& k, Color& L) const {
     if (m_L.count() == 0) return;
     struct Hit {
       double t;
@@ -334,8 +345,9 @@ class PathTracer {
 
   /// Next-event estimation to one light chosen by the light sampler; the pick and the light
   /// sample from `ld` when given (li).
-  Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface, const SurfaceBrdf& brdf,
-                     const Color& albedo, const SobolSampler* ld, Rng& rng, KernelCounters& k) const {
+  TESSERA_HOST_DEVICE Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface,
+                                         const SurfaceBrdf& brdf, const Color& albedo, const SobolSampler* ld, Rng& rng,
+                                         KernelCounters& k) const {
     const int pick = ld && m_L.count() == 1 ? 0 : m_L.sampler().pick(sample_1d(ld, SampleDim::LightPick, rng));
     const Sample2 u = sample_2d(ld, SampleDim::LightUv, rng);
     const LightSample ls = m_L[pick].sample(x, u.x, u.y);

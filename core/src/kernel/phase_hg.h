@@ -6,13 +6,13 @@
 
 namespace tessera {
 
-inline double hg_eval(double cos_theta, double g) {
+TESSERA_HOST_DEVICE inline double hg_eval(double cos_theta, double g) {
   const double denom = 1.0 + g * g - 2.0 * g * cos_theta;
   return kInv4Pi * (1.0 - g * g) / (denom * std::sqrt(denom));
 }
 
 /// Sample d_out given d_in; returns its pdf (= the phase function value).
-inline double hg_sample(const Vec3& d_in, double g, double u1, double u2, Vec3* d_out) {
+TESSERA_HOST_DEVICE inline double hg_sample(const Vec3& d_in, double g, double u1, double u2, Vec3* d_out) {
   double cos_theta;
   if (std::fabs(g) < 1e-3) {
     cos_theta = 1.0 - 2.0 * u1;

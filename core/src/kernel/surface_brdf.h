@@ -17,26 +17,27 @@ struct SurfaceBrdf {
   double alpha;
   double p_spec;  ///< probability of sampling the specular lobe (0 when F0 is black)
 
-  SurfaceBrdf(const Vec3& normal, const Color& a, const Color& f, double roughness) : n(normal), albedo(a), f0(f) {
+  TESSERA_HOST_DEVICE SurfaceBrdf(const Vec3& normal, const Color& a, const Color& f, double roughness)
+      : n(normal), albedo(a), f0(f) {
     alpha = std::fmax(1e-3, roughness * roughness);
     const double ms = max_component(f0), md = max_component(albedo);
     p_spec = ms > 0.0 ? std::clamp(ms / (ms + md), 0.1, 0.9) : 0.0;
     if (md <= 0.0 && ms > 0.0) p_spec = 1.0;
   }
 
-  double ggx_d(double cos_h) const {
+  TESSERA_HOST_DEVICE double ggx_d(double cos_h) const {
     const double a2 = alpha * alpha;
     const double c2 = cos_h * cos_h;
     const double d = c2 * (a2 - 1.0) + 1.0;
     return a2 / (kPi * d * d);
   }
-  double smith_g1(double cos_v) const {
+  TESSERA_HOST_DEVICE double smith_g1(double cos_v) const {
     const double a2 = alpha * alpha;
     const double c2 = cos_v * cos_v;
     return 2.0 * cos_v / (cos_v + std::sqrt(a2 + (1.0 - a2) * c2));
   }
 
-  Color eval(const Vec3& wo, const Vec3& wi) const {
+  TESSERA_HOST_DEVICE Color eval(const Vec3& wo, const Vec3& wi) const {
     const double cos_o = glm::dot(n, wo), cos_i = glm::dot(n, wi);
     if (cos_i <= 0.0 || cos_o <= 0.0) return Color(0.0);
     Color f = albedo * kInvPi;
@@ -49,7 +50,7 @@ struct SurfaceBrdf {
     return f * cos_i;
   }
 
-  double pdf(const Vec3& wo, const Vec3& wi) const {
+  TESSERA_HOST_DEVICE double pdf(const Vec3& wo, const Vec3& wi) const {
     const double cos_o = glm::dot(n, wo), cos_i = glm::dot(n, wi);
     if (cos_i <= 0.0 || cos_o <= 0.0) return 0.0;
     double p = (1.0 - p_spec) * cos_i * kInvPi;
@@ -62,7 +63,7 @@ struct SurfaceBrdf {
   }
 
   /// Sample wi; returns false when the sample falls below the surface.
-  bool sample(const Vec3& wo, double u0, double u1, double u2, Vec3* wi) const {
+  TESSERA_HOST_DEVICE bool sample(const Vec3& wo, double u0, double u1, double u2, Vec3* wi) const {
     const Frame f(n);
     if (u0 < p_spec) {
       // GGX normal distribution sampling: D(h) cos(theta_h).

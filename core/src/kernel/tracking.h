@@ -34,8 +34,8 @@ enum class TrackEnd {
 /// tentative collision instead of one per non-empty cell crossed. One rng draw per
 /// collision before fn (fn draws what it needs itself); none for a ray that meets only empty cells.
 template <class V, class Fn>
-TrackEnd sample_majorant_steps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng,
-                               Fn&& fn) {
+TESSERA_HOST_DEVICE TrackEnd sample_majorant_steps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0,
+                                                   double t1, Rng& rng, Fn&& fn) {
   double budget = kMaxTrackingSteps;
   bool stalled = false;
   double tau = -1.0;  // optical depth left to the next tentative collision (drawn at the first non-empty cell)
@@ -73,7 +73,7 @@ struct TransmittanceStep;
 
 template <>
 struct TransmittanceStep<ShadowMode::Ratio> {
-  static void apply(double& T, double sigma, double maj, bool roulette, Rng& rng) {
+  TESSERA_HOST_DEVICE static void apply(double& T, double sigma, double maj, bool roulette, Rng& rng) {
     T *= 1.0 - sigma / maj;
     if (roulette && T < kShadowRouletteT && T > 0.0) T = rng.uniform() * kShadowRouletteT < T ? kShadowRouletteT : 0.0;
   }
@@ -81,7 +81,7 @@ struct TransmittanceStep<ShadowMode::Ratio> {
 
 template <>
 struct TransmittanceStep<ShadowMode::Delta> {
-  static void apply(double& T, double sigma, double maj, bool, Rng& rng) {
+  TESSERA_HOST_DEVICE static void apply(double& T, double sigma, double maj, bool, Rng& rng) {
     if (rng.uniform() * maj < sigma) T = 0.0;
   }
 };
@@ -90,8 +90,8 @@ struct TransmittanceStep<ShadowMode::Delta> {
 /// an Exp(1) threshold. Visits `on_lookup` once per field sample. Returns 1 on a collision
 /// (*t_hit set), 0 when the ray leaves [t0, t1), -1 when over kMaxMarchSteps steps.
 template <class V, class Lookup>
-int march_free_flight(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1, double h, Rng& rng,
-                      double* t_hit, Lookup&& on_lookup) {
+TESSERA_HOST_DEVICE int march_free_flight(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1,
+                                          double h, Rng& rng, double* t_hit, Lookup&& on_lookup) {
   const double tau = exp_unit(rng);
   double sum = 0.0;
   double budget = kMaxMarchSteps + 2.0;

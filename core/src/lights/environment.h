@@ -23,13 +23,14 @@ class Environment {
   explicit Environment(const BackgroundDesc& desc);
 
   /// Radiance arriving along the direction -d, i.e. seen looking along unit d.
-  Color eval(const Vec3& d) const;
+  /// eval, sample and pdf are host and device code: one definition (environment_eval.h).
+  TESSERA_HOST_DEVICE Color eval(const Vec3& d) const;
   /// Sample a direction; returns radiance, sets *d and *pdf (solid angle). pdf 0 = failed.
-  Color sample(double u1, double u2, Vec3* d, double* pdf) const;
-  double pdf(const Vec3& d) const;
+  TESSERA_HOST_DEVICE Color sample(double u1, double u2, Vec3* d, double* pdf) const;
+  TESSERA_HOST_DEVICE double pdf(const Vec3& d) const;
   /// False when the background is black everywhere: it is then not a light to sample.
-  bool emits() const { return m_emits; }
-  bool visible() const { return m_visible; }
+  TESSERA_HOST_DEVICE bool emits() const { return m_emits; }
+  TESSERA_HOST_DEVICE bool visible() const { return m_visible; }
 
  private:
   BackgroundType m_type = BackgroundType::Constant;
@@ -41,7 +42,7 @@ class Environment {
   Distribution2D m_dist;
   ZonalLinear m_zonal;      // a gradient's sampling density
   bool m_zonal_ok = false;  // false: sampled uniformly (a constant, or weights that overflow)
-  void to_uv(const Vec3& d, double* u, double* v) const;
+  TESSERA_HOST_DEVICE void to_uv(const Vec3& d, double* u, double* v) const;
 };
 
 }  // namespace tessera

@@ -33,10 +33,10 @@ class EnvironmentLight {
  public:
   static constexpr bool kInfinite = true;
   explicit EnvironmentLight(const Environment* env) : m_env(env) {}
-  double intersect_front(const Ray&) const { return -1.0; }
-  Color radiance(const Vec3& d) const { return m_env->eval(d); }
-  double pdf(const Vec3&, const Vec3& wi, double) const { return m_env->pdf(wi); }
-  LightSample sample(const Vec3&, double u1, double u2) const {
+  TESSERA_HOST_DEVICE double intersect_front(const Ray&) const { return -1.0; }
+  TESSERA_HOST_DEVICE Color radiance(const Vec3& d) const { return m_env->eval(d); }
+  TESSERA_HOST_DEVICE double pdf(const Vec3&, const Vec3& wi, double) const { return m_env->pdf(wi); }
+  TESSERA_HOST_DEVICE LightSample sample(const Vec3&, double u1, double u2) const {
     double pdf;
     Vec3 wi;
     const Color Le = m_env->sample(u1, u2, &wi, &pdf);
@@ -66,7 +66,7 @@ namespace detail {
 /// exception path in the kernels; v is never valueless, every alternative being trivially
 /// copyable).
 template <std::size_t I, class V, class Fn>
-decltype(auto) dispatch_light(const V& v, Fn& fn) {
+TESSERA_HOST_DEVICE decltype(auto) dispatch_light(const V& v, Fn& fn) {
   if constexpr (I + 1 == std::variant_size_v<V>) {
     return fn(*std::get_if<I>(&v));
   } else {
@@ -87,30 +87,30 @@ class Light {
 
   /// fn(the concrete light); every instantiation returns the same type.
   template <class Fn>
-  decltype(auto) dispatch(Fn&& fn) const {
+  TESSERA_HOST_DEVICE decltype(auto) dispatch(Fn&& fn) const {
     return detail::dispatch_light<0>(m_v, fn);
   }
 
   /// True for a light at infinity (met only by rays that leave the scene).
-  bool infinite() const {
+  TESSERA_HOST_DEVICE bool infinite() const {
     return dispatch([](const auto& l) { return std::decay_t<decltype(l)>::kInfinite; });
   }
   /// Distance in (0, inf) along r to the light's emitting side, or -1 (always for infinite lights).
-  double intersect(const Ray& r) const {
+  TESSERA_HOST_DEVICE double intersect(const Ray& r) const {
     return dispatch([&](const auto& l) { return l.intersect_front(r); });
   }
   /// Radiance arriving along -d from the point of this light that direction d meets.
-  Color radiance(const Vec3& d) const {
+  TESSERA_HOST_DEVICE Color radiance(const Vec3& d) const {
     return dispatch([&](const auto& l) { return l.radiance(d); });
   }
   /// Solid-angle pdf that sample(x, ...) returns wi, which meets the light at distance t
   /// (ignored by infinite lights).
-  double pdf(const Vec3& x, const Vec3& wi, double t) const {
+  TESSERA_HOST_DEVICE double pdf(const Vec3& x, const Vec3& wi, double t) const {
     return dispatch([&](const auto& l) { return l.pdf(x, wi, t); });
   }
   /// A direction toward the light from x for (u1, u2) in [0, 1)^2; pdf 0 = failed. Infinite
   /// lights return dist = inf.
-  LightSample sample(const Vec3& x, double u1, double u2) const {
+  TESSERA_HOST_DEVICE LightSample sample(const Vec3& x, double u1, double u2) const {
     return dispatch([&](const auto& l) { return l.sample(x, u1, u2); });
   }
   /// World box around a finite light (image-space culling); an infinite one leaves lo, hi.
@@ -132,9 +132,9 @@ class UniformLightSampler {
   UniformLightSampler() = default;
   explicit UniformLightSampler(int count) : m_n(count) {}
   /// Index for u in [0, 1); count() > 0.
-  int pick(double u) const { return std::min(m_n - 1, static_cast<int>(u * m_n)); }
+  TESSERA_HOST_DEVICE int pick(double u) const { return std::min(m_n - 1, static_cast<int>(u * m_n)); }
   /// Probability that pick() returns i (the same for every i); 0 when there is no light.
-  double pmf(int) const { return m_n > 0 ? 1.0 / m_n : 0.0; }
+  TESSERA_HOST_DEVICE double pmf(int) const { return m_n > 0 ? 1.0 / m_n : 0.0; }
 
  private:
   int m_n = 0;
@@ -151,14 +151,22 @@ class LightSet {
     m_area =
         static_cast<int>(std::find_if(lights, lights + count, [](const Light& l) { return l.infinite(); }) - lights);
   }
-  int count() const { return m_count; }
-  int area_count() const { return m_area; }  ///< lights [0, area_count()) are finite
-  const Light& operator[](int i) const { return m_lights[i]; }
-  const LightSampler& sampler() const { return m_sampler; }
+  TESSERA_HOST_DEVICE int count() const { return m_count; }
+  TESSERA_HOST_DEVICE int area_count() const { return m_area; }  ///< lights [0, area_count()) are finite
+  TESSERA_HOST_DEVICE const Light& operator[](int i) const { return m_lights[i]; }
+  TESSERA_HOST_DEVICE const LightSampler& sampler() const { return m_sampler; }
   /// The background seen by camera rays that escape: shown unless hidden (visible: false),
   /// whether or not it lights the scene.
-  bool background_visible() const { return m_background->visible(); }
-  Color background(const Vec3& d) const { return m_background->eval(d); }
+  TESSERA_HOST_DEVICE bool background_visible() const { return m_background->visible(); }
+  TESSERA_HOST_DEVICE Color background(const Vec3& d) const { return m_background->eval(d); }
+  /// This set over copies of its lights and background elsewhere (a device's memory):
+  /// the same count, order and sampler, other addresses.
+  LightSet relocated(const Light* lights, const Environment* background) const {
+    LightSet s = *this;
+    s.m_lights = lights;
+    s.m_background = background;
+    return s;
+  }
 
  private:
   const Light* m_lights = nullptr;

@@ -30,7 +30,7 @@ class RectLight {
   }
 
   /// Hit distance along the ray in (0, inf) of the front side, or -1.
-  double intersect_front(const Ray& r) const {
+  TESSERA_HOST_DEVICE double intersect_front(const Ray& r) const {
     const double dn = glm::dot(r.d, m_n);
     if (!(dn < 0.0)) return -1.0;  // the front emits toward +n: a ray must travel against n
     const double t = glm::dot(m_c - r.o, m_n) / dn;
@@ -40,18 +40,18 @@ class RectLight {
     return t;
   }
   static constexpr bool kInfinite = false;
-  Color radiance() const { return m_L; }
-  Color radiance(const Vec3&) const { return m_L; }  ///< the same in every direction
+  TESSERA_HOST_DEVICE Color radiance() const { return m_L; }
+  TESSERA_HOST_DEVICE Color radiance(const Vec3&) const { return m_L; }  ///< the same in every direction
   /// A world box holding the rectangle: the centre +- half its diagonal on every axis.
   void bounds(Vec3* lo, Vec3* hi) const {
     *lo = m_c - Vec3(m_reach);
     *hi = m_c + Vec3(m_reach);
   }
-  double pdf(const Vec3& x, const Vec3& wi, double t) const {
+  TESSERA_HOST_DEVICE double pdf(const Vec3& x, const Vec3& wi, double t) const {
     const double cos_l = -glm::dot(wi, m_n);
     return cos_l > 0.0 ? t * t / (cos_l * m_area) : 0.0;
   }
-  LightSample sample(const Vec3& x, double u1, double u2) const {
+  TESSERA_HOST_DEVICE LightSample sample(const Vec3& x, double u1, double u2) const {
     const Vec3 y = m_c + (2.0 * u1 - 1.0) * m_hw * m_u + (2.0 * u2 - 1.0) * m_hh * m_v;
     const Vec3 dv = y - x;
     const double dist = glm::length(dv);

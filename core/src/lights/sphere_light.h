@@ -18,7 +18,7 @@ class SphereLight {
       throw std::invalid_argument("sphere light: radius " + std::to_string(d.radius) + " must be finite and > 0");
   }
   /// Distance to the outward-facing (front) hit, or -1. From inside there is none.
-  double intersect_front(const Ray& r) const {
+  TESSERA_HOST_DEVICE double intersect_front(const Ray& r) const {
     const Vec3 oc = r.o - m_c;
     const double b = glm::dot(oc, r.d);
     const double c = glm::dot(oc, oc) - m_r * m_r;
@@ -31,21 +31,21 @@ class SphereLight {
     return t > 0.0 ? t : -1.0;
   }
   static constexpr bool kInfinite = false;
-  Color radiance() const { return m_L; }
-  Color radiance(const Vec3&) const { return m_L; }  ///< the same in every direction
+  TESSERA_HOST_DEVICE Color radiance() const { return m_L; }
+  TESSERA_HOST_DEVICE Color radiance(const Vec3&) const { return m_L; }  ///< the same in every direction
   void bounds(Vec3* lo, Vec3* hi) const {
     *lo = m_c - Vec3(m_r);
     *hi = m_c + Vec3(m_r);
   }
   /// Uniform sampling of the visible cone.
-  double pdf(const Vec3& x, const Vec3&, double) const {
+  TESSERA_HOST_DEVICE double pdf(const Vec3& x, const Vec3&, double) const {
     const double d2 = glm::dot(x - m_c, x - m_c);
     if (d2 <= m_r * m_r) return 0.0;
     const double sin2 = m_r * m_r / d2;
     const double one_minus_cos = sin2 / (1.0 + std::sqrt(1.0 - sin2));
     return 1.0 / (2.0 * kPi * one_minus_cos);
   }
-  LightSample sample(const Vec3& x, double u1, double u2) const {
+  TESSERA_HOST_DEVICE LightSample sample(const Vec3& x, double u1, double u2) const {
     LightSample s{Vec3(0.0), 0.0, Color(0.0), 0.0};
     const Vec3 to_c = m_c - x;
     const double d2 = glm::dot(to_c, to_c);

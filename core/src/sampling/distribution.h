@@ -1,5 +1,7 @@
 #pragma once
 /// Piecewise-constant 1D and 2D distributions for importance sampling (inversion method).
+#include <tessera/host_device.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <vector>
@@ -18,12 +20,12 @@ class Distribution1D {
     else
       for (std::size_t i = 1; i <= n; ++i) m_cdf[i] = static_cast<double>(i) / static_cast<double>(n);
   }
-  std::size_t size() const { return m_f.size(); }
-  double integral() const { return m_integral; }
+  TESSERA_HOST_DEVICE std::size_t size() const { return m_f.size(); }
+  TESSERA_HOST_DEVICE double integral() const { return m_integral; }
   /// pdf (w.r.t. x in [0,1)) of bin i.
-  double pdf(std::size_t i) const { return m_integral > 0.0 ? m_f[i] / m_integral : 1.0; }
+  TESSERA_HOST_DEVICE double pdf(std::size_t i) const { return m_integral > 0.0 ? m_f[i] / m_integral : 1.0; }
   /// Continuous sample in [0,1); *bin receives the bin index.
-  double sample(double u, std::size_t* bin) const {
+  TESSERA_HOST_DEVICE double sample(double u, std::size_t* bin) const {
     const std::size_t n = m_f.size();
     // Last i with cdf[i] <= u.
     std::size_t i = static_cast<std::size_t>(std::upper_bound(m_cdf.begin(), m_cdf.end(), u) - m_cdf.begin());
@@ -57,20 +59,20 @@ class Distribution2D {
     m_marginal = Distribution1D(marginal.data(), ny);
   }
   /// Sample (x, y) in [0,1)^2; returns the pdf w.r.t. area in [0,1)^2.
-  double sample(double u1, double u2, double* x, double* y) const {
+  TESSERA_HOST_DEVICE double sample(double u1, double u2, double* x, double* y) const {
     std::size_t by = 0, bx = 0;
     *y = m_marginal.sample(u2, &by);
     *x = m_rows[by].sample(u1, &bx);
     return m_marginal.pdf(by) * m_rows[by].pdf(bx);
   }
-  double pdf(double x, double y) const {
+  TESSERA_HOST_DEVICE double pdf(double x, double y) const {
     const std::size_t ny = m_rows.size(), nx = m_rows.empty() ? 0 : m_rows[0].size();
     const std::size_t bx = std::min(nx - 1, static_cast<std::size_t>(x * nx));
     const std::size_t by = std::min(ny - 1, static_cast<std::size_t>(y * ny));
     if (m_marginal.integral() <= 0.0) return 1.0;
     return m_marginal.pdf(by) * (m_rows[by].integral() > 0.0 ? m_rows[by].pdf(bx) : 0.0);
   }
-  double integral() const { return m_marginal.integral(); }
+  TESSERA_HOST_DEVICE double integral() const { return m_marginal.integral(); }
 
  private:
   std::vector<Distribution1D> m_rows;

@@ -36,6 +36,7 @@ inline constexpr std::array<std::array<std::uint32_t, 256>, 4> kSobol1Bytes = []
     }
   return t;
 }();
+TESSERA_DEVICE_TABLE(kSobol1Bytes);
 
 /// The dimensions read from the sampler: a 2D pair each for the pixel jitter, the lens, the
 /// first collision's light sample (u, v) and its scattering direction; one each for that
@@ -57,7 +58,7 @@ struct Sample2 {
 
 class SobolSampler {
  public:
-  SobolSampler(std::uint64_t seed, std::uint64_t frame, std::uint64_t pixel, std::uint64_t index)
+  TESSERA_HOST_DEVICE SobolSampler(std::uint64_t seed, std::uint64_t frame, std::uint64_t pixel, std::uint64_t index)
       : m_index_reversed(reverse_bits32(static_cast<std::uint32_t>(index))) {
     std::uint64_t h = splitmix64(seed ^ 0x50B01D1D0C5EED5Full);  // apart from Rng's hash of the same numbers
     h = splitmix64(h ^ frame);
@@ -66,7 +67,7 @@ class SobolSampler {
   }
 
   /// Values for a pair of dimensions, each uniform on [0, 1).
-  Sample2 get_2d(SampleDim d) const {
+  TESSERA_HOST_DEVICE Sample2 get_2d(SampleDim d) const {
     const std::uint64_t h = splitmix64(m_key ^ (static_cast<std::uint64_t>(d) << 1));
     const std::uint32_t i = shuffled_index(static_cast<std::uint32_t>(h));
     const std::uint32_t s = static_cast<std::uint32_t>(h >> 32);
@@ -76,7 +77,7 @@ class SobolSampler {
   }
 
   /// A value for a single dimension, uniform on [0, 1) (a scrambled van der Corput sequence).
-  double get_1d(SampleDim d) const {
+  TESSERA_HOST_DEVICE double get_1d(SampleDim d) const {
     const std::uint64_t h = splitmix64(m_key ^ ((static_cast<std::uint64_t>(d) << 1) | 1u));
     const std::uint32_t i = shuffled_index(static_cast<std::uint32_t>(h));
     return to_unit(scrambled_van_der_corput(i, static_cast<std::uint32_t>(h >> 32)));
@@ -84,34 +85,36 @@ class SobolSampler {
 
   /// Point i of Sobol's second dimension, as a 32-bit fraction: the xor of the generator
   /// matrix's columns for the index's set bits, a byte at a time (kSobol1Bytes).
-  static std::uint32_t sobol_dim1(std::uint32_t i) {
-    return kSobol1Bytes[0][i & 0xFFu] ^ kSobol1Bytes[1][(i >> 8) & 0xFFu] ^ kSobol1Bytes[2][(i >> 16) & 0xFFu] ^
-           kSobol1Bytes[3][i >> 24];
+  TESSERA_HOST_DEVICE static std::uint32_t sobol_dim1(std::uint32_t i) {
+    const auto& t = TESSERA_TABLE(kSobol1Bytes);
+    return t[0][i & 0xFFu] ^ t[1][(i >> 8) & 0xFFu] ^ t[2][(i >> 16) & 0xFFu] ^ t[3][i >> 24];
   }
 
  private:
   std::uint64_t m_key;             ///< hash of (seed, frame, pixel, index's upper half)
   std::uint32_t m_index_reversed;  ///< the index's lower half, bits reversed (owen_scramble's first step)
 
-  static double to_unit(std::uint32_t x) { return static_cast<double>(x) * 0x1.0p-32; }
+  TESSERA_HOST_DEVICE static double to_unit(std::uint32_t x) { return static_cast<double>(x) * 0x1.0p-32; }
   /// The index shuffled by a nested scramble of its bits from the top one down (owen_scramble
   /// read with bit 0 first): each aligned block of 2^k indices lands on one such block.
-  std::uint32_t shuffled_index(std::uint32_t seed) const {
+  TESSERA_HOST_DEVICE std::uint32_t shuffled_index(std::uint32_t seed) const {
     return reverse_bits32(laine_karras_permutation(m_index_reversed, seed));
   }
   /// owen_scramble(reverse_bits32(i), seed), van der Corput's point i scrambled, with the two
   /// reversals in a row left out.
-  static std::uint32_t scrambled_van_der_corput(std::uint32_t i, std::uint32_t seed) {
+  TESSERA_HOST_DEVICE static std::uint32_t scrambled_van_der_corput(std::uint32_t i, std::uint32_t seed) {
     return reverse_bits32(laine_karras_permutation(i, seed));
   }
 };
 
 /// Dimension `d` from `ld` when given, else the next value of `rng`: the one call site serves
 /// both samplers, and without `ld` the stream is drawn exactly as before.
-inline double sample_1d(const SobolSampler* ld, SampleDim d, Rng& rng) { return ld ? ld->get_1d(d) : rng.uniform(); }
+TESSERA_HOST_DEVICE inline double sample_1d(const SobolSampler* ld, SampleDim d, Rng& rng) {
+  return ld ? ld->get_1d(d) : rng.uniform();
+}
 
 /// Pair `d` from `ld` when given, else the next two values of `rng` (x first).
-inline Sample2 sample_2d(const SobolSampler* ld, SampleDim d, Rng& rng) {
+TESSERA_HOST_DEVICE inline Sample2 sample_2d(const SobolSampler* ld, SampleDim d, Rng& rng) {
   if (ld) return ld->get_2d(d);
   const double x = rng.uniform();
   return {x, rng.uniform()};

@@ -34,7 +34,7 @@ class ZonalLinear {
   }
 
   /// t in [-1, 1] with density g(t) / G, from one uniform u in [0, 1).
-  double sample_t(double u) const {
+  TESSERA_HOST_DEVICE double sample_t(double u) const {
     const bool upper = u < m_p_up;  // m_p_up is 0 when the upper half has no weight: never taken
     const double v = std::clamp(upper ? u / m_p_up : (u - m_p_up) / (1.0 - m_p_up), 0.0, 1.0);
     const double e = upper ? m_top : m_bot;
@@ -46,7 +46,7 @@ class ZonalLinear {
   }
 
   /// The density of t on [-1, 1] (the solid-angle pdf is this / (2 pi)).
-  double pdf_t(double t) const {
+  TESSERA_HOST_DEVICE double pdf_t(double t) const {
     const double g = t >= 0.0 ? m_mid + (m_top - m_mid) * t : m_mid + (m_bot - m_mid) * (-t);
     return std::max(g, 0.0) / m_norm;
   }

@@ -1,0 +1,52 @@
+# The CUDA backend (docs/gpu.md): -DTESSERA_CUDA=AUTO|ON|OFF, default AUTO.
+#   AUTO  on where CMake's check_language(CUDA) finds a CUDA compiler (nvcc), else off
+#   ON    required: configuring fails, naming the missing compiler, when none is found
+#   OFF   never; the build is CPU only whatever is installed
+# Sets TESSERA_CUDA_ENABLED and prints one status line saying which. Architectures: the
+# cache's CMAKE_CUDA_ARCHITECTURES when given, else 80;90 (A100, H100/H200). Without CUDA
+# nothing else changes: the same sources, flags and targets as a build that never heard of it.
+set(TESSERA_CUDA AUTO CACHE STRING "CUDA backend: AUTO (on where nvcc is found), ON (required) or OFF")
+set_property(CACHE TESSERA_CUDA PROPERTY STRINGS AUTO ON OFF)
+string(TOUPPER "${TESSERA_CUDA}" _tessera_cuda_mode)
+if(NOT _tessera_cuda_mode MATCHES "^(AUTO|ON|OFF|TRUE|FALSE|YES|NO|1|0)$")
+  message(FATAL_ERROR "TESSERA_CUDA is '${TESSERA_CUDA}': use AUTO, ON or OFF")
+endif()
+if(_tessera_cuda_mode MATCHES "^(TRUE|YES|1)$")
+  set(_tessera_cuda_mode ON)
+elseif(_tessera_cuda_mode MATCHES "^(FALSE|NO|0)$")
+  set(_tessera_cuda_mode OFF)
+endif()
+
+set(TESSERA_CUDA_ENABLED OFF)
+set(_tessera_cuda_why "TESSERA_CUDA=OFF")
+if(NOT _tessera_cuda_mode STREQUAL "OFF")
+  include(CheckLanguage)
+  check_language(CUDA)
+  if(CMAKE_CUDA_COMPILER)
+    if(NOT DEFINED CMAKE_CUDA_ARCHITECTURES)
+      set(CMAKE_CUDA_ARCHITECTURES 80 90 CACHE STRING "GPU architectures of the CUDA backend (sm_80 A100, sm_90 H100/H200)")
+    endif()
+    enable_language(CUDA)
+    # CMake before 3.26 knows no C++20 dialect for nvcc (which has had -std=c++20 since 12.0)
+    if(NOT CMAKE_CUDA20_STANDARD_COMPILE_OPTION)
+      set(CMAKE_CUDA20_STANDARD_COMPILE_OPTION "-std=c++20")
+      set(CMAKE_CUDA20_EXTENSION_COMPILE_OPTION "-std=c++20")
+      list(APPEND CMAKE_CUDA_COMPILE_FEATURES cuda_std_20)
+    endif()
+    find_package(CUDAToolkit REQUIRED)
+    set(TESSERA_CUDA_ENABLED ON)
+  elseif(_tessera_cuda_mode STREQUAL "ON")
+    message(FATAL_ERROR "TESSERA_CUDA=ON but no CUDA compiler was found: put nvcc on PATH, or set CMAKE_CUDA_COMPILER "
+                        "(or CUDACXX) to it, or configure with -DTESSERA_CUDA=AUTO or OFF")
+  else()
+    set(_tessera_cuda_why "no nvcc found")
+  endif()
+endif()
+if(TESSERA_CUDA_ENABLED)
+  message(STATUS "CUDA backend: on, architectures ${CMAKE_CUDA_ARCHITECTURES} (nvcc ${CMAKE_CUDA_COMPILER_VERSION})")
+else()
+  message(STATUS "CUDA backend: off (${_tessera_cuda_why}): CPU only")
+endif()
+
+# -Xptxas -v for the kernels' registers and spills (docs/BENCHMARKS.md, "GPU kernel build")
+option(TESSERA_CUDA_PTXAS_VERBOSE "Print the CUDA kernels' register and spill counts while compiling" OFF)

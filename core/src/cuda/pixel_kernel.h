@@ -1,0 +1,62 @@
+#pragma once
+/// The device half of the CUDA backend (pixel_kernel.cu): the medium of the frame's Value
+/// built over device addresses, and the launch of one slice (some samples of some pixels).
+/// Its host half (render_cuda.cpp) copies the scene's tables and the film's sums, plans the
+/// slices and checks the deadline between them.
+#include <tessera/film.h>
+
+#include "kernel/kernel_scene.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace tessera::cuda {
+
+/// One pixel of the call's tiles: where it is and its tile's culling verdict.
+struct PixelJob {
+  int x, y;
+  int culled;  ///< 1: the tile has nothing to trace (its pixels get the background)
+};
+
+/// The counters the kernel adds up (RenderStats' fields of the same names).
+enum Counter : int {
+  kSamples,
+  kFreeFlightLookups,
+  kTransmittanceLookups,
+  kGradientLookups,
+  kRealCollisions,
+  kNullCollisions,
+  kDiscardedSamples,
+  kStalledPaths,
+  kCounterCount
+};
+
+/// One launch: samples [drawn, drawn + samples) of pixels [j0, j1) of `jobs` (each pixel
+/// continues at its own PixelSums::drawn). Every pointer is a device address.
+struct SliceArgs {
+  const KernelScene* ks;  ///< the scene, its pointers device addresses
+  const void* medium;     ///< GridMedium<V> of the frame's Value (make_device_medium)
+  const PixelJob* jobs;
+  PixelSums* px;                 ///< per job
+  AuxSums* aux;                  ///< per job, or null (no denoiser features)
+  unsigned long long* counters;  ///< kCounterCount sums
+  std::int64_t j0, j1;
+  int samples;
+};
+
+/// True when the device kernels cover the scene's field Value (uniform float32 or float64
+/// for now); else false and *why names what is not covered.
+bool device_value_supported(const KernelScene& ks, std::string* why);
+
+/// Size in bytes of the device medium of ks's Value, and the medium itself made (on the host)
+/// from `ks_dev`, a KernelScene whose pointers are device addresses, into `out` (that many
+/// bytes, to be copied to the device).
+std::size_t device_medium_bytes(const KernelScene& ks);
+void make_device_medium(const KernelScene& ks_dev, void* out);
+
+/// Launches one slice on the current device and stream 0, asynchronously; throws CudaError
+/// naming the kernel when the launch fails. `block_threads` in [32, 256].
+void launch_pixel_slice(const KernelScene& ks, const SliceArgs& a, int block_threads);
+
+}  // namespace tessera::cuda

@@ -1,0 +1,107 @@
+#pragma once
+/// TileSampler<V>: one pixel sample, from its random streams to its pixel's sums, shared by
+/// the CPU's tile kernels (tile_kernel_impl.h) and the CUDA kernel (core/src/cuda/): the same
+/// streams as a function of (seed, frame, pixel, sample index), the same camera ray and
+/// estimator, the same sums in the same order. Host and device code; allocates nothing.
+#include <tessera/film.h>
+#include <tessera/stats.h>
+
+#include "kernel/kernel_scene.h"
+#include "kernel/path_tracer.h"
+#include "kernel/stop_check.h"
+
+#include <cstdint>
+
+namespace tessera {
+namespace {
+
+/// Adds one finite sample to a pixel's sums.
+TESSERA_HOST_DEVICE inline void add_sample(PixelSums& px, const SampleResult& r) {
+  px.r += r.L.x;
+  px.g += r.L.y;
+  px.b += r.L.z;
+  px.a += r.alpha;
+  const double lum = luminance(r.L);
+  px.lum += lum;
+  px.lum2 += lum * lum;
+  ++px.n;
+}
+
+/// Adds the kept sample's auxiliary features (the denoiser's albedo and normal) to the
+/// pixel's AuxSums, beside add_sample: the same samples in the same order, so the sums are
+/// as deterministic as the colour's.
+TESSERA_HOST_DEVICE inline void add_aux(AuxSums& aux, const SampleResult& r) {
+  for (int c = 0; c < 3; ++c) {
+    aux.albedo[c] += r.albedo[c];
+    aux.normal[c] += r.normal[c];
+  }
+}
+
+/// One tile's sampling: draws samples of pixels with the tile's tracer and counters.
+template <class V>
+class TileSampler {
+ public:
+  /// `stop`: the render's deadline, polled by long paths (null on the device, which
+  /// launches bounded slices instead).
+  TESSERA_HOST_DEVICE TileSampler(const KernelScene& s, const GridMedium<V>& medium, bool culled, StopCheck* stop)
+      : m_s(s), m_tracer(s, medium, stop), m_culled(culled) {}
+
+  /// Sample `index` of pixel (x, y); false if its radiance is not finite. `own`: the pixel is
+  /// in this tile, so the tile's culling applies (another tile's pixel is always traced: a
+  /// culled tile's verdict says nothing about its neighbours, and a traced miss gives the
+  /// same value as a culled fill).
+  TESSERA_HOST_DEVICE bool draw(int x, int y, std::uint64_t index, SampleResult& r, bool own = true) {
+    const std::uint64_t pixel = static_cast<std::uint64_t>(y) * m_s.width + x;
+    Rng rng(m_s.seed, m_s.frame, pixel, index);
+    // The pixel jitter, the lens and the first collision's samples from a scrambled Sobol'
+    // sequence when the scene says so (sobol_sampler.h), else from the sample's stream
+    if (m_s.sampler == SamplerKind::Sobol) {
+      const SobolSampler ld(m_s.seed, m_s.frame, pixel, index);
+      return trace(x, y, rng, &ld, own, r);
+    }
+    return trace(x, y, rng, nullptr, own, r);
+  }
+
+  /// Draw sample `index` of the pixel into its sums, and into `aux` when given (a non-finite
+  /// one is counted and dropped). Returns the sample when it was kept, for the caller's own
+  /// bookkeeping.
+  TESSERA_HOST_DEVICE const SampleResult* accumulate(int x, int y, PixelSums& px, AuxSums* aux, std::uint64_t index,
+                                                     RenderStats& st) {
+    ++st.samples;
+    ++px.drawn;
+    if (!draw(x, y, index, m_last)) {
+      ++st.discarded_samples;
+      return nullptr;
+    }
+    add_sample(px, m_last);
+    if (aux) add_aux(*aux, m_last);
+    return &m_last;
+  }
+
+  /// Adds the tracer's counts (field lookups, collisions, stalled paths) to `st`.
+  void flush(RenderStats& st) const { st.add_counters(m_k); }
+  /// The tracer's counts so far (the device adds them to the launch's counters itself).
+  TESSERA_HOST_DEVICE const KernelCounters& counters() const { return m_k; }
+
+ private:
+  /// The sample's camera ray and its radiance, with the sampler of draw().
+  TESSERA_HOST_DEVICE bool trace(int x, int y, Rng& rng, const SobolSampler* ld, bool own, SampleResult& r) {
+    const Sample2 j = sample_2d(ld, SampleDim::Pixel, rng);
+    // (a pinhole reads no lens sample: the stream still draws it, as it always has)
+    const Sample2 l = ld && m_s.camera.is_pinhole() ? Sample2{0.0, 0.0} : sample_2d(ld, SampleDim::Lens, rng);
+    const Ray ray = m_s.camera.generate(x + j.x, y + j.y, l.x, l.y);
+    // A culled tile's rays meet nothing: exactly the background a traced miss returns.
+    r = m_culled && own ? SampleResult{m_s.lights.background_visible() ? m_s.lights.background(ray.d) : Color(0.0), 0.0}
+                        : m_tracer.li(ray, rng, m_k, ld);
+    return is_finite(r.L);
+  }
+
+  const KernelScene& m_s;
+  const PathTracer<V> m_tracer;
+  KernelCounters m_k;
+  SampleResult m_last;
+  bool m_culled;
+};
+
+}  // namespace
+}  // namespace tessera
