@@ -91,6 +91,22 @@ tessera_status Adapter::field_unchanged(const std::string& field_name) noexcept 
   return m_impl->field_unchanged(field_name.c_str());
 }
 
+tessera_status Adapter::execute_refused(std::int64_t step, double time, int call_kind, const std::string& reason,
+                                        bool final_step) {
+  if (!m_impl) return TESSERA_ERROR_CONFIG;  // moved from
+  GateCall inside(m_impl->m_gate);
+  if (inside.refusal() != CallGate::Refusal::None) return refuse(m_impl.get(), inside.refusal(), "execute_refused");
+  clear_refusal(m_impl.get());
+  const std::string why = reason.empty() ? "the language binding refused this rank's arguments" : reason;
+  const tessera_status s = m_impl->execute_refused(step, time,
+                                                   call_kind == 2   ? 2
+                                                   : call_kind == 1 ? 1
+                                                                    : 0,
+                                                   why.c_str(), final_step);
+  if (s != TESSERA_OK && m_impl->abort_mode()) throw AdapterError(s, m_impl->m_error);
+  return s;
+}
+
 tessera_status Adapter::mesh_unchanged() noexcept {
   if (!m_impl) return TESSERA_ERROR_CONFIG;
   GateCall inside(m_impl->m_gate);

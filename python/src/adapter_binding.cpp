@@ -228,6 +228,22 @@ class PyAdapter {
     return outcome(s);
   }
 
+  /// execute_refused: this rank's arguments could not be described (the package raised); the
+  /// rank still takes part in the collective call `kind` (0 execute, 1 domains, 2 mesh
+  /// domains) so that the other ranks fail with `reason` instead of waiting.
+  nb::tuple execute_refused(std::int64_t step, double time, int kind, const std::string& reason, bool final_step) {
+    std::unique_lock<std::mutex> call(m_call, std::try_to_lock);
+    if (!call.owns_lock()) return refused(final_step ? "execute (final step)" : "execute");
+    tessera_status s;
+    try {
+      nb::gil_scoped_release unlocked;
+      s = m_adapter.execute_refused(step, time, kind, reason, final_step);
+    } catch (const insitu::AdapterError& e) {
+      throw error_for_status(e.status(), e.what());
+    }
+    return outcome(s);
+  }
+
   /// Waits (GIL released) for a call another Python thread is making on this adapter, then
   /// closes; returns (status, message) (with MPI, a rank that disagreed about the calls is
   /// reported). Calls arriving meanwhile are refused as "being closed".
@@ -319,6 +335,8 @@ void register_adapter(nb::module_& m) {
            nb::arg("refinement"), nb::arg("domains"), nb::arg("final_step"))
       .def("execute_mesh_domains", &PyAdapter::execute_mesh_domains, nb::arg("step"), nb::arg("time"),
            nb::arg("domains"), nb::arg("final_step"))
+      .def("execute_refused", &PyAdapter::execute_refused, nb::arg("step"), nb::arg("time"), nb::arg("kind"),
+           nb::arg("reason"), nb::arg("final_step"))
       .def("fires", &PyAdapter::fires, nb::arg("step"), nb::arg("final_step"))
       .def("close", &PyAdapter::close)
       .def("is_open", &PyAdapter::is_open);

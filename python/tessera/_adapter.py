@@ -196,9 +196,9 @@ class Adapter:
                 if grid[2] is None:  # this rank's real vertices
                     first = descs[0][3] if descs else (1, 1, 1)
                     grid[2] = tuple(first[a] - lo[a] - hi[a] for a in range(3))
-        except Exception:
+        except Exception as e:
             if self._comm is not None:
-                self._enter_without_fields(impl, step, time, final)
+                self._enter_without_fields(impl, step, time, final, 0 if domains is None else 1, e)
             raise
         if domains is None:
             outcome = impl.execute(step_i, time_f, *grid, descs, final_b)
@@ -239,9 +239,9 @@ class Adapter:
                                 f"{type(domains).__name__}")
             # As execute(domains=...): the arrays are looked at only when a render fires
             held, blocks = _mesh_domains.blocks(domains) if impl.fires(step_i, final_b) else ([], [])
-        except Exception:
-            if self._comm is not None:  # the other ranks' call fails too (the calls differ)
-                self._enter_without_fields(impl, step, time, final)
+        except Exception as e:
+            if self._comm is not None:  # the other ranks' call fails too, with this reason
+                self._enter_without_fields(impl, step, time, final, 2, e)
             raise
         outcome = impl.execute_mesh_domains(step_i, time_f, blocks, final_b)
         del held  # the arrays were read in place during the call
@@ -377,15 +377,14 @@ class Adapter:
                 images[r["name"]] = r["image"]
         return images
 
-    def _enter_without_fields(self, impl, step, time, final):
+    def _enter_without_fields(self, impl, step, time, final, kind, error):
         """An argument this rank could not describe, under MPI: the other ranks are entering
-        the collective call, so this rank enters it too, with no fields. A render that fires
-        then fails on every rank (its field is missing here, and the ranks agree on failure
-        before any collective) instead of leaving the others waiting; the caller then raises
-        the argument's own error on this rank."""
+        the collective call (`kind`: 0 execute, 1 execute with domains, 2 mesh domains), so
+        this rank enters it too, as refused: a render that fires then fails on every rank with
+        this rank's reason (the ranks agree on failure before any collective) instead of
+        leaving the others waiting; the caller then raises the argument's own error here."""
         try:  # a step or time refused above is entered as its int / float if it has one
-            impl.execute(int(step), float(time), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1, 1, 1), (0, 0, 0),
-                         [], bool(final))
+            impl.execute_refused(int(step), float(time), kind, f"{type(error).__name__}: {error}", bool(final))
         except Exception:  # the argument error raised next says what is wrong
             pass
 

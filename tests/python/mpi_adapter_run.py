@@ -38,6 +38,8 @@ if len(sys.argv) > 3 and sys.argv[3] == "bad-array-on-last-rank":
                 viz.execute(0, 0.0, {"temperature": block.astype(np.int32) if bad else block},
                             global_dims=data.shape, offset=(0, 0, lo), ghosts=1)
                 assert not bad and viz.last_status != 0, "the render should fail on every rank"
+                # ... with the refusing rank's reason (tessera_execute_refused), not a guess
+                assert f"rank {comm.size - 1}" in viz.last_error and "int32" in viz.last_error, viz.last_error
             except TypeError as e:
                 assert bad and "int32" in str(e), e
         # The next step works again on every rank

@@ -161,6 +161,14 @@ class Adapter {
   tessera_status execute_mesh_domains(std::int64_t step, double time, std::span<const tessera_mesh_domain> domains,
                                       bool final_step = false);
 
+  /// For language bindings: stands for one execute() (call_kind 0), execute_domains() (1) or
+  /// execute_mesh_domains() (2) whose arguments the binding refused on this rank before they
+  /// reached the library (the C API's tessera_execute_refused): collective like that call;
+  /// a render that fires fails on every rank with TESSERA_ERROR_DATA, this rank's message
+  /// being `reason`, the others' naming this rank and quoting it.
+  tessera_status execute_refused(std::int64_t step, double time, int call_kind, const std::string& reason,
+                                 bool final_step = false);
+
   /// Whether execute(step, ..., final_step) would evaluate any render: a trigger fires on the
   /// step, a `when` trigger must look at the field, or final_step with render_final_step.
   /// False: that call touches no field memory and returns at once (no MPI communication), so
