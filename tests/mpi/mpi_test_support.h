@@ -87,6 +87,15 @@ class FirstRanks {
   FirstRanks& operator=(const FirstRanks&) = delete;
   MPI_Comm comm() const { return m_comm; }
   bool member() const { return m_comm != MPI_COMM_NULL; }
+  /// The status the members returned, the same on every world rank: -1 where the members'
+  /// statuses differ (a non-member's `status` is ignored). Collective over MPI_COMM_WORLD.
+  int agreed_status(int status) const {
+    int lo = status, hi = status;
+    const int big = member() ? status : 1 << 20, small = member() ? status : -1;
+    MPI_Allreduce(&big, &lo, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    MPI_Allreduce(&small, &hi, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return lo == hi ? hi : -1;
+  }
 
  private:
   MPI_Comm m_comm = MPI_COMM_NULL;

@@ -84,11 +84,7 @@ tessera_status run_on(int n, const std::string& cfg, bool break_last_rank = fals
     tessera_close(a);
   }
   // The worst status over the members (every member should report the same).
-  int lo = status, hi = status;
-  const int big = sub.member() ? status : 1 << 20, small = sub.member() ? status : -1;
-  MPI_Allreduce(&big, &lo, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  MPI_Allreduce(&small, &hi, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  return lo == hi ? static_cast<tessera_status>(hi) : static_cast<tessera_status>(-1);
+  return static_cast<tessera_status>(sub.agreed_status(status));
 }
 
 bool same_image(const tessera::Image& a, const tessera::Image& b) {

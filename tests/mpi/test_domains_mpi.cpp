@@ -116,11 +116,7 @@ Run run_on(int n, const std::string& cfg, const HeldDomains& held, Deal deal, co
       }
     }
   }
-  int lo = status, hi = status;
-  const int big = sub.member() ? status : 1 << 20, small = sub.member() ? status : -1;
-  MPI_Allreduce(&big, &lo, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  MPI_Allreduce(&small, &hi, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  run.status = lo == hi ? static_cast<tessera_status>(hi) : static_cast<tessera_status>(-1);
+  run.status = static_cast<tessera_status>(sub.agreed_status(status));
   return run;
 }
 
