@@ -71,6 +71,9 @@ program mesh_example
   domain(1) = tessera_unstructured_from(TESSERA_TET, xyz(1, :), xyz(2, :), xyz(3, :), tets, &
     [tessera_field_from('f', f)])
   failed = failed + render('tets')
+  ! Released before the end (a main program's variables are not, and the sanitizers count them)
+  deallocate(domain(1)%fields)
+  deallocate(xyz, f, hexes, tets)
   if (failed > 0) error stop 1
 
 contains

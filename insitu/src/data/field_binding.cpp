@@ -125,7 +125,7 @@ int find_field(std::span<const tessera_field> fields, const std::string& field_n
 
 FieldView bind_array(const tessera_field& f, const std::string& label, bool cells) {
   // Descriptor of the whole array, ghosts included
-  const int dt = static_cast<int>(f.dtype);
+  const int dt = raw_int(f.dtype);
   if (dt < TESSERA_UINT8 || dt > TESSERA_FLOAT64)
     fail(label, "dtype " + std::to_string(dt) + " is out of range (TESSERA_UINT8 .. TESSERA_FLOAT64)");
   const DType dtype = static_cast<DType>(dt);

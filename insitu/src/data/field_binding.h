@@ -12,6 +12,7 @@
 #include <tessera/scene.h>
 #include <tessera/tessera.h>
 
+#include <cstring>
 #include <span>
 #include <string>
 #include <vector>
@@ -55,6 +56,17 @@ FieldBinding bind_field(const tessera_field& field, const tessera_grid& grid);
 /// the view of the field's real elements (ghosts skipped). Messages start with `label` and
 /// call an element a cell (`cells`) or a vertex.
 FieldView bind_array(const tessera_field& field, const std::string& label, bool cells = false);
+
+/// The int a C caller stored in an enum member of a descriptor (tessera_dtype, ...), read
+/// without assuming it is one of the enum's values: reading an out-of-range value as the enum
+/// is undefined behaviour, and any int may arrive from C or Fortran.
+template <class E>
+int raw_int(const E& e) {
+  static_assert(sizeof(E) == sizeof(int));
+  int v;
+  std::memcpy(&v, &e, sizeof v);
+  return v;
+}
 
 /// "field 'NAME'" (or "field '(null)'").
 std::string field_label(const tessera_field& f);

@@ -28,7 +28,7 @@ std::vector<std::pair<std::string, int>> signature(std::span<const tessera_field
   s.reserve(fields.size());
   for (std::size_t i = 0; i < fields.size(); ++i) {
     if (!fields[i].name) fail(d, "fields[" + std::to_string(i) + "]: name is null");
-    s.emplace_back(fields[i].name, static_cast<int>(fields[i].dtype));
+    s.emplace_back(fields[i].name, raw_int(fields[i].dtype));
   }
   std::sort(s.begin(), s.end());
   return s;
@@ -63,19 +63,19 @@ void one_array(const tessera_field& f, const std::string& label, std::int64_t d,
 
 MeshDomain bind_one(const tessera_mesh_domain& m, std::int64_t d, std::span<const tessera_field> fields, int index) {
   MeshDomain out;
-  if (m.association != TESSERA_VERTEX && m.association != TESSERA_CELL)
-    fail(d, "association = " + std::to_string(static_cast<int>(m.association)) +
-                " is neither TESSERA_VERTEX (0) nor TESSERA_CELL (1)");
-  const int cdt = static_cast<int>(m.coords.dtype);
+  const int assoc = raw_int(m.association);
+  if (assoc != TESSERA_VERTEX && assoc != TESSERA_CELL)
+    fail(d, "association = " + std::to_string(assoc) + " is neither TESSERA_VERTEX (0) nor TESSERA_CELL (1)");
+  const int cdt = raw_int(m.coords.dtype);
   if (cdt != TESSERA_FLOAT32 && cdt != TESSERA_FLOAT64)
     fail(d, "coords.dtype = " + std::to_string(cdt) + " (allowed: TESSERA_FLOAT32, TESSERA_FLOAT64)");
   out.coords = {m.coords.x, m.coords.y, m.coords.z, static_cast<DType>(cdt), m.coords.byte_stride, m.coords.count};
   for (int a = 0; a < 3; ++a) out.dims[a] = m.dims[a];
   if (!out.structured()) {
-    const int shape = static_cast<int>(m.shape);
+    const int shape = raw_int(m.shape);
     if (shape < TESSERA_HEX || shape > TESSERA_PYRAMID)
       fail(d, "shape = " + std::to_string(shape) + " is not a tessera_shape (TESSERA_HEX .. TESSERA_PYRAMID)");
-    const int idt = static_cast<int>(m.index_dtype);
+    const int idt = raw_int(m.index_dtype);
     if (idt != TESSERA_INT32 && idt != TESSERA_INT64)
       fail(d, "index_dtype = " + std::to_string(idt) + " (allowed: TESSERA_INT32, TESSERA_INT64)");
     out.shape = static_cast<Shape>(shape);
@@ -85,15 +85,15 @@ MeshDomain bind_one(const tessera_mesh_domain& m, std::int64_t d, std::span<cons
   }
   const tessera_field& f = fields[static_cast<std::size_t>(index)];
   one_array(f, field_label(f), d, &out.field.data, &out.field.dtype, &out.field.byte_stride, &out.field.count);
-  out.field.association = m.association == TESSERA_CELL ? Association::Cell : Association::Vertex;
+  out.field.association = assoc == TESSERA_CELL ? Association::Cell : Association::Vertex;
   if (m.ghost_field) {
     const auto it = std::find_if(fields.begin(), fields.end(),
                                  [&](const tessera_field& g) { return std::string(g.name) == m.ghost_field; });
     if (it == fields.end())
       fail(d, "ghost_field '" + std::string(m.ghost_field) + "' is not among the domain's fields");
-    if (it->dtype != TESSERA_UINT8)
+    if (raw_int(it->dtype) != TESSERA_UINT8)
       fail(d, field_label(*it) + " (the ghost field) is not TESSERA_UINT8 (dtype " +
-                  std::to_string(static_cast<int>(it->dtype)) + ")");
+                  std::to_string(raw_int(it->dtype)) + ")");
     const void* data = nullptr;
     DType dt = DType::UInt8;
     one_array(*it, field_label(*it), d, &data, &dt, &out.ghosts.byte_stride, &out.ghosts.count);
@@ -126,11 +126,11 @@ MeshBinding bind_mesh_domains(const tessera_mesh_domain* domains, std::int64_t n
     if (d == 0) {
       first = signature(fields, d);
       b.field = fields[static_cast<std::size_t>(index)].name;
-      b.association = m.association == TESSERA_CELL ? Association::Cell : Association::Vertex;
+      b.association = raw_int(m.association) == TESSERA_CELL ? Association::Cell : Association::Vertex;
     } else {
       if (signature(fields, d) != first)
         fail(d, "its fields (names and dtypes) differ from domain 0's: every domain publishes the same fields");
-      const Association a = m.association == TESSERA_CELL ? Association::Cell : Association::Vertex;
+      const Association a = raw_int(m.association) == TESSERA_CELL ? Association::Cell : Association::Vertex;
       if (a != b.association)
         fail(d, std::string("is ") + (a == Association::Cell ? "cell" : "vertex") + " data, domain 0 " +
                     (b.association == Association::Cell ? "cell" : "vertex") + " data");
