@@ -17,6 +17,9 @@ program mesh_checks
   integer(c_int8_t), allocatable, target :: ghosts(:)
   real(real64), allocatable, target :: wide_ghosts(:)
   type(tessera_mesh_domain) :: good(2), bad(1)
+  ! Fields in variables, never function results inside [ ] (gfortran 12 leaks the allocatable
+  ! components of such temporaries)
+  type(tessera_field) :: one(1), one3(1), two(2)
   type(tessera_adapter) :: viz
   integer :: st, i, j, k, c
 
@@ -46,8 +49,10 @@ program mesh_checks
   seven = hexes(1:7, :)
   ghosts = 0_c_int8_t
   wide_ghosts = 0
-  good(1) = tessera_curvilinear_from(x, y, z, [tessera_field_from('f', f3)])
-  good(2) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, [tessera_field_from('f', f)])
+  one(1) = tessera_field_from('f', f)
+  one3(1) = tessera_field_from('f', f3)
+  good(1) = tessera_curvilinear_from(x, y, z, one3)
+  good(2) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, one)
 
   call write_text('mesh.yaml', 'tessera: {output_dir: out, threads: 2}' // new_line('a') // 'renders:' // &
     new_line('a') // '  - {field: f, image: {width: 32, height: 24, spp: 2}, output: {formats: [exr]}}' // &
@@ -71,27 +76,27 @@ program mesh_checks
   bad(1) = good(1)
   bad(1)%dims(1) = 5
   call refused('dims above the coordinates', 'dims = (5, 4, 4) does not match the 64 vertices')
-  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), short_y, zs(), hexes, [tessera_field_from('f', f)])
+  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), short_y, zs(), hexes, one)
   call refused('y shorter than x', 'tessera_unstructured_from: y has 63 vertices and x 64')
-  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), seven, [tessera_field_from('f', f)])
+  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), seven, one)
   call refused('7 indices per hex', 'connectivity has 7 rows; dimension(8, ncells) is needed')
-  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, [tessera_field_from('f', f), &
-    tessera_field_from('g', wide_ghosts)], ghost_field='g')
+  two(1) = one(1)
+  two(2) = tessera_field_from('g', wide_ghosts)
+  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, two, ghost_field='g')
   call refused('a real(8) ghost field', "domains(1)%ghost_field 'g': dtype TESSERA_FLOAT64 (TESSERA_UINT8 is needed")
-  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, [tessera_field_from('f', f)], &
-    ghost_field='g')
+  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, one, ghost_field='g')
   call refused('a ghost field that is not a field', "domains(1)%ghost_field 'g' is not one of its fields")
-  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, [tessera_field_from('f', f), &
-    tessera_field_from_unsigned('g', ghosts(1:nc - 1))], ghost_field='g')
+  two(2) = tessera_field_from_unsigned('g', ghosts(1:nc - 1))
+  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, two, ghost_field='g')
   call refused('a ghost field one cell short', "domains(1)%fields(2) 'g': dims = (26, 1, 1); one value per cell")
-  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, [tessera_field_from('f', f)])
+  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, one)
   bad(1)%fields(1)%association = TESSERA_CELL
   call refused('a cell field on a vertex domain', 'its association differs from the domain')
 
   ! ---- Refused by the adapter, from the values --------------------------------------------
   broken = hexes
   broken(3, 5) = nv
-  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), broken, [tessera_field_from('f', f)])
+  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), broken, one)
   call refused('an index out of range', 'element 4: vertex index 64 (entry 2) is outside [0, 64)')
   broken(:, 5) = [hexes(5:8, 5), hexes(1:4, 5)]   ! the top face first: turned inside out
   call refused('an inverted hex', 'element 4: hex is inverted')
@@ -102,8 +107,8 @@ program mesh_checks
   bad(1)%shape = TESSERA_WEDGE
   call refused('wedges', 'not supported yet')
   ghosts = 1_c_int8_t
-  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, [tessera_field_from('f', f), &
-    tessera_field_from_unsigned('g', ghosts)], ghost_field='g')
+  two(2) = tessera_field_from_unsigned('g', ghosts)
+  bad(1) = tessera_unstructured_from(TESSERA_HEX, xs(), ys(), zs(), hexes, two, ghost_field='g')
   call refused('every cell a ghost', 'no real (non-ghost) cell')
 
   st = tessera_close(viz)
@@ -112,6 +117,7 @@ program mesh_checks
     if (allocated(good(i)%fields)) deallocate(good(i)%fields)
   end do
   if (allocated(bad(1)%fields)) deallocate(bad(1)%fields)
+  deallocate(one(1)%name, one3(1)%name, two(1)%name, two(2)%name)
   if (allocated(bad(1)%ghost_field)) deallocate(bad(1)%ghost_field)
   deallocate(x, y, z, f, f3, short_y, hexes, seven, ghosts, wide_ghosts)
   if (allocated(broken)) deallocate(broken)

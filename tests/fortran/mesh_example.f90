@@ -23,6 +23,7 @@ program mesh_example
   integer(c_int64_t), allocatable, target :: hexes(:, :)
   integer(c_int32_t), allocatable, target :: tets(:, :)
   type(tessera_mesh_domain) :: domain(1)
+  type(tessera_field) :: fields(1)
   character(len=256) :: config
   real(real64) :: r, theta, h
   integer :: i, j, k, c, t, failed
@@ -48,7 +49,10 @@ program mesh_example
   y(1:ni, 1:nj, 1:nk) => xyz(2, :)
   z(1:ni, 1:nj, 1:nk) => xyz(3, :)
   f3(1:ni, 1:nj, 1:nk) => f
-  domain(1) = tessera_curvilinear_from(x, y, z, [tessera_field_from('f', f3)])
+  ! (each field into a variable first: gfortran 12 leaks the allocatable components of a
+  ! function result inside an array constructor)
+  fields(1) = tessera_field_from('f', f3)
+  domain(1) = tessera_curvilinear_from(x, y, z, fields)
   failed = render('shell')
 
   ! The same cells as hexahedra, VTK's order (0-based vertex indices, as in C)
@@ -65,14 +69,13 @@ program mesh_example
       end do
     end do
   end do
-  domain(1) = tessera_unstructured_from(TESSERA_HEX, xyz(1, :), xyz(2, :), xyz(3, :), hexes, &
-    [tessera_field_from('f', f)])
+  fields(1) = tessera_field_from('f', f)
+  domain(1) = tessera_unstructured_from(TESSERA_HEX, xyz(1, :), xyz(2, :), xyz(3, :), hexes, fields)
   failed = failed + render('hexes')
-  domain(1) = tessera_unstructured_from(TESSERA_TET, xyz(1, :), xyz(2, :), xyz(3, :), tets, &
-    [tessera_field_from('f', f)])
+  domain(1) = tessera_unstructured_from(TESSERA_TET, xyz(1, :), xyz(2, :), xyz(3, :), tets, fields)
   failed = failed + render('tets')
   ! Released before the end (a main program's variables are not, and the sanitizers count them)
-  deallocate(domain(1)%fields)
+  deallocate(domain(1)%fields, fields(1)%name)
   deallocate(xyz, f, hexes, tets)
   if (failed > 0) error stop 1
 
