@@ -52,7 +52,8 @@ double to_finite(const std::string& flag, const std::string& text) {
 const char* usage() {
   return "usage: tessera-render SCENE.yaml [--render NAME] [-o OUT] [--spp N]\n"
          "                      [--width W --height H] [--tile N | --scanline] [--threads N]\n"
-         "                      [--seed N] [--step N] [--time T] [--time-limit SECONDS] [--stats FILE.json]\n"
+         "                      [--seed N] [--step N] [--time T] [--time-limit SECONDS] [--device D]\n"
+         "                      [--stats FILE.json]"
          "                      [--denoise | --no-denoise] [--progress | --quiet] [--check]\n"
          "\n"
          "Renders every entry of `renders:` in SCENE.yaml (or only --render NAME) from the\n"
@@ -75,6 +76,8 @@ const char* usage() {
          "                     annotation text (default 0)\n"
          "  --time-limit S     seconds each render may take (0 = none; default\n"
          "                     tessera.time_limit); past it: error, no output file\n"
+         "  --device D         auto, cpu or cuda: where renders trace (overrides tessera.device;\n"
+         "                     auto is the CPU: the volume is read into host memory)\n"
          "  --denoise          denoise the PNG with Open Image Denoise (image.denoise: true)\n"
          "  --no-denoise       do not denoise (image.denoise: false)\n"
          "  --stats FILE.json  write render statistics as JSON\n"
@@ -135,7 +138,13 @@ Args parse_args(int argc, const char* const* argv) {
     else if (arg == "--time") a.time = to_finite(arg, value());
     else if (arg == "--stats") a.stats = value();
     else if (arg == "--time-limit") a.time_limit = to_seconds(arg, value());
-    else if (arg == "--progress") {
+    else if (arg == "--device") {
+      const std::string v = value();
+      if (v == "auto") a.device = config::DeviceChoice::Auto;
+      else if (v == "cpu") a.device = config::DeviceChoice::Cpu;
+      else if (v == "cuda") a.device = config::DeviceChoice::Cuda;
+      else throw std::runtime_error("--device: \"" + v.substr(0, 40) + "\" is not a device (allowed: auto, cpu, cuda)");
+    } else if (arg == "--progress") {
       no_value();
       a.progress = true;
     } else if (arg == "--quiet" || arg == "-q") {

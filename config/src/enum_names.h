@@ -29,6 +29,8 @@ inline const EnumName<DType> kDTypeNames[] = {{dtype_name(DType::UInt8), DType::
                                               {dtype_name(DType::Float64), DType::Float64}};
 inline constexpr EnumName<Distribution> kDistributionNames[] = {
     {"replicated", Distribution::Replicated}, {"distributed", Distribution::Distributed}, {"auto", Distribution::Auto}};
+inline constexpr EnumName<DeviceChoice> kDeviceNames[] = {
+    {"auto", DeviceChoice::Auto}, {"cpu", DeviceChoice::Cpu}, {"cuda", DeviceChoice::Cuda}};
 inline constexpr EnumName<ByteOrder> kByteOrderNames[] = {{"little", ByteOrder::Little}, {"big", ByteOrder::Big}};
 inline constexpr EnumName<Association> kAssociationNames[] = {{"vertex", Association::Vertex},
                                                               {"cell", Association::Cell}};

@@ -108,7 +108,7 @@ namespace detail {
 
 GlobalOptions parse_global(const Value& v) {
   const Map m = v.map_with_keys({"output_dir", "on_error", "threads", "render_final_step", "max_failures", "time_limit",
-                                 "memory_limit_mb", "distribution", "brick_cache", "budget"});
+                                 "memory_limit_mb", "distribution", "brick_cache", "budget", "device", "cuda_device"});
   GlobalOptions g;
   if (const auto d = m.get("output_dir")) {
     g.output_dir = d->string();
@@ -127,6 +127,8 @@ GlobalOptions parse_global(const Value& v) {
   g.distribution = m.choice_or("distribution", g.distribution, kDistributionNames);
   g.brick_cache = m.number_or("brick_cache", g.brick_cache, Range{0.0, 1.0, true, false});
   g.budget = m.number_or("budget", g.budget, Range{0.0, GlobalOptions::kMaxBudget, true, false});
+  g.device = m.choice_or("device", g.device, kDeviceNames);
+  g.cuda_device = static_cast<int>(m.integer_or("cuda_device", g.cuda_device, -1, GlobalOptions::kMaxCudaDevice));
   return g;
 }
 

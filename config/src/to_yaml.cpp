@@ -135,6 +135,8 @@ void write(YAML::Emitter& out, const GlobalOptions& g) {
   field(out, "distribution", name_of(detail::kDistributionNames, g.distribution));
   field(out, "brick_cache", g.brick_cache);
   if (g.budget > 0.0) field(out, "budget", g.budget);  // no budget: the key left out
+  field(out, "device", name_of(detail::kDeviceNames, g.device));
+  field(out, "cuda_device", g.cuda_device);
   out << YAML::EndMap;
 }
 

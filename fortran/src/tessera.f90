@@ -14,6 +14,9 @@
 !>   * several blocks per rank (domains), cell or vertex data and rectilinear axes:
 !>     type(tessera_mesh), tessera_mesh_coords, tessera_domain_from and
 !>     tessera_execute_domains (tessera_domains.inc);
+!>   * a field given by its address (type(c_ptr): device memory from CUDA Fortran or OpenACC's
+!>     use_device_ptr, or any memory the module cannot see as an array):
+!>     tessera_field_from_ptr, never reading it; tessera_set_cuda_stream (docs/gpu_bindings.md);
 !>   * curvilinear and unstructured (hex, tet) meshes: type(tessera_mesh_domain),
 !>     tessera_curvilinear_from, tessera_unstructured_from and tessera_execute_mesh_domains
 !>     (tessera_meshes.inc);
@@ -102,6 +105,13 @@ module tessera
   interface tessera_field_from_unsigned
     module procedure field_from_u8, field_from_u16, field_from_u8_1d, field_from_u16_1d
   end interface tessera_field_from_unsigned
+  !> f = tessera_field_from_ptr(name, data, dtype, dims, byte_strides [, ghosts] [, ghosts_lo]
+  !> [, ghosts_hi]): a field at the address `data` (type(c_ptr); host, device or managed
+  !> memory, never read here), dtype TESSERA_UINT8 .. TESSERA_FLOAT64, dims(3) and
+  !> byte_strides(3) integer(8) or default integer, ghosts as in tessera_field_from.
+  interface tessera_field_from_ptr
+    module procedure field_from_ptr_i8, field_from_ptr_i4
+  end interface tessera_field_from_ptr
   !> st = tessera_execute(viz, step, time, grid, fields(:)); step integer(8) (or default
   !> integer), time real(8) (or real(4)). Renders whatever fires at this step (docs/c-api.md).
   interface tessera_execute
@@ -112,8 +122,8 @@ module tessera
     module procedure execute_final_i8, execute_final_i4, execute_final_i8_r4, execute_final_i4_r4
   end interface tessera_execute_final
 
-  public :: tessera_field_from, tessera_field_from_unsigned, tessera_execute, &
-    tessera_execute_final, tessera_open, tessera_open_with_output_dir, tessera_close, &
+  public :: tessera_field_from, tessera_field_from_unsigned, tessera_field_from_ptr, tessera_execute, &
+    tessera_execute_final, tessera_set_cuda_stream, tessera_open, tessera_open_with_output_dir, tessera_close, &
     tessera_field_unchanged, tessera_mesh_unchanged, tessera_last_error, tessera_mesh_coords, tessera_domain_from, &
     tessera_domain_coords, tessera_execute_domains, tessera_execute_domains_final, &
     tessera_curvilinear_from, tessera_unstructured_from, tessera_execute_mesh_domains, &
@@ -216,6 +226,19 @@ contains
     call forget_refusal(viz%handle)
     st = c_mesh_unchanged(viz%handle)
   end function tessera_mesh_unchanged
+
+  !> The CUDA stream (a cudaStream_t, as type(c_ptr)) on which the simulation computes its
+  !> device arrays (tessera_set_cuda_stream in C): before reading device (or managed) memory
+  !> given by tessera_field_from_ptr, Tessera waits for the work queued on it; c_null_ptr (the
+  !> default): it synchronises the whole device first. Kept until set again. Not collective.
+  !> A stream held as an integer handle (CUDA Fortran's integer(cuda_stream_kind)) is passed as
+  !> transfer(handle, c_null_ptr) (docs/gpu_bindings.md).
+  integer function tessera_set_cuda_stream(viz, stream) result(st)
+    type(tessera_adapter), intent(in) :: viz
+    type(c_ptr), value :: stream
+    call forget_refusal(viz%handle)
+    st = c_set_cuda_stream(viz%handle, stream)
+  end function tessera_set_cuda_stream
 
   ! ---- Execute ------------------------------------------------------------------------------
 

@@ -115,6 +115,14 @@ tessera_status Adapter::mesh_unchanged() noexcept {
   return m_impl->mesh_unchanged();
 }
 
+tessera_status Adapter::set_cuda_stream(void* cuda_stream) noexcept {
+  if (!m_impl) return TESSERA_ERROR_CONFIG;
+  GateCall inside(m_impl->m_gate);
+  if (inside.refusal() != CallGate::Refusal::None) return refuse(m_impl.get(), inside.refusal(), "set_cuda_stream");
+  clear_refusal(m_impl.get());
+  return m_impl->set_cuda_stream(cuda_stream);
+}
+
 tessera_status Adapter::close() noexcept {
   if (!m_impl) return TESSERA_OK;  // moved from
   m_impl->m_gate.begin_close();    // waits for a call inside; refuses new ones meanwhile

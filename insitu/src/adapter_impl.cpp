@@ -409,6 +409,16 @@ tessera_status Adapter::Impl::mesh_unchanged() noexcept {
   return TESSERA_OK;
 }
 
+tessera_status Adapter::Impl::set_cuda_stream(void* cuda_stream) noexcept {
+  m_error.clear();
+  if (!m_ctx) {
+    m_error = "set_cuda_stream: the adapter is not open";
+    return TESSERA_ERROR_CONFIG;
+  }
+  m_call.cuda_stream = cuda_stream;
+  return TESSERA_OK;
+}
+
 tessera_status Adapter::Impl::close() noexcept {
   tessera_status status = TESSERA_OK;
   if (m_ctx && m_broken.empty() && m_ctx->size() > 1 && m_ctx->can_communicate()) {

@@ -57,6 +57,8 @@ struct Adapter::Impl {
   tessera_status field_unchanged(const char* field_name) noexcept;
   /// Adapter::mesh_unchanged / tessera_mesh_unchanged.
   tessera_status mesh_unchanged() noexcept;
+  /// Adapter::set_cuda_stream / tessera_set_cuda_stream.
+  tessera_status set_cuda_stream(void* cuda_stream) noexcept;
 
   /// True once a config with `on_error: abort` is loaded.
   bool abort_mode() const { return m_ctx && m_policy.mode() == config::OnError::Abort; }

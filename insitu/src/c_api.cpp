@@ -213,6 +213,11 @@ tessera_status tessera_mesh_unchanged(tessera_adapter* adapter) {
   return guarded(adapter, "tessera_mesh_unchanged", [&](tessera_adapter::Impl& impl) { return impl.mesh_unchanged(); });
 }
 
+tessera_status tessera_set_cuda_stream(tessera_adapter* adapter, void* cuda_stream) {
+  return guarded(adapter, "tessera_set_cuda_stream",
+                 [&](tessera_adapter::Impl& impl) { return impl.set_cuda_stream(cuda_stream); });
+}
+
 tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* field_name) {
   return guarded(adapter, "tessera_field_unchanged",
                  [&](tessera_adapter::Impl& impl) { return impl.field_unchanged(field_name); });

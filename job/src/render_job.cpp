@@ -4,6 +4,7 @@
 
 #include <tessera/axis_order_check.h>
 #include <tessera/config/build_scene.h>
+#include <tessera/config/device_choice.h>
 #include <tessera/config/render_memory.h>
 #include <tessera/denoiser.h>
 #include <tessera/film.h>
@@ -58,6 +59,13 @@ config::RenderSpec with_flags(const config::RenderSpec& spec, const Args& args) 
 RenderOptions options_for(const config::Config& cfg, const config::RenderSpec& flagged, const Args& args) {
   RenderOptions options = config::build_render_options(flagged, cfg.global);
   if (args.threads) options.threads = *args.threads;
+  // The device: the volume is host memory, so auto is the CPU; cuda copies it for the render
+  config::GlobalOptions global = cfg.global;
+  if (args.device) global.device = *args.device;
+  const config::DeviceSelection device = config::resolve_device(global, false, 0);
+  options.device = device.device;
+  options.cuda_device = device.cuda_device;
+  options.device_memory_limit = config::memory_limit(cfg.global).bytes;
   options.frame = static_cast<std::uint64_t>(args.step);  // as the adapter at this step
   return options;
 }
@@ -160,7 +168,14 @@ RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& 
   } catch (const DeadlineExceeded& e) {
     bar.finish();
     throw time_limit_passed(e);
+  } catch (const std::exception& e) {
+    // Only the GPU throws here (a CUDA error, or what the device does not cover yet)
+    bar.finish();
+    throw std::runtime_error("render '" + spec.name + "' on " +
+                             config::device_text({scene.options.device, scene.options.cuda_device}) + ": " + e.what() +
+                             " (tessera.device: cpu, or --device cpu, renders on the CPU)");
   }
+  rec.device = config::device_text({scene.options.device, scene.options.cuda_device});
   bar.finish();
   stats.nan_voxels_seen = volume.nan_voxels;
   rec.stats = stats;

@@ -95,6 +95,7 @@ std::string stats_json(const std::vector<RenderRecord>& records) {
     out += "      \"height\": " + std::to_string(r.height) + ",\n";
     out += "      \"spp\": " + std::to_string(r.spp) + ",\n";
     out += "      \"denoise_seconds\": " + number(r.denoise_seconds) + ",\n";
+    out += "      \"device\": " + quote(r.device) + ",\n";
     out += "      \"outputs\": [";
     for (std::size_t j = 0; j < r.outputs.size(); ++j) out += (j ? ", " : "") + quote(r.outputs[j]);
     out += "],\n";

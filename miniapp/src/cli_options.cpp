@@ -41,6 +41,7 @@ std::string usage() {
   return "usage: [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump "
          "FILE]\n"
          "                    [--work-ms N] [--domains-per-rank N] [--cell] [--amr [--levels 2|3] [--ratio 2|4]]\n"
+         "                    [--device cpu|cuda]\n"
          "  --config FILE     Tessera YAML config (default: the project's configs/heat.yaml)\n"
          "  --steps N         time steps after the initial state (default 100)\n"
          "  --grid NX NY NZ   global grid vertices, each >= 3 (default 64 64 64)\n"
@@ -51,7 +52,11 @@ std::string usage() {
          "  --cell            publish the values as cell data (cells centred on the vertices)\n"
          "  --amr             add refined levels that follow a moving heat source (docs/miniapp.md)\n"
          "  --levels L        with --amr: levels in all, 2 or 3 (default 2)\n"
-         "  --ratio R         with --amr: refinement ratio between levels, 2 or 4 (default 2)\n";
+         "  --ratio R         with --amr: refinement ratio between levels, 2 or 4 (default 2)\n"
+         "  --device D        where the solver runs and the field lives: cpu (default) or cuda (one GPU per rank,\n"
+         "                    by node-local rank modulo the visible devices; the field stays in device memory and\n"
+         "                    is rendered in place; needs a CUDA build; not with --amr, --cell or "
+         "--domains-per-rank)\n";
 }
 
 Options parse_options(int argc, const char* const* argv) {
@@ -97,6 +102,12 @@ Options parse_options(int argc, const char* const* argv) {
     } else if (a == "--domains-per-rank") {
       need(1);
       o.domains_per_rank = parse_int(a, argv[++i], 1, kMaxDomainsPerRank);
+    } else if (a == "--device") {
+      need(1);
+      const std::string_view d = argv[++i];
+      if (d == "cpu") o.device = Device::cpu;
+      else if (d == "cuda") o.device = Device::cuda;
+      else throw std::invalid_argument("--device needs cpu or cuda, got '" + std::string(d) + "'");
     } else if (a == "--dump") {
       need(1);
       o.dump = argv[++i];
@@ -106,6 +117,12 @@ Options parse_options(int argc, const char* const* argv) {
     }
   }
   if (levels_given && !o.amr) throw std::invalid_argument("--levels and --ratio need --amr");
+  if (o.device == Device::cuda && (o.amr || o.cell || o.domains_per_rank > 0))
+    throw std::invalid_argument(std::string("--device cuda publishes one block per rank: ") +
+                                (o.amr    ? "--amr"
+                                 : o.cell ? "--cell"
+                                          : "--domains-per-rank") +
+                                " needs --device cpu");
   return o;
 }
 

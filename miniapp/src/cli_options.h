@@ -2,12 +2,19 @@
 /// Command line of tessera-heat (docs/miniapp.md):
 ///   tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
 ///                [--work-ms N] [--domains-per-rank N] [--cell] [--amr [--levels 2|3] [--ratio 2|4]]
+///                [--device cpu|cuda]
 #include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 
 namespace heat {
+
+/// Where the simulation runs and its field lives (--device).
+enum class Device {
+  cpu,  ///< HeatSolver: host memory
+  cuda  ///< CudaHeatSolver: one GPU per rank, the field in device memory (docs/miniapp_gpu.md)
+};
 
 struct Options {
   std::string config;                            ///< "" = default_config_path()
@@ -24,10 +31,14 @@ struct Options {
   bool amr = false;
   int levels = 2;  ///< --levels: 2 or 3 (with --amr)
   int ratio = 2;   ///< --ratio: 2 or 4 (with --amr)
+  /// --device: cuda publishes one block per rank, so it refuses --amr, --cell and
+  /// --domains-per-rank
+  Device device = Device::cpu;
   bool help = false;
 };
 
-/// Throws std::invalid_argument with a one-line message naming the bad argument.
+/// Throws std::invalid_argument with a one-line message naming the bad argument. (Whether
+/// --device cuda can run, a CUDA build and a visible device, is checked by the run.)
 Options parse_options(int argc, const char* const* argv);
 
 std::string usage();

@@ -24,17 +24,15 @@ std::string mpi_error(int code) {
 
 }  // namespace
 
-void dump_field(const CartDecomposition& decomp, const HeatSolver& solver, const std::string& path) {
+void dump_field(const CartDecomposition& decomp, const HeatSimulation& solver, const std::string& path) {
   static_assert(std::endian::native == std::endian::little, "raw dumps are little-endian");
   const Index3& g = decomp.global_dims();
   const Index3& own = decomp.owned();
   const Index3& off = decomp.offset();
   // This rank's owned block as float32, i fastest.
-  std::vector<float> block(static_cast<std::size_t>(own[0] * own[1] * own[2]));
-  std::size_t n = 0;
-  for (std::int64_t k = 0; k < own[2]; ++k)
-    for (std::int64_t j = 0; j < own[1]; ++j)
-      for (std::int64_t i = 0; i < own[0]; ++i) block[n++] = static_cast<float>(solver.at(i, j, k));
+  const std::vector<double> values = solver.owned_values();
+  std::vector<float> block(values.size());
+  for (std::size_t n = 0; n < values.size(); ++n) block[n] = static_cast<float>(values[n]);
 
   // MPI wants C order (slowest first): k, j, i.
   const int sizes[3] = {static_cast<int>(g[2]), static_cast<int>(g[1]), static_cast<int>(g[0])};

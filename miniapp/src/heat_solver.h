@@ -13,9 +13,11 @@
 /// neighbours and its global position, so results are bit-identical for any decomposition.
 ///
 /// Memory: each rank holds its owned block plus one ghost layer per side (also at the walls,
-/// where the ghosts are unused), C order with i fastest; see HaloExchange.
+/// where the ghosts are unused), C order with i fastest; see HaloExchange. CudaHeatSolver
+/// (heat_solver_cuda.h) is the same solver on a GPU; both are a HeatSimulation.
 #include "cart_decomposition.h"
 #include "halo_exchange.h"
+#include "heat_simulation.h"
 #include "heat_sources.h"
 
 #include <functional>
@@ -31,7 +33,20 @@ struct HeatParams {
   std::vector<HeatSource> sources;
 };
 
-class HeatSolver {
+/// The setup both solvers share: checks `params` against the grid (std::invalid_argument if an
+/// axis has fewer than 3 vertices or a parameter is out of range) and returns the spacing h.
+std::array<double, 3> checked_spacing(const CartDecomposition& decomp, const HeatParams& params);
+/// safety times the stability limit 1 / (2 alpha sum_a 1/h_a^2).
+double stable_time_step(const std::array<double, 3>& h, const HeatParams& params);
+/// Throws std::invalid_argument unless dt is in (0, stable_dt / safety], the stability limit.
+void check_time_step(double dt, double stable_dt, double safety);
+/// Source s's contribution to the step [t, t + dt] on decomp's owned block (see SourceStamp):
+/// the interior vertices within 6 sigma of its centre at t; beyond, exp(-18) of its peak is
+/// dropped.
+SourceStamp source_stamp(const HeatSource& s, double t, double dt, const CartDecomposition& decomp,
+                         const std::array<double, 3>& h);
+
+class HeatSolver final : public HeatSimulation {
  public:
   /// Throws std::invalid_argument if an axis has fewer than 3 vertices or parameters are out
   /// of range. Collective (exchanges the initial halo).
@@ -40,22 +55,24 @@ class HeatSolver {
   /// Sets the interior to f(x, y, z) (walls stay at boundary_value). Collective.
   void set_initial(const std::function<double(double, double, double)>& f);
 
-  double stable_dt() const { return m_stable_dt; }
+  double stable_dt() const override { return m_stable_dt; }
   /// Advances by dt (<= the stability limit; throws otherwise). Collective (halo exchange).
-  void step(double dt);
+  void step(double dt) override;
 
-  double time() const { return m_time; }
-  std::int64_t steps() const { return m_steps; }
-  const std::array<double, 3>& spacing() const { return m_h; }
+  double time() const override { return m_time; }
+  std::int64_t steps() const override { return m_steps; }
+  const std::array<double, 3>& spacing() const override { return m_h; }
 
-  /// The local array, ghosts included: array_dims() doubles, i fastest.
-  const double* data() const { return m_T.data(); }
-  const Index3& array_dims() const { return m_dims; }
+  /// The local array, ghosts included: array_dims() doubles, i fastest (host memory).
+  const double* data() const override { return m_T.data(); }
+  FieldMemory memory() const override { return FieldMemory::host; }
+  const Index3& array_dims() const override { return m_dims; }
   /// Owned vertex (i, j, k), 0-based local indices.
   double at(std::int64_t i, std::int64_t j, std::int64_t k) const { return m_T[index(i, j, k)]; }
 
   /// Min and max over this rank's owned vertices.
-  std::pair<double, double> local_range() const;
+  std::pair<double, double> local_range() const override;
+  std::vector<double> owned_values() const override;
 
  private:
   std::size_t index(std::int64_t i, std::int64_t j, std::int64_t k) const {

@@ -3,15 +3,19 @@
 //
 //   [mpirun -n P] tessera-heat [--config FILE] [--steps N] [--grid NX NY NZ] [--output-dir DIR] [--dump FILE]
 //                              [--work-ms N] [--domains-per-rank N] [--cell] [--amr [--levels L] [--ratio R]]
+//                              [--device cpu|cuda]
 //
-// The simulation: heat_solver.h. The domain split and halo exchange: cart_decomposition.h,
-// halo_exchange.h. The refined levels of --amr: amr_levels.h. The adapter is used only
-// through its public header <tessera/adapter.h>.
+// The simulation: heat_solver.h, or with --device cuda heat_solver_cuda.h on one GPU per rank
+// (cuda_device.h), the field then published as a device pointer (docs/miniapp_gpu.md). The
+// domain split and halo exchange: cart_decomposition.h, halo_exchange.h. The refined levels
+// of --amr: amr_levels.h. The adapter is used only through its public header
+// <tessera/adapter.h>.
 #include "amr_levels.h"
 #include "amr_publish.h"
 #include "busy_work.h"
 #include "cart_decomposition.h"
 #include "cli_options.h"
+#include "cuda_device.h"
 #include "domain_split.h"
 #include "field_dump.h"
 #include "heat_solver.h"
@@ -61,6 +65,29 @@ int run(int argc, char** argv) {
     say(rank, heat::usage());
     return 0;
   }
+  // --device cuda: every rank needs a GPU before the run starts (the ranks agree)
+  const bool on_gpu = opt.device == heat::Device::cuda;
+  std::string device_text = "on the CPU";
+  if (on_gpu) {
+    if (!heat::cuda_built()) {
+      say(rank, "tessera-heat: --device cuda: " + heat::select_cuda_device(MPI_COMM_WORLD).error, stderr);
+      return 1;
+    }
+    const heat::CudaDeviceChoice gpu = heat::select_cuda_device(MPI_COMM_WORLD);
+    int ok = gpu.error.empty() ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (!gpu.error.empty()) {
+      std::fprintf(stderr, "tessera-heat: --device cuda: rank %d: %s\n", rank, gpu.error.c_str());
+      return 1;
+    }
+    if (!ok) {
+      say(rank, "tessera-heat: --device cuda: another rank has no usable CUDA device", stderr);
+      return 1;
+    }
+    device_text = "on CUDA device " + std::to_string(gpu.device) + " of " + std::to_string(gpu.visible) + " (" +
+                  gpu.name + ") on rank 0, the field in device memory";
+  }
+
   const std::string config = opt.config.empty() ? heat::default_config_path() : opt.config;
   if (config.empty()) {
     say(rank, "tessera-heat: cannot find the default config configs/heat.yaml (give --config FILE)", stderr);
@@ -71,13 +98,23 @@ int run(int argc, char** argv) {
   heat::HeatParams params;
   params.sources = heat::demo_sources();
   std::unique_ptr<heat::CartDecomposition> decomp;
-  std::unique_ptr<heat::HeatSolver> solver;
+  std::unique_ptr<heat::HeatSimulation> solver;
+  const heat::HeatSolver* host_solver = nullptr;  // the CPU solver (--amr reads its array)
   try {
     decomp = std::make_unique<heat::CartDecomposition>(MPI_COMM_WORLD, opt.grid);
-    solver = std::make_unique<heat::HeatSolver>(*decomp, params);
-  } catch (const std::exception& e) {  // same arguments everywhere: every rank fails alike
+    if (on_gpu) {
+      solver = heat::make_cuda_solver(*decomp, params);
+    } else {
+      auto cpu = std::make_unique<heat::HeatSolver>(*decomp, params);
+      host_solver = cpu.get();
+      solver = std::move(cpu);
+    }
+  } catch (const std::invalid_argument& e) {  // same arguments everywhere: every rank fails alike
     say(rank, std::string("tessera-heat: ") + e.what(), stderr);
     return 2;
+  } catch (const std::exception& e) {  // a device's failure, agreed by the ranks: each says its own
+    std::fprintf(stderr, "tessera-heat: rank %d: %s\n", rank, e.what());
+    return 1;
   }
   const double dt = solver->stable_dt();
   say(rank, "tessera-heat: " + std::to_string(opt.grid[0]) + "x" + std::to_string(opt.grid[1]) + "x" +
@@ -85,8 +122,9 @@ int run(int argc, char** argv) {
                 std::to_string(decomp->procs()[0]) + "x" + std::to_string(decomp->procs()[1]) + "x" +
                 std::to_string(decomp->procs()[2]) + "), dt = " + std::to_string(dt) + " s, " +
                 std::to_string(opt.steps) + " steps" +
-                (opt.work_ms > 0 ? " (+" + std::to_string(opt.work_ms) + " ms of work each)" : std::string()) +
-                ", config " + config + (opt.output_dir ? ", output dir " + *opt.output_dir : std::string()));
+                (opt.work_ms > 0 ? " (+" + std::to_string(opt.work_ms) + " ms of work each)" : std::string()) + ", " +
+                device_text + ", config " + config +
+                (opt.output_dir ? ", output dir " + *opt.output_dir : std::string()));
 
   // Adapter: open collectively over the world communicator; --output-dir replaces the config's
   tessera::insitu::Adapter adapter;
@@ -102,7 +140,15 @@ int run(int argc, char** argv) {
     return 1;
   }
 
-  // The published field: this rank's array, ghost layers included and declared as ghosts
+  // --device cuda: the adapter orders its reads of the device array after the solver's stream
+  // (tessera_set_cuda_stream; step() also returns with that stream idle)
+  if (on_gpu && adapter.set_cuda_stream(solver->cuda_stream()) != TESSERA_OK) {
+    say(rank, "tessera-heat: " + adapter.last_error(), stderr);
+    return 1;
+  }
+
+  // The published field: this rank's array, ghost layers included and declared as ghosts; with
+  // --device cuda a device pointer of this rank's GPU, read in place by the adapter
   const heat::Index3& n = solver->array_dims();
   tessera_field field{};
   field.name = "temperature";
@@ -190,7 +236,7 @@ int run(int argc, char** argv) {
     // step's level 0 (simulation work: the adapter reads them only when a render fires)
     if (amr) {
       const auto ta = Clock::now();
-      amr->update(*solver);
+      amr->update(*host_solver);
       const double s = seconds_since(ta);
       sim_seconds += s;
       if (rendered_once) sim_after_first += s;

@@ -4,6 +4,9 @@
 // execute returns its own outcome (status, message, results), read while it still holds the
 // adapter (m_call): another thread's call is refused meanwhile, never handed this one's
 // results, and a close() from another thread waits, so nothing is read after it was freed.
+// A field may be device memory (tessera/_arrays.py DeviceArray): its address goes in as any
+// other, and the producer's stream, when the package passes one, is the CUDA stream of that
+// call only (the adapter's own, set_cuda_stream, is put back after it).
 #include "binding_support.h"
 
 #include <tessera/adapter.h>
@@ -129,7 +132,7 @@ class PyAdapter {
 
   /// Returns (status, message, results) of this call; with `on_error: abort` a failure raises.
   nb::tuple execute(std::int64_t step, double time, Double3 origin, Double3 spacing, Int3 global_dims, Int3 offset,
-                    const std::vector<FieldTuple>& fields, bool final_step) {
+                    const std::vector<FieldTuple>& fields, bool final_step, std::optional<std::uintptr_t> stream) {
     std::unique_lock<std::mutex> call(m_call, std::try_to_lock);
     if (!call.owns_lock()) return refused(final_step ? "execute (final step)" : "execute");
     tessera_grid grid{};
@@ -140,6 +143,9 @@ class PyAdapter {
       grid.offset[a] = offset[a];
     }
     const std::vector<tessera_field> descs = descriptors(fields);
+    // Put back after the outcome is read (the return value is built before locals go): setting
+    // the stream clears the adapter's last error
+    const CallStream on(m_adapter, stream, m_stream);
     tessera_status s;
     try {
       nb::gil_scoped_release unlocked;
@@ -159,7 +165,8 @@ class PyAdapter {
       std::int64_t step, double time, int association, Double3 origin, Double3 spacing,
       const std::array<std::optional<CoordArray>, 3>& coords, Int3 global_dims, int nlevels,
       const std::vector<int>& refinement,
-      const std::vector<std::tuple<int, Int3, std::vector<FieldTuple>, std::vector<int>>>& domains, bool final_step) {
+      const std::vector<std::tuple<int, Int3, std::vector<FieldTuple>, std::vector<int>>>& domains, bool final_step,
+      std::optional<std::uintptr_t> stream) {
     if (nlevels < 1 || refinement.size() != static_cast<std::size_t>(nlevels - 1))
       throw nb::value_error("refinement: nlevels - 1 ratios are needed");
     if (association != 0 && association != 1) throw nb::value_error("association: 0 (vertex) or 1 (cell)");
@@ -200,6 +207,9 @@ class PyAdapter {
       descs[d].fields = fields[d].data();
       descs[d].nfields = static_cast<int>(fields[d].size());
     }
+    // Put back after the outcome is read (the return value is built before locals go): setting
+    // the stream clears the adapter's last error
+    const CallStream on(m_adapter, stream, m_stream);
     tessera_status s;
     try {
       nb::gil_scoped_release unlocked;
@@ -213,11 +223,14 @@ class PyAdapter {
   /// execute_mesh_domains: curvilinear and unstructured domains, described by the package
   /// (tessera/_mesh_domains.py), which checked every length C reads against its array.
   nb::tuple execute_mesh_domains(std::int64_t step, double time, const std::vector<MeshDomainTuple>& domains,
-                                 bool final_step) {
+                                 bool final_step, std::optional<std::uintptr_t> stream) {
     std::vector<std::vector<tessera_field>> fields;
     const std::vector<tessera_mesh_domain> descs = mesh_descriptors(domains, fields);
     std::unique_lock<std::mutex> call(m_call, std::try_to_lock);
     if (!call.owns_lock()) return refused(final_step ? "execute_mesh_domains (final step)" : "execute_mesh_domains");
+    // Put back after the outcome is read (the return value is built before locals go): setting
+    // the stream clears the adapter's last error
+    const CallStream on(m_adapter, stream, m_stream);
     tessera_status s;
     try {
       nb::gil_scoped_release unlocked;
@@ -242,6 +255,16 @@ class PyAdapter {
       throw error_for_status(e.status(), e.what());
     }
     return outcome(s);
+  }
+
+  /// Adapter::set_cuda_stream (0: none, the whole device is synchronised); returns (status,
+  /// message). Refused like a call while another thread's call holds the adapter.
+  nb::tuple set_cuda_stream(std::uintptr_t stream) {
+    std::unique_lock<std::mutex> call(m_call, std::try_to_lock);
+    if (!call.owns_lock()) return refused("set_cuda_stream");
+    const tessera_status s = m_adapter.set_cuda_stream(reinterpret_cast<void*>(stream));
+    if (s == TESSERA_OK) m_stream = stream;
+    return nb::make_tuple(static_cast<int>(s), text(m_adapter.last_error()));
   }
 
   /// Waits (GIL released) for a call another Python thread is making on this adapter, then
@@ -300,6 +323,9 @@ class PyAdapter {
       d["budget_skipped"] = r.budget_skipped;
       d["budget_balance"] = r.budget_balance;
       d["budget_ratio"] = r.budget_ratio;
+      d["device"] = text(r.device);  // "cpu" or "cuda:N"
+      d["bytes_to_device"] = r.stats.bytes_to_device;
+      d["bytes_to_host"] = r.stats.bytes_to_host;
       // (a render the budget skipped has no image of this step)
       const Image* img = r.status == TESSERA_OK && !r.budget_skipped ? m_adapter.last_image(r.name) : nullptr;
       if (img) {
@@ -314,7 +340,27 @@ class PyAdapter {
     return nb::make_tuple(static_cast<int>(status), text(m_adapter.last_error()), out);
   }
 
+  /// The producer's stream for one call (a field's __cuda_array_interface__ stream), set
+  /// before it and the adapter's own (`kept`) put back when this goes out of scope, also when
+  /// the call throws; declared before the call's outcome is read, since
+  /// Adapter::set_cuda_stream clears last_error().
+  struct CallStream {
+    CallStream(insitu::Adapter& adapter, std::optional<std::uintptr_t> stream, std::uintptr_t kept)
+        : m_adapter(adapter), m_kept(kept), m_set(stream.has_value()) {
+      if (m_set) m_adapter.set_cuda_stream(reinterpret_cast<void*>(*stream));
+    }
+    ~CallStream() {
+      if (m_set) m_adapter.set_cuda_stream(reinterpret_cast<void*>(m_kept));
+    }
+    CallStream(const CallStream&) = delete;
+    CallStream& operator=(const CallStream&) = delete;
+    insitu::Adapter& m_adapter;
+    std::uintptr_t m_kept;
+    bool m_set;
+  };
+
   insitu::Adapter m_adapter;
+  std::uintptr_t m_stream = 0;  ///< the last set_cuda_stream's (0: none); guarded by m_call
   /// Held by a call from its start until its outcome is read (so that a call's results are
   /// its own), and by close() while it closes; a call that finds it held is refused, as the
   /// Adapter refuses overlapping calls. Never held while waiting for the GIL by close.
@@ -329,15 +375,17 @@ void register_adapter(nb::module_& m) {
       .def(nb::init<const std::string&, bool, const std::string&, int, const std::string&, bool>(), nb::arg("source"),
            nb::arg("is_text"), nb::arg("name"), nb::arg("comm_f"), nb::arg("output_dir"), nb::arg("quiet"))
       .def("execute", &PyAdapter::execute, nb::arg("step"), nb::arg("time"), nb::arg("origin"), nb::arg("spacing"),
-           nb::arg("global_dims"), nb::arg("offset"), nb::arg("fields"), nb::arg("final_step"))
+           nb::arg("global_dims"), nb::arg("offset"), nb::arg("fields"), nb::arg("final_step"),
+           nb::arg("stream").none() = nb::none())
       .def("execute_domains", &PyAdapter::execute_domains, nb::arg("step"), nb::arg("time"), nb::arg("association"),
            nb::arg("origin"), nb::arg("spacing"), nb::arg("coords"), nb::arg("global_dims"), nb::arg("nlevels"),
-           nb::arg("refinement"), nb::arg("domains"), nb::arg("final_step"))
+           nb::arg("refinement"), nb::arg("domains"), nb::arg("final_step"), nb::arg("stream").none() = nb::none())
       .def("execute_mesh_domains", &PyAdapter::execute_mesh_domains, nb::arg("step"), nb::arg("time"),
-           nb::arg("domains"), nb::arg("final_step"))
+           nb::arg("domains"), nb::arg("final_step"), nb::arg("stream").none() = nb::none())
       .def("execute_refused", &PyAdapter::execute_refused, nb::arg("step"), nb::arg("time"), nb::arg("kind"),
            nb::arg("reason"), nb::arg("final_step"))
       .def("fires", &PyAdapter::fires, nb::arg("step"), nb::arg("final_step"))
+      .def("set_cuda_stream", &PyAdapter::set_cuda_stream, nb::arg("stream"))
       .def("close", &PyAdapter::close)
       .def("is_open", &PyAdapter::is_open);
 }

@@ -55,5 +55,8 @@ void register_errors(nb::module_& m);
 
 void register_render(nb::module_& m);
 void register_adapter(nb::module_& m);
+/// _dlpack_tensor (a DLPack tensor's description, never its values) and cuda_built
+/// (tessera/_arrays.py: the package's one reader of the array protocols).
+void register_device_arrays(nb::module_& m);
 
 }  // namespace tessera::python

@@ -101,4 +101,5 @@ NB_MODULE(_tessera, m) {
   tessera::python::register_errors(m);
   tessera::python::register_render(m);
   tessera::python::register_adapter(m);
+  tessera::python::register_device_arrays(m);
 }

@@ -3,6 +3,7 @@
 // limit, prepare, render), on a field view of the caller's array: no copy.
 #include "binding_support.h"
 
+#include <tessera/cuda_render.h>
 #include <tessera/image_io.h>
 #include <tessera/job/render_job.h>
 
@@ -50,15 +51,35 @@ nb::object to_numpy(std::vector<float>&& rgba, int width, int height) {
   return nb::cast(nb::ndarray<nb::numpy, float, nb::ndim<3>>(pixels->data(), 3, shape, owner));
 }
 
-/// Returns (image, warnings, address of the first vertex the renderer read).
+/// Refuses a device (or managed) array: the render job reads the volume on the host. Asked
+/// only for an array that came through a CUDA protocol (`data` may still be host memory).
+void require_host_memory(std::uintptr_t data) {
+  MemoryKind kind;
+  try {
+    kind = cuda_memory_kind(reinterpret_cast<const void*>(data));
+  } catch (const std::exception& e) {
+    throw error_for_status(TESSERA_ERROR_DATA, std::string("volume: where its memory lives is unknown: ") + e.what());
+  }
+  if (kind != MemoryKind::Host)
+    throw error_for_status(TESSERA_ERROR_DATA,
+                           std::string("volume: ") + (kind == MemoryKind::Device ? "device" : "managed") +
+                               " memory: tessera.render reads host arrays; a device array is rendered in place by "
+                               "tessera.Adapter.execute (tessera.device: auto or cuda, docs/gpu_bindings.md), or "
+                               "pass a host copy (cupy.asnumpy(a), t.cpu().numpy())");
+}
+
+/// Returns (image, warnings, address of the first vertex the renderer read). `device_protocol`:
+/// the array came as __cuda_array_interface__ or DLPack CUDA (its memory is asked about).
 nb::tuple render_array(const std::string& source, bool is_text, const std::string& name, const std::string& render_name,
                        std::int64_t render_index, std::uintptr_t data, int dtype, Int3 dims, Int3 byte_strides,
-                       std::optional<Double3> spacing, std::optional<Double3> origin, std::int64_t step) {
+                       std::optional<Double3> spacing, std::optional<Double3> origin, std::int64_t step,
+                       bool device_protocol) {
   if (!is_text) require_no_nul(source, "config");
   require_no_nul(render_name, "render");
   const config::Config cfg = load_config_source(source, is_text, name);
   const config::RenderSpec& spec = select_render(cfg, render_name, render_index);
   if (dtype < 0 || dtype > static_cast<int>(DType::Float64)) throw std::invalid_argument("dtype code out of range");
+  if (device_protocol) require_host_memory(data);
 
   // Geometry: the arguments, else the config's volume: block (a CLI scene file), else unit
   VolumeGeometry geometry = cfg.volume ? cfg.volume->geometry() : VolumeGeometry{Vec3(0.0), Vec3(1.0)};
@@ -122,7 +143,7 @@ void register_render(nb::module_& m) {
   m.def("_read_exr", &read_exr_rgba, nb::arg("path"));
   m.def("render_array", &render_array, nb::arg("source"), nb::arg("is_text"), nb::arg("name"), nb::arg("render_name"),
         nb::arg("render_index"), nb::arg("data"), nb::arg("dtype"), nb::arg("dims"), nb::arg("byte_strides"),
-        nb::arg("spacing").none(), nb::arg("origin").none(), nb::arg("step"));
+        nb::arg("spacing").none(), nb::arg("origin").none(), nb::arg("step"), nb::arg("device_protocol") = false);
 }
 
 }  // namespace tessera::python

@@ -4,7 +4,7 @@ import threading
 import warnings
 
 from . import _blueprint, _checks, _mesh_domains, _tessera
-from ._arrays import coordinate_array, field_descriptor
+from ._arrays import coordinate_array, cuda_stream_address, field_descriptor, producer_stream
 from ._config import config_source
 from ._errors import (ConfigError, DataError, DisabledError, OutputError, RenderError, TesseraError,
                       TesseraWarning)
@@ -82,6 +82,7 @@ class Adapter:
         self._impl = None
         self._last = _LastCall()
         self._comm = self._mpi = None
+        self._stream_set = False  # set_cuda_stream was called: the fields' own streams are not used
         mpi = None if comm is None else _mpi_of(comm)  # not agreed: without a communicator there is no one to ask
         error = None
         try:
@@ -125,6 +126,9 @@ class Adapter:
 
         fields: ``{name: 3D array}``, each read in place during this call only (any dtype and
             strides of tessera.render; ``u[i, j, k]`` is vertex (i, j, k), ghosts included).
+            A device array (``__cuda_array_interface__``: CuPy, PyTorch, Numba; or DLPack on
+            a CUDA device) is read in place too, on the GPU with ``tessera.device: auto`` or
+            ``cuda`` (docs/gpu_bindings.md); its values are never touched from Python.
         spacing, origin: the grid (a number or 3); origin is global vertex (0, 0, 0).
         global_dims: vertices of the whole domain (default: this rank's real vertices, i.e.
             one process owns everything); offset: global index of this rank's first real vertex.
@@ -200,10 +204,11 @@ class Adapter:
             if self._comm is not None:
                 self._enter_without_fields(impl, step, time, final, 0 if domains is None else 1, e)
             raise
+        stream = self._call_stream(held)
         if domains is None:
-            outcome = impl.execute(step_i, time_f, *grid, descs, final_b)
+            outcome = impl.execute(step_i, time_f, *grid, descs, final_b, stream)
         else:
-            outcome = impl.execute_domains(step_i, time_f, *mesh, blocks, final_b)
+            outcome = impl.execute_domains(step_i, time_f, *mesh, blocks, final_b, stream)
         del held  # the arrays were read in place during the call
         return self._outcome(outcome, step)
 
@@ -243,9 +248,34 @@ class Adapter:
             if self._comm is not None:  # the other ranks' call fails too, with this reason
                 self._enter_without_fields(impl, step, time, final, 2, e)
             raise
-        outcome = impl.execute_mesh_domains(step_i, time_f, blocks, final_b)
+        outcome = impl.execute_mesh_domains(step_i, time_f, blocks, final_b, self._call_stream(held))
         del held  # the arrays were read in place during the call
         return self._outcome(outcome, step)
+
+    def set_cuda_stream(self, stream):
+        """The CUDA stream on which the simulation computes its device arrays (the C API's
+        tessera_set_cuda_stream, docs/gpu_bindings.md): before reading them Tessera waits for the
+        work queued on it; None (the default): it synchronises the whole device first. Kept
+        until set again. ``stream``: None, an int (the raw cudaStream_t), or a stream object
+        with ``.ptr`` (CuPy's Stream) or ``.cuda_stream`` (PyTorch's torch.cuda.Stream).
+
+        Once called (None included), the stream a field names in its
+        ``__cuda_array_interface__`` is no longer used for the call. Not collective. TypeError
+        or ValueError for anything else; TesseraError on a closed adapter or while another
+        thread is inside a call on it."""
+        address = cuda_stream_address(stream)
+        impl = self._impl
+        if impl is None:
+            raise TesseraError("set_cuda_stream: the adapter is closed")
+        status, error = impl.set_cuda_stream(address)[:2]
+        if status != 0:
+            raise TesseraError(f"set_cuda_stream: {error}")
+        self._stream_set = True
+
+    def _call_stream(self, held):
+        """The stream of one call: None (the adapter's own, set_cuda_stream's or none) once
+        set_cuda_stream was called, else the one producer's stream the device fields name."""
+        return None if self._stream_set else producer_stream(held)
 
     def execute_blueprint(self, step, time, mesh, *, final=False, topology=None,
                           ghost_field_name=_blueprint.GHOST_FIELDS):

@@ -12,7 +12,7 @@ import numbers
 import numpy as np
 
 from . import _checks, _mesh_domains
-from ._arrays import field_descriptor
+from ._arrays import DeviceArray, array_of, field_descriptor, is_array
 from ._blueprint_layout import Summary, layout
 from ._errors import ConfigError, DataError, DisabledError, OutputError, RenderError, TesseraError
 
@@ -34,7 +34,7 @@ def _shown(value):
     if isinstance(value, (str, numbers.Number)) and not isinstance(value, bool):
         text = repr(value) if not isinstance(value, np.generic) else repr(value.item())
         return text if len(text) <= 60 else text[:57] + "..."
-    if isinstance(value, np.ndarray):
+    if isinstance(value, (np.ndarray, DeviceArray)):
         return f"an array of shape {value.shape} and dtype {value.dtype}"
     return f"a {type(value).__name__}"
 
@@ -173,21 +173,45 @@ def _axis_values(value, what):
     return c
 
 
+def field_values(node, key, path):
+    """node[key]: a field's values, a numpy or CUDA array (by its protocol, read in place) or a
+    dict of component arrays; ValueError (missing) or TypeError naming the path."""
+    values = _need(node, key, path, object, "a numpy array (or a dict of component arrays)")
+    if not isinstance(values, dict) and not is_array(values):
+        raise TypeError(f"{_at(path, key)} = {_shown(values)}: a numpy array (or a dict of component arrays; "
+                        f"a CUDA array by __cuda_array_interface__ or DLPack) is needed")
+    return values
+
+
+def ghost_field_checks(fpath, fname, word, values):
+    """A ghost field is element values in a numpy array: its values are looked at on the host."""
+    if word != "element" or not isinstance(values, np.ndarray):
+        if word == "element" and not isinstance(values, dict):  # a CUDA array
+            raise DataError(f"{fpath}: a ghost field ({fname!r}) is read on the host: a numpy array is needed "
+                            f"(cupy.asnumpy(g) copies one), got {_shown(values)}")
+        raise DataError(f"{fpath}: a ghost field ({fname!r}) of element values is needed (vertex ghosts "
+                        f"and components are {NOT_YET})")
+
+
 def _view(values, shape, what, words, dtype_checked=True):
     """The zero-copy [i, j, k] view of a field's values: a 1-D array of the domain's elements
-    in Blueprint's order (i fastest; any stride) or a numpy (nk, nj, ni) array."""
+    in Blueprint's order (i fastest; any stride) or a numpy (nk, nj, ni) array; a CUDA array
+    (_arrays.array_of) alike, as a DeviceArray view (its values never touched)."""
     if isinstance(values, np.ma.MaskedArray):
         raise TypeError(f"{what}: a numpy masked array is not accepted (the values under its mask would be "
                         f"rendered); pass a.filled(value), or a.data to render them all")
-    if not isinstance(values, np.ndarray):
+    if not isinstance(values, np.ndarray) and is_array(values):
+        values = array_of(values, what)
+    if not isinstance(values, (np.ndarray, DeviceArray)):
         raise TypeError(f"{what} = {_shown(values)}: a numpy array is needed (read in place; np.asarray(v) "
                         f"makes one)")
     ni, nj, nk = shape
     n = ni * nj * nk
     if values.ndim == 1 and values.shape[0] == n:
         s = values.strides[0]
-        view = np.lib.stride_tricks.as_strided(values, shape=shape, strides=(s, s * ni, s * ni * nj),
-                                               writeable=False)
+        strides = (s, s * ni, s * ni * nj)
+        view = (values.strided(shape, strides) if type(values) is DeviceArray else
+                np.lib.stride_tricks.as_strided(values, shape=shape, strides=strides, writeable=False))
     elif values.ndim == 3 and values.shape == (nk, nj, ni):
         view = values.T
     else:
@@ -338,12 +362,10 @@ def read_domain(path, node, topology, ghost_names):
         if min(shape) < 1:
             raise DataError(f"{fpath}: element values on {n[0]} x {n[1]} x {n[2]} vertices: a domain with elements "
                             f"needs at least 2 vertices along each axis")
-        values = _need(f, "values", fpath, (np.ndarray, dict), "a numpy array (or a dict of component arrays)")
+        values = field_values(f, "values", fpath)
         vpath = _at(fpath, "values")
         if fname in ghost_names:
-            if word != "element" or not isinstance(values, np.ndarray):
-                raise DataError(f"{fpath}: a ghost field ({fname!r}) of element values is needed (vertex ghosts "
-                                f"and components are {NOT_YET})")
+            ghost_field_checks(fpath, fname, word, values)
             ghosts = _ghost_layers(_view(values, shape, vpath, "element", False), vpath)
             continue
         parts = values.items() if isinstance(values, dict) else [(None, values)]
@@ -386,7 +408,8 @@ def _execute_meshes(adapter, impl, step, step_i, time, final_b, meshes, every):
         raise DataError(f"mesh: {n} uniform or rectilinear domain(s){where} beside structured or unstructured ones: "
                         f"one call renders one kind of topology ({NOT_YET} otherwise)")
     held = [a for h, _ in meshes for a in h]
-    outcome = impl.execute_mesh_domains(step_i, float(time), [t for _, t in meshes], final_b)
+    outcome = impl.execute_mesh_domains(step_i, float(time), [t for _, t in meshes], final_b,
+                                        adapter._call_stream(held))
     del held  # the arrays were read in place during the call
     return adapter._outcome(outcome, step)
 
@@ -450,6 +473,6 @@ def execute(adapter, impl, step, time, mesh, final, topology, ghost_field_name):
             held.append(a)
             descs.append((name, address, code, dims, strides, lo, vertex_hi if assoc[name] == "vertex" else hi))
         blocks.append((s.level, off, descs, [0 if assoc[name] == "vertex" else 1 for name in f]))
-    outcome = impl.execute_domains(step_i, float(time), *mesh_t, blocks, final_b)
+    outcome = impl.execute_domains(step_i, float(time), *mesh_t, blocks, final_b, adapter._call_stream(held))
     del held  # the arrays were read in place during the call
     return adapter._outcome(outcome, step)

@@ -8,7 +8,9 @@ that is not uint8 (Ascent's ascent_ghosts is int32) becomes a uint8 mask, one by
 import numpy as np
 
 from . import _checks
-from ._blueprint import NOT_YET, _at, _need, _positive_int, _shown, _topology, _triple
+from ._arrays import DeviceArray, array_of, is_array
+from ._blueprint import (NOT_YET, _at, _need, _positive_int, _shown, _topology, _triple, field_values,
+                         ghost_field_checks)
 from ._errors import DataError
 
 MESH_TOPOLOGIES = ("structured", "unstructured")
@@ -42,16 +44,21 @@ def _explicit(node, path, topo, tpath, kind):
     return vpath, list(xyz)
 
 
-def _array(value, what):
-    if not isinstance(value, np.ndarray) or isinstance(value, np.ma.MaskedArray):
+def _array(value, what, device=False):
+    """A numpy array; ``device``: a CUDA array too (field values), as a DeviceArray."""
+    if device and not isinstance(value, np.ndarray) and is_array(value):
+        value = array_of(value, what)
+    if (not isinstance(value, (np.ndarray, DeviceArray) if device else np.ndarray)
+            or isinstance(value, np.ma.MaskedArray)):
         raise TypeError(f"{what} = {_shown(value)}: a numpy array is needed (read in place)")
     return value
 
 
-def _flat(values, n, what, words, grid):
+def _flat(values, n, what, words, grid, device=False):
     """A 1-D array of n values, or a structured domain's (nk, nj, ni) array as its [i, j, k]
-    view (i fastest); ValueError naming the path otherwise."""
-    values = _array(values, what)
+    view (i fastest); ValueError naming the path otherwise. ``device``: field values, which may
+    be a CUDA array."""
+    values = _array(values, what, device)
     if values.ndim == 1 and values.shape[0] == n:
         return values
     if grid is not None and values.shape == tuple(reversed(grid)):
@@ -127,12 +134,10 @@ def _fields(node, path, tname, topos, ghost_names, nverts, ncells, grid_v, grid_
         if word not in _ASSOCIATIONS:
             raise ValueError(f"{_at(fpath, 'association')} = {word!r}: 'vertex' or 'element' is needed")
         n, grid = (nverts, grid_v) if word == "vertex" else (ncells, grid_c)
-        values = _need(f, "values", fpath, (np.ndarray, dict), "a numpy array (or a dict of component arrays)")
+        values = field_values(f, "values", fpath)
         vpath = _at(fpath, "values")
         if fname in ghost_names:
-            if word != "element" or not isinstance(values, np.ndarray):
-                raise DataError(f"{fpath}: a ghost field ({fname!r}) of element values is needed (vertex ghosts "
-                                f"and components are {NOT_YET})")
+            ghost_field_checks(fpath, fname, word, values)
             flags = _flat(values, n, vpath, "element", grid)
             out[fname] = flags if flags.dtype == np.uint8 else (flags != 0).astype(np.uint8, order="F")
             ghost = fname
@@ -140,6 +145,6 @@ def _fields(node, path, tname, topos, ghost_names, nverts, ncells, grid_v, grid_
         parts = values.items() if isinstance(values, dict) else [(None, values)]
         for comp, v in parts:  # Blueprint's mcarray: one scalar field per component, "name/component"
             name = _checks.name(fname if comp is None else f"{fname}/{comp}", f"{fpath} (its name)")
-            out[name] = _flat(v, n, vpath if comp is None else _at(vpath, comp), word, grid)
+            out[name] = _flat(v, n, vpath if comp is None else _at(vpath, comp), word, grid, device=True)
             assoc[name] = _ASSOCIATIONS[word]
     return out, assoc, ghost

@@ -11,7 +11,7 @@ import dataclasses
 import numpy as np
 
 from . import _checks
-from ._arrays import ALLOWED, _DTYPES
+from ._arrays import ALLOWED, _DTYPES, DeviceArray, address_of, array_of, is_array
 
 _FLOATS = {np.dtype(np.float32): 3, np.dtype(np.float64): 4}  # tessera_dtype of coordinates
 _INDICES = {np.dtype(np.int32): 5, np.dtype(np.int64): 6}  # TESSERA_INT32, TESSERA_INT64
@@ -41,13 +41,17 @@ class MeshDomain:
     ghost_field: str = None
 
 
-def _plain(value, what, kinds):
+def _plain(value, what, kinds, device=False):
     """``value`` as a numpy array of one of the dtypes ``kinds`` (names listed on refusal), never
-    converted: anything else is a TypeError naming ``what``."""
+    converted: anything else is a TypeError naming ``what``. ``device``: a CUDA array (by its
+    protocol, _arrays.array_of) is accepted too, as a DeviceArray (field values only: the
+    coordinates and connectivity are read on the host)."""
     if isinstance(value, np.ma.MaskedArray):
         raise TypeError(f"{what}: a numpy masked array is not accepted (the values under its mask would be "
                         f"read); pass a.filled(value), or a.data")
-    if not isinstance(value, np.ndarray):
+    if device and not isinstance(value, np.ndarray) and is_array(value):
+        value = array_of(value, what)
+    if not isinstance(value, (np.ndarray, DeviceArray) if device else np.ndarray):
         raise TypeError(f"{what}: a numpy array is needed (read in place), got {type(value).__name__}")
     if value.dtype not in kinds:
         shown = value.dtype.name if value.dtype.isnative else value.dtype.str
@@ -77,7 +81,7 @@ def _coords(value, what):
         if a.ndim != 2 or a.shape[1] != 3:
             raise ValueError(f"{what}: an (n, 3) array (one row per vertex) or three arrays x, y, z are needed, "
                              f"got shape {a.shape}")
-        base = a.__array_interface__["data"][0]
+        base = address_of(a)
         return [a], (base, base + a.strides[1], base + 2 * a.strides[1], _FLOATS[a.dtype], a.strides[0],
                      a.shape[0]), None
     if not isinstance(value, (list, tuple)) or len(value) != 3:
@@ -103,7 +107,7 @@ def _coords(value, what):
                              f"stride (tessera_coordset); an (n, 3) array always qualifies")
         layout = this
         out.append(a)
-    addresses = tuple(a.__array_interface__["data"][0] for a in out)
+    addresses = tuple(address_of(a) for a in out)
     return out, addresses + (_FLOATS[layout[0]], layout[1], layout[2]), layout[3]
 
 
@@ -117,14 +121,14 @@ def _connectivity(value, what, shape):
     if not a.flags["C_CONTIGUOUS"]:
         raise ValueError(f"{what}: a C-contiguous array is needed (the indices are read as ncells x {k} "
                          f"consecutive values); np.ascontiguousarray(c) copies it")
-    return a, a.__array_interface__["data"][0], _INDICES[a.dtype], a.size // k
+    return a, address_of(a), _INDICES[a.dtype], a.size // k
 
 
 def _field(value, what, count, grid, words):
     """The binding's field tuple of one array with ``count`` values (one per ``words``): a 1-D
     array of any stride, or, on a curvilinear domain (``grid``: its i, j, k extent), a 3-D array
     [i, j, k] whose values follow one another i, then j, then k."""
-    a = _plain(value, what, _DTYPES)
+    a = _plain(value, what, _DTYPES, device=True)
     if a.ndim == 1 and a.shape[0] == count:
         s = a.strides[0]
         return a, (s, s * count, s * count), (count, 1, 1)
@@ -208,7 +212,7 @@ def domain(where, dom):
             raise TypeError(f"{what}: the ghost field must be uint8 (nonzero = ghost), got {a.dtype.name}; "
                             f"(g != 0).astype(np.uint8) makes one")
         held.append(a)
-        descs.append((name, a.__array_interface__["data"][0], _DTYPES[a.dtype], shape3, strides, (0, 0, 0),
+        descs.append((name, address_of(a), _DTYPES[a.dtype], shape3, strides, (0, 0, 0),
                       (0, 0, 0)))
     return held, (_ASSOC[association], coords, dims, shape_code) + conn_t + (descs, ghost)
 

@@ -3,7 +3,7 @@ import warnings
 
 from . import _tessera
 from . import _checks
-from ._arrays import field_descriptor
+from ._arrays import field_descriptor, uses_device_protocol
 from ._config import config_source
 from ._errors import TesseraWarning
 
@@ -19,7 +19,9 @@ def render(volume, config, render=None, spacing=None, origin=None, step=0):
     volume: numpy array of uint8, int16, uint16, float32 or float64 (native byte order), any
         strides (views, transposes, negative steps, Fortran order: never copied).
         ``volume[i, j, k]`` is vertex (i, j, k) along x, y, z: pass a C-ordered (nz, ny, nx)
-        array as ``volume.T``.
+        array as ``volume.T``. An object with ``__cuda_array_interface__`` or a DLPack tensor
+        is read through its protocol; device memory is refused (DataError: the render job
+        reads the volume on the host; tessera.Adapter reads device arrays in place).
     config: a YAML file name or a dict of the same schema; a ``volume:`` block, if any, is
         used for its spacing and origin only.
     render: the render's name or index in ``renders`` (default: the first).
@@ -56,7 +58,8 @@ def render(volume, config, render=None, spacing=None, origin=None, step=0):
     origin = None if origin is None else _checks.real_triple(origin, "origin")
     step = _checks.integer(step, "step")
     image, messages, seen = _tessera.render_array(source, is_text, name, render_name, render_index,
-                                                  address, code, dims, strides, spacing, origin, step)
+                                                  address, code, dims, strides, spacing, origin, step,
+                                                  uses_device_protocol([array]))
     del array  # held until here: the renderer read it in place
     _last_field_address = seen
     for m in messages:

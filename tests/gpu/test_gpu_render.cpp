@@ -6,6 +6,8 @@
 // (own seeds), each |z| < 4.2 (two-sided false-alarm probability 2.7e-5 per block, about 1e-3
 // for the 36 together, Bonferroni); standard errors from each pixel's sample variance. The
 // furnace: image mean within 0.5% of L and |z| < 4. Fixed seeds throughout.
+#include "gpu_test_util.h"
+
 #include <tessera/cuda_render.h>
 #include <tessera/render.h>
 
@@ -24,112 +26,9 @@ using tessera::Color;
 using tessera::FieldView;
 using tessera::Vec3;
 
+using namespace gpu_test;
+
 namespace {
-
-/// A heat-like field: a hot Gaussian spot over a cooler gradient, n^3 vertices of type T.
-template <class T>
-std::vector<T> heat_field(int n) {
-  std::vector<T> v(static_cast<std::size_t>(n) * n * n);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const double x = i / (n - 1.0) - 0.55, y = j / (n - 1.0) - 0.45, z = k / (n - 1.0) - 0.5;
-        const double t = 300.0 + 900.0 * std::exp(-(x * x + y * y + z * z) / 0.03) + 80.0 * (j / (n - 1.0));
-        v[(static_cast<std::size_t>(k) * n + j) * n + i] = static_cast<T>(t);
-      }
-  return v;
-}
-
-/// The heat scene: multiple scattering, hybrid shading, a rect light and a gradient sky.
-tessera::SceneDesc heat_scene(int n, std::uint64_t seed) {
-  tessera::SceneDesc s;
-  s.geometry.spacing = Vec3(1.0 / (n - 1));
-  s.tf.lo = 300.0;
-  s.tf.hi = 1300.0;
-  s.tf.density_scale = 12.0;
-  s.tf.opacity = tessera::ScalarTF({0.0, 0.15, 0.6, 1.0}, {0.0, 0.2, 0.8, 1.0});
-  s.tf.diffuse = tessera::ColorTF({0.0, 0.5, 1.0}, {Color(0.2, 0.3, 0.9), Color(0.9, 0.6, 0.2), Color(1.0, 0.9, 0.8)});
-  s.camera.position = Vec3(1.6, 1.1, -1.9);
-  s.camera.look_at = Vec3(0.5, 0.5, 0.5);
-  s.camera.fov_deg = 35.0;
-  s.background.type = tessera::BackgroundType::Gradient;
-  s.background.top = Color(0.6, 0.7, 0.9);
-  s.background.middle = Color(0.3);
-  s.background.bottom = Color(0.05);
-  tessera::RectLightDesc l;
-  l.position = Vec3(0.5, 2.5, 0.5);
-  l.target = Vec3(0.5, 0.5, 0.5);
-  l.width = l.height = 0.8;
-  l.radiance = Color(6.0);
-  s.lights.push_back(l);
-  s.integrator.scattering = tessera::Scattering::Multiple;
-  s.integrator.max_bounces = 8;
-  s.integrator.shading = tessera::Shading::Hybrid;
-  s.integrator.macrocell = 4;
-  s.image = {48, 48, 32, 0.0};
-  s.options.seed = seed;
-  return s;
-}
-
-std::vector<int> all_tiles(const tessera::PreparedScene& ps) {
-  std::vector<int> t(ps.tiles().size());
-  std::iota(t.begin(), t.end(), 0);
-  return t;
-}
-
-tessera::Film render_gpu(const tessera::PreparedScene& ps, const tessera::CudaLaunch& launch = {},
-                         tessera::CudaTransfer* transfer = nullptr, tessera::RenderStats* stats = nullptr) {
-  tessera::Film film(ps.desc().image.width, ps.desc().image.height);
-  tessera::RenderStats st;
-  tessera::render_tiles_cuda(ps, all_tiles(ps), film, st, launch, transfer);
-  if (stats) *stats = st;
-  return film;
-}
-
-tessera::Film render_cpu(const tessera::PreparedScene& ps) {
-  tessera::Film film(ps.desc().image.width, ps.desc().image.height);
-  tessera::RenderStats st;
-  tessera::render(ps, film, st);
-  return film;
-}
-
-struct BlockStat {
-  double mean, se;
-};
-
-/// Per block of edge x edge pixels: the mean of the pixels' mean luminance and its error.
-std::vector<BlockStat> block_stats(const tessera::Film& film, int edge) {
-  std::vector<BlockStat> out;
-  for (int by = 0; by + edge <= film.height(); by += edge)
-    for (int bx = 0; bx + edge <= film.width(); bx += edge) {
-      double m = 0.0, var = 0.0;
-      for (int y = by; y < by + edge; ++y)
-        for (int x = bx; x < bx + edge; ++x) {
-          const tessera::PixelSums& p = film.at(x, y);
-          const double n = static_cast<double>(p.n), pm = p.lum / n;
-          m += pm;
-          if (p.n > 1) var += std::fmax(0.0, (p.lum2 - p.lum * pm) / (n - 1.0)) / n;
-        }
-      const double np = static_cast<double>(edge * edge);
-      out.push_back({m / np, std::sqrt(var) / np});
-    }
-  return out;
-}
-
-double max_block_z(const tessera::Film& a, const tessera::Film& b, int edge) {
-  const std::vector<BlockStat> sa = block_stats(a, edge), sb = block_stats(b, edge);
-  double z = 0.0;
-  for (std::size_t i = 0; i < sa.size(); ++i) {
-    const double se = std::sqrt(sa[i].se * sa[i].se + sb[i].se * sb[i].se);
-    z = std::fmax(z, std::fabs(sa[i].mean - sb[i].mean) / std::fmax(se, 1e-9));
-  }
-  return z;
-}
-
-bool same_bits(const tessera::Film& a, const tessera::Film& b) {
-  return a.pixels().size() == b.pixels().size() &&
-         std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0;
-}
 
 template <class T>
 void check_against_cpu(tessera::DType dtype, const char* what) {
@@ -248,14 +147,13 @@ TEST_CASE("GPU: white furnace within 0.5%", "[gpu][furnace]") {
 
 TEST_CASE("GPU: what the backend does not cover is refused by name", "[gpu]") {
   constexpr int n = 8;
-  const std::vector<std::int16_t> field(static_cast<std::size_t>(n) * n * n, 3);
+  const std::vector<float> field = heat_field<float>(n);
+  const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float32, n, n, n);
   tessera::SceneDesc s = heat_scene(n, 1);
-  s.tf.lo = 0.0;
-  s.tf.hi = 10.0;
-  const tessera::PreparedScene ps =
-      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Int16, n, n, n), s);
+  s.image.target_error = 0.05;  // adaptive sampling
+  const tessera::PreparedScene ps = tessera::prepare(view, s);
   tessera::Film film(48, 48);
   tessera::RenderStats st;
   CHECK_THROWS_WITH(tessera::render_tiles_cuda(ps, all_tiles(ps), film, st),
-                    Catch::Contains("int16") && Catch::Contains("not supported on the GPU"));
+                    Catch::Contains("adaptive sampling") && Catch::Contains("not supported on the GPU"));
 }

@@ -219,7 +219,7 @@ static_assert(std::is_trivially_copyable_v<PagedFieldView>);
 
 namespace detail {
 /// Element at p of dtype t, as double (exact for every dtype).
-inline double load_as_double(DType t, const unsigned char* p) {
+TESSERA_HOST_DEVICE inline double load_as_double(DType t, const unsigned char* p) {
   switch (t) {
     case DType::UInt8: return static_cast<double>(*p);
     case DType::Int16: {
@@ -246,7 +246,7 @@ inline double load_as_double(DType t, const unsigned char* p) {
   }
 }
 /// Element e of a dense array of dtype t at base, as double.
-inline double load_element(DType t, const unsigned char* base, std::int64_t e) {
+TESSERA_HOST_DEVICE inline double load_element(DType t, const unsigned char* base, std::int64_t e) {
   switch (t) {
     case DType::UInt8: return load_as_double(t, base + e);
     case DType::Int16:

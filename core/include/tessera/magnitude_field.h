@@ -10,6 +10,7 @@
 /// magnitude() below.
 #include <tessera/field_summary.h>
 #include <tessera/field_view.h>
+#include <tessera/host_device.h>
 
 #include <cmath>
 #include <memory>
@@ -22,7 +23,7 @@ namespace tessera {
 /// |(a, b, c)| as every path computes it: sqrt(a*a + b*b + c*c) in double, in that order.
 /// NaN if a component is NaN; +Inf if one is infinite (and none is NaN), or if the sum
 /// overflows (components near the double range).
-inline double magnitude(double a, double b, double c) { return std::sqrt(a * a + b * b + c * c); }
+TESSERA_HOST_DEVICE inline double magnitude(double a, double b, double c) { return std::sqrt(a * a + b * b + c * c); }
 
 struct MagnitudeField {
   FieldView components[3];

@@ -172,6 +172,10 @@ PreparedScene prepare(const MagnitudeField& field, const SceneDesc& scene,
 /// `progress`, if set, is called from worker threads with the number of tiles finished.
 /// Past scene.desc().options.deadline the remaining tiles are skipped and DeadlineExceeded
 /// is thrown after the workers have stopped (stats then count the work done).
+/// With options.device Device::Cuda the tiles are rendered on that GPU (render_tiles_cuda,
+/// cuda_render.h: the same estimator and random streams; images equal the CPU's within Monte
+/// Carlo error, not bit for bit), its errors thrown as render_tiles_cuda throws them; stats
+/// then count the bytes copied between host and device.
 void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
                   const std::function<void(int)>& progress = {});
 

@@ -52,6 +52,11 @@ struct ImageDesc {
   bool denoise = false;
 };
 
+/// Where render_tiles traces: host threads (TBB) or a CUDA device (cuda_render.h). The
+/// caller resolves `device: auto` (interfaces: on the GPU when the field is device memory and
+/// the build has CUDA) before it fills RenderOptions; core never guesses.
+enum class Device : int { Cpu = 0, Cuda = 1 };
+
 struct RenderOptions {
   std::uint64_t seed = 0;
   std::uint64_t frame = 0;  ///< timestep / frame: part of every random stream
@@ -63,6 +68,14 @@ struct RenderOptions {
   /// prepare() every 64 samples of the adaptive preview (never per sample); past it
   /// they stop and throw DeadlineExceeded (render.h).
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  Device device = Device::Cpu;  ///< Cuda: render_tiles runs render_tiles_cuda (cuda_render.h)
+  int cuda_device = 0;          ///< CUDA device index (Device::Cuda), in [0, cuda_device_count())
+  /// A cudaStream_t the field's producer queues work on (Device::Cuda): the render reads the
+  /// field after that work; null: the whole device is synchronised first.
+  void* cuda_stream = nullptr;
+  /// Device bytes the render may allocate (field copy, tables, film sums); 0: no limit but the
+  /// device's free memory (Device::Cuda).
+  std::uint64_t device_memory_limit = 0;
 };
 
 struct SceneDesc {

@@ -22,8 +22,12 @@ struct RenderStats {
   std::uint64_t nan_voxels_seen = 0;  ///< NaN vertices in the field (counted at prepare)
   std::uint64_t tiles_total = 0;
   std::uint64_t tiles_skipped = 0;  ///< tiles filled without tracing (culling)
-  double wall_seconds = 0.0;        ///< rendering only
-  int threads = 0;                  ///< worker threads actually used (arena concurrency)
+  /// Bytes copied host -> device and device -> host for a render on a GPU (field copy, tables,
+  /// film sums); 0 on the CPU, and no field bytes when the field was device memory read in place.
+  std::uint64_t bytes_to_device = 0;
+  std::uint64_t bytes_to_host = 0;
+  double wall_seconds = 0.0;  ///< rendering only
+  int threads = 0;            ///< worker threads actually used (arena concurrency)
 
   std::uint64_t density_lookups() const { return free_flight_lookups + transmittance_lookups + gradient_lookups; }
   /// Combines every integer counter of `o` into this one by its rule in kRenderCounters
@@ -59,6 +63,8 @@ inline constexpr RenderCounter kRenderCounters[] = {
     {"stalled_paths", &RenderStats::stalled_paths, RenderCounter::Combine::Sum},
     {"tiles_total", &RenderStats::tiles_total, RenderCounter::Combine::Sum},
     {"tiles_skipped", &RenderStats::tiles_skipped, RenderCounter::Combine::Sum},
+    {"bytes_to_device", &RenderStats::bytes_to_device, RenderCounter::Combine::Sum},
+    {"bytes_to_host", &RenderStats::bytes_to_host, RenderCounter::Combine::Sum},
 };
 
 /// Fraction of discarded (non-finite) samples above which render_warnings warns: 1e-3.

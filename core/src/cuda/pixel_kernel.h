@@ -1,8 +1,10 @@
 #pragma once
-/// The device half of the CUDA backend (pixel_kernel.cu): the medium of the frame's Value
-/// built over device addresses, and the launch of one slice (some samples of some pixels).
-/// Its host half (render_cuda.cpp) copies the scene's tables and the film's sums, plans the
-/// slices and checks the deadline between them.
+/// The device half of the CUDA backend: the medium of the frame's Value built over device
+/// addresses and the launch of one slice (some samples of some pixels) of the kernel
+/// instantiated on that Value (device_values.cpp), the kernel itself (pixel_kernel_impl.cuh,
+/// instantiated over the pixel_kernel_*.cu files so that they compile in parallel). The host
+/// half (render_cuda.cpp, device_scene.cpp) copies the scene's tables and the film's sums,
+/// plans the slices and checks the deadline between them.
 #include <tessera/film.h>
 
 #include "kernel/kernel_scene.h"
@@ -45,9 +47,13 @@ struct SliceArgs {
   int samples;
 };
 
-/// True when the device kernels cover the scene's field Value (uniform float32 or float64
-/// for now); else false and *why names what is not covered.
+/// True when the device kernels cover the scene's field Value (every dtype, uniform or
+/// rectilinear axes, refinement levels, a vector's magnitude); else false and *why names what
+/// is not covered.
 bool device_value_supported(const KernelScene& ks, std::string* why);
+
+/// The frame's Value as a kernel name says it, e.g. "pixel_samples<rectilinear int16>".
+std::string pixel_kernel_name(const KernelScene& ks);
 
 /// Size in bytes of the device medium of ks's Value, and the medium itself made (on the host)
 /// from `ks_dev`, a KernelScene whose pointers are device addresses, into `out` (that many
@@ -56,7 +62,15 @@ std::size_t device_medium_bytes(const KernelScene& ks);
 void make_device_medium(const KernelScene& ks_dev, void* out);
 
 /// Launches one slice on the current device and stream 0, asynchronously; throws CudaError
-/// naming the kernel when the launch fails. `block_threads` in [32, 256].
+/// naming the kernel when the launch fails. `block_threads` in [32, 256] (else 128).
 void launch_pixel_slice(const KernelScene& ks, const SliceArgs& a, int block_threads);
+
+/// The launch of pixel_samples<V> (pixel_kernel_impl.cuh), instantiated once per Value in
+/// the pixel_kernel_*.cu files: `blocks` blocks of `threads` threads on stream 0.
+template <class V>
+void launch_pixel_samples(const SliceArgs& a, unsigned blocks, unsigned threads);
+
+/// Threads per block the kernel is compiled for at most (__launch_bounds__).
+inline constexpr int kMaxBlockThreads = 256;
 
 }  // namespace tessera::cuda

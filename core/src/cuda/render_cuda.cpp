@@ -1,11 +1,13 @@
 /// render_tiles_cuda (cuda_render.h), the host half of the CUDA backend: checks what the
-/// device kernels cover, copies what the KernelScene points to (field, majorants, empty-space
-/// reach, transfer function, lights, background) and the tiles' pixel sums to the device,
-/// launches bounded slices (pixel_kernel.cu) with the deadline checked between them, and
-/// copies the sums and counters back. Every CUDA call goes through cuda_check.
+/// device kernels cover, waits for the simulation's stream, finds or makes the prepared
+/// scene's device copies (device_scene.h) within the memory limit and the device's free
+/// memory, copies the tiles' pixel sums to the device, launches bounded slices
+/// (pixel_kernel.h) with the deadline checked between them, and copies the sums and counters
+/// back. Every CUDA call goes through cuda_check; cuda_memory_kind and cuda_device_count too.
 #include <tessera/cuda_render.h>
 
 #include "cuda/cuda_check.h"
+#include "cuda/device_scene.h"
 #include "cuda/pixel_kernel.h"
 #include "kernel/stop_check.h"
 #include "scene/prepared_scene_impl.h"
@@ -15,6 +17,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,10 +27,15 @@ namespace tessera {
 
 using cuda::cuda_check;
 using cuda::DeviceBuffer;
+using cuda::DeviceScene;
 
 bool cuda_built() { return true; }
 
 int cuda_device_count(std::string* why) {
+  if (std::string disabled; cuda_disabled(&disabled)) {
+    if (why) *why = "the GPU was disabled for the process by " + disabled;
+    return 0;
+  }
   int n = 0;
   const cudaError_t e = cudaGetDeviceCount(&n);
   if (e != cudaSuccess) {
@@ -38,23 +47,31 @@ int cuda_device_count(std::string* why) {
   return n;
 }
 
+MemoryKind cuda_memory_kind(const void* p) {
+  cuda::throw_if_disabled();
+  if (p == nullptr) return MemoryKind::Host;
+  cudaPointerAttributes attr{};
+  const cudaError_t e = cudaPointerGetAttributes(&attr, p);
+  if (e != cudaSuccess) {
+    if (cuda::is_sticky(e)) cuda_check(e, "cudaPointerGetAttributes");
+    cudaGetLastError();  // no driver, no device, or an old runtime's unregistered pointer: not sticky
+    return MemoryKind::Host;
+  }
+  switch (attr.type) {
+    case cudaMemoryTypeDevice: return MemoryKind::Device;
+    case cudaMemoryTypeManaged: return MemoryKind::Managed;
+    default: return MemoryKind::Host;  // unregistered or pinned host memory
+  }
+}
+
 namespace {
 
 /// Samples a launch holds at most by default (CudaLaunch::samples_per_launch 0): a few
 /// milliseconds to a second of work on one GPU, so the deadline is seen often enough.
 constexpr std::int64_t kDefaultSamplesPerLaunch = std::int64_t{1} << 22;
 
-/// The first byte and the byte past the last element of a strided view, as offsets from
-/// its data pointer (negative strides reach below it).
-void field_span(const FieldView& f, std::int64_t* lo, std::int64_t* hi) {
-  *lo = 0;
-  *hi = static_cast<std::int64_t>(dtype_size(f.dtype));
-  for (int a = 0; a < 3; ++a) {
-    const std::int64_t reach = (f.dims[a] - 1) * f.byte_strides[a];
-    if (reach < 0) *lo += reach;
-    else *hi += reach;
-  }
-}
+/// Guards every PreparedSceneImpl::device_cache (looked up and filled under it).
+std::mutex g_cache_mutex;
 
 /// What the kernels read that the device does not cover yet: empty when covered.
 std::string unsupported(const PreparedSceneImpl& s) {
@@ -65,62 +82,15 @@ std::string unsupported(const PreparedSceneImpl& s) {
   return {};
 }
 
-/// The scene's device copies: every table the KernelScene points to, and the KernelScene
-/// and medium over them.
-struct DeviceScene {
-  DeviceBuffer field, majorant, empty_reach, tf, env, lights, kernel, medium;
-  std::uint64_t bytes = 0;  ///< copied to the device
-  bool field_in_place = false;
-
-  explicit DeviceScene(const PreparedSceneImpl& s) {
-    const KernelScene& ks = s.kernel;
-    KernelScene d = ks;
-    // The field: device or managed memory is read in place, host memory copied
-    cudaPointerAttributes attr{};
-    const cudaError_t pe = cudaPointerGetAttributes(&attr, ks.field.data);
-    if (pe != cudaSuccess) cudaGetLastError();  // an unregistered host pointer on old runtimes: not sticky
-    field_in_place = pe == cudaSuccess && (attr.type == cudaMemoryTypeDevice || attr.type == cudaMemoryTypeManaged);
-    if (!field_in_place) {
-      std::int64_t lo, hi;
-      field_span(ks.field, &lo, &hi);
-      const auto* base = static_cast<const unsigned char*>(ks.field.data);
-      bytes += field.upload(base + lo, static_cast<std::size_t>(hi - lo), "field copy");
-      d.field.data = field.as<unsigned char>() - lo;
-    }
-    // Majorants and empty-space reach, one per macrocell
-    const auto cells = static_cast<std::size_t>(ks.cells[0] * ks.cells[1] * ks.cells[2]);
-    bytes += majorant.upload(ks.majorant, cells * sizeof(double), "majorants");
-    d.majorant = majorant.as<double>();
-    if (ks.empty_reach) {
-      bytes += empty_reach.upload(ks.empty_reach, cells, "empty-space reach");
-      d.empty_reach = empty_reach.as<std::uint8_t>();
-    }
-    bytes += tf.upload(ks.tf, sizeof(TransferFunction), "transfer function");
-    d.tf = tf.as<TransferFunction>();
-    // The background (constant or gradient: no tables) and the lights, the background light
-    // pointing at the device's copy
-    bytes += env.upload(&s.env, sizeof(Environment), "background");
-    const auto* env_dev = env.as<Environment>();
-    std::vector<Light> host_lights;
-    for (int i = 0; i < ks.lights.count(); ++i)
-      host_lights.push_back(i < ks.lights.area_count() ? ks.lights[i] : Light(EnvironmentLight(env_dev)));
-    bytes += lights.upload(host_lights.data(), host_lights.size() * sizeof(Light), "lights");
-    d.lights = ks.lights.relocated(lights.as<Light>(), env_dev);
-    // No tile list on the device: the host hands it pixels
-    d.tiles = nullptr;
-    d.tile_culled = nullptr;
-    d.tile_count = 0;
-    bytes += kernel.upload(&d, sizeof(KernelScene), "kernel scene");
-    std::vector<unsigned char> m(cuda::device_medium_bytes(d));
-    cuda::make_device_medium(d, m.data());
-    bytes += medium.upload(m.data(), m.size(), "medium");
-  }
-};
+std::string mib(std::uint64_t bytes) {
+  return std::to_string(bytes) + " bytes (" + std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB)";
+}
 
 }  // namespace
 
 void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
                        const CudaLaunch& launch, CudaTransfer* transfer) {
+  cuda::throw_if_disabled();
   const PreparedSceneImpl& s = prepared_scene_impl(scene);
   if (film.width() != s.desc.image.width || film.height() != s.desc.image.height)
     throw std::invalid_argument("film is " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
@@ -142,6 +112,12 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
   cuda_check(cudaGetDeviceProperties(&prop, launch.device), "cudaGetDeviceProperties");
   const auto t_start = std::chrono::steady_clock::now();
 
+  // The simulation's queued work first: nothing is read before it is done
+  if (launch.stream)
+    cuda_check(cudaStreamSynchronize(static_cast<cudaStream_t>(launch.stream)),
+               "cudaStreamSynchronize(the simulation's stream, before reading its arrays)");
+  else cuda_check(cudaDeviceSynchronize(), "cudaDeviceSynchronize (before reading the field)");
+
   // The pixels of the listed tiles, in tile order, and their sums so far
   std::vector<cuda::PixelJob> jobs;
   for (const int i : tile_indices) {
@@ -156,14 +132,42 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
     px[j] = film.at(jobs[j].x, jobs[j].y);
     if (film.has_aux()) aux[j] = *film.aux_at(jobs[j].x, jobs[j].y);
   }
+  std::array<unsigned long long, cuda::kCounterCount> counters{};
+  const std::uint64_t call_bytes = jobs.size() * sizeof(cuda::PixelJob) + px.size() * sizeof(PixelSums) +
+                                   aux.size() * sizeof(AuxSums) + sizeof(counters);
 
-  DeviceScene dev(s);
-  std::uint64_t to_device = dev.bytes;
+  // The scene's device copies: kept from an earlier call on this device, or made now. The
+  // bytes are counted against the limit and the device's free memory before any allocation.
+  std::uint64_t to_device = 0, device_bytes = 0;
+  std::shared_ptr<DeviceScene> dev;
+  bool reused = false;
+  {
+    const std::lock_guard lock(g_cache_mutex);
+    auto cached = std::static_pointer_cast<DeviceScene>(s.device_cache);
+    reused = cached && cached->device() == launch.device;
+    dev = reused ? std::move(cached) : std::make_shared<DeviceScene>(s, launch.device);
+    device_bytes = dev->bytes() + call_bytes;
+    const std::uint64_t new_bytes = (reused ? 0 : dev->bytes()) + call_bytes;
+    if (launch.memory_limit_bytes > 0 && device_bytes > launch.memory_limit_bytes)
+      throw std::runtime_error("render_tiles_cuda: needs " + mib(device_bytes) + " of device memory (scene copies " +
+                               mib(dev->bytes()) + ", this call's pixels " + mib(call_bytes) +
+                               "), over the memory limit of " + mib(launch.memory_limit_bytes));
+    std::size_t free_bytes = 0, total_bytes = 0;
+    cuda_check(cudaMemGetInfo(&free_bytes, &total_bytes), "cudaMemGetInfo");
+    if (new_bytes > free_bytes)
+      throw std::runtime_error("render_tiles_cuda: needs " + mib(new_bytes) + " of device memory (scene copies " +
+                               mib(reused ? 0 : dev->bytes()) + ", this call's pixels " + mib(call_bytes) + "), but " +
+                               prop.name + " has " + mib(free_bytes) + " free of " + mib(total_bytes));
+    if (!reused) {
+      to_device += dev->upload();
+      s.device_cache = dev;  // the prepared scene keeps them; freed with it
+    }
+  }
+
   DeviceBuffer d_jobs, d_px, d_aux, d_counters;
   to_device += d_jobs.upload(jobs.data(), jobs.size() * sizeof(cuda::PixelJob), "pixel list");
   to_device += d_px.upload(px.data(), px.size() * sizeof(PixelSums), "pixel sums");
   if (!aux.empty()) to_device += d_aux.upload(aux.data(), aux.size() * sizeof(AuxSums), "auxiliary sums");
-  std::array<unsigned long long, cuda::kCounterCount> counters{};
   to_device += d_counters.upload(counters.data(), sizeof(counters), "counters");
 
   // Bounded slices: all pixels' next few samples at a time, so every pixel's samples are
@@ -184,8 +188,8 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
         stopped = true;
         break;
       }
-      cuda::SliceArgs a{dev.kernel.as<KernelScene>(),
-                        dev.medium.get(),
+      cuda::SliceArgs a{dev->kernel(),
+                        dev->medium(),
                         d_jobs.as<cuda::PixelJob>(),
                         d_px.as<PixelSums>(),
                         d_aux.as<AuxSums>(),
@@ -193,10 +197,11 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
                         j0,
                         std::min(njobs, j0 + per_launch_px),
                         std::min(per_launch_spp, spp - s0)};
-      cuda::launch_pixel_slice(s.kernel, a, launch.block_threads);
+      cuda::launch_pixel_slice(dev->dispatch_scene(), a, launch.block_threads);
       ++launches;
-      cuda_check(cudaDeviceSynchronize(), "pixel_samples slice (samples " + std::to_string(s0) + "+, pixels " +
-                                              std::to_string(j0) + "+ of " + std::to_string(njobs) + ")");
+      cuda_check(cudaDeviceSynchronize(), cuda::pixel_kernel_name(s.kernel) + " slice (samples " + std::to_string(s0) +
+                                              "+, pixels " + std::to_string(j0) + "+ of " + std::to_string(njobs) +
+                                              ")");
     }
   }
 
@@ -234,7 +239,9 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
     transfer->device_name = prop.name;
     transfer->bytes_to_device = to_device;
     transfer->bytes_to_host = to_host;
-    transfer->field_in_place = dev.field_in_place;
+    transfer->device_bytes = device_bytes;
+    transfer->field_in_place = dev->field_in_place();
+    transfer->scene_reused = reused;
     transfer->launches = launches;
   }
   if (stopped) throw DeadlineExceeded(0, tile_indices.size());

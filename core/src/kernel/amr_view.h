@@ -11,6 +11,7 @@
 /// No search over levels' patches, no allocation, no virtual call.
 #include <tessera/brick_cache.h>
 #include <tessera/field_view.h>
+#include <tessera/host_device.h>
 #include <tessera/math.h>
 
 #include "kernel/trilinear.h"
@@ -31,10 +32,10 @@ struct AmrPatchAddress {
   std::int64_t vbase[3] = {0, 0, 0};
   std::int64_t s[3] = {0, 0, 0};
   std::int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  bool holds(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  TESSERA_HOST_DEVICE bool holds(std::int64_t i, std::int64_t j, std::int64_t k) const {
     return i >= lo[0] && i < hi[0] && j >= lo[1] && j < hi[1] && k >= lo[2] && k < hi[2];
   }
-  const unsigned char* at(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  TESSERA_HOST_DEVICE const unsigned char* at(std::int64_t i, std::int64_t j, std::int64_t k) const {
     return reinterpret_cast<const unsigned char*>(origin + static_cast<std::intptr_t>(i * s[0] + j * s[1] + k * s[2]));
   }
 };
@@ -69,7 +70,7 @@ struct AmrFieldView {
   double inv_edge = 1.0;  ///< 1 / macrocell edge (level-0 samples)
 
   /// The finest level a patch reaches in p's macrocell.
-  int finest_at(const Vec3& p) const {
+  TESSERA_HOST_DEVICE int finest_at(const Vec3& p) const {
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a)
       c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p[a] * inv_edge)), 0, nc[a] - 1);
@@ -78,7 +79,7 @@ struct AmrFieldView {
 
   /// The hierarchy's value at p (the finest level whose stencil is present), non-finite
   /// samples mapped as GridMedium::vertex does (NaN, -Inf -> nf_lo; +Inf -> nf_hi).
-  double value(const Vec3& p, double nf_lo, double nf_hi) const {
+  TESSERA_HOST_DEVICE double value(const Vec3& p, double nf_lo, double nf_hi) const {
     double v = 0.0;
     for (int l = finest_at(p); l > 0; --l)
       if (value_at(l, p, nf_lo, nf_hi, &v)) return v;
@@ -88,17 +89,22 @@ struct AmrFieldView {
 
   /// Central-difference step for gradients, in level-0 samples: one sample of the finest level
   /// in p's macrocell.
-  double gradient_step(const Vec3& p) const { return 1.0 / level[finest_at(p)].scale; }
+  TESSERA_HOST_DEVICE double gradient_step(const Vec3& p) const { return 1.0 / level[finest_at(p)].scale; }
 
   /// Sample (i, j, k) of patch P's level (inside P), as double.
-  double load(const AmrPatchAddress& P, std::int64_t i, std::int64_t j, std::int64_t k) const {
+  TESSERA_HOST_DEVICE double load(const AmrPatchAddress& P, std::int64_t i, std::int64_t j, std::int64_t k) const {
+#if defined(__CUDA_ARCH__)
+    // The device holds no brick cache: render_tiles_cuda refuses a hierarchy with remote patches
+    return detail::load_as_double(dtype, P.at(i, j, k));
+#else
     if (!P.remote) [[likely]]
       return detail::load_as_double(dtype, P.at(i, j, k));
     return paged.load(P.vbase[0] + i, P.vbase[1] + j, P.vbase[2] + k);
+#endif
   }
 
   /// The value of level l at p into *out if its stencil is present there.
-  bool value_at(int l, const Vec3& p, double nf_lo, double nf_hi, double* out) const {
+  TESSERA_HOST_DEVICE bool value_at(int l, const Vec3& p, double nf_lo, double nf_hi, double* out) const {
     const AmrLevelView& L = level[l];
     std::int64_t i0[3], i1[3];
     double f[3];

@@ -5,6 +5,7 @@
 /// copyable; points at the caller's arrays. Inactive (base[0] null) for every other field.
 #include <tessera/brick_cache.h>
 #include <tessera/field_view.h>
+#include <tessera/host_device.h>
 #include <tessera/magnitude_field.h>
 
 #include <cstdint>
@@ -17,7 +18,7 @@ struct MagnitudeFieldView {
   std::int64_t s[3][3] = {};  ///< per component, byte strides along i, j, k
   DType dtype[3] = {DType::Float64, DType::Float64, DType::Float64};
 
-  bool active() const { return base[0] != nullptr; }
+  TESSERA_HOST_DEVICE bool active() const { return base[0] != nullptr; }
 
   static MagnitudeFieldView of(const MagnitudeField& f) {
     MagnitudeFieldView v;
@@ -29,11 +30,12 @@ struct MagnitudeFieldView {
     return v;
   }
 
-  [[gnu::always_inline]] double component(int c, std::int64_t i, std::int64_t j, std::int64_t k) const {
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double component(int c, std::int64_t i, std::int64_t j,
+                                                              std::int64_t k) const {
     return detail::load_as_double(dtype[c], base[c] + i * s[c][0] + j * s[c][1] + k * s[c][2]);
   }
   /// magnitude() of vertex (i, j, k)'s components.
-  double load(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  TESSERA_HOST_DEVICE double load(std::int64_t i, std::int64_t j, std::int64_t k) const {
     return magnitude(component(0, i, j, k), component(1, i, j, k), component(2, i, j, k));
   }
 };

@@ -3,6 +3,8 @@
 /// counters. prepare's adaptive preview (scene/adaptive_preview.cpp) runs the same way.
 #include <tessera/render.h>
 
+#include <tessera/cuda_render.h>
+
 #include "kernel/adaptive_sampling.h"
 #include "kernel/stop_check.h"
 #include "kernels/tile_kernel.h"
@@ -68,6 +70,30 @@ std::vector<WorkItem> plan_work(const PreparedSceneImpl& s, std::span<const int>
   return work;
 }
 
+/// The GPU's render_tiles: the options' device, stream and memory limit, the bytes copied
+/// counted in stats, progress reported once at the end (the device has no per-tile callback).
+void render_on_gpu(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
+                   const std::function<void(int)>& progress) {
+  const RenderOptions& o = scene.desc().options;
+  CudaLaunch launch;
+  launch.device = o.cuda_device;
+  launch.stream = o.cuda_stream;
+  launch.memory_limit_bytes = o.device_memory_limit;
+  CudaTransfer transfer;
+  const auto count_bytes = [&] {
+    stats.bytes_to_device += transfer.bytes_to_device;
+    stats.bytes_to_host += transfer.bytes_to_host;
+  };
+  try {
+    render_tiles_cuda(scene, tile_indices, film, stats, launch, &transfer);
+  } catch (const DeadlineExceeded&) {
+    count_bytes();  // the film holds the work done, as on the CPU
+    throw;
+  }
+  count_bytes();
+  if (progress) progress(static_cast<int>(tile_indices.size()));
+}
+
 }  // namespace
 
 void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
@@ -80,6 +106,10 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
   const int ntiles = static_cast<int>(s.tiles.size());
   for (int i : tile_indices)
     if (i < 0 || i >= ntiles) throw std::out_of_range("tile index " + std::to_string(i) + " out of range");
+  if (s.desc.options.device == Device::Cuda) {
+    render_on_gpu(scene, tile_indices, film, stats, progress);
+    return;
+  }
 
   const int threads = render_threads(s.desc.options);
   const std::vector<WorkItem> work = plan_work(s, tile_indices, threads);

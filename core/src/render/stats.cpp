@@ -6,7 +6,7 @@
 
 namespace tessera {
 
-// Every integer field is a row of kRenderCounters: 11 counters, then wall_seconds and threads
+// Every integer field is a row of kRenderCounters: 13 counters, then wall_seconds and threads
 // (an int, padded to 8 bytes).
 static_assert(sizeof(RenderStats) == sizeof(std::uint64_t) * std::size(kRenderCounters) + 2 * sizeof(double),
               "a RenderStats field is missing from kRenderCounters (or a non-counter was added)");

@@ -12,6 +12,7 @@
 #include "scene/amr_tables.h"
 #include "scene/axis_tables.h"
 
+#include <memory>
 #include <vector>
 
 namespace tessera {
@@ -41,6 +42,10 @@ struct PreparedSceneImpl {
   bool summary_reused = false;  ///< the grid's FieldSummary came from the caller
   /// The kernels' view of all of the above (kernel_scene.h), made last by prepare().
   KernelScene kernel;
+  /// The CUDA backend's device copies of what `kernel` points to (cuda/device_scene.h), made
+  /// by the first render_tiles_cuda and freed (cudaFree) with this object; null until then and
+  /// in a CPU build. Guarded by render_cuda.cpp's lock.
+  mutable std::shared_ptr<void> device_cache;
 };
 
 /// What `scene` holds (render.cpp and the core tests; not part of the public API).

@@ -86,6 +86,11 @@ struct RenderResult {
   /// building and checking every element again.
   bool mesh_layout_reused = false;
   RenderStats stats;  ///< summed over ranks on rank 0 (and over Cinema cameras)
+  /// Where it traced: "cpu" or "cuda:N" (tessera.device, docs/gpu.md). stats.bytes_to_device and
+  /// stats.bytes_to_host count the bytes copied between host and device (summed over ranks on
+  /// rank 0; this rank's device arrays staged to the host are added to bytes_to_host here):
+  /// 0 and 0 for a field read in place on the GPU, but for the film's sums.
+  std::string device = "cpu";
   /// Rank 0: what may be wrong with the image although it rendered, one sentence each
   /// (tessera::render_warnings(prepared, stats), scene_warnings.h: transfer-function range
   /// missing the data's values or opacity 0 over them, constant field, NaN vertices, data out
@@ -196,6 +201,13 @@ class Adapter {
   /// geometry as the last one: only field values differ (the C API's tessera_mesh_unchanged,
   /// whose comment says what is reused and how the ranks agree). One-shot. Never throws.
   tessera_status mesh_unchanged() noexcept;
+
+  /// The CUDA stream (a cudaStream_t) on which the simulation computes its device arrays (the
+  /// C API's tessera_set_cuda_stream): before reading them Tessera waits for the work queued
+  /// on it; null (the default): it synchronises the whole device first. Kept until changed.
+  /// execute() returns only when the GPU no longer reads the arrays. Not collective. Returns
+  /// TESSERA_OK, or TESSERA_ERROR_CONFIG when the adapter is not open. Never throws.
+  tessera_status set_cuda_stream(void* cuda_stream) noexcept;
 
   /// Releases everything. Idempotent. Waits for a call another thread is making. Returns
   /// TESSERA_OK; with MPI collective, TESSERA_ERROR_CONFIG when a rank was still inside an

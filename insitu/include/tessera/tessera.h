@@ -309,6 +309,16 @@ tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* fie
  * or closed adapter. */
 tessera_status tessera_mesh_unchanged(tessera_adapter* adapter);
 
+/* The CUDA stream (a cudaStream_t, passed as void* so that this header needs no CUDA) on which
+ * the simulation computes its device arrays. Device (or managed) memory in a field's data is
+ * recognised (cudaPointerGetAttributes) and, with `tessera.device: auto` or `cuda`, read in
+ * place on the GPU (docs/gpu.md). Before reading device arrays Tessera waits for the work
+ * queued on this stream; with none set (NULL, the default) it synchronises the whole device
+ * first. Every execute call returns only when the GPU no longer reads the arrays, so the
+ * simulation may overwrite them at once. Kept until set again. Not collective. Returns
+ * TESSERA_OK, or TESSERA_ERROR_CONFIG for a NULL or closed adapter. */
+tessera_status tessera_set_cuda_stream(tessera_adapter* adapter, void* cuda_stream);
+
 /* Releases the adapter (NULL is allowed and returns TESSERA_OK). Handles are validated: a
  * second tessera_close of the same handle, or tessera_execute / tessera_execute_final /
  * tessera_field_unchanged after its close, returns TESSERA_ERROR_CONFIG and

@@ -102,6 +102,7 @@ class MpiParallelContext final : public ParallelContext {
   /// Groups the ranks by TESSERA_MPI_RANKS_PER_NODE (see the two-argument constructor).
   void connect() override;
   int ranks_on_node() const override { return m_node_size; }
+  int rank_on_node() const override { return m_node_rank; }
   bool can_communicate() const override;
   bool agree(bool ok) override;
   bool any(bool flag) override;

@@ -53,6 +53,9 @@ class ParallelContext {
   /// Ranks sharing this rank's node (its memory), >= 1: the default memory limit divides the
   /// node's memory among them.
   virtual int ranks_on_node() const { return 1; }
+  /// This rank's index among the ranks of its node, in [0, ranks_on_node()): picks its GPU
+  /// (`tessera.cuda_device: -1`).
+  virtual int rank_on_node() const { return 0; }
 
   /// False once communication is no longer possible (MPI finalized): close then releases
   /// without agreeing. Not collective.

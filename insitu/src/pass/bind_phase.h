@@ -5,6 +5,7 @@
 /// hierarchy. Every fault is TESSERA_ERROR_DATA on every rank.
 #include "data/amr_layout.h"
 #include "data/field_binding.h"
+#include "pass/field_device.h"
 #include "pass/pass_context.h"
 
 #include <tessera/magnitude_field.h>
@@ -25,6 +26,8 @@ struct BoundField {
   std::optional<MagnitudeField> magnitude;
   /// A magnitude otherwise: each block's magnitudes, which the binding's blocks view.
   std::vector<std::vector<double>> staged;
+  /// Where the render traces and how the field gets there (device_phase.h).
+  FieldDevice device;
 };
 
 /// Binds the field of pass.call.pub (a language binding's refusal stands in for this rank's

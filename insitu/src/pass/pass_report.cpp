@@ -29,6 +29,17 @@ std::string summary(const PassContext& pass, const RenderResult& r) {
         pass.cfg.global.budget, pass.spp, spec.image.spp, r.actual_spp, budget->allowance(), budget->ratio());
     line += buf;
   }
+  // The GPU: which, and the bytes copied between host and device (0 for a field read in place)
+  if (r.device != "cpu") {
+    std::snprintf(buf, sizeof buf, ", on %s, %llu bytes to the device, %llu to the host", r.device.c_str(),
+                  static_cast<unsigned long long>(r.stats.bytes_to_device),
+                  static_cast<unsigned long long>(r.stats.bytes_to_host));
+    line += buf;
+  } else if (r.stats.bytes_to_host > 0) {
+    std::snprintf(buf, sizeof buf, ", on the CPU, %llu bytes of device arrays copied to the host",
+                  static_cast<unsigned long long>(r.stats.bytes_to_host));
+    line += buf;
+  }
   if (spec.image.denoise) {
     std::snprintf(buf, sizeof buf, ", denoised in %.3f s", r.denoise_seconds);
     line += buf;

@@ -1,7 +1,10 @@
 // The scene and prepare phases of a render (prepare_phase.h).
 #include "pass/prepare_phase.h"
 
+#include "pass/device_phase.h"
+
 #include <tessera/config/build_scene.h>
+#include <tessera/cuda_render.h>
 #include <tessera/field_summary.h>
 
 #include <memory>
@@ -18,6 +21,7 @@ std::optional<SceneSetup> scene_phase(PhaseGate& gate, const PassContext& pass, 
         s.scene.options.frame = static_cast<std::uint64_t>(pass.call.step);
         s.scene.options.deadline = pass.deadline;
         s.scene.image.spp = pass.spp;  // the render budget's plan (image.spp without one)
+        set_device_options(pass, field, s.scene.options);
         if (pass.spec.output.cinema) s.views = cinema_views(*pass.spec.output.cinema, s.scene.camera, b.global_bounds);
       }))
     return std::nullopt;
@@ -75,6 +79,16 @@ PreparedScene prepare_scene(const PassContext& pass, const BoundField& field, Pl
       // A vector's magnitude read in place: its summary (range phase) at the scene's edge
       const FieldView& first = field.magnitude->components[0];
       prepared = prepare(*field.magnitude, scene, entry.find(majorant_edge(first, scene.integrator)));
+    } else if (field.device.in_place) {
+      // Device memory read in place: its summary made on the GPU (prepare never reads it)
+      const int edge = majorant_edge(call.assembled, scene.integrator);
+      std::shared_ptr<const FieldSummary> summary = entry.find(edge);
+      if (!summary) {
+        summary = cuda_field_summary(call.assembled, edge, call.cuda_stream);
+        ++result.field_passes;
+        entry.keep(summary);
+      }
+      prepared = prepare(call.assembled, scene, summary);
     } else {
       prepared = prepare(call.assembled, scene, entry.find(majorant_edge(call.assembled, scene.integrator)));
     }

@@ -3,6 +3,7 @@
 
 #include "data/block_ops.h"
 
+#include <tessera/cuda_render.h>
 #include <tessera/field_summary.h>
 
 #include <limits>
@@ -35,7 +36,9 @@ std::pair<double, double> cached_range(const PassContext& pass, const BoundField
   std::shared_ptr<const FieldSummary> s = entry.kept || whole ? entry.find(0) : nullptr;
   if (!s && whole) {
     const int edge = majorant_edge(b.local, pass.spec.integrator.desc);
-    s = field.magnitude ? magnitude_summary(*field.magnitude, edge) : FieldSummary::build(b.local, edge);
+    s = field.magnitude         ? magnitude_summary(*field.magnitude, edge)
+        : field.device.in_place ? cuda_field_summary(b.local, edge, pass.call.cuda_stream)
+                                : FieldSummary::build(b.local, edge);
     ++result.field_passes;
     entry.keep(s);
   }

@@ -3,6 +3,7 @@
 
 #include "pass/bind_phase.h"
 #include "pass/cinema_phase.h"
+#include "pass/device_phase.h"
 #include "pass/mesh_pass.h"
 #include "pass/pass_context.h"
 #include "pass/pass_report.h"
@@ -47,8 +48,10 @@ PassOutcome run(const PassContext& pass, bool check_when, bool quiet) {
     return out;
   }
 
-  const std::optional<BoundField> field = bind_phase(gate, pass);
-  if (!field) return out;
+  std::optional<BoundField> field = bind_phase(gate, pass);
+  if (!field || !device_phase(gate, pass, *field)) return out;
+  out.result.device = config::device_text(field->device.selection);
+  out.result.stats.bytes_to_host += field->device.staging.bytes;
   agree_on_kept_summaries(pass, *field);
   std::pair<double, double> range{0.0, 0.0};  // only when the trigger or `range: auto` needs it
   if (check_when || pass.spec.transfer_function.range.automatic) {

@@ -84,6 +84,9 @@ struct CallData {
   /// Refinement levels: the last assembled hierarchy's patches (ParallelContext::assemble_amr;
   /// assembled_key names its field).
   std::vector<AmrPatch> assembled_patches;
+  /// The simulation's CUDA stream (Adapter::set_cuda_stream), kept from call to call; null:
+  /// Tessera synchronises the whole device before it reads device arrays.
+  void* cuda_stream = nullptr;
 };
 
 struct PassOutcome {

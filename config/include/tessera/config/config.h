@@ -22,6 +22,8 @@ enum class ByteOrder { Little, Big };
 /// How MPI ranks share the field (docs/mpi.md): a replica per node, each rank's own block
 /// with other blocks' bricks fetched on demand, or chosen by the documented rule.
 enum class Distribution { Replicated, Distributed, Auto };
+/// `tessera.device`: where renders trace (device_choice.h resolves it per render).
+enum class DeviceChoice { Auto, Cpu, Cuda };
 
 /// `tessera:` global options.
 struct GlobalOptions {
@@ -50,7 +52,14 @@ struct GlobalOptions {
   /// out; `budget: 0` is refused). With a budget each render's samples per pixel are planned
   /// between its `image.min_spp` and `image.spp` (docs/insitu.md, "Controlling the cost").
   double budget = 0.0;
+  /// auto: on the GPU when the field's arrays are device (or managed) memory and Tessera has
+  /// CUDA, else on the CPU; cpu: host threads; cuda: the GPU whatever the data (docs/gpu.md).
+  DeviceChoice device = DeviceChoice::Auto;
+  /// -1: the node-local MPI rank modulo the visible devices; else a device index, in
+  /// [-1, kMaxCudaDevice] (checked against the devices visible when a render resolves it).
+  int cuda_device = -1;
 
+  static constexpr int kMaxCudaDevice = 4095;
   static constexpr double kMaxBudget = 1e6;
   static constexpr double kMaxTimeLimit = 31536000.0;  ///< one year, in seconds
   static constexpr std::int64_t kMaxMemoryLimitMb = std::int64_t(1) << 40;

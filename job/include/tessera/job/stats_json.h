@@ -14,6 +14,7 @@ struct RenderRecord {
   RenderStats stats;             ///< wall_seconds: render only (no prepare, no I/O)
   double prepare_seconds = 0.0;  ///< tessera::prepare (majorant grid, tables, tiles)
   double denoise_seconds = 0.0;  ///< tessera::denoise (image.denoise), 0 when off
+  std::string device = "cpu";    ///< where it traced: "cpu" or "cuda:N" (config::device_text)
   std::vector<std::string> outputs;
   /// What may be wrong with the image (tessera::render_warnings(prepared, stats),
   /// scene_warnings.h), one sentence each; never a failure.

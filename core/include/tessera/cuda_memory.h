@@ -1,0 +1,16 @@
+#pragma once
+/// Copies out of device memory for the callers that must read a simulation's device array on
+/// the host (the in situ adapter's staging when a render cannot read it in place, docs/gpu.md).
+/// Declared in every build; without CUDA cuda_copy_to_host throws.
+#include <cstddef>
+
+namespace tessera {
+
+/// Copies `bytes` from `src` (device or managed memory) to `dst` (host memory), after the work
+/// queued on `stream` (a cudaStream_t; null: after the whole device is synchronised); returns
+/// when the copy is done. Throws tessera::cuda::CudaError (a std::runtime_error) naming the
+/// call on a CUDA failure (a sticky one disables the GPU, cuda_disabled), std::runtime_error
+/// in a build without CUDA or once the GPU is disabled.
+void cuda_copy_to_host(void* dst, const void* src, std::size_t bytes, void* stream = nullptr);
+
+}  // namespace tessera

@@ -1,0 +1,78 @@
+#pragma once
+/// DeviceScene: the device copies of everything a prepared scene's KernelScene points to (the
+/// field unless it is device or managed memory, majorants, empty-space reach, transfer
+/// function, lights, background, rectilinear axes' coordinates and tables, refinement levels'
+/// tables and patches, a vector's components), in one device allocation, with the KernelScene
+/// and the medium over them. Made in two steps so that its size is known before anything is
+/// allocated: the constructor plans (no CUDA allocation), upload() allocates and copies.
+/// Kept for a prepared scene's lifetime (PreparedSceneImpl::device_cache, render_cuda.cpp);
+/// read-only once uploaded, so concurrent renders may share it.
+#include "cuda/cuda_check.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace tessera {
+
+struct PreparedSceneImpl;
+struct KernelScene;
+
+namespace cuda {
+
+class DeviceScene {
+ public:
+  /// Plans the copies of `s` for device `device` (current): what is host memory is to be
+  /// copied, device or managed memory is read in place. Throws std::invalid_argument where a
+  /// table's size cannot be known.
+  DeviceScene(const PreparedSceneImpl& s, int device);
+  ~DeviceScene();
+  DeviceScene(const DeviceScene&) = delete;
+  DeviceScene& operator=(const DeviceScene&) = delete;
+
+  /// Device bytes upload() allocates (one allocation).
+  std::uint64_t bytes() const { return m_size; }
+  /// Allocates and copies; returns the bytes copied from the host. Once only.
+  std::uint64_t upload();
+
+  int device() const { return m_device; }
+  bool field_in_place() const { return m_field_in_place; }
+  /// The uploaded KernelScene and medium (device addresses).
+  const KernelScene* kernel() const;
+  /// The host's KernelScene as the kernels see the field: a float32 field is widened to a
+  /// float64 device copy (widen_field.h), so its kernel is the float64 one. For the launch's
+  /// dispatch (launch_pixel_slice) only.
+  const KernelScene& dispatch_scene() const { return *m_dispatch; }
+  const void* medium() const;
+
+ private:
+  /// A copy of `bytes` host bytes from `src` to the allocation's offset `offset`.
+  struct Copy {
+    const void* src;
+    std::size_t bytes;
+    std::size_t offset;
+    const char* what;
+  };
+  std::size_t reserve(std::size_t bytes);
+  std::size_t plan_copy(const void* src, std::size_t bytes, const char* what);
+
+  const PreparedSceneImpl& m_scene;
+  int m_device;
+  bool m_field_in_place = false;
+  std::size_t m_size = 0;
+  std::vector<Copy> m_copies;
+  /// Pointer fix-ups run after allocation: each rewrites one pointer of the device KernelScene
+  std::vector<std::function<void(unsigned char* base, KernelScene& d)>> m_fix;
+  std::size_t m_off_kernel = 0, m_off_medium = 0, m_off_env = 0, m_off_lights = 0, m_off_patches = 0;
+  std::size_t m_medium_bytes = 0, m_npatches = 0;
+  std::vector<std::pair<std::size_t, std::ptrdiff_t>> m_patch_data;  ///< per patch: offset, lowest byte offset
+  void* m_base = nullptr;
+  /// A plain float32 field widened to float64 on the device: the copy's offset (else SIZE_MAX)
+  std::size_t m_off_widened = SIZE_MAX;
+  std::shared_ptr<KernelScene> m_dispatch;
+};
+
+}  // namespace cuda
+}  // namespace tessera

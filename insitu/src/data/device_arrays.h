@@ -1,0 +1,37 @@
+#pragma once
+/// A simulation's arrays in GPU memory (docs/gpu.md): which blocks are device memory, and
+/// their staging to the host when a render cannot read them in place (several ranks or
+/// blocks assembled into a replica, refinement levels, a vector's magnitude, a render on the
+/// CPU). Managed memory is readable on the host as it is and is never staged.
+#include "data/field_binding.h"
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace tessera::insitu {
+
+/// True when some block's data is device memory (cudaMemoryTypeDevice; not managed).
+bool blocks_on_device(std::span<const FieldBlock> blocks);
+
+/// True when some block's data is device or managed memory: a render may read it in place
+/// on the GPU.
+bool blocks_gpu_readable(std::span<const FieldBlock> blocks);
+
+/// The host copies of staged blocks, kept while the render reads them.
+struct HostStaging {
+  std::vector<std::vector<unsigned char>> buffers;
+  std::uint64_t bytes = 0;  ///< copied device -> host
+};
+
+/// Copies each device-memory block of `b` (its whole strided span, ghost cells skipped by the
+/// view as before) to a host buffer and points the block's view, and `b.local` where it is
+/// that block, at the copy: afterwards nothing of `b` is device memory. The copies are
+/// checked against `limit_bytes` (with b.staged_bytes already counted) before any is made:
+/// over it, std::runtime_error naming the bytes and `limit_text`; CUDA failures throw as
+/// cuda_copy_to_host does. `stream`: the simulation's CUDA stream (null: the whole device).
+void stage_blocks_to_host(FieldBinding& b, HostStaging& out, void* stream, std::uint64_t limit_bytes,
+                          const std::string& limit_text);
+
+}  // namespace tessera::insitu

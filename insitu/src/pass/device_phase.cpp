@@ -1,0 +1,55 @@
+// The device phase of a render (device_phase.h).
+#include "pass/device_phase.h"
+
+#include <tessera/config/render_memory.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace tessera::insitu {
+namespace {
+
+/// What the render asks for that the GPU does not cover yet ("" when nothing).
+std::string gpu_gap(const PassContext& pass, const BoundField& field) {
+  if (field.amr) return "refinement levels";
+  if (pass.spec.image.target_error > 0.0) return "adaptive sampling (image.target_error)";
+  if (pass.spec.background.type == BackgroundType::EnvMap) return "an envmap background";
+  return {};
+}
+
+}  // namespace
+
+bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
+  return gate.run(TESSERA_ERROR_RENDER, [&] {
+    FieldBinding& b = field.binding;
+    const config::GlobalOptions& g = pass.cfg.global;
+    const bool readable = blocks_gpu_readable(b.blocks);
+    config::DeviceSelection sel = config::resolve_device(g, readable, pass.ctx.rank_on_node());
+    if (sel.device == Device::Cuda) {
+      if (const std::string gap = gpu_gap(pass, field); !gap.empty()) {
+        if (g.device == config::DeviceChoice::Cuda)
+          throw std::runtime_error("tessera.device is cuda, but " + gap + " is not supported on the GPU yet");
+        sel = config::DeviceSelection{};  // auto: the CPU, the field staged below
+      }
+    }
+    field.device.selection = sel;
+    // In place: one rank holding the field whole, on the GPU, as a plain (single-level,
+    // scalar) field; staged magnitudes are host memory already
+    field.device.in_place = readable && sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() &&
+                            !field.amr && !field.magnitude && field.staged.empty();
+    if (field.device.in_place || !blocks_on_device(b.blocks)) return;
+    const config::MemoryLimit limit = config::memory_limit(g, std::max(1, pass.ctx.ranks_on_node()));
+    stage_blocks_to_host(b, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
+  });
+}
+
+void set_device_options(const PassContext& pass, const BoundField& field, RenderOptions& options) {
+  options.device = field.device.selection.device;
+  options.cuda_device = field.device.selection.cuda_device;
+  options.cuda_stream = pass.call.cuda_stream;
+  options.device_memory_limit =
+      config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node())).bytes;
+}
+
+}  // namespace tessera::insitu

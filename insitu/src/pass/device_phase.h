@@ -1,0 +1,22 @@
+#pragma once
+/// The device phase of a render (docs/gpu.md): where it traces, from `tessera.device`, where
+/// the field lives and what the GPU covers; then the field made readable there. On the GPU a
+/// field in device (or managed) memory that one rank holds whole is read in place, with no
+/// copy; every other case that holds device memory (several ranks or blocks assembled into a
+/// replica, refinement levels, a render on the CPU) stages those blocks to the host first,
+/// within the memory limit, and counts the bytes.
+#include "pass/bind_phase.h"
+#include "pass/pass_context.h"
+
+namespace tessera::insitu {
+
+/// Decides the render's device and stages what must be (field.device). A `device: cuda` that
+/// cannot be honoured (no CUDA build, no device, the GPU disabled, a feature the GPU does not
+/// cover) fails the render with TESSERA_ERROR_RENDER naming why; `auto` falls back to the CPU.
+/// False when the ranks agreed on a failure (the gate's outcome holds it).
+bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field);
+
+/// The GPU-side parts of the render's options: device, stream and device memory limit.
+void set_device_options(const PassContext& pass, const BoundField& field, RenderOptions& options);
+
+}  // namespace tessera::insitu

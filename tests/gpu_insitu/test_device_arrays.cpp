@@ -1,0 +1,178 @@
+// Device arrays through the adapter (docs/gpu.md): a simulation's field in cudaMalloc'd memory
+// is read in place on the GPU with `device: auto` (no field bytes copied, RenderResult.device
+// "cuda:0") and its image agrees with the host array's CPU render within Monte Carlo error;
+// `device: cpu` stages it to the host and renders exactly what the host array renders; the
+// simulation's stream is waited for; a strided (ghost-layer) device view reads the right
+// elements; field_unchanged skips the pass on the GPU too.
+#include "insitu_test_support.h"
+
+#include <tessera/adapter.h>
+#include <tessera/tessera.h>
+
+#include <catch2/catch.hpp>
+
+#include <cuda_runtime_api.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace tessera::insitu;
+using namespace tessera::insitu::test;
+using Catch::Matchers::Contains;
+
+namespace {
+
+constexpr int kN = 24;
+
+/// A device copy of host values, freed at the end.
+template <class T>
+struct DeviceArray {
+  T* ptr = nullptr;
+  std::size_t n = 0;
+  explicit DeviceArray(const std::vector<T>& host) : n(host.size()) {
+    REQUIRE(cudaMalloc(reinterpret_cast<void**>(&ptr), n * sizeof(T)) == cudaSuccess);
+    REQUIRE(cudaMemcpy(ptr, host.data(), n * sizeof(T), cudaMemcpyHostToDevice) == cudaSuccess);
+  }
+  ~DeviceArray() { cudaFree(ptr); }
+  DeviceArray(const DeviceArray&) = delete;
+  DeviceArray& operator=(const DeviceArray&) = delete;
+};
+
+std::string renders(int spp) {
+  // Variance in the EXR for the z-test; 48x48 pixels
+  return render_yaml("main", "",
+                     "    output: {file: \"{name}_{step:04d}\", formats: [exr], variance: true}\n", "density", 48, spp);
+}
+
+struct Rendered {
+  tessera::Image image;
+  RenderResult result;
+};
+
+Rendered render_once(const tessera_field& field, const tessera_grid& grid, const std::string& device, int spp,
+                     void* stream = nullptr) {
+  TempDir dir;
+  Adapter adapter;
+  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), renders(spp), "  device: " + device + "\n"));
+  adapter.set_quiet(true);
+  REQUIRE(adapter.open(cfg) == TESSERA_OK);
+  if (stream) REQUIRE(adapter.set_cuda_stream(stream) == TESSERA_OK);
+  const tessera_status s = adapter.execute(1, 0.0, grid, {&field, 1});
+  INFO(adapter.last_error());
+  if (!adapter.last_results().empty()) INFO(adapter.last_results()[0].error);
+  REQUIRE(s == TESSERA_OK);
+  return {*adapter.last_image("main"), adapter.last_results().at(0)};
+}
+
+/// Block z-test of two images' luminance over 8x8 blocks, standard errors from each
+/// render's per-pixel variance of the mean (the EXR's variance channel); the largest |z|.
+double max_block_z(const tessera::Image& a, const tessera::Image& b) {
+  REQUIRE(a.variance.size() == static_cast<std::size_t>(a.width) * a.height);
+  REQUIRE(b.variance.size() == a.variance.size());
+  const auto lum = [](const tessera::Image& im, int x, int y) {
+    const float* p = im.px(x, y);
+    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+  };
+  const auto var = [](const tessera::Image& im, int x, int y) {
+    return static_cast<double>(im.variance[static_cast<std::size_t>(y) * im.width + x]);
+  };
+  double worst = 0.0;
+  for (int by = 0; by + 8 <= a.height; by += 8)
+    for (int bx = 0; bx + 8 <= a.width; bx += 8) {
+      double ma = 0, mb = 0, va = 0, vb = 0;
+      for (int y = by; y < by + 8; ++y)
+        for (int x = bx; x < bx + 8; ++x) {
+          ma += lum(a, x, y);
+          mb += lum(b, x, y);
+          va += var(a, x, y);
+          vb += var(b, x, y);
+        }
+      const double se = std::sqrt(va + vb);
+      if (se > 0) worst = std::max(worst, std::fabs(ma - mb) / se);
+      else CHECK(ma == mb);
+    }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("a device field is read in place on the GPU: no field bytes copied, CPU image within MC error",
+          "[gpu][insitu]") {
+  const std::vector<float> host = to_float(blob_values(kN));
+  DeviceArray<float> dev(host);
+  const tessera_field on_host = dense_field("density", host.data(), kN);
+  const tessera_field on_device = dense_field("density", dev.ptr, kN);
+  const Rendered cpu = render_once(on_host, unit_grid(kN), "cpu", 64);
+  const Rendered gpu = render_once(on_device, unit_grid(kN), "auto", 64);
+  CHECK(cpu.result.device == "cpu");
+  CHECK_THAT(gpu.result.device, Contains("cuda:0"));
+  // No field bytes: the same render over the host array copies exactly the field more
+  const std::uint64_t field_bytes = host.size() * sizeof(float);
+  const Rendered copied = render_once(on_host, unit_grid(kN), "cuda", 64);
+  CHECK(copied.result.stats.bytes_to_device == gpu.result.stats.bytes_to_device + field_bytes);
+  CHECK(copied.result.stats.bytes_to_host == gpu.result.stats.bytes_to_host);
+  CHECK(same_pixels(copied.image, gpu.image));
+  CHECK(gpu.result.field_passes == 1);  // the summary, made on the GPU
+  CHECK(gpu.result.stats.samples == cpu.result.stats.samples);
+  CHECK(max_block_z(cpu.image, gpu.image) < 4.2);
+  // The same bits on every run
+  const Rendered again = render_once(on_device, unit_grid(kN), "auto", 64);
+  CHECK(same_pixels(gpu.image, again.image));
+}
+
+TEST_CASE("device: cpu stages a device field to the host and renders the host array's bits", "[gpu][insitu]") {
+  const std::vector<float> host = to_float(blob_values(kN));
+  DeviceArray<float> dev(host);
+  const Rendered a = render_once(dense_field("density", host.data(), kN), unit_grid(kN), "cpu", 4);
+  const Rendered b = render_once(dense_field("density", dev.ptr, kN), unit_grid(kN), "cpu", 4);
+  CHECK(b.result.device == "cpu");
+  CHECK(b.result.stats.bytes_to_host == host.size() * sizeof(float));
+  CHECK(same_pixels(a.image, b.image));
+}
+
+TEST_CASE("device: cuda copies a host field to the GPU and says so", "[gpu][insitu]") {
+  const std::vector<float> host = to_float(blob_values(kN));
+  const Rendered r = render_once(dense_field("density", host.data(), kN), unit_grid(kN), "cuda", 4);
+  CHECK_THAT(r.result.device, Contains("cuda:0"));
+  CHECK(r.result.stats.bytes_to_device >= host.size() * sizeof(float));
+}
+
+TEST_CASE("a strided device view with ghost layers and the simulation's stream", "[gpu][insitu]") {
+  // The field inside a (n+2)^3 float64 array with one ghost layer, filled on a stream
+  const int m = kN + 2;
+  const std::vector<double> inner = blob_values(kN);
+  std::vector<double> padded(static_cast<std::size_t>(m) * m * m, -1e30);  // ghosts: never read
+  for (int k = 0; k < kN; ++k)
+    for (int j = 0; j < kN; ++j)
+      for (int i = 0; i < kN; ++i)
+        padded[(i + 1) + m * ((j + 1) + static_cast<std::size_t>(m) * (k + 1))] =
+            inner[i + kN * (j + static_cast<std::size_t>(kN) * k)];
+  double* dev = nullptr;
+  REQUIRE(cudaMalloc(reinterpret_cast<void**>(&dev), padded.size() * sizeof(double)) == cudaSuccess);
+  cudaStream_t stream;
+  REQUIRE(cudaStreamCreate(&stream) == cudaSuccess);
+  REQUIRE(cudaMemcpyAsync(dev, padded.data(), padded.size() * sizeof(double), cudaMemcpyHostToDevice, stream) ==
+          cudaSuccess);
+  tessera_field f{};
+  f.name = "density";
+  f.data = dev;
+  f.dtype = TESSERA_FLOAT64;
+  for (int a = 0; a < 3; ++a) {
+    f.dims[a] = m;
+    f.ghosts_lo[a] = 1;
+    f.ghosts_hi[a] = 1;
+  }
+  f.byte_strides[0] = 8;
+  f.byte_strides[1] = 8LL * m;
+  f.byte_strides[2] = 8LL * m * m;
+  const Rendered gpu = render_once(f, unit_grid(kN), "auto", 4, stream);
+  tessera_field g = f;
+  g.data = padded.data();
+  const Rendered cpu_from_device = render_once(f, unit_grid(kN), "cpu", 4, stream);
+  const Rendered cpu_from_host = render_once(g, unit_grid(kN), "cpu", 4);
+  CHECK_THAT(gpu.result.device, Contains("cuda"));
+  CHECK(same_pixels(cpu_from_device.image, cpu_from_host.image));
+  cudaStreamDestroy(stream);
+  cudaFree(dev);
+}
