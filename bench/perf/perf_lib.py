@@ -260,11 +260,13 @@ def warmup_entry(ds):
     return render_entry("warmup", ds, width=16, height=16, spp=1)
 
 
-def write_scene(b, path, name, volume_path, renders, threads, out_dir):
+def write_scene(b, path, name, volume_path, renders, threads, out_dir, tessera=None, dtype=None):
+    """A scene file for data set `name`. `tessera`: more keys of the `tessera:` block (e.g.
+    device); `dtype`: the file's dtype when it is not the data set's (a converted copy)."""
     ds = DATASETS[name]
     cfg = {
-        "tessera": {"output_dir": out_dir, "threads": threads},
-        "volume": {"file": volume_path, "dims": ds["dims"], "dtype": ds["dtype"],
+        "tessera": {"output_dir": out_dir, "threads": threads, **(tessera or {})},
+        "volume": {"file": volume_path, "dims": ds["dims"], "dtype": dtype or ds["dtype"],
                    "spacing": ds["spacing"], "byte_order": "little"},
         "renders": renders,
     }
