@@ -48,7 +48,18 @@ void check_against_cpu(tessera::DType dtype, const char* what) {
   CHECK(st.discarded_samples == 0);
   CHECK(z < 4.2);
   // Same seed: the same streams, so nearly every pixel's sum agrees to rounding
-  const tessera::Film gpu_same = render_gpu(cpu_scene);
+  tessera::RenderStats cpu_st, gpu_st;
+  {
+    tessera::Film f(48, 48);
+    tessera::render(cpu_scene, f, cpu_st);
+  }
+  const tessera::Film gpu_same = render_gpu(cpu_scene, {}, nullptr, &gpu_st);
+  // ... and the same paths: every counter equal
+  CHECK(gpu_st.free_flight_lookups == cpu_st.free_flight_lookups);
+  CHECK(gpu_st.transmittance_lookups == cpu_st.transmittance_lookups);
+  CHECK(gpu_st.gradient_lookups == cpu_st.gradient_lookups);
+  CHECK(gpu_st.real_collisions == cpu_st.real_collisions);
+  CHECK(gpu_st.null_collisions == cpu_st.null_collisions);
   int close = 0;
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 48; ++x) {

@@ -3,7 +3,8 @@
 // levels and a vector's magnitude. Per Value: a block z-test between a CPU and a GPU render
 // with their own seeds (36 blocks of 8x8 pixels, each |z| < 4.2: two-sided false-alarm
 // probability 2.7e-5 per block, about 1e-3 per Value, Bonferroni), the same bits on two GPU
-// runs and under a second CudaLaunch. 48x48 pixels, 32 samples, fixed seeds.
+// runs and under a second CudaLaunch, and every path counter equal to the CPU's at the same
+// seed. 48x48 pixels, 32 samples, fixed seeds.
 #include "gpu_test_util.h"
 
 #include <tessera/amr.h>
@@ -56,6 +57,20 @@ void check_value(const char* what, const std::function<tessera::PreparedScene(st
   const tessera::Film sliced = render_gpu(gpu_scene, odd);
   CHECK(same_bits(gpu, again));
   CHECK(same_bits(gpu, sliced));
+  // The same paths as the CPU at the same seed: every counter equal (the GPU computes what
+  // the CPU computes; a kernel that traced other paths, as the float32 instantiation once
+  // did, differs here long before a z-test sees it)
+  tessera::Film cpu_same(cpu_scene.desc().image.width, cpu_scene.desc().image.height);
+  tessera::RenderStats cpu_st;
+  tessera::render(cpu_scene, cpu_same, cpu_st);
+  tessera::RenderStats gpu_st;
+  (void)render_gpu(cpu_scene, {}, nullptr, &gpu_st);
+  CHECK(gpu_st.samples == cpu_st.samples);
+  CHECK(gpu_st.free_flight_lookups == cpu_st.free_flight_lookups);
+  CHECK(gpu_st.transmittance_lookups == cpu_st.transmittance_lookups);
+  CHECK(gpu_st.gradient_lookups == cpu_st.gradient_lookups);
+  CHECK(gpu_st.real_collisions == cpu_st.real_collisions);
+  CHECK(gpu_st.null_collisions == cpu_st.null_collisions);
 }
 
 /// Stretched coordinates along each axis: x_i = ((i / (m - 1))^p) for m coordinates.

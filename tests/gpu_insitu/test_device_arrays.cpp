@@ -41,8 +41,8 @@ struct DeviceArray {
 
 std::string renders(int spp) {
   // Variance in the EXR for the z-test; 48x48 pixels
-  return render_yaml("main", "",
-                     "    output: {file: \"{name}_{step:04d}\", formats: [exr], variance: true}\n", "density", 48, spp);
+  return render_yaml("main", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr], variance: true}\n",
+                     "density", 48, spp);
 }
 
 struct Rendered {

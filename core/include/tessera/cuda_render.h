@@ -1,10 +1,12 @@
 #pragma once
 /// The CUDA backend's entry (docs/gpu.md): renders a prepared scene's tiles on a GPU with the
 /// CPU's per-sample code (the kernel headers compile for both, host_device.h): the same
-/// random streams as a function of (seed, frame, pixel, sample index), the same estimator,
-/// each pixel's samples added in index order. Images agree with the CPU's within Monte Carlo
+/// random streams as a function of (seed, frame, pixel, sample index), the same estimator.
+/// A pixel's samples are drawn by up to 8 threads (sample lanes, a function of the image and
+/// spp only), each adding its samples in index order, the lanes then added in lane order: the
+/// sums differ from the CPU's by rounding only. Images agree with the CPU's within Monte Carlo
 /// error (floating-point rounding and the device's math library differ), and on one GPU model
-/// the bits are the same on every run and for any CudaLaunch.
+/// the bits are the same on every run, for any CudaLaunch and any split of the tiles.
 ///
 /// Declared in every build: where Tessera was built without CUDA (TESSERA_CUDA=OFF, or no
 /// nvcc found) cuda_built() is false, cuda_device_count() is 0 and render_tiles_cuda throws.

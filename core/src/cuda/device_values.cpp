@@ -7,6 +7,7 @@
 
 #include <cuda_runtime_api.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <type_traits>
@@ -70,9 +71,15 @@ void make_device_medium(const KernelScene& ks_dev, void* out) {
   });
 }
 
+int sample_lanes(int width, int height, int spp) {
+  const std::int64_t pixels = std::max<std::int64_t>(1, static_cast<std::int64_t>(width) * height);
+  const std::int64_t by_memory = (std::int64_t{1} << 22) / pixels;
+  return static_cast<int>(std::max<std::int64_t>(1, std::min<std::int64_t>({8, spp, by_memory})));
+}
+
 void launch_pixel_slice(const KernelScene& ks, const SliceArgs& a, int block_threads) {
-  const std::int64_t n = a.j1 - a.j0;
-  if (n <= 0 || a.samples <= 0) return;
+  const std::int64_t n = (a.j1 - a.j0) * a.lanes;
+  if (n <= 0 || a.k1 <= a.k0) return;
   if (block_threads < 32 || block_threads > kMaxBlockThreads) block_threads = 128;
   const auto blocks = static_cast<unsigned>((n + block_threads - 1) / block_threads);
   with_device_value(ks, [&](auto tag) {
@@ -80,8 +87,9 @@ void launch_pixel_slice(const KernelScene& ks, const SliceArgs& a, int block_thr
     launch_pixel_samples<V>(a, blocks, static_cast<unsigned>(block_threads));
   });
   cuda_check(cudaGetLastError(), "launch of " + pixel_kernel_name(ks) + " (" + std::to_string(blocks) + " blocks of " +
-                                     std::to_string(block_threads) + " threads, " + std::to_string(a.samples) +
-                                     " samples per pixel)");
+                                     std::to_string(block_threads) + " threads, samples " + std::to_string(a.k0) +
+                                     " to " + std::to_string(a.k1 - 1) + " of each pixel in " +
+                                     std::to_string(a.lanes) + " lanes)");
 }
 
 }  // namespace tessera::cuda

@@ -34,18 +34,34 @@ enum Counter : int {
   kCounterCount
 };
 
-/// One launch: samples [drawn, drawn + samples) of pixels [j0, j1) of `jobs` (each pixel
-/// continues at its own PixelSums::drawn). Every pointer is a device address.
+/// Sample lanes: a pixel's samples of one call are drawn by `lanes` threads, lane l taking the
+/// call's samples k = l, l + lanes, l + 2 lanes, ... (sample index drawn0 + k, drawn0 the
+/// pixel's PixelSums::drawn when the call began) into its own sums, in index order; the lanes
+/// are then added to the pixel in lane order (merge_lanes). A function of the image and spp
+/// only, never of the launch or the tiles a call gets, so the bits are the same for any launch
+/// configuration, tile split or rank count: min(8, spp, 2^22 / pixels of the image), at least
+/// 1 (the lane sums then take at most 256 MiB).
+int sample_lanes(int width, int height, int spp);
+
+/// One launch: the call's samples [k0, k1) of pixels [j0, j1) of `jobs`, each lane's into its
+/// own sums. Every pointer is a device address.
 struct SliceArgs {
   const KernelScene* ks;  ///< the scene, its pointers device addresses
   const void* medium;     ///< GridMedium<V> of the frame's Value (make_device_medium)
   const PixelJob* jobs;
-  PixelSums* px;                 ///< per job
-  AuxSums* aux;                  ///< per job, or null (no denoiser features)
+  const PixelSums* px;           ///< per job: the sums before the call (drawn0)
+  PixelSums* lane_px;            ///< per job and lane (job * lanes + lane)
+  AuxSums* lane_aux;             ///< per job and lane, or null (no denoiser features)
   unsigned long long* counters;  ///< kCounterCount sums
   std::int64_t j0, j1;
-  int samples;
+  int k0, k1;
+  int lanes;
 };
+
+/// Adds each job's lane sums to its pixel sums in lane order (and the auxiliary sums when
+/// given), for jobs [0, njobs), on stream 0; throws CudaError naming the kernel on failure.
+void merge_lanes(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const AuxSums* lane_aux, std::int64_t njobs,
+                 int lanes);
 
 /// True when the device kernels cover the scene's field Value (every dtype, uniform or
 /// rectilinear axes, refinement levels, a vector's magnitude); else false and *why names what

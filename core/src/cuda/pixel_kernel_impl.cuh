@@ -24,18 +24,27 @@ namespace tessera::cuda {
 
 template <class V>
 __global__ void __launch_bounds__(kMaxBlockThreads) pixel_samples(SliceArgs a) {
-  const std::int64_t j = a.j0 + static_cast<std::int64_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  // Thread t: lane t % lanes of job j0 + t / lanes (a pixel's lanes side by side: their rays
+  // run together)
+  const std::int64_t t = static_cast<std::int64_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  const std::int64_t j = a.j0 + t / a.lanes;
   if (j >= a.j1) return;
+  const int lane = static_cast<int>(t % a.lanes);
   const PixelJob job = a.jobs[j];
   TileSampler<V> ts(*a.ks, *static_cast<const GridMedium<V>*>(a.medium), job.culled != 0, nullptr);
-  PixelSums px = a.px[j];
+  const std::uint64_t drawn0 = a.px[j].drawn;
+  const std::int64_t q = j * a.lanes + lane;
+  PixelSums px = a.lane_px[q];
   AuxSums aux;
-  if (a.aux) aux = a.aux[j];
+  if (a.lane_aux) aux = a.lane_aux[q];
   RenderStats st;
-  // The CPU's loop (sample_uniform, tile_kernel_impl.h): each sample continues at px.drawn
-  for (int s = 0; s < a.samples; ++s) ts.accumulate(job.x, job.y, px, a.aux ? &aux : nullptr, px.drawn, st);
-  a.px[j] = px;
-  if (a.aux) a.aux[j] = aux;
+  // The CPU's estimator (sample_uniform, tile_kernel_impl.h) for this lane's samples, in index
+  // order: k = lane (mod lanes) within [k0, k1)
+  const int first = a.k0 + ((lane - a.k0 % a.lanes) % a.lanes + a.lanes) % a.lanes;
+  for (int k = first; k < a.k1; k += a.lanes)
+    ts.accumulate(job.x, job.y, px, a.lane_aux ? &aux : nullptr, drawn0 + static_cast<std::uint64_t>(k), st);
+  a.lane_px[q] = px;
+  if (a.lane_aux) a.lane_aux[q] = aux;
   // Integer sums: the same whatever order the threads add them in
   const RenderStats& k = ts.counters();
   unsigned long long* c = a.counters;

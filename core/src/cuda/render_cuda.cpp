@@ -133,8 +133,13 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
     if (film.has_aux()) aux[j] = *film.aux_at(jobs[j].x, jobs[j].y);
   }
   std::array<unsigned long long, cuda::kCounterCount> counters{};
+  // Each pixel's samples in `lanes` threads (pixel_kernel.h): their sums on the device only
+  const int spp = s.kernel.spp;
+  const int lanes = cuda::sample_lanes(s.desc.image.width, s.desc.image.height, spp);
+  const std::uint64_t lane_bytes =
+      static_cast<std::uint64_t>(jobs.size()) * lanes * (sizeof(PixelSums) + (aux.empty() ? 0 : sizeof(AuxSums)));
   const std::uint64_t call_bytes = jobs.size() * sizeof(cuda::PixelJob) + px.size() * sizeof(PixelSums) +
-                                   aux.size() * sizeof(AuxSums) + sizeof(counters);
+                                   aux.size() * sizeof(AuxSums) + sizeof(counters) + lane_bytes;
 
   // The scene's device copies: kept from an earlier call on this device, or made now. The
   // bytes are counted against the limit and the device's free memory before any allocation.
@@ -169,10 +174,16 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
   to_device += d_px.upload(px.data(), px.size() * sizeof(PixelSums), "pixel sums");
   if (!aux.empty()) to_device += d_aux.upload(aux.data(), aux.size() * sizeof(AuxSums), "auxiliary sums");
   to_device += d_counters.upload(counters.data(), sizeof(counters), "counters");
+  DeviceBuffer d_lane_px, d_lane_aux;
+  d_lane_px.allocate(jobs.size() * lanes * sizeof(PixelSums), "sample lanes' sums");
+  cuda_check(cudaMemset(d_lane_px.get(), 0, d_lane_px.bytes()), "cudaMemset(sample lanes' sums)");
+  if (!aux.empty()) {
+    d_lane_aux.allocate(jobs.size() * lanes * sizeof(AuxSums), "sample lanes' auxiliary sums");
+    cuda_check(cudaMemset(d_lane_aux.get(), 0, d_lane_aux.bytes()), "cudaMemset(sample lanes' auxiliary sums)");
+  }
 
-  // Bounded slices: all pixels' next few samples at a time, so every pixel's samples are
-  // drawn and added in index order whatever the slicing
-  const int spp = s.kernel.spp;
+  // Bounded slices: all pixels' next few samples at a time; each lane's samples are drawn
+  // and added in index order whatever the slicing
   const std::int64_t per_launch_px =
       launch.pixels_per_launch > 0 ? launch.pixels_per_launch : std::max<std::int64_t>(njobs, 1);
   const int per_launch_spp = launch.samples_per_launch > 0
@@ -192,11 +203,14 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
                         dev->medium(),
                         d_jobs.as<cuda::PixelJob>(),
                         d_px.as<PixelSums>(),
-                        d_aux.as<AuxSums>(),
+                        d_lane_px.as<PixelSums>(),
+                        aux.empty() ? nullptr : d_lane_aux.as<AuxSums>(),
                         d_counters.as<unsigned long long>(),
                         j0,
                         std::min(njobs, j0 + per_launch_px),
-                        std::min(per_launch_spp, spp - s0)};
+                        s0,
+                        std::min(spp, s0 + per_launch_spp),
+                        lanes};
       cuda::launch_pixel_slice(dev->dispatch_scene(), a, launch.block_threads);
       ++launches;
       cuda_check(cudaDeviceSynchronize(), cuda::pixel_kernel_name(s.kernel) + " slice (samples " + std::to_string(s0) +
@@ -205,7 +219,10 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
     }
   }
 
-  // The sums back into the film, the counters into the stats
+  // The lanes into the pixels (also after a deadline: the film holds the samples drawn), then
+  // the sums back into the film, the counters into the stats
+  cuda::merge_lanes(d_px.as<PixelSums>(), aux.empty() ? nullptr : d_aux.as<AuxSums>(), d_lane_px.as<PixelSums>(),
+                    aux.empty() ? nullptr : d_lane_aux.as<AuxSums>(), njobs, lanes);
   std::uint64_t to_host = 0;
   cuda_check(cudaMemcpy(px.data(), d_px.get(), px.size() * sizeof(PixelSums), cudaMemcpyDeviceToHost),
              "cudaMemcpy(pixel sums to the host)");

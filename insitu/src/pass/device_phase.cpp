@@ -36,8 +36,8 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
     field.device.selection = sel;
     // In place: one rank holding the field whole, on the GPU, as a plain (single-level,
     // scalar) field; staged magnitudes are host memory already
-    field.device.in_place = readable && sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() &&
-                            !field.amr && !field.magnitude && field.staged.empty();
+    field.device.in_place = readable && sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
+                            !field.magnitude && field.staged.empty();
     if (field.device.in_place || !blocks_on_device(b.blocks)) return;
     const config::MemoryLimit limit = config::memory_limit(g, std::max(1, pass.ctx.ranks_on_node()));
     stage_blocks_to_host(b, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
@@ -48,8 +48,7 @@ void set_device_options(const PassContext& pass, const BoundField& field, Render
   options.device = field.device.selection.device;
   options.cuda_device = field.device.selection.cuda_device;
   options.cuda_stream = pass.call.cuda_stream;
-  options.device_memory_limit =
-      config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node())).bytes;
+  options.device_memory_limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node())).bytes;
 }
 
 }  // namespace tessera::insitu
