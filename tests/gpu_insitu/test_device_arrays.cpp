@@ -3,8 +3,9 @@
 // "cuda:0") and its image agrees with the host array's CPU render within Monte Carlo error;
 // `device: cpu` stages it to the host and renders exactly what the host array renders; the
 // simulation's stream is waited for; a strided (ghost-layer) device view reads the right
-// elements; field_unchanged skips the pass on the GPU too.
+// elements; a mesh domain in device memory is refused by name (meshes are read on the host).
 #include "insitu_test_support.h"
+#include "mesh_blocks.h"
 
 #include <tessera/adapter.h>
 #include <tessera/tessera.h>
@@ -174,5 +175,22 @@ TEST_CASE("a strided device view with ghost layers and the simulation's stream",
   CHECK_THAT(gpu.result.device, Contains("cuda"));
   CHECK(same_pixels(cpu_from_device.image, cpu_from_host.image));
   cudaStreamDestroy(stream);
+  cudaFree(dev);
+}
+
+TEST_CASE("a mesh domain in device memory is refused by name, nothing read", "[gpu][insitu][mesh]") {
+  const std::int64_t n[3] = {5, 4, 6};
+  tessera_test::MeshBlock block(n, 0, 5);
+  tessera_mesh_domain d = block.domain(tessera_test::MeshBlock::Form::Hexes);
+  void* dev = nullptr;
+  REQUIRE(cudaMalloc(&dev, 1 << 16) == cudaSuccess);
+  d.coords.y = dev;  // the y coordinates in GPU memory
+  TempDir dir;
+  Adapter ad;
+  ad.set_quiet(true);
+  REQUIRE(ad.open(dir.write("m.yaml", config_yaml(dir.file("out"), render_yaml("view", "", "", "f", 16, 1)))) ==
+          TESSERA_OK);
+  CHECK(ad.execute_mesh_domains(1, 0.0, {&d, 1}) == TESSERA_ERROR_DATA);
+  CHECK_THAT(ad.last_error(), Contains("domain 0: coords.y is GPU (device) memory"));
   cudaFree(dev);
 }
