@@ -5,6 +5,7 @@
 #include <tessera/film.h>
 #include <tessera/mesh.h>
 
+#include "../common/block_z_test.h"
 #include "mesh/element_geometry.h"
 #include "sampling/rng.h"
 
@@ -153,41 +154,8 @@ inline OwnedMesh curvilinear(const ElementList& m, int nx, int ny, int nz) {
   return out;
 }
 
-/// Mean luminance and its standard error over one block of pixels.
-struct BlockStat {
-  double mean = 0.0, se = 0.0;
-};
-
-/// Per block of `edge` x `edge` pixels: mean of the pixel means and its standard error from
-/// each pixel's sample variance.
-inline std::vector<BlockStat> block_stats(const tessera::Film& film, int edge) {
-  std::vector<BlockStat> out;
-  for (int by = 0; by + edge <= film.height(); by += edge)
-    for (int bx = 0; bx + edge <= film.width(); bx += edge) {
-      double m = 0.0, var = 0.0;
-      for (int y = by; y < by + edge; ++y)
-        for (int x = bx; x < bx + edge; ++x) {
-          const tessera::PixelSums& p = film.pixels()[static_cast<std::size_t>(y * film.width() + x)];
-          const double n = static_cast<double>(p.n), pm = p.lum / n;
-          m += pm;
-          if (p.n > 1) var += std::fmax(0.0, (p.lum2 - p.lum * pm) / (n - 1.0)) / n;
-        }
-      const double np = static_cast<double>(edge * edge);
-      out.push_back({m / np, std::sqrt(var) / np});
-    }
-  return out;
-}
-
-/// The largest |z| over the blocks of two independent films (standard errors combined; a
-/// floor of 1e-9 absolute keeps two empty blocks at z 0).
-inline double max_block_z(const tessera::Film& a, const tessera::Film& b, int edge) {
-  const std::vector<BlockStat> sa = block_stats(a, edge), sb = block_stats(b, edge);
-  double z = 0.0;
-  for (std::size_t i = 0; i < sa.size(); ++i) {
-    const double se = std::sqrt(sa[i].se * sa[i].se + sb[i].se * sb[i].se);
-    z = std::max(z, std::fabs(sa[i].mean - sb[i].mean) / std::fmax(se, 1e-9));
-  }
-  return z;
-}
+using tessera_test::block_stats;
+using tessera_test::BlockStat;
+using tessera_test::max_block_z;
 
 }  // namespace tessera_mesh_test

@@ -1,14 +1,29 @@
 #pragma once
 // What the GPU tests share: a heat-like field and scene, renders on either side, the block
 // z-test (statistics in test_gpu_render.cpp's header) and a bitwise comparison of films.
+//
+// The same tests run twice: on a CUDA device (tessera_gpu_tests, label gpu) and, with
+// TESSERA_GPU_TESTS_EMULATED defined, on the host emulation of a GPU (cuda/emulated_device.h;
+// tessera_emulated_device_tests, every build, CI included), which runs the GPU backend's host
+// half and its kernel's per-thread code on host threads.
 #include <tessera/cuda_render.h>
 #include <tessera/render.h>
 
+#if defined(TESSERA_GPU_TESTS_EMULATED)
+#include "cuda/device_render.h"
+#include "cuda/emulated_device.h"
+#endif
+
 #include <catch2/catch.hpp>
+
+#include "block_z_test.h"
 
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <numeric>
+#include <span>
+#include <utility>
 #include <vector>
 
 namespace gpu_test {
@@ -62,17 +77,43 @@ inline tessera::SceneDesc heat_scene(int n, std::uint64_t seed) {
   return s;
 }
 
+/// Stretched coordinates of a rectilinear axis: x_i = (i / (m - 1))^p for m coordinates.
+inline std::vector<double> stretched(int m, double p) {
+  std::vector<double> c(static_cast<std::size_t>(m));
+  for (int i = 0; i < m; ++i) c[static_cast<std::size_t>(i)] = std::pow(i / (m - 1.0), p);
+  return c;
+}
+
 inline std::vector<int> all_tiles(const tessera::PreparedScene& ps) {
   std::vector<int> t(ps.tiles().size());
   std::iota(t.begin(), t.end(), 0);
   return t;
 }
 
+#if defined(TESSERA_GPU_TESTS_EMULATED)
+/// The emulated device every test shares (its scenes' device copies are kept per backend).
+inline const std::shared_ptr<tessera::cuda::DeviceBackend>& emulated_gpu() {
+  static const std::shared_ptr<tessera::cuda::DeviceBackend> b = tessera::cuda::emulated_backend();
+  return b;
+}
+#endif
+
+/// render_tiles_cuda, or its host emulation in the emulated build.
+inline void gpu_render_tiles(const tessera::PreparedScene& ps, std::span<const int> tiles, tessera::Film& film,
+                             tessera::RenderStats& st, const tessera::CudaLaunch& launch = {},
+                             tessera::CudaTransfer* transfer = nullptr) {
+#if defined(TESSERA_GPU_TESTS_EMULATED)
+  tessera::cuda::render_on_device(emulated_gpu(), ps, tiles, film, st, launch, transfer);
+#else
+  tessera::render_tiles_cuda(ps, tiles, film, st, launch, transfer);
+#endif
+}
+
 inline tessera::Film render_gpu(const tessera::PreparedScene& ps, const tessera::CudaLaunch& launch = {},
                                 tessera::CudaTransfer* transfer = nullptr, tessera::RenderStats* stats = nullptr) {
   tessera::Film film(ps.desc().image.width, ps.desc().image.height);
   tessera::RenderStats st;
-  tessera::render_tiles_cuda(ps, all_tiles(ps), film, st, launch, transfer);
+  gpu_render_tiles(ps, all_tiles(ps), film, st, launch, transfer);
   if (stats) *stats = st;
   return film;
 }
@@ -84,37 +125,22 @@ inline tessera::Film render_cpu(const tessera::PreparedScene& ps) {
   return film;
 }
 
-struct BlockStat {
-  double mean, se;
-};
+using tessera_test::block_stats;
+using tessera_test::BlockStat;
+using tessera_test::max_block_z;
 
-/// Per block of edge x edge pixels: the mean of the pixels' mean luminance and its error.
-inline std::vector<BlockStat> block_stats(const tessera::Film& film, int edge) {
-  std::vector<BlockStat> out;
-  for (int by = 0; by + edge <= film.height(); by += edge)
-    for (int bx = 0; bx + edge <= film.width(); bx += edge) {
-      double m = 0.0, var = 0.0;
-      for (int y = by; y < by + edge; ++y)
-        for (int x = bx; x < bx + edge; ++x) {
-          const tessera::PixelSums& p = film.at(x, y);
-          const double n = static_cast<double>(p.n), pm = p.lum / n;
-          m += pm;
-          if (p.n > 1) var += std::fmax(0.0, (p.lum2 - p.lum * pm) / (n - 1.0)) / n;
-        }
-      const double np = static_cast<double>(edge * edge);
-      out.push_back({m / np, std::sqrt(var) / np});
-    }
-  return out;
-}
-
-inline double max_block_z(const tessera::Film& a, const tessera::Film& b, int edge) {
-  const std::vector<BlockStat> sa = block_stats(a, edge), sb = block_stats(b, edge);
-  double z = 0.0;
-  for (std::size_t i = 0; i < sa.size(); ++i) {
-    const double se = std::sqrt(sa[i].se * sa[i].se + sb[i].se * sb[i].se);
-    z = std::fmax(z, std::fabs(sa[i].mean - sb[i].mean) / std::fmax(se, 1e-9));
+/// The largest difference between two films' pixel sums relative to their size (colour,
+/// alpha, luminance; 1 where a sample count differs).
+inline double max_pixel_difference(const tessera::Film& a, const tessera::Film& b) {
+  if (a.pixels().size() != b.pixels().size()) return 1.0;
+  double d = 0.0;
+  for (std::size_t i = 0; i < a.pixels().size(); ++i) {
+    const tessera::PixelSums &p = a.pixels()[i], &q = b.pixels()[i];
+    if (p.n != q.n || p.drawn != q.drawn) return 1.0;
+    for (const auto& [x, y] : {std::pair{p.r, q.r}, {p.g, q.g}, {p.b, q.b}, {p.a, q.a}, {p.lum, q.lum}})
+      d = std::fmax(d, std::fabs(x - y) / std::fmax(1.0, std::fabs(x)));
   }
-  return z;
+  return d;
 }
 
 inline bool same_bits(const tessera::Film& a, const tessera::Film& b) {

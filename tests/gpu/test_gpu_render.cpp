@@ -13,7 +13,9 @@
 
 #include <catch2/catch.hpp>
 
+#if !defined(TESSERA_GPU_TESTS_EMULATED)
 #include <cuda_runtime_api.h>
+#endif
 
 #include <cmath>
 #include <cstring>
@@ -96,6 +98,7 @@ TEST_CASE("GPU: the same bits on every run and for any launch configuration", "[
   CHECK(same_bits(a, c));
 }
 
+#if !defined(TESSERA_GPU_TESTS_EMULATED)  // (the emulated device: test_emulated_device.cpp)
 TEST_CASE("GPU: a managed field is read in place, with the same bits as its host copy", "[gpu]") {
   // Managed memory: prepare() reads it on the host (majorants), the kernel on the device
   constexpr int n = 40;
@@ -118,6 +121,7 @@ TEST_CASE("GPU: a managed field is read in place, with the same bits as its host
   CHECK(host_tr.bytes_to_device - dev_tr.bytes_to_device == bytes);
   CHECK(same_bits(from_host, in_place));
 }
+#endif
 
 TEST_CASE("GPU: white furnace within 0.5%", "[gpu][furnace]") {
   constexpr int n = 5;
@@ -165,6 +169,6 @@ TEST_CASE("GPU: what the backend does not cover is refused by name", "[gpu]") {
   const tessera::PreparedScene ps = tessera::prepare(view, s);
   tessera::Film film(48, 48);
   tessera::RenderStats st;
-  CHECK_THROWS_WITH(tessera::render_tiles_cuda(ps, all_tiles(ps), film, st),
+  CHECK_THROWS_WITH(gpu_render_tiles(ps, all_tiles(ps), film, st),
                     Catch::Contains("adaptive sampling") && Catch::Contains("not supported on the GPU"));
 }

@@ -10,55 +10,16 @@ heat_far_000010.png, heat_close_000010.png: the same size, and the mean absolute
 per channel within Monte Carlo error: with the same seeds and samples per pixel the GPU's paths
 follow the CPU's almost everywhere (docs/gpu.md), so the 8-bit images differ by far less than
 4 levels on average; a wrong field, camera or transfer function differs by tens.
-Only the standard library (zlib for the PNGs). Prints one line per check; exits 1 on a failure.
+Only the standard library (PNGs read by tests/common/png_decode.py). Prints one line per check;
+exits 1 on a failure.
 """
 import array
 import math
 import os
-import struct
 import sys
-import zlib
 
-
-def read_png(path):
-    """(width, height, channels, bytes) of an 8-bit, non-interlaced grey/RGB/RGBA PNG."""
-    data = open(path, "rb").read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise ValueError(f"{path}: not a PNG")
-    pos, idat, header = 8, b"", None
-    while pos < len(data):
-        (length,) = struct.unpack(">I", data[pos:pos + 4])
-        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + length]
-        pos += 12 + length
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-    width, height, depth, colour, _, _, interlace = header
-    channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(colour)
-    if depth != 8 or channels is None or interlace:
-        raise ValueError(f"{path}: PNG depth {depth}, colour type {colour}, interlace {interlace} not read here")
-    raw, stride = zlib.decompress(idat), width * channels
-    out, prev = bytearray(), bytearray(stride)
-    for y in range(height):
-        f = raw[y * (stride + 1)]
-        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for x in range(stride):
-            a = line[x - channels] if x >= channels else 0
-            b, c = prev[x], prev[x - channels] if x >= channels else 0
-            if f == 1:
-                line[x] = (line[x] + a) & 255
-            elif f == 2:
-                line[x] = (line[x] + b) & 255
-            elif f == 3:
-                line[x] = (line[x] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        out += line
-        prev = line
-    return width, height, channels, bytes(out)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from png_decode import read_png  # noqa: E402
 
 
 def main():
@@ -81,8 +42,9 @@ def main():
     if not worst <= 1e-6:
         failures += 1
     for name in ("heat_far_000010.png", "heat_close_000010.png"):
-        wc, hc, cc, pc = read_png(os.path.join(cpu_dir, name))
-        wg, hg, cg, pg = read_png(os.path.join(gpu_dir, name))
+        wc, hc, cc, rows_c = read_png(os.path.join(cpu_dir, name))
+        wg, hg, cg, rows_g = read_png(os.path.join(gpu_dir, name))
+        pc, pg = b"".join(rows_c), b"".join(rows_g)
         if (wc, hc, cc) != (wg, hg, cg):
             print(f"{name}: {wg}x{hg}x{cg} on the GPU, {wc}x{hc}x{cc} on the CPU")
             failures += 1

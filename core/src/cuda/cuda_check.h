@@ -1,6 +1,6 @@
 #pragma once
-/// CUDA errors as exceptions, and device memory owned by RAII (host code of the CUDA backend
-/// only; never included by device code). Every runtime call of the backend goes through
+/// CUDA errors as exceptions (host code of the CUDA backend only; never included by device
+/// code; device memory is owned by BackendBuffer, device_backend.h). Every runtime call of the backend goes through
 /// cuda_check, so a failure names the call and its arguments, the error's name and its text:
 /// "CUDA: cudaMalloc(field copy, 8388608 bytes) failed: cudaErrorMemoryAllocation (out of memory)".
 #include <cuda_runtime_api.h>
@@ -64,46 +64,6 @@ class DeviceGuard {
 
  private:
   int m_prev = -1;
-};
-
-/// One device allocation, freed when the object goes (a free's error is ignored there: the
-/// error that unwound the render is the one reported).
-class DeviceBuffer {
- public:
-  DeviceBuffer() = default;
-  DeviceBuffer(std::size_t bytes, const char* what) { allocate(bytes, what); }
-  ~DeviceBuffer() {
-    if (m_ptr) cudaFree(m_ptr);
-  }
-  DeviceBuffer(const DeviceBuffer&) = delete;
-  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
-
-  void allocate(std::size_t bytes, const char* what) {
-    if (m_ptr) cudaFree(m_ptr);
-    m_ptr = nullptr;
-    m_bytes = 0;
-    cuda_check(cudaMalloc(&m_ptr, bytes > 0 ? bytes : 1),
-               std::string("cudaMalloc(") + what + ", " + std::to_string(bytes) + " bytes)");
-    m_bytes = bytes;
-  }
-  /// Allocates `bytes` and copies them from host memory `src`; returns the bytes copied.
-  std::size_t upload(const void* src, std::size_t bytes, const char* what) {
-    allocate(bytes, what);
-    if (bytes > 0)
-      cuda_check(cudaMemcpy(m_ptr, src, bytes, cudaMemcpyHostToDevice),
-                 std::string("cudaMemcpy(") + what + " to the device, " + std::to_string(bytes) + " bytes)");
-    return bytes;
-  }
-  void* get() const { return m_ptr; }
-  template <class T>
-  T* as() const {
-    return static_cast<T*>(m_ptr);
-  }
-  std::size_t bytes() const { return m_bytes; }
-
- private:
-  void* m_ptr = nullptr;
-  std::size_t m_bytes = 0;
 };
 
 }  // namespace tessera::cuda

@@ -2,11 +2,9 @@
 /// scene's KernelScene.
 #include "cuda/device_scene.h"
 
-#include <tessera/cuda_render.h>
+#include <tessera/byte_span.h>
 
 #include "cuda/pixel_kernel.h"
-#include "cuda/strided_span.h"
-#include "cuda/widen_field.h"
 #include "scene/prepared_scene_impl.h"
 
 #include <algorithm>
@@ -32,15 +30,16 @@ std::size_t DeviceScene::plan_copy(const void* src, std::size_t bytes, const cha
   return off;
 }
 
-DeviceScene::DeviceScene(const PreparedSceneImpl& s, int device) : m_scene(s), m_device(device) {
+DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBackend> backend)
+    : m_scene(s), m_backend(std::move(backend)) {
   const KernelScene& ks = s.kernel;
   // A strided array: read in place when device or managed memory, else its span copied and
   // `set` given the copy's address of element (0, 0, 0)
   using Setter = void (*)(KernelScene&, int, const unsigned char*);
   const auto strided = [&](const void* data, const std::int64_t dims[3], const std::int64_t strides[3],
                            std::size_t elem, const char* what, Setter set, int index) {
-    if (cuda_memory_kind(data) != MemoryKind::Host) return true;
-    const StridedSpan sp = strided_span(dims, strides, elem);
+    if (m_backend->memory_kind(data) != MemoryKind::Host) return true;
+    const ByteSpan sp = byte_span(dims, strides, elem);
     const auto* p = static_cast<const unsigned char*>(data);
     const std::size_t off = plan_copy(p + sp.lo, static_cast<std::size_t>(sp.hi - sp.lo), what);
     const std::int64_t lo = sp.lo;
@@ -99,9 +98,9 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, int device) : m_scene(s), m
       const AmrPatchAddress& P = amr.patch[i];
       std::int64_t dims[3];
       for (int a = 0; a < 3; ++a) dims[a] = std::max<std::int64_t>(P.hi[a] - P.lo[a], 1);
-      const StridedSpan sp = strided_span(dims, P.s, dtype_size(amr.dtype));
+      const ByteSpan sp = byte_span(dims, P.s, dtype_size(amr.dtype));
       const unsigned char* first = P.at(P.lo[0], P.lo[1], P.lo[2]);
-      if (cuda_memory_kind(first) != MemoryKind::Host) {
+      if (m_backend->memory_kind(first) != MemoryKind::Host) {
         m_patch_data.emplace_back(SIZE_MAX, 0);
         continue;
       }
@@ -138,7 +137,7 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, int device) : m_scene(s), m
   for (int a = 0; a < 3; ++a) {
     const AxisMap& m = ks.axis[a];
     if (!m.coords) continue;
-    if (cuda_memory_kind(m.coords) == MemoryKind::Host) {
+    if (m_backend->memory_kind(m.coords) == MemoryKind::Host) {
       const auto n = static_cast<std::size_t>(m.n + (m.cell ? 1 : 0));
       const std::size_t off = plan_copy(m.coords, n * sizeof(double), "axis coordinates");
       m_fix.push_back(
@@ -162,21 +161,16 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, int device) : m_scene(s), m
   m_off_medium = reserve(m_medium_bytes);
 }
 
-DeviceScene::~DeviceScene() {
-  if (!m_base) return;
-  const DeviceGuard guard(m_device);
-  cudaFree(m_base);  // an error here is not the caller's to see (the context may be gone)
-}
+DeviceScene::~DeviceScene() { m_backend->release(m_base); }
 
 std::uint64_t DeviceScene::upload() {
   const KernelScene& ks = m_scene.kernel;
-  cuda_check(cudaMalloc(&m_base, m_size), "cudaMalloc(scene copies, " + std::to_string(m_size) + " bytes)");
+  m_base = m_backend->allocate(m_size, "scene copies");
   auto* base = static_cast<unsigned char*>(m_base);
   std::uint64_t copied = 0;
   const auto put = [&](std::size_t off, const void* src, std::size_t bytes, const char* what) {
     if (bytes == 0) return;
-    cuda_check(cudaMemcpy(base + off, src, bytes, cudaMemcpyHostToDevice),
-               std::string("cudaMemcpy(") + what + " to the device, " + std::to_string(bytes) + " bytes)");
+    m_backend->copy_to_device(base + off, src, bytes, what);
     copied += bytes;
   };
   for (const Copy& c : m_copies) put(c.offset, c.src, c.bytes, c.what);
@@ -187,7 +181,7 @@ std::uint64_t DeviceScene::upload() {
   if (m_off_widened != SIZE_MAX) {
     // The float32 values (copied above, or the caller's device memory) widened to float64
     auto* wide = reinterpret_cast<double*>(base + m_off_widened);
-    widen_float32(static_cast<const unsigned char*>(d.field.data), d.field.dims, d.field.byte_strides, wide);
+    m_backend->widen_float32(static_cast<const unsigned char*>(d.field.data), d.field.dims, d.field.byte_strides, wide);
     d.field.data = wide;
     d.field.dtype = DType::Float64;
     d.field.byte_strides[0] = sizeof(double);

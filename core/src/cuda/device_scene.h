@@ -3,11 +3,12 @@
 /// field unless it is device or managed memory, majorants, empty-space reach, transfer
 /// function, lights, background, rectilinear axes' coordinates and tables, refinement levels'
 /// tables and patches, a vector's components), in one device allocation, with the KernelScene
-/// and the medium over them. Made in two steps so that its size is known before anything is
-/// allocated: the constructor plans (no CUDA allocation), upload() allocates and copies.
+/// and the medium over them, on a DeviceBackend (device_backend.h: CUDA, or the host
+/// emulation). Made in two steps so that its size is known before anything is allocated: the
+/// constructor plans (no allocation), upload() allocates and copies.
 /// Kept for a prepared scene's lifetime (PreparedSceneImpl::device_cache, render_cuda.cpp);
 /// read-only once uploaded, so concurrent renders may share it.
-#include "cuda/cuda_check.h"
+#include "cuda/device_backend.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -24,10 +25,9 @@ namespace cuda {
 
 class DeviceScene {
  public:
-  /// Plans the copies of `s` for device `device` (current): what is host memory is to be
-  /// copied, device or managed memory is read in place. Throws std::invalid_argument where a
-  /// table's size cannot be known.
-  DeviceScene(const PreparedSceneImpl& s, int device);
+  /// Plans the copies of `s` for `backend`'s device: what is host memory is to be copied,
+  /// device or managed memory is read in place. `s` must outlive upload().
+  DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBackend> backend);
   ~DeviceScene();
   DeviceScene(const DeviceScene&) = delete;
   DeviceScene& operator=(const DeviceScene&) = delete;
@@ -37,7 +37,8 @@ class DeviceScene {
   /// Allocates and copies; returns the bytes copied from the host. Once only.
   std::uint64_t upload();
 
-  int device() const { return m_device; }
+  /// The backend the copies live on (a cache hit needs the same one).
+  const DeviceBackend* backend() const { return m_backend.get(); }
   bool field_in_place() const { return m_field_in_place; }
   /// The uploaded KernelScene and medium (device addresses).
   const KernelScene* kernel() const;
@@ -59,7 +60,7 @@ class DeviceScene {
   std::size_t plan_copy(const void* src, std::size_t bytes, const char* what);
 
   const PreparedSceneImpl& m_scene;
-  int m_device;
+  std::shared_ptr<DeviceBackend> m_backend;
   bool m_field_in_place = false;
   std::size_t m_size = 0;
   std::vector<Copy> m_copies;

@@ -8,6 +8,7 @@
 #include <tessera/cuda_render.h>
 #include <tessera/field_summary.h>
 
+#include "cuda/cuda_backend.h"
 #include "cuda/cuda_check.h"
 
 #include <cuda_runtime.h>
@@ -131,8 +132,9 @@ std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, i
   }
   const std::int64_t cells = a.nc[0] * a.nc[1] * a.nc[2];
   const auto ncells = static_cast<std::size_t>(cells);
-  cuda::DeviceBuffer buf(ncells * (2 * sizeof(unsigned long long) + sizeof(unsigned int)) + sizeof(unsigned long long),
-                         "field summary cells");
+  cuda::BackendBuffer buf(*cuda::cuda_backend(device));
+  buf.allocate(ncells * (2 * sizeof(unsigned long long) + sizeof(unsigned int)) + sizeof(unsigned long long),
+               "field summary cells");
   auto* p = buf.as<unsigned char>();
   a.lo = reinterpret_cast<unsigned long long*>(p);
   a.hi = a.lo + ncells;

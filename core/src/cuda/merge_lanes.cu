@@ -1,5 +1,6 @@
-/// merge_lanes (pixel_kernel.h): each pixel's lane sums added to its sums in lane order.
+/// merge_lanes (pixel_kernel.h): merge_pixel (lane_kernel.h) for every pixel, one thread each.
 #include "cuda/cuda_check.h"
+#include "kernels/lane_kernel.h"
 #include "cuda/pixel_kernel.h"
 
 #include <cuda_runtime.h>
@@ -12,28 +13,7 @@ namespace {
 __global__ void merge(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const AuxSums* lane_aux,
                       std::int64_t njobs, int lanes) {
   const std::int64_t j = static_cast<std::int64_t>(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (j >= njobs) return;
-  PixelSums p = px[j];
-  for (int l = 0; l < lanes; ++l) {
-    const PixelSums& q = lane_px[j * lanes + l];
-    p.r += q.r;
-    p.g += q.g;
-    p.b += q.b;
-    p.a += q.a;
-    p.lum += q.lum;
-    p.lum2 += q.lum2;
-    p.n += q.n;
-    p.drawn += q.drawn;
-  }
-  px[j] = p;
-  if (!aux) return;
-  AuxSums x = aux[j];
-  for (int l = 0; l < lanes; ++l)
-    for (int c = 0; c < 3; ++c) {
-      x.albedo[c] += lane_aux[j * lanes + l].albedo[c];
-      x.normal[c] += lane_aux[j * lanes + l].normal[c];
-    }
-  aux[j] = x;
+  if (j < njobs) merge_pixel(px, aux, lane_px, lane_aux, j, lanes);
 }
 
 }  // namespace

@@ -1,38 +1,21 @@
 #pragma once
 /// The device half of the CUDA backend: the medium of the frame's Value built over device
 /// addresses and the launch of one slice (some samples of some pixels) of the kernel
-/// instantiated on that Value (device_values.cpp), the kernel itself (pixel_kernel_impl.cuh,
-/// instantiated over the pixel_kernel_*.cu files so that they compile in parallel). The host
-/// half (render_cuda.cpp, device_scene.cpp) copies the scene's tables and the film's sums,
+/// instantiated on that Value (device_values.cpp, cuda_backend.cpp), the kernel itself
+/// (pixel_kernel_impl.cuh over lane_kernel.h, instantiated over the pixel_kernel_*.cu files so
+/// that they compile in parallel). The host half (device_render.cpp, device_scene.cpp, on a
+/// DeviceBackend: CUDA or the host emulation) copies the scene's tables and the film's sums,
 /// plans the slices and checks the deadline between them.
 #include <tessera/film.h>
 
 #include "kernel/kernel_scene.h"
+#include "kernels/slice_args.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
 namespace tessera::cuda {
-
-/// One pixel of the call's tiles: where it is and its tile's culling verdict.
-struct PixelJob {
-  int x, y;
-  int culled;  ///< 1: the tile has nothing to trace (its pixels get the background)
-};
-
-/// The counters the kernel adds up (RenderStats' fields of the same names).
-enum Counter : int {
-  kSamples,
-  kFreeFlightLookups,
-  kTransmittanceLookups,
-  kGradientLookups,
-  kRealCollisions,
-  kNullCollisions,
-  kDiscardedSamples,
-  kStalledPaths,
-  kCounterCount
-};
 
 /// Sample lanes: a pixel's samples of one call are drawn by `lanes` threads, lane l taking the
 /// call's samples k = l, l + lanes, l + 2 lanes, ... (sample index drawn0 + k, drawn0 the
@@ -43,29 +26,14 @@ enum Counter : int {
 /// 1 (the lane sums then take at most 256 MiB).
 int sample_lanes(int width, int height, int spp);
 
-/// One launch: the call's samples [k0, k1) of pixels [j0, j1) of `jobs`, each lane's into its
-/// own sums. Every pointer is a device address.
-struct SliceArgs {
-  const KernelScene* ks;  ///< the scene, its pointers device addresses
-  const void* medium;     ///< GridMedium<V> of the frame's Value (make_device_medium)
-  const PixelJob* jobs;
-  const PixelSums* px;           ///< per job: the sums before the call (drawn0)
-  PixelSums* lane_px;            ///< per job and lane (job * lanes + lane)
-  AuxSums* lane_aux;             ///< per job and lane, or null (no denoiser features)
-  unsigned long long* counters;  ///< kCounterCount sums
-  std::int64_t j0, j1;
-  int k0, k1;
-  int lanes;
-};
-
 /// Adds each job's lane sums to its pixel sums in lane order (and the auxiliary sums when
 /// given), for jobs [0, njobs), on stream 0; throws CudaError naming the kernel on failure.
 void merge_lanes(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const AuxSums* lane_aux, std::int64_t njobs,
                  int lanes);
 
-/// True when the device kernels cover the scene's field Value (every dtype, uniform or
-/// rectilinear axes, refinement levels, a vector's magnitude); else false and *why names what
-/// is not covered.
+/// True when the CUDA kernels cover the scene's field Value (every dtype, uniform or
+/// rectilinear axes, a vector's magnitude; not refinement levels yet, which only the host
+/// emulation runs); else false and *why names what is not covered.
 bool device_value_supported(const KernelScene& ks, std::string* why);
 
 /// The frame's Value as a kernel name says it, e.g. "pixel_samples<rectilinear int16>".

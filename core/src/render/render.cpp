@@ -9,6 +9,7 @@
 #include "kernel/stop_check.h"
 #include "kernels/tile_kernel.h"
 #include "kernels/workers.h"
+#include "render/tiles_call.h"
 #include "scene/prepared_scene_impl.h"
 
 #include <tbb/blocked_range.h>
@@ -99,13 +100,7 @@ void render_on_gpu(const PreparedScene& scene, std::span<const int> tile_indices
 void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
                   const std::function<void(int)>& progress) {
   const PreparedSceneImpl& s = prepared_scene_impl(scene);
-  if (film.width() != s.desc.image.width || film.height() != s.desc.image.height)
-    throw std::invalid_argument("film is " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
-                                ", scene image is " + std::to_string(s.desc.image.width) + "x" +
-                                std::to_string(s.desc.image.height));
-  const int ntiles = static_cast<int>(s.tiles.size());
-  for (int i : tile_indices)
-    if (i < 0 || i >= ntiles) throw std::out_of_range("tile index " + std::to_string(i) + " out of range");
+  check_tiles_call(s, film, tile_indices);
   if (s.desc.options.device == Device::Cuda) {
     render_on_gpu(scene, tile_indices, film, stats, progress);
     return;

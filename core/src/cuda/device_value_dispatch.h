@@ -1,0 +1,36 @@
+#pragma once
+/// with_device_value: the run-time variant of the frame turned into the device kernels' Value,
+/// the same choice as with_value (kernel/kernel_dispatch.h) makes for the CPU's kernels,
+/// restricted to what the kernel source can run on a device. Host code of the device backend.
+#include "kernel/kernel_dispatch.h"
+
+#include <type_traits>
+
+namespace tessera::cuda {
+
+/// fn(TypeTag<V>{}) for the device kernels' Value of `ks`, and true; false (fn not called) for
+/// what they cannot run: meshes, paged (distributed) fields and hierarchies with remote
+/// patches. A float32 field's Value is double: the device renders the float64 copy it widens
+/// (widen_field.h), so no float kernel exists.
+template <class Fn>
+bool with_device_value(const KernelScene& ks, Fn&& fn) {
+  if (ks.mesh.element != nullptr || ks.paged.cache != nullptr) return false;
+  if (ks.amr.nlevels > 0) {
+    if (ks.amr.paged.cache != nullptr) return false;
+    fn(TypeTag<AmrValue>{});
+    return true;
+  }
+  const bool rect = ks.axis[0].coords || ks.axis[1].coords || ks.axis[2].coords;
+  if (ks.magnitude.active()) {
+    rect ? fn(TypeTag<Rectilinear<MagnitudeValue>>{}) : fn(TypeTag<MagnitudeValue>{});
+    return true;
+  }
+  dispatch_dtype(ks.field, [&](auto view) {
+    using T0 = typename decltype(view)::value_type;
+    using T = std::conditional_t<std::is_same_v<T0, float>, double, T0>;
+    rect ? fn(TypeTag<Rectilinear<T>>{}) : fn(TypeTag<T>{});
+  });
+  return true;
+}
+
+}  // namespace tessera::cuda

@@ -1,0 +1,39 @@
+#pragma once
+/// The host emulation of a GPU: a DeviceBackend (device_backend.h) whose "device memory" is
+/// host memory and whose kernels run their per-thread bodies (lane_kernel.h) on host threads,
+/// in every build. render_on_device (device_render.h) on it runs the GPU backend's whole host
+/// half (the scene's device copies, the float32 widening, slicing, lanes, merging, limits,
+/// counters) and the kernel's per-thread code, so CI tests them without a GPU: a slip in a
+/// device copy or a lane shows as a counter or image that differs from the CPU's. What it
+/// cannot show is the device compiler's code (docs/gpu.md).
+///
+/// Emulated allocations are filled with a byte pattern (as uninitialised device memory holds
+/// garbage), and host ranges can be declared device memory, read in place as the CUDA
+/// backend reads a simulation's device arrays. It also covers what the CUDA kernels do not
+/// yet hold: refinement levels.
+#include "cuda/device_backend.h"
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tessera::cuda {
+
+struct EmulatedDevice {
+  std::string name = "host emulation";
+  /// Total device memory; free is this less what the emulated device holds.
+  std::size_t memory_bytes = std::size_t{1} << 40;
+  /// Host ranges [p, p + bytes) the device takes for its own memory (MemoryKind::Device).
+  std::vector<std::pair<const void*, std::size_t>> device_ranges;
+};
+
+/// A backend emulating `d`. A prepared scene's device copies are kept per backend object, so
+/// keep one to see them reused.
+std::shared_ptr<DeviceBackend> emulated_backend(EmulatedDevice d = {});
+
+/// Bytes an emulated backend holds now (every allocation not yet released).
+std::size_t emulated_bytes_held(const DeviceBackend& b);
+
+}  // namespace tessera::cuda

@@ -1,0 +1,79 @@
+#pragma once
+/// The per-thread bodies of the device backend's two kernels, host and device code from one
+/// source: the CUDA kernels (pixel_kernel_impl.cuh, merge_lanes.cu) run them one per GPU
+/// thread, the host emulation (cuda/emulated_device.h, emulated_slice.h) one per loop index. Everything the backend
+/// computes per pixel is here, so the emulation in CI checks the same arithmetic and order.
+#include <tessera/film.h>
+#include <tessera/host_device.h>
+#include <tessera/stats.h>
+
+#include "kernels/slice_args.h"
+#include "kernels/tile_sampler.h"
+
+#include <cstdint>
+
+namespace tessera::cuda {
+
+/// Thread t of slice `a` (pixel_kernel.h): lane t % lanes of job j0 + t / lanes (a pixel's
+/// lanes side by side, so their rays run together) draws its samples of [k0, k1) in index
+/// order into its own sums. Its counters go to c[kCounterCount] (the caller adds them to the
+/// slice's: integer sums, the same in any order). False, c untouched, when t is past the slice.
+template <class V>
+TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, unsigned long long c[kCounterCount]) {
+  const std::int64_t j = a.j0 + t / a.lanes;
+  if (j >= a.j1) return false;
+  const int lane = static_cast<int>(t % a.lanes);
+  const PixelJob job = a.jobs[j];
+  TileSampler<V> ts(*a.ks, *static_cast<const GridMedium<V>*>(a.medium), job.culled != 0, nullptr);
+  const std::uint64_t drawn0 = a.px[j].drawn;
+  const std::int64_t q = j * a.lanes + lane;
+  PixelSums px = a.lane_px[q];
+  AuxSums aux;
+  if (a.lane_aux) aux = a.lane_aux[q];
+  RenderStats st;
+  // The CPU's estimator (sample_uniform, tile_kernel_impl.h) for this lane's samples, in index
+  // order: k = lane (mod lanes) within [k0, k1)
+  const int first = a.k0 + ((lane - a.k0 % a.lanes) % a.lanes + a.lanes) % a.lanes;
+  for (int k = first; k < a.k1; k += a.lanes)
+    ts.accumulate(job.x, job.y, px, a.lane_aux ? &aux : nullptr, drawn0 + static_cast<std::uint64_t>(k), st);
+  a.lane_px[q] = px;
+  if (a.lane_aux) a.lane_aux[q] = aux;
+  const KernelCounters& k = ts.counters();
+  c[kSamples] = st.samples;
+  c[kDiscardedSamples] = st.discarded_samples;
+  c[kFreeFlightLookups] = k.free_flight_lookups;
+  c[kTransmittanceLookups] = k.transmittance_lookups;
+  c[kGradientLookups] = k.gradient_lookups;
+  c[kRealCollisions] = k.real_collisions;
+  c[kNullCollisions] = k.null_collisions;
+  c[kStalledPaths] = k.stalled_paths;
+  return true;
+}
+
+/// Job j's lane sums added to its pixel sums (and auxiliary sums when given) in lane order.
+TESSERA_HOST_DEVICE inline void merge_pixel(PixelSums* px, AuxSums* aux, const PixelSums* lane_px,
+                                            const AuxSums* lane_aux, std::int64_t j, int lanes) {
+  PixelSums p = px[j];
+  for (int l = 0; l < lanes; ++l) {
+    const PixelSums& q = lane_px[j * lanes + l];
+    p.r += q.r;
+    p.g += q.g;
+    p.b += q.b;
+    p.a += q.a;
+    p.lum += q.lum;
+    p.lum2 += q.lum2;
+    p.n += q.n;
+    p.drawn += q.drawn;
+  }
+  px[j] = p;
+  if (!aux) return;
+  AuxSums x = aux[j];
+  for (int l = 0; l < lanes; ++l)
+    for (int c = 0; c < 3; ++c) {
+      x.albedo[c] += lane_aux[j * lanes + l].albedo[c];
+      x.normal[c] += lane_aux[j * lanes + l].normal[c];
+    }
+  aux[j] = x;
+}
+
+}  // namespace tessera::cuda

@@ -1,0 +1,404 @@
+// The GPU backend's host half on the host emulation of a GPU (cuda/emulated_device.h), in
+// every build: what only the device path does, checked without a GPU. The device copies hold
+// everything the kernel reads (the caller's arrays are overwritten after the first call and
+// the image does not change), device memory is read in place (and overwriting it does change
+// the image), the call's buffers are released, limits refuse by name before allocating, a
+// split of the tiles or a second call gives the CPU's sums, the deadline stops between
+// slices. (test_gpu_render.cpp and test_gpu_values.cpp run here too: every Value against the
+// CPU, counters equal, sums equal to rounding.)
+#include "gpu_test_util.h"
+
+#include "cuda/device_render.h"
+#include "cuda/device_scene.h"
+#include "cuda/emulated_device.h"
+#include "cuda/pixel_kernel.h"
+#include "scene/prepared_scene_impl.h"
+
+#include <tessera/amr.h>
+#include <tessera/magnitude_field.h>
+#include <tessera/render.h>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <vector>
+
+using namespace gpu_test;
+using tessera::cuda::DeviceBackend;
+using tessera::cuda::EmulatedDevice;
+
+namespace {
+
+constexpr int kN = 24;
+
+tessera::Film render_on(const std::shared_ptr<DeviceBackend>& b, const tessera::PreparedScene& ps,
+                        tessera::CudaTransfer* tr = nullptr, tessera::RenderStats* stats = nullptr,
+                        const tessera::CudaLaunch& launch = {}, bool aux = false) {
+  tessera::Film film(ps.desc().image.width, ps.desc().image.height, aux);
+  tessera::RenderStats st;
+  tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, launch, tr);
+  if (stats) *stats = st;
+  return film;
+}
+
+}  // namespace
+
+TEST_CASE("Emulated device: the device copies hold every array the kernel reads", "[emulated]") {
+  // A float32 field (widened on the device) on rectilinear axes: after the first call the
+  // caller's values and coordinates are overwritten; a second call reuses the device copies
+  // and renders the same bits
+  std::vector<float> field = heat_field<float>(kN);
+  std::vector<double> x = stretched(kN, 1.3), y = stretched(kN, 0.9), z = stretched(kN, 1.0);
+  tessera::SceneDesc s = heat_scene(kN, 5);
+  s.geometry.coords[0] = x.data();
+  s.geometry.coords[1] = y.data();
+  s.geometry.coords[2] = z.data();
+  const tessera::PreparedScene ps =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float32, kN, kN, kN), s);
+  const auto b = tessera::cuda::emulated_backend();
+  tessera::CudaTransfer first, second;
+  const tessera::Film a = render_on(b, ps, &first);
+  std::fill(field.begin(), field.end(), -7.0e30f);
+  std::fill(x.begin(), x.end(), 1.0e300);
+  std::fill(y.begin(), y.end(), -1.0e300);
+  std::fill(z.begin(), z.end(), 0.0);
+  const tessera::Film again = render_on(b, ps, &second);
+  CHECK_FALSE(first.scene_reused);
+  CHECK(second.scene_reused);
+  CHECK_FALSE(first.field_in_place);
+  CHECK(second.bytes_to_device < first.bytes_to_device);
+  CHECK(first.bytes_to_device >= field.size() * sizeof(float));
+  CHECK(same_bits(a, again));
+}
+
+TEST_CASE("Emulated device: refinement levels' tables and patches are all copied", "[emulated]") {
+  constexpr std::int64_t n0 = 12;
+  std::vector<double> l0(static_cast<std::size_t>(n0 * n0 * n0)), l1(static_cast<std::size_t>(12 * 14 * 12));
+  for (std::size_t i = 0; i < l0.size(); ++i) l0[i] = 300.0 + 900.0 * std::sin(0.37 * static_cast<double>(i));
+  for (std::size_t i = 0; i < l1.size(); ++i) l1[i] = 300.0 + 900.0 * std::cos(0.11 * static_cast<double>(i));
+  std::vector<tessera::AmrPatch> patches(2);
+  patches[0].view = FieldView::contiguous(l0.data(), tessera::DType::Float64, n0, n0, n0);
+  patches[1].level = 1;
+  patches[1].offset[0] = 6;
+  patches[1].offset[1] = 4;
+  patches[1].offset[2] = 6;
+  patches[1].view = FieldView::contiguous(l1.data(), tessera::DType::Float64, 12, 14, 12);
+  tessera::AmrField amr;
+  amr.dtype = tessera::DType::Float64;
+  for (int a = 0; a < 3; ++a) amr.dims[a] = n0;
+  amr.nlevels = 2;
+  amr.ratio[0] = 2;
+  amr.patches = patches;
+  tessera::SceneDesc s = heat_scene(kN, 3);
+  s.geometry.association = tessera::Association::Cell;
+  s.geometry.spacing = Vec3(1.0 / n0);
+  const tessera::PreparedScene ps = tessera::prepare(amr, s, nullptr);
+  const auto b = tessera::cuda::emulated_backend();
+  tessera::RenderStats est, cst;
+  const tessera::Film a = render_on(b, ps, nullptr, &est);
+  tessera::Film cpu(ps.desc().image.width, ps.desc().image.height);
+  tessera::render(ps, cpu, cst);
+  CHECK(est.real_collisions == cst.real_collisions);
+  CHECK(est.null_collisions == cst.null_collisions);
+  CHECK(max_pixel_difference(a, cpu) < 1e-12);
+  std::fill(l0.begin(), l0.end(), 1.0e30);
+  std::fill(l1.begin(), l1.end(), -1.0e30);
+  CHECK(same_bits(a, render_on(b, ps)));
+}
+
+TEST_CASE("Emulated device: device memory is read in place, not copied", "[emulated]") {
+  std::vector<double> field = heat_field<double>(kN);
+  const std::size_t bytes = field.size() * sizeof(double);
+  EmulatedDevice d;
+  d.device_ranges.emplace_back(field.data(), bytes);
+  const auto on_device = tessera::cuda::emulated_backend(d);
+  const auto copying = tessera::cuda::emulated_backend();
+  const tessera::PreparedScene ps =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), heat_scene(kN, 8));
+  tessera::CudaTransfer copied, in_place;
+  const tessera::Film a = render_on(copying, ps, &copied);
+  // A prepared scene keeps the copies of one backend: a fresh scene for the other
+  const tessera::PreparedScene ps2 =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), heat_scene(kN, 8));
+  const tessera::Film b = render_on(on_device, ps2, &in_place);
+  CHECK(in_place.field_in_place);
+  CHECK_FALSE(copied.field_in_place);
+  CHECK(copied.bytes_to_device - in_place.bytes_to_device == bytes);
+  CHECK(same_bits(a, b));
+  // Read in place: new values on the device change the next image (prepared scenes assume
+  // unchanged values; a render after a change shows that nothing was copied)
+  for (double& v : field) v = 300.0;
+  const tessera::Film c = render_on(on_device, ps2);
+  CHECK_FALSE(same_bits(b, c));
+}
+
+TEST_CASE("Emulated device: a call releases its buffers, the scene's copies go with the scene", "[emulated]") {
+  const std::vector<double> field = heat_field<double>(kN);
+  const auto b = tessera::cuda::emulated_backend();
+  tessera::CudaTransfer tr;
+  {
+    const tessera::PreparedScene ps =
+        tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), heat_scene(kN, 2));
+    (void)render_on(b, ps, &tr);
+    const std::size_t held = tessera::cuda::emulated_bytes_held(*b);
+    INFO("held after the call " << held << ", peak " << tr.device_bytes);
+    CHECK(held > field.size() * sizeof(double));  // the field's copy (and the tables) stay
+    CHECK(held < tr.device_bytes);                // the pixel sums and lanes went
+  }
+  CHECK(tessera::cuda::emulated_bytes_held(*b) == 0);
+}
+
+TEST_CASE("Emulated device: memory limits refuse by name before allocating", "[emulated]") {
+  const std::vector<double> field = heat_field<double>(kN);
+  const tessera::PreparedScene ps =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), heat_scene(kN, 2));
+  EmulatedDevice small;
+  small.name = "tiny emulated GPU";
+  small.memory_bytes = 64 * 1024;
+  const auto b = tessera::cuda::emulated_backend(small);
+  tessera::Film film(48, 48);
+  tessera::RenderStats st;
+  CHECK_THROWS_WITH(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, {}, nullptr),
+                    Catch::Contains("tiny emulated GPU has 65536 bytes") && Catch::Contains("free of"));
+  CHECK(tessera::cuda::emulated_bytes_held(*b) == 0);
+  tessera::CudaLaunch limited;
+  limited.memory_limit_bytes = 100000;
+  const auto big = tessera::cuda::emulated_backend();
+  CHECK_THROWS_WITH(tessera::cuda::render_on_device(big, ps, all_tiles(ps), film, st, limited, nullptr),
+                    Catch::Contains("over the memory limit of 100000 bytes"));
+  CHECK(tessera::cuda::emulated_bytes_held(*big) == 0);
+  CHECK(st.samples == 0);
+}
+
+TEST_CASE("Emulated device: any split of the tiles and a second call give the CPU's sums", "[emulated]") {
+  const std::vector<std::uint16_t> field = [] {
+    const std::vector<double> h = heat_field<double>(kN);
+    std::vector<std::uint16_t> v(h.size());
+    for (std::size_t i = 0; i < h.size(); ++i) v[i] = static_cast<std::uint16_t>(h[i] * 20.0);
+    return v;
+  }();
+  tessera::SceneDesc s = heat_scene(kN, 4);
+  s.tf.lo = 6000.0;
+  s.tf.hi = 26000.0;
+  s.options.tile = 16;
+  const tessera::PreparedScene ps =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::UInt16, kN, kN, kN), s);
+  const auto b = tessera::cuda::emulated_backend();
+  const tessera::Film whole = render_on(b, ps);
+  // The tiles in reverse order, one call each, with odd slices
+  std::vector<int> tiles = all_tiles(ps);
+  REQUIRE(tiles.size() > 2);
+  std::reverse(tiles.begin(), tiles.end());
+  tessera::Film split(48, 48);
+  tessera::RenderStats st;
+  tessera::CudaLaunch odd;
+  odd.samples_per_launch = 7;
+  odd.pixels_per_launch = 100;
+  for (const int t : tiles)
+    tessera::cuda::render_on_device(b, ps, std::span<const int>(&t, 1), split, st, odd, nullptr);
+  CHECK(same_bits(whole, split));
+  // A second call continues each pixel's sample indices, as the CPU's render_tiles does
+  tessera::Film twice_gpu(48, 48, true), twice_cpu(48, 48, true);
+  tessera::RenderStats gst, cst;
+  for (int i = 0; i < 2; ++i) {
+    tessera::cuda::render_on_device(b, ps, all_tiles(ps), twice_gpu, gst, {}, nullptr);
+    tessera::render_tiles(ps, all_tiles(ps), twice_cpu, cst);
+  }
+  CHECK(gst.samples == cst.samples);
+  CHECK(gst.real_collisions == cst.real_collisions);
+  CHECK(max_pixel_difference(twice_gpu, twice_cpu) < 1e-12);
+  // ... and the denoiser's features
+  double aux_diff = 0.0;
+  for (std::size_t i = 0; i < twice_cpu.aux().size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      aux_diff = std::fmax(aux_diff, std::fabs(twice_cpu.aux()[i].albedo[c] - twice_gpu.aux()[i].albedo[c]));
+      aux_diff = std::fmax(aux_diff, std::fabs(twice_cpu.aux()[i].normal[c] - twice_gpu.aux()[i].normal[c]));
+    }
+  CHECK(aux_diff < 1e-9);
+}
+
+TEST_CASE("Emulated device: the deadline stops the render between slices", "[emulated]") {
+  const std::vector<double> field = heat_field<double>(kN);
+  tessera::SceneDesc s = heat_scene(kN, 6);
+  s.options.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  const tessera::PreparedScene ps =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
+  const auto b = tessera::cuda::emulated_backend();
+  tessera::Film film(48, 48);
+  tessera::RenderStats st;
+  tessera::CudaTransfer tr;
+  CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, {}, &tr), tessera::DeadlineExceeded);
+  CHECK(tr.launches == 0);
+  CHECK(st.samples == 0);
+}
+
+namespace {
+
+/// A film and counters rendered from device copies whose prepared scene is gone.
+struct Detached {
+  tessera::Film film;
+  tessera::RenderStats stats;
+};
+
+/// Makes `ps`'s device copies on `b`, destroys `ps` (every host table prepare() made: majorants,
+/// empty-space reach, axis tables, refinement tables, lights, background), calls `scribble` to
+/// overwrite the caller's arrays, then runs the kernel over the copies alone, every pixel's
+/// samples in one slice: any pointer of the device scene left pointing at host memory reads
+/// freed memory (AddressSanitizer, in CI's sanitizer pass, stops there; elsewhere the counters
+/// differ from the CPU's).
+Detached render_detached(std::unique_ptr<tessera::PreparedScene> ps, const std::shared_ptr<DeviceBackend>& b,
+                         const std::function<void()>& scribble) {
+  using namespace tessera::cuda;
+  const tessera::PreparedSceneImpl& s = tessera::prepared_scene_impl(*ps);
+  const int w = s.desc.image.width, h = s.desc.image.height, spp = s.kernel.spp;
+  auto ds = std::make_shared<DeviceScene>(s, b);
+  ds->upload();
+  ps.reset();
+  scribble();
+  std::vector<PixelJob> jobs;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) jobs.push_back({x, y, 0});
+  const int lanes = sample_lanes(w, h, spp);
+  const std::vector<tessera::PixelSums> px(jobs.size());
+  std::array<unsigned long long, kCounterCount> counters{};
+  BackendBuffer d_jobs(*b), d_px(*b), d_lanes(*b), d_counters(*b);
+  d_jobs.upload(jobs.data(), jobs.size() * sizeof(PixelJob), "jobs");
+  d_px.upload(px.data(), px.size() * sizeof(tessera::PixelSums), "sums");
+  d_counters.upload(counters.data(), sizeof(counters), "counters");
+  d_lanes.allocate(jobs.size() * lanes * sizeof(tessera::PixelSums), "lanes");
+  b->zero(d_lanes.get(), d_lanes.bytes(), "lanes");
+  const auto n = static_cast<std::int64_t>(jobs.size());
+  const SliceArgs a{ds->kernel(),
+                    ds->medium(),
+                    d_jobs.as<PixelJob>(),
+                    d_px.as<tessera::PixelSums>(),
+                    d_lanes.as<tessera::PixelSums>(),
+                    nullptr,
+                    d_counters.as<unsigned long long>(),
+                    0,
+                    n,
+                    0,
+                    spp,
+                    lanes};
+  b->run_slice(ds->dispatch_scene(), a, 128, "detached slice");
+  b->merge_lanes(d_px.as<tessera::PixelSums>(), nullptr, d_lanes.as<tessera::PixelSums>(), nullptr, n, lanes);
+  Detached out{tessera::Film(w, h), {}};
+  b->copy_to_host(out.film.pixels().data(), d_px.get(), px.size() * sizeof(tessera::PixelSums), "sums");
+  b->copy_to_host(counters.data(), d_counters.get(), sizeof(counters), "counters");
+  out.stats.samples = counters[kSamples];
+  out.stats.real_collisions = counters[kRealCollisions];
+  out.stats.null_collisions = counters[kNullCollisions];
+  out.stats.free_flight_lookups = counters[kFreeFlightLookups];
+  return out;
+}
+
+/// The CPU's render of ps against the detached device render of the same scene.
+void check_detached(const char* what, const std::function<tessera::PreparedScene()>& prepare,
+                    const std::function<void()>& scribble) {
+  const tessera::PreparedScene ref = prepare();
+  tessera::Film cpu(ref.desc().image.width, ref.desc().image.height);
+  tessera::RenderStats cst;
+  tessera::render(ref, cpu, cst);
+  const Detached d =
+      render_detached(std::make_unique<tessera::PreparedScene>(prepare()), tessera::cuda::emulated_backend(), scribble);
+  INFO(what << ": real collisions " << d.stats.real_collisions << " (CPU " << cst.real_collisions << ")");
+  CHECK(d.stats.samples == cst.samples);
+  CHECK(d.stats.real_collisions == cst.real_collisions);
+  CHECK(d.stats.null_collisions == cst.null_collisions);
+  CHECK(d.stats.free_flight_lookups == cst.free_flight_lookups);
+  CHECK(max_pixel_difference(cpu, d.film) < 1e-12);
+}
+
+}  // namespace
+
+TEST_CASE("Emulated device: the device copies need nothing of the prepared scene or the caller's arrays",
+          "[emulated]") {
+  // A float32 field (widened) on rectilinear axes with a rect light and a gradient sky
+  std::vector<float> field = heat_field<float>(kN);
+  std::vector<double> x = stretched(kN, 1.3), y = stretched(kN, 0.9), z = stretched(kN, 1.0);
+  check_detached(
+      "rectilinear float32",
+      [&] {
+        tessera::SceneDesc s = heat_scene(kN, 21);
+        s.geometry.coords[0] = x.data();
+        s.geometry.coords[1] = y.data();
+        s.geometry.coords[2] = z.data();
+        return tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float32, kN, kN, kN), s);
+      },
+      [&] {
+        std::fill(field.begin(), field.end(), 1.0e30f);
+        std::fill(x.begin(), x.end(), -1.0e300);
+        std::fill(y.begin(), y.end(), 1.0e300);
+        std::fill(z.begin(), z.end(), 0.5);
+      });
+  // A vector's magnitude: three components of three dtypes
+  std::vector<float> c0(field.size());
+  std::vector<double> c1(field.size());
+  std::vector<std::int16_t> c2(field.size());
+  const std::vector<double> h = heat_field<double>(kN);
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    c0[i] = static_cast<float>(0.6 * h[i]);
+    c1[i] = 0.8 * h[i];
+    c2[i] = static_cast<std::int16_t>(i % 7);
+  }
+  check_detached(
+      "magnitude",
+      [&] {
+        tessera::MagnitudeField m;
+        m.components[0] = FieldView::contiguous(c0.data(), tessera::DType::Float32, kN, kN, kN);
+        m.components[1] = FieldView::contiguous(c1.data(), tessera::DType::Float64, kN, kN, kN);
+        m.components[2] = FieldView::contiguous(c2.data(), tessera::DType::Int16, kN, kN, kN);
+        return tessera::prepare(m, heat_scene(kN, 22));
+      },
+      [&] {
+        std::fill(c0.begin(), c0.end(), 0.0f);
+        std::fill(c1.begin(), c1.end(), 0.0);
+        std::fill(c2.begin(), c2.end(), std::int16_t{-1});
+      });
+  // Two refinement levels of int16 cell data (stencil tables, candidate lists, patch addresses)
+  constexpr std::int64_t n0 = 12;
+  std::vector<std::int16_t> l0(static_cast<std::size_t>(n0 * n0 * n0)), l1(static_cast<std::size_t>(10 * 12 * 14));
+  for (std::size_t i = 0; i < l0.size(); ++i) l0[i] = static_cast<std::int16_t>(300 + (i * 37) % 900);
+  for (std::size_t i = 0; i < l1.size(); ++i) l1[i] = static_cast<std::int16_t>(300 + (i * 53) % 1000);
+  check_detached(
+      "refinement levels",
+      [&] {
+        std::vector<tessera::AmrPatch> patches(3);
+        patches[0].view = FieldView::contiguous(l0.data(), tessera::DType::Int16, n0, n0, n0);
+        // Two patches of level 1 side by side, the two parts of one 10 x 12 x 14 array (x 0-5
+        // and 6-9): stencils across them use the candidate lists
+        const std::int64_t nx[2] = {6, 4}, x0[2] = {4, 10};
+        for (int p = 0; p < 2; ++p) {
+          tessera::AmrPatch& q = patches[static_cast<std::size_t>(1 + p)];
+          q.level = 1;
+          q.offset[0] = x0[p];
+          q.offset[1] = 6;
+          q.offset[2] = 2;
+          q.view = FieldView::contiguous(l1.data() + (p ? 6 : 0), tessera::DType::Int16, nx[p], 12, 14);
+          q.view.byte_strides[1] = 10 * 2;
+          q.view.byte_strides[2] = 10 * 12 * 2;
+        }
+        tessera::AmrField amr;
+        amr.dtype = tessera::DType::Int16;
+        for (int a = 0; a < 3; ++a) amr.dims[a] = n0;
+        amr.nlevels = 2;
+        amr.ratio[0] = 2;
+        amr.patches = patches;
+        tessera::SceneDesc s = heat_scene(kN, 23);
+        s.geometry.association = tessera::Association::Cell;
+        s.geometry.spacing = Vec3(1.0 / n0);
+        return tessera::prepare(amr, s, nullptr);
+      },
+      [&] {
+        std::fill(l0.begin(), l0.end(), std::int16_t{-30000});
+        std::fill(l1.begin(), l1.end(), std::int16_t{30000});
+      });
+}
