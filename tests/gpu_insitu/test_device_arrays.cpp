@@ -4,6 +4,7 @@
 // `device: cpu` stages it to the host and renders exactly what the host array renders; the
 // simulation's stream is waited for; a strided (ghost-layer) device view reads the right
 // elements; a mesh domain in device memory is refused by name (meshes are read on the host).
+#include "device_memory.h"
 #include "insitu_test_support.h"
 #include "mesh_blocks.h"
 
@@ -11,8 +12,6 @@
 #include <tessera/tessera.h>
 
 #include <catch2/catch.hpp>
-
-#include <cuda_runtime_api.h>
 
 #include <cmath>
 #include <string>
@@ -32,10 +31,10 @@ struct DeviceArray {
   T* ptr = nullptr;
   std::size_t n = 0;
   explicit DeviceArray(const std::vector<T>& host) : n(host.size()) {
-    REQUIRE(cudaMalloc(reinterpret_cast<void**>(&ptr), n * sizeof(T)) == cudaSuccess);
-    REQUIRE(cudaMemcpy(ptr, host.data(), n * sizeof(T), cudaMemcpyHostToDevice) == cudaSuccess);
+    ptr = static_cast<T*>(device_test::alloc(n * sizeof(T)));
+    device_test::upload(ptr, host.data(), n * sizeof(T));
   }
-  ~DeviceArray() { cudaFree(ptr); }
+  ~DeviceArray() { device_test::release(ptr); }
   DeviceArray(const DeviceArray&) = delete;
   DeviceArray& operator=(const DeviceArray&) = delete;
 };
@@ -149,12 +148,9 @@ TEST_CASE("a strided device view with ghost layers and the simulation's stream",
       for (int i = 0; i < kN; ++i)
         padded[(i + 1) + m * ((j + 1) + static_cast<std::size_t>(m) * (k + 1))] =
             inner[i + kN * (j + static_cast<std::size_t>(kN) * k)];
-  double* dev = nullptr;
-  REQUIRE(cudaMalloc(reinterpret_cast<void**>(&dev), padded.size() * sizeof(double)) == cudaSuccess);
-  cudaStream_t stream;
-  REQUIRE(cudaStreamCreate(&stream) == cudaSuccess);
-  REQUIRE(cudaMemcpyAsync(dev, padded.data(), padded.size() * sizeof(double), cudaMemcpyHostToDevice, stream) ==
-          cudaSuccess);
+  auto* dev = static_cast<double*>(device_test::alloc(padded.size() * sizeof(double)));
+  void* stream = device_test::make_stream();
+  device_test::upload(dev, padded.data(), padded.size() * sizeof(double), stream);
   tessera_field f{};
   f.name = "density";
   f.data = dev;
@@ -174,16 +170,15 @@ TEST_CASE("a strided device view with ghost layers and the simulation's stream",
   const Rendered cpu_from_host = render_once(g, unit_grid(kN), "cpu", 4);
   CHECK_THAT(gpu.result.device, Contains("cuda"));
   CHECK(same_pixels(cpu_from_device.image, cpu_from_host.image));
-  cudaStreamDestroy(stream);
-  cudaFree(dev);
+  device_test::destroy_stream(stream);
+  device_test::release(dev);
 }
 
 TEST_CASE("a mesh domain in device memory is refused by name, nothing read", "[gpu][insitu][mesh]") {
   const std::int64_t n[3] = {5, 4, 6};
   tessera_test::MeshBlock block(n, 0, 5);
   tessera_mesh_domain d = block.domain(tessera_test::MeshBlock::Form::Hexes);
-  void* dev = nullptr;
-  REQUIRE(cudaMalloc(&dev, 1 << 16) == cudaSuccess);
+  void* dev = device_test::alloc(1 << 16);
   d.coords.y = dev;  // the y coordinates in GPU memory
   TempDir dir;
   Adapter ad;
@@ -192,5 +187,5 @@ TEST_CASE("a mesh domain in device memory is refused by name, nothing read", "[g
           TESSERA_OK);
   CHECK(ad.execute_mesh_domains(1, 0.0, {&d, 1}) == TESSERA_ERROR_DATA);
   CHECK_THAT(ad.last_error(), Contains("domain 0: coords.y is GPU (device) memory"));
-  cudaFree(dev);
+  device_test::release(dev);
 }

@@ -1,11 +1,19 @@
-/// cuda_copy_to_host (cuda_memory.h) in a build without CUDA: there is no device memory.
+/// cuda_copy_to_host (cuda_memory.h) in a build without CUDA: there is no device memory (but
+/// for an emulated GPU's, gpu_emulation.h).
 #include <tessera/cuda_memory.h>
 
+#include "cuda/gpu_emulation.h"
+
+#include <cstring>
 #include <stdexcept>
 
 namespace tessera {
 
-void cuda_copy_to_host(void*, const void*, std::size_t, void*) {
+void cuda_copy_to_host(void* dst, const void* src, std::size_t bytes, void*) {
+  if (cuda::gpu_emulation()) {  // an emulated GPU's device memory is host memory (tests)
+    if (bytes) std::memcpy(dst, src, bytes);
+    return;
+  }
   throw std::runtime_error("cuda_copy_to_host: Tessera was built without CUDA");
 }
 

@@ -1,7 +1,10 @@
 /// The CUDA backend's entry in a build without CUDA (TESSERA_CUDA=OFF, or no nvcc found):
 /// no device, every pointer is host memory, the GPU is never disabled, render_tiles_cuda says
-/// why it cannot run and cuda_field_summary summarises on the host.
+/// why it cannot run and cuda_field_summary summarises on the host. While a host emulation of
+/// a GPU is installed (tests: gpu_emulation.h) the entries use it instead.
 #include <tessera/cuda_render.h>
+
+#include "cuda/gpu_emulation.h"
 
 #include <stdexcept>
 
@@ -11,24 +14,30 @@ namespace {
 constexpr const char* kNoCuda = "Tessera was built without CUDA (TESSERA_CUDA=OFF, or no nvcc found at configure time)";
 }
 
-bool cuda_built() { return false; }
+bool cuda_built() { return cuda::gpu_emulation() != nullptr; }
 
 int cuda_device_count(std::string* why) {
+  if (cuda::gpu_emulation()) return 1;
   if (why) *why = kNoCuda;
   return 0;
 }
 
-MemoryKind cuda_memory_kind(const void*) { return MemoryKind::Host; }
+MemoryKind cuda_memory_kind(const void* p) {
+  const auto e = cuda::gpu_emulation();
+  return e ? e->memory_kind(p) : MemoryKind::Host;
+}
 
 bool cuda_disabled(std::string*) { return false; }
 
-void render_tiles_cuda(const PreparedScene&, std::span<const int>, Film&, RenderStats&, const CudaLaunch&,
-                       CudaTransfer*) {
+void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
+                       const CudaLaunch& launch, CudaTransfer* transfer) {
+  if (const auto e = cuda::gpu_emulation())
+    return cuda::render_tiles_emulated(e, scene, tile_indices, film, stats, launch, transfer);
   throw std::runtime_error(std::string("render_tiles_cuda: ") + kNoCuda);
 }
 
 std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, int edge, void*) {
-  // Without CUDA every pointer the process can read is host memory
+  // Without CUDA every pointer the process can read is host memory (an emulated GPU's too)
   return FieldSummary::build(field, edge);
 }
 

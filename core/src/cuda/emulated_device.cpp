@@ -45,6 +45,7 @@ class EmulatedBackend final : public DeviceBackend {
 
   std::string name() const override { return m_d.name; }
   MemoryKind memory_kind(const void* p) const override {
+    const std::lock_guard lock(m_mutex);
     const auto* q = static_cast<const unsigned char*>(p);
     for (const auto& [base, bytes] : m_d.device_ranges) {
       const auto* b = static_cast<const unsigned char*>(base);
@@ -121,6 +122,15 @@ class EmulatedBackend final : public DeviceBackend {
     return device_value_supported(ks, why);  // false, naming what
   }
 
+  void declare(const void* p, std::size_t bytes) {
+    const std::lock_guard lock(m_mutex);
+    m_d.device_ranges.emplace_back(p, bytes);
+  }
+  void forget(const void* p) {
+    const std::lock_guard lock(m_mutex);
+    std::erase_if(m_d.device_ranges, [&](const auto& r) { return r.first == p; });
+  }
+
   std::size_t held() const {
     const std::lock_guard lock(m_mutex);
     return m_held;
@@ -128,7 +138,7 @@ class EmulatedBackend final : public DeviceBackend {
 
  private:
   EmulatedDevice m_d;
-  mutable std::mutex m_mutex;  // guards m_live and m_held
+  mutable std::mutex m_mutex;  // guards m_live, m_held and m_d.device_ranges
   std::map<void*, std::size_t> m_live;
   std::size_t m_held = 0;
 };
@@ -139,10 +149,24 @@ std::shared_ptr<DeviceBackend> emulated_backend(EmulatedDevice d) {
   return std::make_shared<EmulatedBackend>(std::move(d));
 }
 
+namespace {
+EmulatedBackend& emulated(DeviceBackend& b, const char* what) {
+  auto* e = dynamic_cast<EmulatedBackend*>(&b);
+  if (!e) throw std::invalid_argument(std::string(what) + ": not an emulated backend");
+  return *e;
+}
+}  // namespace
+
 std::size_t emulated_bytes_held(const DeviceBackend& b) {
-  const auto* e = dynamic_cast<const EmulatedBackend*>(&b);
-  if (!e) throw std::invalid_argument("emulated_bytes_held: not an emulated backend");
-  return e->held();
+  return emulated(const_cast<DeviceBackend&>(b), "emulated_bytes_held").held();
+}
+
+void emulated_declare_device_memory(DeviceBackend& b, const void* p, std::size_t bytes) {
+  emulated(b, "emulated_declare_device_memory").declare(p, bytes);
+}
+
+void emulated_forget_device_memory(DeviceBackend& b, const void* p) {
+  emulated(b, "emulated_forget_device_memory").forget(p);
 }
 
 }  // namespace tessera::cuda

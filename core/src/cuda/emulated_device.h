@@ -36,4 +36,9 @@ std::shared_ptr<DeviceBackend> emulated_backend(EmulatedDevice d = {});
 /// Bytes an emulated backend holds now (every allocation not yet released).
 std::size_t emulated_bytes_held(const DeviceBackend& b);
 
+/// Declares host range [p, p + bytes) device memory of emulated backend `b`, as a simulation's
+/// cudaMalloc'd array would be, until forgotten (by its start p). Thread-safe.
+void emulated_declare_device_memory(DeviceBackend& b, const void* p, std::size_t bytes);
+void emulated_forget_device_memory(DeviceBackend& b, const void* p);
+
 }  // namespace tessera::cuda

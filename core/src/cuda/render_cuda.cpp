@@ -7,6 +7,7 @@
 #include "cuda/cuda_backend.h"
 #include "cuda/cuda_check.h"
 #include "cuda/device_render.h"
+#include "cuda/gpu_emulation.h"
 
 #include <cuda_runtime_api.h>
 
@@ -20,6 +21,7 @@ using cuda::cuda_check;
 bool cuda_built() { return true; }
 
 int cuda_device_count(std::string* why) {
+  if (cuda::gpu_emulation()) return 1;
   if (std::string disabled; cuda_disabled(&disabled)) {
     if (why) *why = "the GPU was disabled for the process by " + disabled;
     return 0;
@@ -36,6 +38,7 @@ int cuda_device_count(std::string* why) {
 }
 
 MemoryKind cuda_memory_kind(const void* p) {
+  if (const auto e = cuda::gpu_emulation()) return e->memory_kind(p);
   cuda::throw_if_disabled();
   if (p == nullptr) return MemoryKind::Host;
   cudaPointerAttributes attr{};
@@ -54,6 +57,8 @@ MemoryKind cuda_memory_kind(const void* p) {
 
 void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_indices, Film& film, RenderStats& stats,
                        const CudaLaunch& launch, CudaTransfer* transfer) {
+  if (const auto e = cuda::gpu_emulation())
+    return cuda::render_tiles_emulated(e, scene, tile_indices, film, stats, launch, transfer);
   cuda::throw_if_disabled();
   std::string why;
   const int ndev = cuda_device_count(&why);

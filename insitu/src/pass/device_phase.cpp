@@ -21,10 +21,9 @@ std::string gpu_gap(const PassContext& pass, const BoundField& field) {
 }  // namespace
 
 bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
-  return gate.run(TESSERA_ERROR_RENDER, [&] {
-    FieldBinding& b = field.binding;
-    const config::GlobalOptions& g = pass.cfg.global;
-    const bool readable = blocks_gpu_readable(b.blocks);
+  const config::GlobalOptions& g = pass.cfg.global;
+  const bool chosen = gate.run(TESSERA_ERROR_RENDER, [&] {
+    const bool readable = blocks_gpu_readable(field.binding.blocks);
     config::DeviceSelection sel = config::resolve_device(g, readable, pass.ctx.rank_on_node());
     if (sel.device == Device::Cuda) {
       if (const std::string gap = gpu_gap(pass, field); !gap.empty()) {
@@ -34,10 +33,21 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
       }
     }
     field.device.selection = sel;
+  });
+  if (!chosen) return false;
+  // One device kind on every rank: the GPU's sums differ from the CPU's by rounding, so a
+  // render with tiles on both would depend on which rank drew which tile. With `auto`, a rank
+  // that stays on the CPU (no GPU, or no device memory to read) keeps every rank there; with
+  // `cuda` every rank is on the GPU or the gate above failed them all.
+  if (pass.ctx.size() > 1 && pass.ctx.any(field.device.selection.device == Device::Cpu))
+    field.device.selection = config::DeviceSelection{};
+  return gate.run(TESSERA_ERROR_RENDER, [&] {
+    FieldBinding& b = field.binding;
+    const config::DeviceSelection& sel = field.device.selection;
     // In place: one rank holding the field whole, on the GPU, as a plain (single-level,
     // scalar) field; staged magnitudes are host memory already
-    field.device.in_place = readable && sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
-                            !field.magnitude && field.staged.empty();
+    field.device.in_place = sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
+                            !field.magnitude && field.staged.empty() && blocks_gpu_readable(b.blocks);
     if (field.device.in_place || !blocks_on_device(b.blocks)) return;
     const config::MemoryLimit limit = config::memory_limit(g, std::max(1, pass.ctx.ranks_on_node()));
     stage_blocks_to_host(b, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);

@@ -13,7 +13,9 @@ namespace tessera::insitu {
 /// Decides the render's device and stages what must be (field.device). A `device: cuda` that
 /// cannot be honoured (no CUDA build, no device, the GPU disabled, a feature the GPU does not
 /// cover) fails the render with TESSERA_ERROR_RENDER naming why; `auto` falls back to the CPU.
-/// False when the ranks agreed on a failure (the gate's outcome holds it).
+/// Under MPI the ranks agree on one device kind (a rank on the CPU keeps every rank there),
+/// so the image does not depend on which rank renders a tile. Collective; false when the
+/// ranks agreed on a failure (the gate's outcome holds it).
 bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field);
 
 /// The GPU-side parts of the render's options: device, stream and device memory limit.
