@@ -6,6 +6,7 @@
 #include <tessera/annotate.h>
 #include <tessera/config/annotations.h>
 #include <tessera/config/build_scene.h>
+#include <tessera/cuda_render.h>
 #include <tessera/image_io.h>
 #include <tessera/tessera.h>
 
@@ -196,6 +197,27 @@ TEST_CASE("tessera-render errors are one line and exit status 1", "[cli]") {
   r = run_cli(dir, "--help");
   CHECK(r.status == 0);
   CHECK_THAT(r.out, Contains("usage: tessera-render SCENE.yaml"));
+}
+
+TEST_CASE("tessera-render --device: a bad word, the CPU, and the GPU or why not", "[cli][gpu]") {
+  TempDir dir;
+  write_scene(dir);
+  Run r = run_cli(dir, "scene.yaml --device gpu");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Contains("--device: \"gpu\" is not a device (allowed: auto, cpu, cuda)"));
+  r = run_cli(dir, "scene.yaml --render front --device cpu --quiet --stats cpu.json");
+  CHECK(r.status == 0);
+  CHECK_THAT(slurp(dir.path() / "cpu.json"), Contains("\"device\": \"cpu\""));
+  // cuda: renders where a GPU is visible, else one line naming why (no CUDA build, no device)
+  r = run_cli(dir, "scene.yaml --render front --device cuda --quiet --stats cuda.json");
+  if (tessera::cuda_device_count() > 0) {
+    CHECK(r.status == 0);
+    CHECK_THAT(slurp(dir.path() / "cuda.json"), Contains("\"device\": \"cuda:0\""));
+  } else {
+    CHECK(r.status == 1);
+    CHECK_THAT(r.err, StartsWith("tessera-render: error: tessera.device is cuda, but "));
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+  }
 }
 
 TEST_CASE("tessera-render --check validates the scene and the volume without rendering", "[cli]") {

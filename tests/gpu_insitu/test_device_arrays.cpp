@@ -189,3 +189,37 @@ TEST_CASE("a mesh domain in device memory is refused by name, nothing read", "[g
   CHECK_THAT(ad.last_error(), Contains("domain 0: coords.y is GPU (device) memory"));
   device_test::release(dev);
 }
+
+namespace {
+
+/// One execute's status and error message with `tessera_extra` under tessera:.
+std::pair<tessera_status, std::string> execute_once(const tessera_field& field, const tessera_grid& grid,
+                                                    const std::string& tessera_extra) {
+  TempDir dir;
+  Adapter adapter;
+  adapter.set_quiet(true);
+  REQUIRE(adapter.open(dir.write("a.yaml", config_yaml(dir.file("out"), renders(4), tessera_extra))) == TESSERA_OK);
+  const tessera_status s = adapter.execute(1, 0.0, grid, {&field, 1});
+  return {s, adapter.last_error()};
+}
+
+}  // namespace
+
+TEST_CASE("tessera.cuda_device past the visible devices fails by name", "[gpu][insitu]") {
+  const std::vector<float> host = to_float(blob_values(kN));
+  const auto [s, err] =
+      execute_once(dense_field("density", host.data(), kN), unit_grid(kN), "  device: cuda\n  cuda_device: 4095\n");
+  CHECK(s == TESSERA_ERROR_RENDER);
+  CHECK_THAT(err, Contains("tessera.cuda_device is 4095, but") && Contains("visible (allowed: -1 or 0 to"));
+}
+
+TEST_CASE("staging a device field to the host over memory_limit_mb is refused before copying", "[gpu][insitu]") {
+  // 2 MiB of float32 in device memory, rendered on the CPU (staged) under a 1 MiB limit
+  constexpr int n = 81;
+  const std::vector<float> host(static_cast<std::size_t>(n) * n * n, 1.0f);
+  DeviceArray<float> dev(host);
+  const auto [s, err] =
+      execute_once(dense_field("density", dev.ptr, n), unit_grid(n), "  device: cpu\n  memory_limit_mb: 1\n");
+  CHECK(s == TESSERA_ERROR_RENDER);
+  CHECK_THAT(err, Contains("copying the field's device arrays to the host needs") && Contains("memory_limit_mb"));
+}
