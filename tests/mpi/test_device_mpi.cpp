@@ -2,11 +2,15 @@
 // every build): one "GPU" per rank renders the CPU's image; ranks that disagree (a rank with
 // no GPU) under device: cuda fail together, naming why, and the next call renders; under
 // device: auto the ranks agree on one device kind, so the image does not depend on which rank
-// renders a tile (a rank without a GPU sends every rank to the CPU).
+// renders a tile (a rank without a GPU sends every rank to the CPU); on the GPU each rank grabs
+// large chunks of tiles and the gathered image is the one-rank GPU image bit for bit.
+#include "../gpu/gpu_test_util.h"
+#include "blob_slab.h"
 #include "mpi_test_support.h"
 
 #include "cuda/emulated_device.h"
 #include "cuda/gpu_emulation.h"
+#include "mpi/parallel_context_mpi.h"
 
 #include <tessera/adapter.h>
 
@@ -24,40 +28,6 @@ using tessera::insitu::Adapter;
 namespace {
 
 constexpr int kN = 16;
-
-/// This rank's slab (along k) of a blob on kN^3 vertices over the unit cube.
-struct Slab {
-  Slab() {
-    const int r = world_rank(), n = world_size();
-    k0 = kN * r / n;
-    nk = kN * (r + 1) / n - k0;
-    values.resize(static_cast<std::size_t>(kN) * kN * nk);
-    for (int k = 0; k < nk; ++k)
-      for (int j = 0; j < kN; ++j)
-        for (int i = 0; i < kN; ++i) {
-          const double x = i / (kN - 1.0) - 0.5, y = j / (kN - 1.0) - 0.5, z = (k0 + k) / (kN - 1.0) - 0.5;
-          values[i + kN * (j + static_cast<std::size_t>(kN) * k)] =
-              static_cast<float>(250.0 * std::exp(-(x * x + y * y + z * z) / 0.08));
-        }
-    field.name = "density";
-    field.data = values.data();
-    field.dtype = TESSERA_FLOAT32;
-    field.dims[0] = field.dims[1] = kN;
-    field.dims[2] = nk;
-    field.byte_strides[0] = 4;
-    field.byte_strides[1] = 4LL * kN;
-    field.byte_strides[2] = 4LL * kN * kN;
-    for (int a = 0; a < 3; ++a) {
-      grid.spacing[a] = 1.0 / (kN - 1);
-      grid.global_dims[a] = kN;
-    }
-    grid.offset[2] = k0;
-  }
-  int k0 = 0, nk = 0;
-  std::vector<float> values;
-  tessera_field field{};
-  tessera_grid grid{};
-};
 
 std::string config(const std::string& out, const std::string& device) {
   return "tessera:\n  output_dir: " + out + "\n  threads: 1\n  device: " + device +
@@ -80,7 +50,7 @@ struct Run {
 /// One call of an adapter opened on `device` over this rank's slab (`data`: the slab's values
 /// or another copy of them).
 Run run(const SharedTempDir& dir, const std::string& tag, const std::string& device, const void* data = nullptr) {
-  Slab slab;
+  BlobSlab slab;
   if (data) slab.field.data = data;
   Adapter a;
   a.set_quiet(true);
@@ -143,7 +113,7 @@ TEST_CASE("device: auto with device memory on some ranks only: every rank on the
   std::vector<float> on_device;
   if (world_rank() == 0) {
     gpu.emplace(tessera::cuda::emulated_backend());
-    on_device = Slab().values;
+    on_device = BlobSlab().values;
     tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), on_device.data(),
                                                   on_device.size() * sizeof(float));
   }
@@ -155,5 +125,33 @@ TEST_CASE("device: auto with device memory on some ranks only: every rank on the
     REQUIRE(cpu.image);
     REQUIRE(mixed.image);
     CHECK(cpu.image->rgba == mixed.image->rgba);  // the CPU's bits: no tile rendered elsewhere
+  }
+}
+
+TEST_CASE("on GPUs the ranks grab large chunks and gather the one-rank GPU image bit for bit", "[mpi][gpu]") {
+  const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
+  const std::vector<double> field = gpu_test::heat_field<double>(kN);
+  tessera::SceneDesc s = gpu_test::heat_scene(kN, 31);
+  s.options.device = tessera::Device::Cuda;
+  s.options.tile = 8;  // 48x48: 36 tiles
+  const tessera::PreparedScene ps =
+      tessera::prepare(tessera::FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
+  const int ntiles = static_cast<int>(ps.tiles().size());
+  tessera::Film one(48, 48);
+  tessera::RenderStats one_stats;
+  tessera::render_tiles(ps, gpu_test::all_tiles(ps), one, one_stats);  // this rank alone, on its GPU
+  tessera::insitu::MpiParallelContext ctx(MPI_COMM_WORLD, 0);
+  tessera::Film film(48, 48);
+  tessera::RenderStats stats;
+  ctx.render(ps, film, stats);
+  // (one rank renders every tile in one call)
+  const int n = world_size(), chunk = n == 1 ? ntiles : (ntiles + 2 * n - 1) / (2 * n);
+  int grabs = ctx.report().grabs, all_grabs = 0;
+  MPI_Allreduce(&grabs, &all_grabs, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  CHECK(all_ranks(ctx.report().chunk == chunk));
+  CHECK(all_ranks(all_grabs == (ntiles + chunk - 1) / chunk));  // about two per rank
+  if (world_rank() == 0) {
+    CHECK(gpu_test::same_bits(film, one));
+    CHECK(stats.real_collisions == one_stats.real_collisions);
   }
 }

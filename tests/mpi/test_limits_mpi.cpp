@@ -1,5 +1,6 @@
 // tessera.time_limit and tessera.memory_limit_mb across ranks: every rank stops at its next
 // tile and gets the error (agreed before the gather), none hangs; the next call renders.
+#include "blob_slab.h"
 #include "mpi_test_support.h"
 
 #include <tessera/tessera.h>
@@ -20,8 +21,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr int kN = 16;
-
 std::string render_entry(const std::string& name, const std::string& trigger, int size, int spp) {
   return "  - name: " + name + "\n    field: density\n    trigger: " + trigger +
          "\n    image: {width: " + std::to_string(size) + ", height: " + std::to_string(size) +
@@ -34,43 +33,6 @@ std::string render_entry(const std::string& name, const std::string& trigger, in
          "    output: {file: \"{name}_{step:04d}\", formats: [exr]}\n";
 }
 
-/// This rank's slab (along k) of a blob on kN^3 vertices over the unit cube.
-struct Slab {
-  Slab() {
-    const int r = world_rank(), n = world_size();
-    k0 = kN * r / n;
-    const int k1 = kN * (r + 1) / n;
-    nk = k1 - k0;
-    values.resize(static_cast<std::size_t>(kN) * kN * nk);
-    for (int k = 0; k < nk; ++k)
-      for (int j = 0; j < kN; ++j)
-        for (int i = 0; i < kN; ++i) {
-          const double x = i / (kN - 1.0) - 0.5, y = j / (kN - 1.0) - 0.5, z = (k0 + k) / (kN - 1.0) - 0.5;
-          values[i + kN * (j + static_cast<std::size_t>(kN) * k)] =
-              static_cast<float>(std::round(250.0 * std::exp(-(x * x + y * y + z * z) / 0.08)));
-        }
-    field = tessera_field{};
-    field.name = "density";
-    field.data = values.data();
-    field.dtype = TESSERA_FLOAT32;
-    field.dims[0] = field.dims[1] = kN;
-    field.dims[2] = nk;
-    field.byte_strides[0] = 4;
-    field.byte_strides[1] = 4LL * kN;
-    field.byte_strides[2] = 4LL * kN * kN;
-    grid = tessera_grid{};
-    for (int a = 0; a < 3; ++a) {
-      grid.spacing[a] = 1.0 / (kN - 1);
-      grid.global_dims[a] = kN;
-    }
-    grid.offset[2] = k0;
-  }
-  int k0 = 0, nk = 0;
-  std::vector<float> values;
-  tessera_field field{};
-  tessera_grid grid{};
-};
-
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 }  // namespace
@@ -81,7 +43,7 @@ TEST_CASE("time_limit stops every rank and the next call renders", "[mpi][limits
   const std::string cfg = dir.write(
       "a.yaml", "tessera:\n  output_dir: " + out + "\n  threads: 1\n  time_limit: 2\nrenders:\n" +
                     render_entry("heavy", "{at: [0]}", 64, 1000000) + render_entry("light", "{every: 1}", 16, 1));
-  Slab slab;
+  BlobSlab slab;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
   const auto t0 = Clock::now();
@@ -107,7 +69,7 @@ TEST_CASE("memory_limit_mb fails fast on every rank with the estimate", "[mpi][l
   const std::string cfg =
       dir.write("b.yaml", "tessera:\n  output_dir: " + out + "\n  threads: 1\n  memory_limit_mb: 1024\nrenders:\n" +
                               render_entry("huge", "{every: 1}", 16384, 1));
-  Slab slab;
+  BlobSlab slab;
   tessera_adapter* a = nullptr;
   REQUIRE(all_ranks(tessera_open(cfg.c_str(), MPI_Comm_c2f(MPI_COMM_WORLD), &a) == TESSERA_OK));
   const auto t0 = Clock::now();

@@ -20,7 +20,7 @@
 ///
 /// The scene's device copies (field copy, majorants and every table) are made on a prepared
 /// scene's first render_tiles_cuda and kept, on that device, until the prepared scene is
-/// destroyed: later calls (the MPI scheduler's few tiles at a time) copy only the tiles'
+/// destroyed: later calls (the MPI scheduler's grabs of tiles) copy only the tiles'
 /// pixel sums. A host field copied there is the caller's values at that first call: as for
 /// the CPU, a prepared scene is valid only while the field's values are unchanged.
 #include <tessera/field_summary.h>
