@@ -7,6 +7,7 @@
 // slices. (test_gpu_render.cpp and test_gpu_values.cpp run here too: every Value against the
 // CPU, counters equal, sums equal to rounding.)
 #include "gpu_test_util.h"
+#include "two_levels.h"
 
 #include "cuda/device_render.h"
 #include "cuda/device_scene.h"
@@ -84,19 +85,11 @@ TEST_CASE("Emulated device: refinement levels' tables and patches are all copied
   std::vector<double> l0(static_cast<std::size_t>(n0 * n0 * n0)), l1(static_cast<std::size_t>(12 * 14 * 12));
   for (std::size_t i = 0; i < l0.size(); ++i) l0[i] = 300.0 + 900.0 * std::sin(0.37 * static_cast<double>(i));
   for (std::size_t i = 0; i < l1.size(); ++i) l1[i] = 300.0 + 900.0 * std::cos(0.11 * static_cast<double>(i));
-  std::vector<tessera::AmrPatch> patches(2);
-  patches[0].view = FieldView::contiguous(l0.data(), tessera::DType::Float64, n0, n0, n0);
-  patches[1].level = 1;
-  patches[1].offset[0] = 6;
-  patches[1].offset[1] = 4;
-  patches[1].offset[2] = 6;
-  patches[1].view = FieldView::contiguous(l1.data(), tessera::DType::Float64, 12, 14, 12);
-  tessera::AmrField amr;
-  amr.dtype = tessera::DType::Float64;
-  for (int a = 0; a < 3; ++a) amr.dims[a] = n0;
-  amr.nlevels = 2;
-  amr.ratio[0] = 2;
-  amr.patches = patches;
+  const std::int64_t off0[3] = {0, 0, 0}, dims0[3] = {n0, n0, n0}, off1[3] = {6, 4, 6}, dims1[3] = {12, 14, 12};
+  const std::vector<tessera::AmrPatch> patches = {
+      tessera_test::contiguous_patch(0, off0, l0.data(), tessera::DType::Float64, dims0),
+      tessera_test::contiguous_patch(1, off1, l1.data(), tessera::DType::Float64, dims1)};
+  const tessera::AmrField amr = tessera_test::two_levels(tessera::DType::Float64, n0, patches);
   tessera::SceneDesc s = heat_scene(kN, 3);
   s.geometry.association = tessera::Association::Cell;
   s.geometry.spacing = Vec3(1.0 / n0);
@@ -386,12 +379,7 @@ TEST_CASE("Emulated device: the device copies need nothing of the prepared scene
           q.view.byte_strides[1] = 10 * 2;
           q.view.byte_strides[2] = 10 * 12 * 2;
         }
-        tessera::AmrField amr;
-        amr.dtype = tessera::DType::Int16;
-        for (int a = 0; a < 3; ++a) amr.dims[a] = n0;
-        amr.nlevels = 2;
-        amr.ratio[0] = 2;
-        amr.patches = patches;
+        const tessera::AmrField amr = tessera_test::two_levels(tessera::DType::Int16, n0, patches);
         tessera::SceneDesc s = heat_scene(kN, 23);
         s.geometry.association = tessera::Association::Cell;
         s.geometry.spacing = Vec3(1.0 / n0);

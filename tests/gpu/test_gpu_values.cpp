@@ -6,6 +6,7 @@
 // runs and under a second CudaLaunch, and every path counter equal to the CPU's at the same
 // seed. 48x48 pixels, 32 samples, fixed seeds.
 #include "gpu_test_util.h"
+#include "two_levels.h"
 
 #include <tessera/amr.h>
 #include <tessera/cuda_render.h>
@@ -162,18 +163,10 @@ TEST_CASE("GPU: two refinement levels (refused on a CUDA device, checked in emul
   const std::int64_t off0[3] = {0, 0, 0}, dims0[3] = {n0, n0, n0};
   const std::int64_t off1[3] = {8, 6, 8}, dims1[3] = {16, 18, 16};
   const std::vector<double> l0 = level(1, off0, dims0), l1 = level(2, off1, dims1);
-  std::vector<tessera::AmrPatch> patches(2);
-  patches[0].level = 0;
-  patches[0].view = FieldView::contiguous(l0.data(), tessera::DType::Float64, dims0[0], dims0[1], dims0[2]);
-  patches[1].level = 1;
-  for (int a = 0; a < 3; ++a) patches[1].offset[a] = off1[a];
-  patches[1].view = FieldView::contiguous(l1.data(), tessera::DType::Float64, dims1[0], dims1[1], dims1[2]);
-  tessera::AmrField amr;
-  amr.dtype = tessera::DType::Float64;
-  for (int a = 0; a < 3; ++a) amr.dims[a] = n0;
-  amr.nlevels = 2;
-  amr.ratio[0] = 2;
-  amr.patches = patches;
+  const std::vector<tessera::AmrPatch> patches = {
+      tessera_test::contiguous_patch(0, off0, l0.data(), tessera::DType::Float64, dims0),
+      tessera_test::contiguous_patch(1, off1, l1.data(), tessera::DType::Float64, dims1)};
+  const tessera::AmrField amr = tessera_test::two_levels(tessera::DType::Float64, n0, patches);
   const auto prepare = [&](std::uint64_t seed) {
     tessera::SceneDesc s = heat_scene(kN, seed);
     s.geometry.association = tessera::Association::Cell;

@@ -18,6 +18,15 @@
 #define TESSERA_HOST_DEVICE
 #endif
 
+/// TESSERA_DEVICE_NOINLINE keeps a large function out of line in device code only: the GPU's
+/// instruction cache holds one copy instead of one per call site, while the host compiler
+/// still inlines as it chooses (the CPU's code does not change).
+#if defined(__CUDA_ARCH__)
+#define TESSERA_DEVICE_NOINLINE __noinline__
+#else
+#define TESSERA_DEVICE_NOINLINE
+#endif
+
 #if defined(__CUDA_ARCH__)
 #define TESSERA_TABLE(name) name##_device
 #else

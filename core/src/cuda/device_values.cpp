@@ -51,9 +51,11 @@ void make_device_medium(const KernelScene& ks_dev, void* out) {
 }
 
 int sample_lanes(int width, int height, int spp) {
+  // 32: one warp per pixel where the image is small enough (docs/gpu.md, "Sample lanes")
+  constexpr std::int64_t kMaxLanes = 32;
   const std::int64_t pixels = std::max<std::int64_t>(1, static_cast<std::int64_t>(width) * height);
   const std::int64_t by_memory = (std::int64_t{1} << 22) / pixels;
-  return static_cast<int>(std::max<std::int64_t>(1, std::min<std::int64_t>({8, spp, by_memory})));
+  return static_cast<int>(std::max<std::int64_t>(1, std::min<std::int64_t>({kMaxLanes, spp, by_memory})));
 }
 
 }  // namespace tessera::cuda

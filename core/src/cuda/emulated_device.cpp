@@ -14,6 +14,8 @@
 #include <mutex>
 #include <new>
 #include <stdexcept>
+#include <string>
+#include <type_traits>
 
 namespace tessera::cuda {
 
@@ -150,16 +152,17 @@ std::shared_ptr<DeviceBackend> emulated_backend(EmulatedDevice d) {
 }
 
 namespace {
-EmulatedBackend& emulated(DeviceBackend& b, const char* what) {
-  auto* e = dynamic_cast<EmulatedBackend*>(&b);
+/// b as the emulation (B: DeviceBackend or const DeviceBackend), or an error naming `what`.
+template <class B>
+auto& emulated(B& b, const char* what) {
+  using E = std::conditional_t<std::is_const_v<B>, const EmulatedBackend, EmulatedBackend>;
+  auto* e = dynamic_cast<E*>(&b);
   if (!e) throw std::invalid_argument(std::string(what) + ": not an emulated backend");
   return *e;
 }
 }  // namespace
 
-std::size_t emulated_bytes_held(const DeviceBackend& b) {
-  return emulated(const_cast<DeviceBackend&>(b), "emulated_bytes_held").held();
-}
+std::size_t emulated_bytes_held(const DeviceBackend& b) { return emulated(b, "emulated_bytes_held").held(); }
 
 void emulated_declare_device_memory(DeviceBackend& b, const void* p, std::size_t bytes) {
   emulated(b, "emulated_declare_device_memory").declare(p, bytes);

@@ -22,7 +22,7 @@ namespace tessera::cuda {
 /// pixel's PixelSums::drawn when the call began) into its own sums, in index order; the lanes
 /// are then added to the pixel in lane order (merge_lanes). A function of the image and spp
 /// only, never of the launch or the tiles a call gets, so the bits are the same for any launch
-/// configuration, tile split or rank count: min(8, spp, 2^22 / pixels of the image), at least
+/// configuration, tile split or rank count: min(32, spp, 2^22 / pixels of the image), at least
 /// 1 (the lane sums then take at most 256 MiB).
 int sample_lanes(int width, int height, int spp);
 

@@ -215,8 +215,8 @@ class PathTracer {
   /// and *t_hit on a real collision. Loop guards: a ray the box clip leaves unbounded (zero or
   /// NaN direction), a step that does not advance t, or a traversal over its step budget
   /// (loop_bounds.h) sets *stalled and returns false.
-  TESSERA_HOST_DEVICE bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k, double* t_hit,
-                                       bool* stalled) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k,
+                                                               double* t_hit, bool* stalled) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
     if (!clip(ov, dv, &t0, &t1) || m_s.max_majorant <= 0.0) return false;
@@ -248,7 +248,8 @@ class PathTracer {
   /// estimator on the tracking loop (shadow_walk, one branch per ray). The loop guards of
   /// free_flight end the estimate at 0 (an occluded shadow ray adds no light), counted in
   /// k.stalled_paths.
-  TESSERA_HOST_DEVICE double transmittance(const Ray& ray, double ta, double tb, Rng& rng, KernelCounters& k) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE double transmittance(const Ray& ray, double ta, double tb, Rng& rng,
+                                                                   KernelCounters& k) const {
     const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
     double t0, t1;
     if (!clip(ov, dv, &t0, &t1)) return 1.0;
@@ -286,8 +287,9 @@ class PathTracer {
   /// Emitters met along `ray` before distance t_end (all lights are transparent), plus the
   /// infinite lights when the ray escaped, MIS-weighted against light sampling unless from
   /// the camera (which sees the background as shown, emitting or not).
-  TESSERA_HOST_DEVICE void gather_emitters(const Ray& ray, double t_end, bool hit, bool from_camera, double pdf_prev,
-                                           const Color& beta, Color& L) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE void gather_emitters(const Ray& ray, double t_end, bool hit,
+                                                                   bool from_camera, double pdf_prev, const Color& beta,
+                                                                   Color& L) const {
     for (int i = 0; i < m_L.area_count(); ++i) {
       const Light& l = m_L[i];
       const double t = l.intersect(ray);
@@ -309,8 +311,9 @@ class PathTracer {
 
   /// Like gather_emitters for the last collision's sampled direction, where no further free
   /// flight is sampled: each emitter is weighted by the transmittance up to it.
-  TESSERA_HOST_DEVICE void gather_with_transmittance(const Ray& ray, double pdf_dir, const Color& beta, Rng& rng,
-                                                     KernelCounters& k, Color& L) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE void gather_with_transmittance(const Ray& ray, double pdf_dir,
+                                                                             const Color& beta, Rng& rng,
+                                                                             KernelCounters& k, Color& L) const {
     if (m_L.count() == 0) return;
     struct Hit {
       double t;
@@ -345,9 +348,10 @@ class PathTracer {
 
   /// Next-event estimation to one light chosen by the light sampler; the pick and the light
   /// sample from `ld` when given (li).
-  TESSERA_HOST_DEVICE Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo, bool surface,
-                                         const SurfaceBrdf& brdf, const Color& albedo, const SobolSampler* ld, Rng& rng,
-                                         KernelCounters& k) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo,
+                                                                 bool surface, const SurfaceBrdf& brdf,
+                                                                 const Color& albedo, const SobolSampler* ld, Rng& rng,
+                                                                 KernelCounters& k) const {
     const int pick = ld && m_L.count() == 1 ? 0 : m_L.sampler().pick(sample_1d(ld, SampleDim::LightPick, rng));
     const Sample2 u = sample_2d(ld, SampleDim::LightUv, rng);
     const LightSample ls = m_L[pick].sample(x, u.x, u.y);

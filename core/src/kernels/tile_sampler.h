@@ -85,7 +85,8 @@ class TileSampler {
 
  private:
   /// The sample's camera ray and its radiance, with the sampler of draw().
-  TESSERA_HOST_DEVICE bool trace(int x, int y, Rng& rng, const SobolSampler* ld, bool own, SampleResult& r) {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE bool trace(int x, int y, Rng& rng, const SobolSampler* ld, bool own,
+                                                         SampleResult& r) {
     const Sample2 j = sample_2d(ld, SampleDim::Pixel, rng);
     // (a pinhole reads no lens sample: the stream still draws it, as it always has)
     const Sample2 l = ld && m_s.camera.is_pinhole() ? Sample2{0.0, 0.0} : sample_2d(ld, SampleDim::Lens, rng);

@@ -96,21 +96,21 @@ class Light {
     return dispatch([](const auto& l) { return std::decay_t<decltype(l)>::kInfinite; });
   }
   /// Distance in (0, inf) along r to the light's emitting side, or -1 (always for infinite lights).
-  TESSERA_HOST_DEVICE double intersect(const Ray& r) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE double intersect(const Ray& r) const {
     return dispatch([&](const auto& l) { return l.intersect_front(r); });
   }
   /// Radiance arriving along -d from the point of this light that direction d meets.
-  TESSERA_HOST_DEVICE Color radiance(const Vec3& d) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE Color radiance(const Vec3& d) const {
     return dispatch([&](const auto& l) { return l.radiance(d); });
   }
   /// Solid-angle pdf that sample(x, ...) returns wi, which meets the light at distance t
   /// (ignored by infinite lights).
-  TESSERA_HOST_DEVICE double pdf(const Vec3& x, const Vec3& wi, double t) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE double pdf(const Vec3& x, const Vec3& wi, double t) const {
     return dispatch([&](const auto& l) { return l.pdf(x, wi, t); });
   }
   /// A direction toward the light from x for (u1, u2) in [0, 1)^2; pdf 0 = failed. Infinite
   /// lights return dist = inf.
-  TESSERA_HOST_DEVICE LightSample sample(const Vec3& x, double u1, double u2) const {
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE LightSample sample(const Vec3& x, double u1, double u2) const {
     return dispatch([&](const auto& l) { return l.sample(x, u1, u2); });
   }
   /// World box around a finite light (image-space culling); an infinite one leaves lo, hi.

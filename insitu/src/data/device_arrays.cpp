@@ -11,16 +11,14 @@
 
 namespace tessera::insitu {
 
-bool blocks_on_device(std::span<const FieldBlock> blocks) {
-  for (const FieldBlock& b : blocks)
-    if (cuda_memory_kind(b.view.data) == MemoryKind::Device) return true;
-  return false;
-}
-
-bool blocks_gpu_readable(std::span<const FieldBlock> blocks) {
-  for (const FieldBlock& b : blocks)
-    if (cuda_memory_kind(b.view.data) != MemoryKind::Host) return true;
-  return false;
+BlocksMemory blocks_memory(std::span<const FieldBlock> blocks) {
+  BlocksMemory m;
+  for (const FieldBlock& b : blocks) {
+    const MemoryKind k = cuda_memory_kind(b.view.data);
+    m.on_device |= k == MemoryKind::Device;
+    m.gpu_readable |= k != MemoryKind::Host;
+  }
+  return m;
 }
 
 void stage_blocks_to_host(FieldBinding& b, HostStaging& out, void* stream, std::uint64_t limit_bytes,

@@ -12,12 +12,12 @@
 
 namespace tessera::insitu {
 
-/// True when some block's data is device memory (cudaMemoryTypeDevice; not managed).
-bool blocks_on_device(std::span<const FieldBlock> blocks);
-
-/// True when some block's data is device or managed memory: a render may read it in place
-/// on the GPU.
-bool blocks_gpu_readable(std::span<const FieldBlock> blocks);
+/// Where a field's blocks live, from one question to the CUDA runtime per block.
+struct BlocksMemory {
+  bool on_device = false;     ///< some block is device memory (cudaMemoryTypeDevice; not managed)
+  bool gpu_readable = false;  ///< some block is device or managed memory: a render may read it in place on the GPU
+};
+BlocksMemory blocks_memory(std::span<const FieldBlock> blocks);
 
 /// The host copies of staged blocks, kept while the render reads them.
 struct HostStaging {

@@ -1,6 +1,8 @@
 // The device phase of a render (device_phase.h).
 #include "pass/device_phase.h"
 
+#include "data/device_arrays.h"
+
 #include <tessera/config/render_memory.h>
 
 #include <algorithm>
@@ -22,9 +24,10 @@ std::string gpu_gap(const PassContext& pass, const BoundField& field) {
 
 bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
   const config::GlobalOptions& g = pass.cfg.global;
+  BlocksMemory where;  // asked once: the blocks do not change between the two gates
   const bool chosen = gate.run(TESSERA_ERROR_RENDER, [&] {
-    const bool readable = blocks_gpu_readable(field.binding.blocks);
-    config::DeviceSelection sel = config::resolve_device(g, readable, pass.ctx.rank_on_node());
+    where = blocks_memory(field.binding.blocks);
+    config::DeviceSelection sel = config::resolve_device(g, where.gpu_readable, pass.ctx.rank_on_node());
     if (sel.device == Device::Cuda) {
       if (const std::string gap = gpu_gap(pass, field); !gap.empty()) {
         if (g.device == config::DeviceChoice::Cuda)
@@ -47,8 +50,8 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
     // In place: one rank holding the field whole, on the GPU, as a plain (single-level,
     // scalar) field; staged magnitudes are host memory already
     field.device.in_place = sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
-                            !field.magnitude && field.staged.empty() && blocks_gpu_readable(b.blocks);
-    if (field.device.in_place || !blocks_on_device(b.blocks)) return;
+                            !field.magnitude && field.staged.empty() && where.gpu_readable;
+    if (field.device.in_place || !where.on_device) return;
     const config::MemoryLimit limit = config::memory_limit(g, std::max(1, pass.ctx.ranks_on_node()));
     stage_blocks_to_host(b, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
   });
