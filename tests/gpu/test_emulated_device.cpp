@@ -52,6 +52,16 @@ tessera::Film render_on(const std::shared_ptr<DeviceBackend>& b, const tessera::
 
 }  // namespace
 
+TEST_CASE("Sample lanes: min(32, spp, 2^22 / pixels), at least 1, a function of the image only", "[emulated]") {
+  using tessera::cuda::sample_lanes;
+  CHECK(sample_lanes(128, 128, 256) == 32);  // one warp per pixel
+  CHECK(sample_lanes(128, 128, 64) == 32);
+  CHECK(sample_lanes(128, 128, 5) == 5);      // never more lanes than samples
+  CHECK(sample_lanes(1024, 1024, 256) == 4);  // 2^22 lane sums at most
+  CHECK(sample_lanes(4096, 4096, 256) == 1);
+  CHECK(sample_lanes(1, 1, 1) == 1);
+}
+
 TEST_CASE("Emulated device: the device copies hold every array the kernel reads", "[emulated]") {
   // A float32 field (widened on the device) on rectilinear axes: after the first call the
   // caller's values and coordinates are overwritten; a second call reuses the device copies
