@@ -23,7 +23,7 @@ namespace tessera::cuda {
 /// are then added to the pixel in lane order (merge_lanes). A function of the image and spp
 /// only, never of the launch or the tiles a call gets, so the bits are the same for any launch
 /// configuration, tile split or rank count: min(32, spp, 2^22 / pixels of the image), at least
-/// 1 (the lane sums then take at most 256 MiB).
+/// 1 (up to 2^22 pixels, the lane sums then take at most 256 MiB, 448 MiB with AuxSums).
 int sample_lanes(int width, int height, int spp);
 
 /// Adds each job's lane sums to its pixel sums in lane order (and the auxiliary sums when
