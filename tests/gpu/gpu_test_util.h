@@ -143,6 +143,17 @@ inline double max_pixel_difference(const tessera::Film& a, const tessera::Film& 
   return d;
 }
 
+/// Two renders traced the same paths: every path counter equal (a CHECK each).
+inline void check_same_paths(const tessera::RenderStats& a, const tessera::RenderStats& b) {
+  CHECK(a.samples == b.samples);
+  CHECK(a.discarded_samples == b.discarded_samples);
+  CHECK(a.free_flight_lookups == b.free_flight_lookups);
+  CHECK(a.transmittance_lookups == b.transmittance_lookups);
+  CHECK(a.gradient_lookups == b.gradient_lookups);
+  CHECK(a.real_collisions == b.real_collisions);
+  CHECK(a.null_collisions == b.null_collisions);
+}
+
 inline bool same_bits(const tessera::Film& a, const tessera::Film& b) {
   return a.pixels().size() == b.pixels().size() &&
          std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(tessera::PixelSums)) == 0;

@@ -5,8 +5,8 @@
 // probability 2.7e-5 per block, about 1e-3 per Value, Bonferroni), the same bits on two GPU
 // runs and under a second CudaLaunch, and every path counter equal to the CPU's at the same
 // seed. 48x48 pixels, 32 samples, fixed seeds.
+#include "amr_hierarchy.h"
 #include "gpu_test_util.h"
-#include "two_levels.h"
 
 #include <tessera/amr.h>
 #include <tessera/cuda_render.h>
@@ -71,12 +71,7 @@ void check_value(const char* what, const std::function<tessera::PreparedScene(st
   // to the order of their additions (lanes), so to rounding
   CHECK(max_pixel_difference(cpu_same, gpu_same) < 1e-12);
 #endif
-  CHECK(gpu_st.samples == cpu_st.samples);
-  CHECK(gpu_st.free_flight_lookups == cpu_st.free_flight_lookups);
-  CHECK(gpu_st.transmittance_lookups == cpu_st.transmittance_lookups);
-  CHECK(gpu_st.gradient_lookups == cpu_st.gradient_lookups);
-  CHECK(gpu_st.real_collisions == cpu_st.real_collisions);
-  CHECK(gpu_st.null_collisions == cpu_st.null_collisions);
+  check_same_paths(gpu_st, cpu_st);
 }
 
 }  // namespace
@@ -150,23 +145,12 @@ TEST_CASE("GPU: two refinement levels (refused on a CUDA device, checked in emul
     const double x = p.x - 0.55, y = p.y - 0.45, z = p.z - 0.5;
     return 300.0 + 900.0 * std::exp(-(x * x + y * y + z * z) / 0.03) + 80.0 * p.y;
   };
-  const auto level = [&](std::int64_t R, const std::int64_t off[3], const std::int64_t dims[3]) {
-    std::vector<double> v(static_cast<std::size_t>(dims[0] * dims[1] * dims[2]));
-    std::size_t q = 0;
-    for (std::int64_t k = 0; k < dims[2]; ++k)
-      for (std::int64_t j = 0; j < dims[1]; ++j)
-        for (std::int64_t i = 0; i < dims[0]; ++i)
-          v[q++] =
-              heat(Vec3((off[0] + i + 0.5) / (n0 * R), (off[1] + j + 0.5) / (n0 * R), (off[2] + k + 0.5) / (n0 * R)));
-    return v;
-  };
   const std::int64_t off0[3] = {0, 0, 0}, dims0[3] = {n0, n0, n0};
   const std::int64_t off1[3] = {8, 6, 8}, dims1[3] = {16, 18, 16};
-  const std::vector<double> l0 = level(1, off0, dims0), l1 = level(2, off1, dims1);
-  const std::vector<tessera::AmrPatch> patches = {
-      tessera_test::contiguous_patch(0, off0, l0.data(), tessera::DType::Float64, dims0),
-      tessera_test::contiguous_patch(1, off1, l1.data(), tessera::DType::Float64, dims1)};
-  const tessera::AmrField amr = tessera_test::two_levels(tessera::DType::Float64, n0, patches);
+  tessera_test::AmrHierarchy levels(dims0, tessera::Association::Cell, {2}, Vec3(0.0), Vec3(1.0 / n0));
+  levels.add(0, off0, dims0, heat);
+  levels.add(1, off1, dims1, heat);
+  const tessera::AmrField& amr = levels.finish();
   const auto prepare = [&](std::uint64_t seed) {
     tessera::SceneDesc s = heat_scene(kN, seed);
     s.geometry.association = tessera::Association::Cell;

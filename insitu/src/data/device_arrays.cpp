@@ -13,24 +13,25 @@ namespace tessera::insitu {
 
 BlocksMemory blocks_memory(std::span<const FieldBlock> blocks) {
   BlocksMemory m;
+  m.device.reserve(blocks.size());
   for (const FieldBlock& b : blocks) {
     const MemoryKind k = cuda_memory_kind(b.view.data);
+    m.device.push_back(k == MemoryKind::Device);
     m.on_device |= k == MemoryKind::Device;
     m.gpu_readable |= k != MemoryKind::Host;
   }
   return m;
 }
 
-void stage_blocks_to_host(FieldBinding& b, HostStaging& out, void* stream, std::uint64_t limit_bytes,
-                          const std::string& limit_text) {
-  // The bytes first, against the limit, before anything is allocated (each block's memory
-  // asked of the runtime once)
-  std::vector<char> on_device(b.blocks.size());
+void stage_blocks_to_host(FieldBinding& b, const BlocksMemory& where, HostStaging& out, void* stream,
+                          std::uint64_t limit_bytes, const std::string& limit_text) {
+  if (where.device.size() != b.blocks.size())
+    throw std::logic_error("stage_blocks_to_host: the blocks' memory kinds are not this binding's");
+  // The bytes first, against the limit, before anything is allocated
+  const std::vector<char>& on_device = where.device;
   std::uint64_t total = 0;
-  for (std::size_t i = 0; i < b.blocks.size(); ++i) {
-    on_device[i] = cuda_memory_kind(b.blocks[i].view.data) == MemoryKind::Device;
+  for (std::size_t i = 0; i < b.blocks.size(); ++i)
     if (on_device[i]) total += static_cast<std::uint64_t>(byte_span(b.blocks[i].view).bytes());
-  }
   if (total == 0) return;
   if (b.staged_bytes + total > limit_bytes)
     throw std::runtime_error("copying the field's device arrays to the host needs " + format_bytes(total) +

@@ -12,10 +12,12 @@
 
 namespace tessera::insitu {
 
-/// Where a field's blocks live, from one question to the CUDA runtime per block.
+/// Where a field's blocks live, from one question to the CUDA runtime per block (asked once:
+/// the answers are carried to the staging below).
 struct BlocksMemory {
   bool on_device = false;     ///< some block is device memory (cudaMemoryTypeDevice; not managed)
   bool gpu_readable = false;  ///< some block is device or managed memory: a render may read it in place on the GPU
+  std::vector<char> device;   ///< per block, in order: 1 where it is device memory
 };
 BlocksMemory blocks_memory(std::span<const FieldBlock> blocks);
 
@@ -25,13 +27,14 @@ struct HostStaging {
   std::uint64_t bytes = 0;  ///< copied device -> host
 };
 
-/// Copies each device-memory block of `b` (its whole strided span, ghost cells skipped by the
-/// view as before) to a host buffer and points the block's view, and `b.local` where it is
-/// that block, at the copy: afterwards nothing of `b` is device memory. The copies are
+/// Copies each device-memory block of `b` (`where`: blocks_memory(b.blocks), asked before b's
+/// views changed; its whole strided span, ghost cells skipped by the view as before) to a host
+/// buffer and points the block's view, and `b.local` where it is that block, at the copy:
+/// afterwards nothing of `b` is device memory. The copies are
 /// checked against `limit_bytes` (with b.staged_bytes already counted) before any is made:
 /// over it, std::runtime_error naming the bytes and `limit_text`; CUDA failures throw as
 /// cuda_copy_to_host does. `stream`: the simulation's CUDA stream (null: the whole device).
-void stage_blocks_to_host(FieldBinding& b, HostStaging& out, void* stream, std::uint64_t limit_bytes,
-                          const std::string& limit_text);
+void stage_blocks_to_host(FieldBinding& b, const BlocksMemory& where, HostStaging& out, void* stream,
+                          std::uint64_t limit_bytes, const std::string& limit_text);
 
 }  // namespace tessera::insitu

@@ -53,7 +53,7 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
                             !field.magnitude && field.staged.empty() && where.gpu_readable;
     if (field.device.in_place || !where.on_device) return;
     const config::MemoryLimit limit = config::memory_limit(g, std::max(1, pass.ctx.ranks_on_node()));
-    stage_blocks_to_host(b, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
+    stage_blocks_to_host(b, where, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
   });
 }
 
