@@ -50,3 +50,8 @@ endif()
 
 # -Xptxas -v for the kernels' registers and spills (docs/BENCHMARKS.md, "GPU kernel build")
 option(TESSERA_CUDA_PTXAS_VERBOSE "Print the CUDA kernels' register and spill counts while compiling" OFF)
+
+# Path regeneration in the pixel kernel (kernels/lane_loop.h, docs/gpu.md): the same image bit
+# for bit; off until it is measured faster on a GPU. The host emulation follows it, so a CPU
+# build with it on tests the loop the kernel would run.
+option(TESSERA_CUDA_PATH_REGEN "GPU kernel: one bounce per loop iteration, a lane's next sample started when its path ends" OFF)

@@ -20,17 +20,17 @@
 namespace tessera::cuda {
 
 // Instantiated beside the CPU's kernels (kernels/tile_kernel_<value>.cpp)
-extern template void emulate_slice<std::uint8_t>(const SliceArgs&);
-extern template void emulate_slice<std::int16_t>(const SliceArgs&);
-extern template void emulate_slice<std::uint16_t>(const SliceArgs&);
-extern template void emulate_slice<double>(const SliceArgs&);
-extern template void emulate_slice<Rectilinear<std::uint8_t>>(const SliceArgs&);
-extern template void emulate_slice<Rectilinear<std::int16_t>>(const SliceArgs&);
-extern template void emulate_slice<Rectilinear<std::uint16_t>>(const SliceArgs&);
-extern template void emulate_slice<Rectilinear<double>>(const SliceArgs&);
-extern template void emulate_slice<MagnitudeValue>(const SliceArgs&);
-extern template void emulate_slice<Rectilinear<MagnitudeValue>>(const SliceArgs&);
-extern template void emulate_slice<AmrValue>(const SliceArgs&);
+extern template void emulate_slice<std::uint8_t>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<std::int16_t>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<std::uint16_t>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<double>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<Rectilinear<std::uint8_t>>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<Rectilinear<std::int16_t>>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<Rectilinear<std::uint16_t>>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<Rectilinear<double>>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<MagnitudeValue>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<Rectilinear<MagnitudeValue>>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<AmrValue>(const SliceArgs&, LaneLoop);
 
 namespace {
 
@@ -110,7 +110,7 @@ class EmulatedBackend final : public DeviceBackend {
         }
   }
   void run_slice(const KernelScene& ks, const SliceArgs& a, int, const std::string& what) override {
-    if (!with_device_value(ks, [&](auto tag) { emulate_slice<typename decltype(tag)::type>(a); }))
+    if (!with_device_value(ks, [&](auto tag) { emulate_slice<typename decltype(tag)::type>(a, m_d.lane_loop); }))
       throw std::invalid_argument("emulated device: no kernel for " + what);
   }
   void merge_lanes(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const AuxSums* lane_aux, std::int64_t njobs,

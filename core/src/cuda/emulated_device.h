@@ -12,6 +12,7 @@
 /// backend reads a simulation's device arrays. It also covers what the CUDA kernels do not
 /// yet hold: refinement levels.
 #include "cuda/device_backend.h"
+#include "kernels/lane_loop.h"
 
 #include <cstddef>
 #include <memory>
@@ -27,6 +28,8 @@ struct EmulatedDevice {
   std::size_t memory_bytes = std::size_t{1} << 40;
   /// Host ranges [p, p + bytes) the device takes for its own memory (MemoryKind::Device).
   std::vector<std::pair<const void*, std::size_t>> device_ranges;
+  /// The lanes' loop the emulated kernel runs: by default the CUDA kernel's.
+  LaneLoop lane_loop = kDeviceLaneLoop;
 };
 
 /// A backend emulating `d`. A prepared scene's device copies are kept per backend object, so

@@ -66,104 +66,132 @@ class PathTracer {
 
   /// One camera sample's radiance along `ray`. With `ld`, the first real collision's light
   /// pick and light sample, hybrid choice and direction sample come from it (sobol_sampler.h);
-  /// everything else, and all of them without it, from `rng`.
+  /// everything else, and all of them without it, from `rng`. The path one bounce at a time
+  /// (begin, bounce): a caller that interleaves paths gets the same values.
   TESSERA_HOST_DEVICE SampleResult li(Ray ray, Rng& rng, KernelCounters& k, const SobolSampler* ld = nullptr) const {
-    const TransferFunction& tf = *m_s.tf;
+    PathState p = begin(ray);
+    while (bounce(p, rng, k, ld)) {
+    }
+    return p.out;
+  }
+
+  /// A path in flight: what one bounce hands the next.
+  struct PathState {
+    Ray ray;
     SampleResult out;
-    Color beta(1.0);
+    Color beta{1.0};
     bool from_camera = true;
-    double pdf_prev = 0.0;  // solid-angle pdf of the direction that made `ray`
-    for (int depth = 0;;) {
-      // Free flight to the next real collision (or none).
-      double t_hit = INFINITY;
-      bool stalled = false;
-      const bool hit = free_flight(ray, rng, k, &t_hit, &stalled);
-      if (stalled) break;  // a loop guard ended the path: nothing more from it
-      // Lights met before the collision, and the background if the ray escaped.
-      gather_emitters(ray, t_hit, hit, from_camera, pdf_prev, beta, out.L);
-      if (!hit) break;
-      if (from_camera) out.alpha = 1.0;
-      ++depth;
-      // A long path polls the render's deadline now and then (the render then fails)
-      if ((depth & (kStopPollBounces - 1)) == 0 && poll_stop()) break;
-      ++k.real_collisions;
-      const Vec3 x = ray.o + t_hit * ray.d;
-      const Vec3 pv = to_voxel(x);
-      const double u = m_m.u(pv);
-      if (m_s.has_emission) out.L += beta * tf.emission.eval(u);
-      const SobolSampler* first = from_camera ? ld : nullptr;  // the first collision's sampler, if any
-      // Choose the scattering model at this point.
-      const Vec3 wo = -ray.d;
-      const Color albedo = tf.diffuse.eval(u);
-      bool surface = false;
-      Vec3 normal(0.0);
-      if (m_s.shading != Shading::Phase) {
-        Vec3 gw_local(0.0);  // world-space grad u where some axis is rectilinear
-        Vec3 gv;
-        if constexpr (GridMedium<V>::kRectilinear) gv = m_m.gradient_local(pv, m_s.inv_spacing, &gw_local);
-        else gv = m_m.gradient_voxel(pv);
-        k.gradient_lookups += 6;
-        const double gmag = glm::length(gv);
-        if (gmag > 0.0) {
-          const Vec3 gw = GridMedium<V>::kRectilinear ? gw_local : gv * m_s.inv_spacing;  // world-space grad u
-          const double gwl = glm::length(gw);
-          if (gwl > 0.0) {
-            normal = -gw / gwl;
-            if (glm::dot(normal, wo) < 0.0) normal = -normal;
-            if (m_s.shading == Shading::Brdf) {
-              surface = true;
-            } else {
-              const double p_brdf = 1.0 - std::exp(-m_s.gradient_factor * gmag);
-              surface = sample_1d(first, SampleDim::ScatterChoice, rng) < p_brdf;
-            }
+    double pdf_prev = 0.0;  ///< solid-angle pdf of the direction that made `ray`
+    int depth = 0;          ///< real collisions so far
+  };
+
+  /// The path of a camera ray, before its first free flight.
+  TESSERA_HOST_DEVICE static PathState begin(const Ray& ray) {
+    PathState p;
+    p.ray = ray;
+    return p;
+  }
+
+  /// One bounce of path `p`: free flight to the next real collision, the emitters met, and
+  /// at the collision next-event estimation and the next direction. False when the path has
+  /// ended (p.out is then its sample).
+  TESSERA_HOST_DEVICE bool bounce(PathState& p, Rng& rng, KernelCounters& k, const SobolSampler* ld) const {
+    const TransferFunction& tf = *m_s.tf;
+    Ray& ray = p.ray;
+    SampleResult& out = p.out;
+    Color& beta = p.beta;
+    bool& from_camera = p.from_camera;
+    double& pdf_prev = p.pdf_prev;
+    int& depth = p.depth;
+    // Free flight to the next real collision (or none).
+    double t_hit = INFINITY;
+    bool stalled = false;
+    const bool hit = free_flight(ray, rng, k, &t_hit, &stalled);
+    if (stalled) return false;  // a loop guard ended the path: nothing more from it
+    // Lights met before the collision, and the background if the ray escaped.
+    gather_emitters(ray, t_hit, hit, from_camera, pdf_prev, beta, out.L);
+    if (!hit) return false;
+    if (from_camera) out.alpha = 1.0;
+    ++depth;
+    // A long path polls the render's deadline now and then (the render then fails)
+    if ((depth & (kStopPollBounces - 1)) == 0 && poll_stop()) return false;
+    ++k.real_collisions;
+    const Vec3 x = ray.o + t_hit * ray.d;
+    const Vec3 pv = to_voxel(x);
+    const double u = m_m.u(pv);
+    if (m_s.has_emission) out.L += beta * tf.emission.eval(u);
+    const SobolSampler* first = from_camera ? ld : nullptr;  // the first collision's sampler, if any
+    // Choose the scattering model at this point.
+    const Vec3 wo = -ray.d;
+    const Color albedo = tf.diffuse.eval(u);
+    bool surface = false;
+    Vec3 normal(0.0);
+    if (m_s.shading != Shading::Phase) {
+      Vec3 gw_local(0.0);  // world-space grad u where some axis is rectilinear
+      Vec3 gv;
+      if constexpr (GridMedium<V>::kRectilinear) gv = m_m.gradient_local(pv, m_s.inv_spacing, &gw_local);
+      else gv = m_m.gradient_voxel(pv);
+      k.gradient_lookups += 6;
+      const double gmag = glm::length(gv);
+      if (gmag > 0.0) {
+        const Vec3 gw = GridMedium<V>::kRectilinear ? gw_local : gv * m_s.inv_spacing;  // world-space grad u
+        const double gwl = glm::length(gw);
+        if (gwl > 0.0) {
+          normal = -gw / gwl;
+          if (glm::dot(normal, wo) < 0.0) normal = -normal;
+          if (m_s.shading == Shading::Brdf) {
+            surface = true;
+          } else {
+            const double p_brdf = 1.0 - std::exp(-m_s.gradient_factor * gmag);
+            surface = sample_1d(first, SampleDim::ScatterChoice, rng) < p_brdf;
           }
         }
       }
-      if (from_camera) {
-        out.albedo = glm::clamp(albedo, Color(0.0), Color(1.0));
-        out.normal = normal;
-      }
-      const Color f0 = surface && m_s.has_specular ? tf.specular.eval(u) : Color(0.0);
-      const double rough = surface ? tf.roughness.eval(u) : 0.0;
-      const SurfaceBrdf brdf(normal, albedo, f0, rough);
-      // Next-event estimation to one light, MIS-weighted against phase/BRDF sampling.
-      if (m_L.count() > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, first, rng, k);
-      // Sample the continuation direction.
-      Vec3 wi;
-      double pdf_dir;
-      Color weight;
-      if (surface) {
-        const double u0 = sample_1d(first, SampleDim::Lobe, rng);
-        const Sample2 u = sample_2d(first, SampleDim::Direction, rng);
-        if (!brdf.sample(wo, u0, u.x, u.y, &wi)) break;
-        pdf_dir = brdf.pdf(wo, wi);
-        if (!(pdf_dir > 0.0)) break;
-        weight = brdf.eval(wo, wi) / pdf_dir;
-      } else {
-        const Sample2 u = sample_2d(first, SampleDim::Direction, rng);
-        pdf_dir = hg_sample(ray.d, m_s.phase_g, u.x, u.y, &wi);
-        weight = albedo;
-      }
-      beta *= weight;
-      if (is_black(beta)) break;
-      const Ray next{x, wi};
-      if (depth >= m_s.max_depth) {
-        // Last collision: the sampled direction only gathers emitters, with transmittance.
-        gather_with_transmittance(next, pdf_dir, beta, rng, k, out.L);
-        break;
-      }
-      if (depth >= m_s.rr_depth) {
-        const double q = max_component(beta);
-        if (q < 1.0) {
-          if (rng.uniform() >= q) break;
-          beta /= q;
-        }
-      }
-      ray = next;
-      pdf_prev = pdf_dir;
-      from_camera = false;
     }
-    return out;
+    if (from_camera) {
+      out.albedo = glm::clamp(albedo, Color(0.0), Color(1.0));
+      out.normal = normal;
+    }
+    const Color f0 = surface && m_s.has_specular ? tf.specular.eval(u) : Color(0.0);
+    const double rough = surface ? tf.roughness.eval(u) : 0.0;
+    const SurfaceBrdf brdf(normal, albedo, f0, rough);
+    // Next-event estimation to one light, MIS-weighted against phase/BRDF sampling.
+    if (m_L.count() > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, first, rng, k);
+    // Sample the continuation direction.
+    Vec3 wi;
+    double pdf_dir;
+    Color weight;
+    if (surface) {
+      const double u0 = sample_1d(first, SampleDim::Lobe, rng);
+      const Sample2 u = sample_2d(first, SampleDim::Direction, rng);
+      if (!brdf.sample(wo, u0, u.x, u.y, &wi)) return false;
+      pdf_dir = brdf.pdf(wo, wi);
+      if (!(pdf_dir > 0.0)) return false;
+      weight = brdf.eval(wo, wi) / pdf_dir;
+    } else {
+      const Sample2 u = sample_2d(first, SampleDim::Direction, rng);
+      pdf_dir = hg_sample(ray.d, m_s.phase_g, u.x, u.y, &wi);
+      weight = albedo;
+    }
+    beta *= weight;
+    if (is_black(beta)) return false;
+    const Ray next{x, wi};
+    if (depth >= m_s.max_depth) {
+      // Last collision: the sampled direction only gathers emitters, with transmittance.
+      gather_with_transmittance(next, pdf_dir, beta, rng, k, out.L);
+      return false;
+    }
+    if (depth >= m_s.rr_depth) {
+      const double q = max_component(beta);
+      if (q < 1.0) {
+        if (rng.uniform() >= q) return false;
+        beta /= q;
+      }
+    }
+    ray = next;
+    pdf_prev = pdf_dir;
+    from_camera = false;
+    return true;
   }
 
  private:

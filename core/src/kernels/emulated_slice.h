@@ -15,19 +15,22 @@
 
 namespace tessera::cuda {
 
+/// `loop`: the lane loop to run (the CUDA kernel's is kDeviceLaneLoop).
 template <class V>
-void emulate_slice(const SliceArgs& a);
+void emulate_slice(const SliceArgs& a, LaneLoop loop);
 
 #if defined(TESSERA_EMULATED_SLICE_DEFINITION)
 template <class V>
-void emulate_slice(const SliceArgs& a) {
+void emulate_slice(const SliceArgs& a, LaneLoop loop) {
   const std::int64_t n = (a.j1 - a.j0) * a.lanes;
   if (n <= 0 || a.k1 <= a.k0) return;
   tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, n, 16), [&](const tbb::blocked_range<std::int64_t>& r) {
     unsigned long long sum[kCounterCount] = {};
     for (std::int64_t t = r.begin(); t < r.end(); ++t) {
       unsigned long long c[kCounterCount];
-      if (!draw_lane<V>(a, t, c)) continue;
+      const bool drawn = loop == LaneLoop::Regenerate ? draw_lane<V, LaneLoop::Regenerate>(a, t, c)
+                                                      : draw_lane<V, LaneLoop::PerSample>(a, t, c);
+      if (!drawn) continue;
       for (int i = 0; i < kCounterCount; ++i) sum[i] += c[i];
     }
     // Integer sums: the same in any order, as the kernel's atomicAdd
@@ -40,4 +43,4 @@ void emulate_slice(const SliceArgs& a) {
 
 /// Instantiates emulate_slice for Value V (in a kernels/tile_kernel_<value>.cpp file).
 #define TESSERA_INSTANTIATE_EMULATED_SLICE(V) \
-  template void tessera::cuda::emulate_slice<V>(const tessera::cuda::SliceArgs&)
+  template void tessera::cuda::emulate_slice<V>(const tessera::cuda::SliceArgs&, tessera::cuda::LaneLoop)

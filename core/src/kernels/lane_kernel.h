@@ -7,6 +7,7 @@
 #include <tessera/host_device.h>
 #include <tessera/stats.h>
 
+#include "kernels/lane_loop.h"
 #include "kernels/slice_args.h"
 #include "kernels/tile_sampler.h"
 
@@ -18,7 +19,7 @@ namespace tessera::cuda {
 /// lanes side by side, so their rays run together) draws its samples of [k0, k1) in index
 /// order into its own sums. Its counters go to c[kCounterCount] (the caller adds them to the
 /// slice's: integer sums, the same in any order). False, c untouched, when t is past the slice.
-template <class V>
+template <class V, LaneLoop L = kDeviceLaneLoop>
 TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, unsigned long long c[kCounterCount]) {
   const std::int64_t j = a.j0 + t / a.lanes;
   if (j >= a.j1) return false;
@@ -34,8 +35,25 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   // The CPU's estimator (sample_uniform, tile_kernel_impl.h) for this lane's samples, in index
   // order: k = lane (mod lanes) within [k0, k1)
   const int first = a.k0 + ((lane - a.k0 % a.lanes) % a.lanes + a.lanes) % a.lanes;
-  for (int k = first; k < a.k1; k += a.lanes)
-    ts.accumulate(job.x, job.y, px, a.lane_aux ? &aux : nullptr, drawn0 + static_cast<std::uint64_t>(k), st);
+  AuxSums* const aux_p = a.lane_aux ? &aux : nullptr;
+  if constexpr (L == LaneLoop::PerSample) {
+    for (int k = first; k < a.k1; k += a.lanes)
+      ts.accumulate(job.x, job.y, px, aux_p, drawn0 + static_cast<std::uint64_t>(k), st);
+  } else {
+    typename TileSampler<V>::Flight f;
+    for (int k = first;;) {
+      if (!f.live) {
+        if (k >= a.k1) break;
+        ts.start(job.x, job.y, px, drawn0 + static_cast<std::uint64_t>(k), st, f);
+        k += a.lanes;
+        if (!f.live) {  // a culled tile's sample: its value is known
+          ts.finish(f, px, aux_p, st);
+          continue;
+        }
+      }
+      if (!ts.step(f)) ts.finish(f, px, aux_p, st);
+    }
+  }
   a.lane_px[q] = px;
   if (a.lane_aux) a.lane_aux[q] = aux;
   const KernelCounters& k = ts.counters();

@@ -78,6 +78,52 @@ class TileSampler {
     return &m_last;
   }
 
+  /// A sample in flight, for a caller that advances it one bounce at a time (path
+  /// regeneration, lane_kernel.h): its streams, its path, and whether it still bounces.
+  struct Flight {
+    Rng rng{0, 0, 0, 0};
+    SobolSampler ld{0, 0, 0, 0};
+    bool has_ld = false;
+    bool live = false;  ///< false: path.out is the sample's value
+    typename PathTracer<V>::PathState path = PathTracer<V>::begin(Ray{Vec3(0.0), Vec3(0.0, 0.0, 1.0)});
+  };
+
+  /// Starts sample `index` of pixel (x, y) in `f` and counts it drawn (accumulate's first
+  /// half): the streams, the camera ray and the path before its first bounce, or the value
+  /// of a culled tile's ray at once. Then step() until false, then finish(): the same values
+  /// and sums as accumulate(), in the same order.
+  TESSERA_HOST_DEVICE void start(int x, int y, PixelSums& px, std::uint64_t index, RenderStats& st, Flight& f) const {
+    ++st.samples;
+    ++px.drawn;
+    const std::uint64_t pixel = static_cast<std::uint64_t>(y) * m_s.width + x;
+    f.rng = Rng(m_s.seed, m_s.frame, pixel, index);
+    f.has_ld = m_s.sampler == SamplerKind::Sobol;
+    if (f.has_ld) f.ld = SobolSampler(m_s.seed, m_s.frame, pixel, index);
+    const SobolSampler* ld = f.has_ld ? &f.ld : nullptr;
+    const Ray ray = camera_ray(x, y, f.rng, ld);
+    f.path = PathTracer<V>::begin(ray);
+    f.live = !m_culled;
+    if (m_culled) f.path.out = culled_value(ray);
+  }
+
+  /// One bounce of f's path; false once it has ended (then finish()).
+  TESSERA_HOST_DEVICE bool step(Flight& f) {
+    f.live = m_tracer.bounce(f.path, f.rng, m_k, f.has_ld ? &f.ld : nullptr);
+    return f.live;
+  }
+
+  /// Adds f's ended sample to the pixel's sums as accumulate() does (dropped and counted
+  /// when not finite).
+  TESSERA_HOST_DEVICE void finish(const Flight& f, PixelSums& px, AuxSums* aux, RenderStats& st) const {
+    const SampleResult& r = f.path.out;
+    if (!is_finite(r.L)) {
+      ++st.discarded_samples;
+      return;
+    }
+    add_sample(px, r);
+    if (aux) add_aux(*aux, r);
+  }
+
   /// Adds the tracer's counts (field lookups, collisions, stalled paths) to `st`.
   void flush(RenderStats& st) const { st.add_counters(m_k); }
   /// The tracer's counts so far (the device adds them to the launch's counters itself).
@@ -87,14 +133,22 @@ class TileSampler {
   /// The sample's camera ray and its radiance, with the sampler of draw().
   TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE bool trace(int x, int y, Rng& rng, const SobolSampler* ld, bool own,
                                                          SampleResult& r) {
+    const Ray ray = camera_ray(x, y, rng, ld);
+    r = m_culled && own ? culled_value(ray) : m_tracer.li(ray, rng, m_k, ld);
+    return is_finite(r.L);
+  }
+
+  /// The camera ray of a sample of pixel (x, y): its pixel jitter and lens sample first.
+  TESSERA_HOST_DEVICE Ray camera_ray(int x, int y, Rng& rng, const SobolSampler* ld) const {
     const Sample2 j = sample_2d(ld, SampleDim::Pixel, rng);
     // (a pinhole reads no lens sample: the stream still draws it, as it always has)
     const Sample2 l = ld && m_s.camera.is_pinhole() ? Sample2{0.0, 0.0} : sample_2d(ld, SampleDim::Lens, rng);
-    const Ray ray = m_s.camera.generate(x + j.x, y + j.y, l.x, l.y);
-    // A culled tile's rays meet nothing: exactly the background a traced miss returns.
-    r = m_culled && own ? SampleResult{m_s.lights.background_visible() ? m_s.lights.background(ray.d) : Color(0.0), 0.0}
-                        : m_tracer.li(ray, rng, m_k, ld);
-    return is_finite(r.L);
+    return m_s.camera.generate(x + j.x, y + j.y, l.x, l.y);
+  }
+
+  /// A culled tile's rays meet nothing: exactly the background a traced miss returns.
+  TESSERA_HOST_DEVICE SampleResult culled_value(const Ray& ray) const {
+    return SampleResult{m_s.lights.background_visible() ? m_s.lights.background(ray.d) : Color(0.0), 0.0};
   }
 
   const KernelScene& m_s;
