@@ -1,0 +1,239 @@
+// warp_model: how busy a GPU warp's threads would be on a scene, modelled on the CPU.
+//
+// The CUDA kernel (docs/gpu.md) runs a pixel's L sample lanes (sample_lanes: 32 at 128x128 and
+// 256 spp) as neighbouring threads, one warp. A warp runs one instruction for all its threads,
+// so a thread whose path is shorter than its neighbours' waits. This program traces every
+// sample of a scene's render with the kernel's own code (TileSampler::start/step, one bounce at
+// a time), records each bounce's tracking steps (free-flight and transmittance lookups), and
+// replays the pixel's lanes as a warp under three loop designs:
+//   per-sample  : each lane traces one sample's whole path, then the next (the default kernel);
+//                 a bounce's free-flight loop runs as long as its longest lane, then its
+//                 shadow loop, and a sample as long as its longest path.
+//   regenerate  : one bounce per iteration, a lane's next sample starting when its path ends
+//                 (-DTESSERA_CUDA_PATH_REGEN=ON).
+//   step        : one tracking step per iteration whatever the lane's phase (a state machine
+//                 over tracking steps; not built): the warp runs as long as its busiest lane.
+// "Active lanes" is the lanes' useful steps over the warp's steps: the figure Nsight Compute
+// reports as active threads per warp instruction. Each bounce also costs `--overhead K` steps
+// (the collision's shading and sampling, the same for every lane). The model ignores the
+// divergence inside a bounce's non-tracking code and memory latency.
+//
+//   warp_model SCENE.yaml [--render NAME] [--image W H] [--spp S] [--overhead K] [--csv FILE]
+#include <tessera/config/config.h>
+#include <tessera/config/raw_volume.h>
+#include <tessera/job/args.h>
+#include <tessera/job/render_job.h>
+#include <tessera/render.h>
+
+#include "cuda/pixel_kernel.h"
+#include "kernel/kernel_dispatch.h"
+#include "kernels/tile_sampler.h"
+#include "scene/prepared_scene_impl.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using tessera::KernelScene;
+
+/// One bounce's tracking steps: free flight, and the shadow rays' transmittance.
+struct Bounce {
+  std::uint32_t flight = 0, shadow = 0;
+};
+
+/// A lane's samples in order, each its bounces.
+using Lane = std::vector<std::vector<Bounce>>;
+
+/// Warp steps of the three designs, and the lanes' useful steps, for one pixel.
+struct WarpSteps {
+  double work = 0, per_sample = 0, regenerate = 0, step = 0;
+  void add(const WarpSteps& o) {
+    work += o.work;
+    per_sample += o.per_sample;
+    regenerate += o.regenerate;
+    step += o.step;
+  }
+};
+
+/// One iteration of a bounce loop over the lanes' bounces `b` (null: the lane is idle): the
+/// free-flight loop as long as its longest lane, then the shadow loop, plus the overhead.
+template <class Get>
+double bounce_steps(int lanes, Get&& b, double overhead) {
+  std::uint32_t f = 0, s = 0;
+  bool any = false;
+  for (int l = 0; l < lanes; ++l)
+    if (const Bounce* x = b(l)) {
+      f = std::max(f, x->flight);
+      s = std::max(s, x->shadow);
+      any = true;
+    }
+  return any ? f + s + overhead : 0.0;
+}
+
+WarpSteps replay(const std::vector<Lane>& lanes, double overhead) {
+  const int n = static_cast<int>(lanes.size());
+  WarpSteps w;
+  std::size_t samples = 0;
+  for (const Lane& l : lanes) samples = std::max(samples, l.size());
+  // per sample: the lanes' s-th samples together, bounce by bounce
+  for (std::size_t s = 0; s < samples; ++s) {
+    std::size_t depth = 0;
+    for (const Lane& l : lanes)
+      if (s < l.size()) depth = std::max(depth, l[s].size());
+    for (std::size_t i = 0; i < depth; ++i)
+      w.per_sample += bounce_steps(
+          n,
+          [&](int q) -> const Bounce* {
+            const Lane& l = lanes[static_cast<std::size_t>(q)];
+            return s < l.size() && i < l[s].size() ? &l[s][i] : nullptr;
+          },
+          overhead);
+  }
+  // regenerate: each lane's bounces one after the other, whatever sample they belong to
+  std::vector<std::vector<const Bounce*>> flat(lanes.size());
+  std::size_t longest = 0;
+  for (std::size_t q = 0; q < lanes.size(); ++q) {
+    double total = 0;
+    for (const auto& sample : lanes[q])
+      for (const Bounce& b : sample) {
+        flat[q].push_back(&b);
+        total += b.flight + b.shadow + overhead;
+      }
+    longest = std::max(longest, flat[q].size());
+    w.work += total;
+    w.step = std::max(w.step, total);  // step: the busiest lane's steps
+  }
+  for (std::size_t i = 0; i < longest; ++i)
+    w.regenerate += bounce_steps(
+        n,
+        [&](int q) -> const Bounce* {
+          const auto& f = flat[static_cast<std::size_t>(q)];
+          return i < f.size() ? f[i] : nullptr;
+        },
+        overhead);
+  return w;
+}
+
+/// Traces pixel (x, y)'s samples 0..spp-1 lane by lane (sample k on lane k mod lanes), one
+/// bounce at a time with the kernel's TileSampler, recording each bounce's lookups.
+template <class V>
+std::vector<Lane> trace_pixel(const KernelScene& ks, const tessera::GridMedium<V>& medium, bool culled, int x, int y,
+                              int lanes) {
+  tessera::TileSampler<V> ts(ks, medium, culled, nullptr);
+  std::vector<Lane> out(static_cast<std::size_t>(lanes));
+  tessera::PixelSums px;
+  tessera::AuxSums aux;
+  tessera::RenderStats st;
+  typename tessera::TileSampler<V>::Flight f;
+  for (int k = 0; k < ks.spp; ++k) {
+    std::vector<Bounce>& sample = out[static_cast<std::size_t>(k % lanes)].emplace_back();
+    ts.start(x, y, px, static_cast<std::uint64_t>(k), st, f);
+    while (f.live) {
+      const tessera::RenderStats& c = ts.counters();
+      const std::uint64_t f0 = c.free_flight_lookups, s0 = c.transmittance_lookups;
+      ts.step(f);
+      sample.push_back({static_cast<std::uint32_t>(c.free_flight_lookups - f0),
+                        static_cast<std::uint32_t>(c.transmittance_lookups - s0)});
+    }
+    if (sample.empty()) sample.push_back({});  // a culled sample: one iteration of overhead
+    ts.finish(f, px, &aux, st);
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  std::string scene, render, csv;
+  int width = 0, height = 0, spp = 0;
+  double overhead = 0.0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto next = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--render") render = next();
+    else if (a == "--image") {
+      width = std::stoi(next());
+      height = std::stoi(next());
+    } else if (a == "--spp") spp = std::stoi(next());
+    else if (a == "--overhead") overhead = std::stod(next());
+    else if (a == "--csv") csv = next();
+    else if (scene.empty() && a.rfind("--", 0) != 0) scene = a;
+    else throw std::invalid_argument("unknown argument " + a);
+  }
+  if (scene.empty())
+    throw std::invalid_argument(
+        "usage: warp_model SCENE.yaml [--render NAME] [--image W H] [--spp S] [--overhead K] [--csv FILE]");
+  const tessera::config::Config cfg = tessera::config::load_config(scene);
+  if (!cfg.volume) throw std::invalid_argument(scene + ": no volume block");
+  const tessera::config::RenderSpec* spec = render.empty() ? &cfg.renders.back() : cfg.find_render(render);
+  if (!spec) throw std::invalid_argument(scene + ": no render '" + render + "'");
+  const tessera::config::RawVolume volume = tessera::config::load_raw_volume(*cfg.volume);
+  tessera::job::VolumeInfo info = tessera::job::describe_volume(volume, *cfg.volume, spec->integrator.desc);
+  tessera::job::Args args;
+  if (width > 0) args.width = width;
+  if (height > 0) args.height = height;
+  if (spp > 0) args.spp = spp;
+  const tessera::SceneDesc desc = tessera::job::scene_for(cfg, *spec, info, args);
+  const tessera::PreparedScene ps = tessera::prepare(info.view, desc, info.summary);
+  const tessera::PreparedSceneImpl& impl = tessera::prepared_scene_impl(ps);
+  const KernelScene& ks = impl.kernel;
+  const int lanes = tessera::cuda::sample_lanes(ks.width, ks.height, ks.spp);
+  // Each pixel's culling verdict (its tile's)
+  std::vector<char> culled(static_cast<std::size_t>(ks.width) * ks.height);
+  for (std::size_t t = 0; t < impl.tiles.size(); ++t)
+    for (int y = impl.tiles[t].y0; y < impl.tiles[t].y1; ++y)
+      for (int x = impl.tiles[t].x0; x < impl.tiles[t].x1; ++x)
+        culled[static_cast<std::size_t>(y) * ks.width + x] = impl.tile_culled[t];
+  std::vector<WarpSteps> rows(static_cast<std::size_t>(ks.height));
+  tessera::with_value(ks, [&](auto tag) {
+    using V = typename decltype(tag)::type;
+    using Base = typename tessera::ValueTraits<V>::base;
+    if constexpr (std::is_same_v<Base, tessera::MeshValue> || std::is_same_v<Base, tessera::PagedValue>) {
+      throw std::invalid_argument("warp_model: meshes and paged fields are not modelled");
+    } else {
+      const tessera::GridMedium<V> medium = tessera::make_medium<V>(ks);
+      tbb::parallel_for(0, ks.height, [&](int y) {
+        for (int x = 0; x < ks.width; ++x)
+          rows[static_cast<std::size_t>(y)].add(
+              replay(trace_pixel<V>(ks, medium, culled[static_cast<std::size_t>(y) * ks.width + x] != 0, x, y, lanes),
+                     overhead));
+      });
+    }
+  });
+  WarpSteps t;
+  for (const WarpSteps& r : rows) t.add(r);
+  const auto active = [&](double steps) { return steps > 0 ? t.work / steps : 0.0; };
+  std::printf("%s, render '%s': %dx%d, %d spp, %d lanes per pixel, overhead %g steps per bounce\n", scene.c_str(),
+              spec->name.c_str(), ks.width, ks.height, ks.spp, lanes, overhead);
+  std::printf("  %-11s %14s %13s\n", "loop", "warp steps", "active lanes");
+  for (const auto& [name, steps] :
+       {std::pair{"per-sample", t.per_sample}, std::pair{"regenerate", t.regenerate}, std::pair{"step", t.step}})
+    std::printf("  %-11s %14.4g %8.2f / %d\n", name, steps, active(steps), lanes);
+  if (!csv.empty()) {
+    FILE* f = std::fopen(csv.c_str(), "w");
+    if (!f) throw std::runtime_error("cannot write " + csv);
+    std::fprintf(f, "scene,render,width,height,spp,lanes,overhead,loop,warp_steps,active_lanes\n");
+    for (const auto& [name, steps] :
+         {std::pair{"per-sample", t.per_sample}, std::pair{"regenerate", t.regenerate}, std::pair{"step", t.step}})
+      std::fprintf(f, "%s,%s,%d,%d,%d,%d,%g,%s,%.6g,%.4f\n", scene.c_str(), spec->name.c_str(), ks.width, ks.height,
+                   ks.spp, lanes, overhead, name, steps, active(steps));
+    std::fclose(f);
+  }
+  return 0;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "warp_model: %s\n", e.what());
+  return 1;
+}
