@@ -5,8 +5,10 @@
 #include <tessera/config/build_scene.h>
 #include <tessera/config/render_memory.h>
 #include <tessera/field_summary.h>
+#include <tessera/film.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <thread>
 
@@ -66,6 +68,17 @@ TEST_CASE("render_footprint: image, layers, formats, tile, threads and macrocell
   CHECK(r.rectilinear[2]);
   CHECK_THAT(estimate_render_memory(r).describe(), Contains("axis tables"));
   CHECK_THAT(estimate_render_memory(f).describe(), !Contains("axis tables"));
+  // On the CUDA device: a call's host copies of its pixels, beside the film (with the
+  // auxiliary sums here: image.denoise)
+  CHECK_FALSE(f.gpu);
+  options.threads = 3;
+  options.device = Device::Cuda;
+  const RenderFootprint gpu = render_footprint(spec, options, png, field, 4);
+  CHECK(gpu.gpu);
+  const std::uint64_t pixels = 64 * 48;
+  CHECK(estimate_render_memory(gpu).total() - estimate_render_memory(f).total() ==
+        pixels * (kGpuHostBytesPerPixel + sizeof(AuxSums)));
+  CHECK_THAT(estimate_render_memory(gpu).describe(), Contains("GPU call's host copies"));
 }
 
 TEST_CASE("memory_limit: tessera.memory_limit_mb, or the default for a process or a node's ranks",

@@ -52,6 +52,15 @@ TEST_CASE("distribution: auto is replicated while a rank's replica share fits ha
   CHECK_FALSE(plan_field(cfg, spec, binding_for(640), 1, 1, true).distributed);
 }
 
+TEST_CASE("plan: a render on the GPU counts its calls' host copies of the pixels", "[insitu][distribution]") {
+  const config::Config cfg = config_for("auto", 1024);
+  const FieldPlan cpu = plan_field(cfg, cfg.renders[0], binding_for(64), 1, 1, true);
+  const FieldPlan gpu = plan_field(cfg, cfg.renders[0], binding_for(64), 1, 1, true, nullptr, true);
+  const std::uint64_t pixels = static_cast<std::uint64_t>(cfg.renders[0].image.width) * cfg.renders[0].image.height;
+  CHECK(gpu.base.total() - cpu.base.total() == pixels * tessera::kGpuHostBytesPerPixel);
+  CHECK_THAT(gpu.base.describe(), Catch::Contains("GPU call's host copies"));
+}
+
 TEST_CASE("distribution: replicated over the limit fails naming the replica, distributed fits",
           "[insitu][distribution]") {
   const config::Config rep = config_for("replicated", 512), dist = config_for("distributed", 512);

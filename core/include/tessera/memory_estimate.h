@@ -40,7 +40,16 @@ struct RenderFootprint {
   /// at most 4 (field_dims[a] - 1) + 65 bin entries and a wall per macrocell (8 bytes each)
   bool rectilinear[3] = {false, false, false};
   std::int64_t envmap_width = 0, envmap_height = 0;  ///< envmap texels; 0 = no envmap
+  /// Rendered by the CUDA backend (RenderOptions::device): a call's host copies of its pixels
+  /// (where each is, its sums back from the device, its auxiliary sums with `denoise`),
+  /// kGpuHostBytesPerPixel (+ sizeof(AuxSums)) per pixel, beside the film. Device memory is
+  /// checked apart, against the same limit, by the backend.
+  bool gpu = false;
 };
+
+/// A CUDA call's host bytes per pixel without auxiliary sums: its pixel list (x, y, culled)
+/// and the sums copied back from the device (docs/gpu.md).
+inline constexpr std::uint64_t kGpuHostBytesPerPixel = 3 * sizeof(int) + 64;
 
 /// Open Image Denoise's own working memory per pixel (its RT filter's tensors and scratch),
 /// an upper estimate: the peak RSS growth of denoised CLI renders, less the image and

@@ -1,6 +1,8 @@
 /// render_on_device (device_render.h).
 #include "cuda/device_render.h"
 
+#include <tessera/memory_estimate.h>
+
 #include "cuda/device_scene.h"
 #include "cuda/pixel_kernel.h"
 #include "kernel/stop_check.h"
@@ -38,6 +40,9 @@ std::string unsupported(const DeviceBackend& b, const PreparedSceneImpl& s) {
 std::string mib(std::uint64_t bytes) {
   return std::to_string(bytes) + " bytes (" + std::to_string((bytes + (1u << 20) - 1) >> 20) + " MiB)";
 }
+
+// The host copies of a call as the memory estimate counts them (memory_estimate.h)
+static_assert(sizeof(PixelJob) + sizeof(PixelSums) == kGpuHostBytesPerPixel);
 
 /// The pixels of the listed tiles, in tile order.
 std::vector<PixelJob> pixel_jobs(const PreparedSceneImpl& s, std::span<const int> tile_indices) {

@@ -106,6 +106,12 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
     }
   }
 
+  // The CUDA backend's host copies of one call's pixels (device_render.cpp): the pixel list and
+  // the sums back from the device, one call (view) at a time
+  if (f.gpu)
+    e.add("GPU call's host copies",
+          mul(pixels, kGpuHostBytesPerPixel + (f.denoise ? static_cast<u64>(sizeof(AuxSums)) : 0)));
+
   // Tiles and work lists: the tile list and culling flags (prepare), the tile indices, work
   // items, per-item counters and band counters (render_tiles); a short list is cut into bands
   const u64 edge = f.tile > 0 ? static_cast<u64>(f.tile) : 0;

@@ -38,7 +38,7 @@ int brick_shift(const std::int64_t global_dims[3]) {
 }
 
 FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding, int ranks,
-                     int ranks_on_node, bool root, const AmrLayout* amr) {
+                     int ranks_on_node, bool root, const AmrLayout* amr, bool gpu) {
   const int node_ranks = std::max(1, ranks_on_node);
   FieldView global;  // dims only: what the footprint reads (and which axes are rectilinear)
   for (int a = 0; a < 3; ++a) global.dims[a] = binding.placement.global_dims[a];
@@ -47,6 +47,7 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   // What the adapter adds: rank 0 writes every image and keeps the last one; the Cinema views
   f.writes = root;
   f.keeps_last_image = root;
+  f.gpu = gpu;
   if (spec.output.cinema)
     f.views = static_cast<int>(spec.output.cinema->azimuths.size() * spec.output.cinema->elevations.size());
 

@@ -64,9 +64,10 @@ struct AmrLayout;  // amr_layout.h
 /// `amr`: the checked layout of a mesh with refinement levels (nullptr: a single level); the
 /// estimate then counts this rank's share of the node's replica of every patch (several
 /// ranks; one rank reads them in place) and the level tables (AmrLayout::table_bytes), and
-/// `auto` decides on that replica share as for one level.
+/// `auto` decides on that replica share as for one level. `gpu`: the render runs on the CUDA
+/// device (device_phase), so the estimate counts a call's host copies of its pixels.
 FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, const FieldBinding& binding, int ranks,
-                     int ranks_on_node, bool root, const AmrLayout* amr = nullptr);
+                     int ranks_on_node, bool root, const AmrLayout* amr = nullptr, bool gpu = false);
 
 /// Sets plan.shift / capacity for distributed mode and checks the limit (throws like
 /// plan_field); after the ranks have agreed on distributed for `auto`. The cache holds at most

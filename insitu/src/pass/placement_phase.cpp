@@ -14,7 +14,8 @@ std::optional<FieldPlan> plan_phase(PhaseGate& gate, const PassContext& pass, co
   const AmrLayout* amr = field.amr ? &*field.amr : nullptr;
   FieldPlan plan;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
-        plan = plan_field(pass.cfg, pass.spec, field.binding, ctx.size(), ctx.ranks_on_node(), pass.root(), amr);
+        plan = plan_field(pass.cfg, pass.spec, field.binding, ctx.size(), ctx.ranks_on_node(), pass.root(), amr,
+                          field.device.selection.device == Device::Cuda);
       }))
     return std::nullopt;
   if (pass.cfg.global.distribution == config::Distribution::Auto && ctx.size() > 1)
