@@ -311,7 +311,7 @@ class MacrocellWalk {
 
   TESSERA_HOST_DEVICE MacrocellWalk(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1)
       : m_m(&m), m_ov(ov), m_dv(dv), m_t(t0), m_t1(t1) {
-    if (!(t0 < t1)) m_resume = Resume::End;
+    if (!(t0 < t1)) m_end = true;
     else enter(t0);
   }
 
@@ -319,21 +319,7 @@ class MacrocellWalk {
   /// medium), and ever after.
   [[gnu::always_inline]] TESSERA_HOST_DEVICE bool next(Segment& s) {
     const GridMedium<T>& m = *m_m;
-    for (;;) {
-      switch (m_resume) {
-        case Resume::End: return false;
-        case Resume::AfterSkip:  // restart at the empty cube's exit
-          if (m_t_resume >= m_t1) return end();
-          m_t = m_t_resume;
-          enter(m_t);
-          break;
-        case Resume::AfterSegment:  // past the segment's cell, along its exit axis
-          m_t = m_t_resume;
-          if (!advance(m_a)) return end();
-          break;
-        case Resume::Top: break;
-      }
-      m_resume = Resume::Top;
+    while (!m_end) {
       const int a =
           m_t_next[0] < m_t_next[1] ? (m_t_next[0] < m_t_next[2] ? 0 : 2) : (m_t_next[1] < m_t_next[2] ? 1 : 2);
       const double t_exit = std::min(m_t_next[a], m_t1);
@@ -345,25 +331,28 @@ class MacrocellWalk {
             const double t_skip = std::min(cube_exit(m_ov, m_dv, m_c, m.empty_reach[cell] - 1, m.cell_edge), m_t1);
             if (t_skip > t_exit) {
               s = {m_t, t_skip, 0.0};
-              m_resume = Resume::AfterSkip;
-              m_t_resume = t_skip;
+              // the walk goes on at the empty cube's exit
+              if (t_skip >= m_t1) m_end = true;
+              else {
+                m_t = t_skip;
+                enter(m_t);
+              }
               return true;
             }
           }
         }
         s = {m_t, t_exit, maj};
-        m_resume = Resume::AfterSegment;
-        m_a = a;
-        m_t_resume = t_exit;
+        m_t = t_exit;
+        m_end = !advance(a);  // past the segment's cell, along its exit axis
         return true;
       }
-      if (!advance(a)) return end();
+      m_end = !advance(a);
     }
+    return false;
   }
 
  private:
   static constexpr bool kRect = GridMedium<T>::kRectilinear;  // a uniform Value tests no AxisMap
-  enum class Resume : unsigned char { Top, AfterSegment, AfterSkip, End };
 
   /// The cell holding p(t) and, per axis, the distance of its next wall.
   [[gnu::always_inline]] TESSERA_HOST_DEVICE void enter(double t) {
@@ -409,19 +398,12 @@ class MacrocellWalk {
     return true;
   }
 
-  TESSERA_HOST_DEVICE bool end() {
-    m_resume = Resume::End;
-    return false;
-  }
-
   const GridMedium<T>* m_m;
   Vec3 m_ov, m_dv;
   double m_t, m_t1;
   std::int64_t m_c[3] = {0, 0, 0}, m_step[3] = {0, 0, 0};
   double m_t_next[3] = {INFINITY, INFINITY, INFINITY}, m_t_delta[3] = {INFINITY, INFINITY, INFINITY};
-  double m_t_resume = 0.0;  ///< where the walk goes on after the last segment handed out
-  int m_a = 0;              ///< that segment's exit axis
-  Resume m_resume = Resume::Top;
+  bool m_end = false;  ///< past t1 or the medium: no more segments
 };
 
 /// Walks the macrocells a ray crosses between world distances t0 < t1, calling
