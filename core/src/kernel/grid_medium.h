@@ -299,6 +299,113 @@ TESSERA_HOST_DEVICE inline double cube_exit(const Vec3& ov, const Vec3& dv, cons
   return t;
 }
 
+/// The macrocell walk of traverse_macrocells (below) one segment at a time, so that a caller can
+/// leave it and come back (a GPU thread that runs one tracking step per loop iteration): the
+/// same segments in the same order. Trivially copyable; points into the medium.
+template <class T>
+class MacrocellWalk {
+ public:
+  struct Segment {
+    double ta, tb, majorant;
+  };
+
+  TESSERA_HOST_DEVICE MacrocellWalk(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1)
+      : m_m(&m), m_ov(ov), m_dv(dv), m_t(t0), m_t1(t1) {
+    if (!(t0 < t1)) m_end = true;
+    else enter(t0);
+  }
+
+  /// The next segment, in order along the ray; false once the walk has passed t1 (or left the
+  /// medium), and ever after.
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE bool next(Segment& s) {
+    const GridMedium<T>& m = *m_m;
+    while (!m_end) {
+      const int a =
+          m_t_next[0] < m_t_next[1] ? (m_t_next[0] < m_t_next[2] ? 0 : 2) : (m_t_next[1] < m_t_next[2] ? 1 : 2);
+      const double t_exit = std::min(m_t_next[a], m_t1);
+      if (t_exit > m_t) {
+        const std::int64_t cell = (m_c[2] * m.nc[1] + m_c[1]) * m.nc[0] + m_c[0];
+        const double maj = m.majorant[cell];
+        if constexpr (!kRect) {
+          if (!(maj > 0.0) && m.empty_reach && m.empty_reach[cell] > 2) {
+            const double t_skip = std::min(cube_exit(m_ov, m_dv, m_c, m.empty_reach[cell] - 1, m.cell_edge), m_t1);
+            if (t_skip > t_exit) {
+              s = {m_t, t_skip, 0.0};
+              // the walk goes on at the empty cube's exit
+              if (t_skip >= m_t1) m_end = true;
+              else {
+                m_t = t_skip;
+                enter(m_t);
+              }
+              return true;
+            }
+          }
+        }
+        s = {m_t, t_exit, maj};
+        m_t = t_exit;
+        m_end = !advance(a);  // past the segment's cell, along its exit axis
+        return true;
+      }
+      m_end = !advance(a);
+    }
+    return false;
+  }
+
+ private:
+  static constexpr bool kRect = GridMedium<T>::kRectilinear;  // a uniform Value tests no AxisMap
+
+  /// The cell holding p(t) and, per axis, the distance of its next wall.
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE void enter(double t) {
+    const GridMedium<T>& m = *m_m;
+    const double E = m.cell_edge;
+    const Vec3 p = m_ov + t * m_dv;
+    for (int a = 0; a < 3; ++a) {
+      const AxisMap& ax = m.axis[a];
+      const bool rect = kRect && ax.coords != nullptr;
+      m_c[a] = rect ? rectilinear_cell(ax, p[a], static_cast<std::int64_t>(E), m.nc[a])
+                    : std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p[a] / E)), 0, m.nc[a] - 1);
+      if (m_dv[a] > 0.0) {
+        m_step[a] = 1;
+        m_t_next[a] = ((rect ? ax.walls[m_c[a] + 1] : (m_c[a] + 1) * E) - m_ov[a]) / m_dv[a];
+        m_t_delta[a] = E / m_dv[a];
+      } else if (m_dv[a] < 0.0) {
+        m_step[a] = -1;
+        m_t_next[a] = ((rect ? ax.walls[m_c[a]] : m_c[a] * E) - m_ov[a]) / m_dv[a];
+        m_t_delta[a] = -E / m_dv[a];
+      } else {
+        m_step[a] = 0;
+        m_t_next[a] = INFINITY;
+        m_t_delta[a] = INFINITY;
+      }
+    }
+  }
+
+  /// Into the next cell along axis a; false at t1 or past the medium's last cell.
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE bool advance(int a) {
+    const GridMedium<T>& m = *m_m;
+    if (m_t >= m_t1) return false;
+    m_c[a] += m_step[a];
+    if (m_c[a] < 0 || m_c[a] >= m.nc[a]) {
+      // Past the outermost macrocell: the end of the medium, or its outer half cell
+      if (!m.outer_half) return false;
+      m_c[a] -= m_step[a];
+      m_t_next[a] = INFINITY;
+      return true;
+    }
+    if (kRect && m.axis[a].coords)
+      m_t_next[a] = (m.axis[a].walls[m_step[a] > 0 ? m_c[a] + 1 : m_c[a]] - m_ov[a]) / m_dv[a];
+    else m_t_next[a] += m_t_delta[a];
+    return true;
+  }
+
+  const GridMedium<T>* m_m;
+  Vec3 m_ov, m_dv;
+  double m_t, m_t1;
+  std::int64_t m_c[3] = {0, 0, 0}, m_step[3] = {0, 0, 0};
+  double m_t_next[3] = {INFINITY, INFINITY, INFINITY}, m_t_delta[3] = {INFINITY, INFINITY, INFINITY};
+  bool m_end = false;  ///< past t1 or the medium: no more segments
+};
+
 /// Walks the macrocells a ray crosses between world distances t0 < t1, calling
 /// fn(t_enter, t_exit, majorant) for each in order until fn returns true (stop).
 /// Ray in the medium's p space: p(t) = ov + t * dv. Returns true if fn stopped the walk.
@@ -308,73 +415,15 @@ TESSERA_HOST_DEVICE inline double cube_exit(const Vec3& ov, const Vec3& dv, cons
 /// medium has an empty-reach table (field/empty_reach.h) and every axis is uniform, an empty
 /// cell of reach R >= 3 hands fn the ray's whole way through its empty cube of cells c +- (R - 1)
 /// at once, and the walk restarts at the cube's exit (a smaller cube does not pay for the
-/// restart). The segments still tile [t0, t1].
+/// restart). The segments still tile [t0, t1]. (MacrocellWalk, one segment at a time.)
 template <class T, class Fn>
 TESSERA_HOST_DEVICE bool traverse_macrocells(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0,
                                              double t1, Fn&& fn) {
-  if (!(t0 < t1)) return false;
-  const double E = m.cell_edge;
-  std::int64_t c[3], step[3];
-  double t_next[3], t_delta[3];
-  constexpr bool rectilinear = GridMedium<T>::kRectilinear;  // a uniform Value tests no AxisMap
-  // The cell holding p(t) and, per axis, the distance of its next wall.
-  const auto enter = [&](double t) __attribute__((always_inline)) {
-    const Vec3 p = ov + t * dv;
-    for (int a = 0; a < 3; ++a) {
-      const AxisMap& ax = m.axis[a];
-      const bool rect = rectilinear && ax.coords != nullptr;
-      c[a] = rect ? rectilinear_cell(ax, p[a], static_cast<std::int64_t>(E), m.nc[a])
-                  : std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(p[a] / E)), 0, m.nc[a] - 1);
-      if (dv[a] > 0.0) {
-        step[a] = 1;
-        t_next[a] = ((rect ? ax.walls[c[a] + 1] : (c[a] + 1) * E) - ov[a]) / dv[a];
-        t_delta[a] = E / dv[a];
-      } else if (dv[a] < 0.0) {
-        step[a] = -1;
-        t_next[a] = ((rect ? ax.walls[c[a]] : c[a] * E) - ov[a]) / dv[a];
-        t_delta[a] = -E / dv[a];
-      } else {
-        step[a] = 0;
-        t_next[a] = INFINITY;
-        t_delta[a] = INFINITY;
-      }
-    }
-  };
-  enter(t0);
-  double t = t0;
-  for (;;) {
-    const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
-    const double t_exit = std::min(t_next[a], t1);
-    if (t_exit > t) {
-      const std::int64_t cell = (c[2] * m.nc[1] + c[1]) * m.nc[0] + c[0];
-      const double maj = m.majorant[cell];
-      if constexpr (!rectilinear) {
-        if (!(maj > 0.0) && m.empty_reach && m.empty_reach[cell] > 2) {
-          const double t_skip = std::min(cube_exit(ov, dv, c, m.empty_reach[cell] - 1, E), t1);
-          if (t_skip > t_exit) {
-            if (fn(t, t_skip, 0.0)) return true;
-            if (t_skip >= t1) return false;
-            t = t_skip;
-            enter(t);
-            continue;
-          }
-        }
-      }
-      if (fn(t, t_exit, maj)) return true;
-      t = t_exit;
-    }
-    if (t >= t1) return false;
-    c[a] += step[a];
-    if (c[a] < 0 || c[a] >= m.nc[a]) {
-      // Past the outermost macrocell: the end of the medium, or its outer half cell
-      if (!m.outer_half) return false;
-      c[a] -= step[a];
-      t_next[a] = INFINITY;
-      continue;
-    }
-    if (rectilinear && m.axis[a].coords) t_next[a] = (m.axis[a].walls[step[a] > 0 ? c[a] + 1 : c[a]] - ov[a]) / dv[a];
-    else t_next[a] += t_delta[a];
-  }
+  MacrocellWalk<T> walk(m, ov, dv, t0, t1);
+  typename MacrocellWalk<T>::Segment s;
+  while (walk.next(s))
+    if (fn(s.ta, s.tb, s.majorant)) return true;
+  return false;
 }
 
 }  // namespace tessera

@@ -18,6 +18,73 @@
 
 namespace tessera {
 
+/// What MajorantSteps::next found.
+enum class TrackStep {
+  Collision,  ///< a tentative collision at t() (position(), majorant())
+  Done,       ///< reached t1
+  Stalled,    ///< a loop guard: a step that did not advance t, or over kMaxTrackingSteps steps
+};
+
+/// The tentative collisions along the voxel-space ray p(t) = ov + t dv over world distances
+/// [t0, t1], one per next(): one Exp(1) optical depth tau at a time, spent over the
+/// macrocells' majorants (a cell with majorant maj > 0 over a length l spends maj l of it;
+/// empty cells spend none and are crossed in closed form), and a tentative collision where
+/// tau runs out. By the exponential's memorylessness this is delta tracking's step
+/// distribution exactly, with one logarithm per tentative collision instead of one per
+/// non-empty cell crossed. Draws from rng: the first tau at the first non-empty cell, and
+/// the next tau when next() is called again after a collision (so the caller's own draws at
+/// a collision come first); none for a ray that meets only empty cells. Resumable: a caller
+/// may keep it and do other work between steps (sample_majorant_steps is the loop).
+template <class V>
+class MajorantSteps {
+ public:
+  TESSERA_HOST_DEVICE MajorantSteps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1)
+      : m_walk(m, ov, dv, t0, t1), m_ov(ov), m_dv(dv) {}
+
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE TrackStep next(Rng& rng) {
+    if (m_redraw) {
+      m_tau = exp_unit(rng);
+      m_redraw = false;
+    }
+    for (;;) {
+      if (!m_in_cell) {
+        typename MacrocellWalk<V>::Segment seg;
+        if (!m_walk.next(seg)) return TrackStep::Done;
+        if (seg.majorant <= 0.0) continue;
+        if (m_tau < 0.0) m_tau = exp_unit(rng);
+        m_t = seg.ta;
+        m_tb = seg.tb;
+        m_maj = seg.majorant;
+        m_in_cell = true;
+      }
+      const double dt = m_tau / m_maj;
+      const double t_next = m_t + dt;
+      if (t_next >= m_tb) {
+        m_tau = std::max(0.0, m_tau - (m_tb - m_t) * m_maj);  // the rest carries into the next cell
+        m_in_cell = false;
+        continue;
+      }
+      if ((!(t_next > m_t) && dt > 0.0) || --m_budget < 0.0) return TrackStep::Stalled;
+      m_t = t_next;
+      m_redraw = true;
+      return TrackStep::Collision;
+    }
+  }
+
+  TESSERA_HOST_DEVICE double t() const { return m_t; }
+  TESSERA_HOST_DEVICE double majorant() const { return m_maj; }
+  TESSERA_HOST_DEVICE Vec3 position() const { return m_ov + m_t * m_dv; }
+
+ private:
+  MacrocellWalk<V> m_walk;
+  Vec3 m_ov, m_dv;
+  double m_tau = -1.0;  ///< optical depth left to the next tentative collision (drawn at the first non-empty cell)
+  double m_budget = kMaxTrackingSteps;
+  double m_t = 0.0, m_tb = 0.0, m_maj = 0.0;  ///< within the current cell: position, exit, majorant
+  bool m_in_cell = false;
+  bool m_redraw = false;  ///< a collision was handed out: draw the next tau first
+};
+
 /// How a majorant walk ended.
 enum class TrackEnd {
   Done,     ///< reached t1: the callback never asked to stop
@@ -25,41 +92,17 @@ enum class TrackEnd {
   Stalled,  ///< a loop guard: a step that did not advance t, or over kMaxTrackingSteps steps
 };
 
-/// Samples tentative collisions along the voxel-space ray p(t) = ov + t dv over world
-/// distances [t0, t1]: one Exp(1) optical depth tau at a time, spent over the macrocells'
-/// majorants (a cell with majorant maj > 0 over a length l spends maj l of it; empty cells
-/// spend none and are crossed in closed form), and a tentative collision where tau runs out,
-/// calling fn(p, t, maj) there; fn returns false to stop the walk. By the exponential's
-/// memorylessness this is delta tracking's step distribution exactly, with one logarithm per
-/// tentative collision instead of one per non-empty cell crossed. One rng draw per
-/// collision before fn (fn draws what it needs itself); none for a ray that meets only empty cells.
+/// MajorantSteps' collisions handed to fn(p, t, maj) in order, until fn returns false.
 template <class V, class Fn>
 TESSERA_HOST_DEVICE TrackEnd sample_majorant_steps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0,
                                                    double t1, Rng& rng, Fn&& fn) {
-  double budget = kMaxTrackingSteps;
-  bool stalled = false;
-  double tau = -1.0;  // optical depth left to the next tentative collision (drawn at the first non-empty cell)
-  const bool stopped = traverse_macrocells(
-      m, ov, dv, t0, t1, [&](double ta, double tb, double maj) __attribute__((always_inline)) {
-        if (maj <= 0.0) return false;
-        if (tau < 0.0) tau = exp_unit(rng);
-        for (double t = ta;;) {
-          const double dt = tau / maj;
-          const double t_next = t + dt;
-          if (t_next >= tb) {
-            tau = std::max(0.0, tau - (tb - t) * maj);  // the rest carries into the next cell
-            return false;
-          }
-          if ((!(t_next > t) && dt > 0.0) || --budget < 0.0) {
-            stalled = true;
-            return true;
-          }
-          t = t_next;
-          if (!fn(ov + t * dv, t, maj)) return true;
-          tau = exp_unit(rng);
-        }
-      });
-  return stalled ? TrackEnd::Stalled : (stopped ? TrackEnd::Stopped : TrackEnd::Done);
+  MajorantSteps<V> steps(m, ov, dv, t0, t1);
+  for (;;) {
+    const TrackStep r = steps.next(rng);
+    if (r == TrackStep::Done) return TrackEnd::Done;
+    if (r == TrackStep::Stalled) return TrackEnd::Stalled;
+    if (!fn(steps.position(), steps.t(), steps.majorant())) return TrackEnd::Stopped;
+  }
 }
 
 /// One tentative collision's update of a transmittance estimate T, per shadow estimator.
