@@ -11,8 +11,16 @@
 //                 shadow loop, and a sample as long as its longest path.
 //   regenerate  : one bounce per iteration, a lane's next sample starting when its path ends
 //                 (-DTESSERA_CUDA_PATH_REGEN=ON).
-//   step        : one tracking step per iteration whatever the lane's phase (a state machine
-//                 over tracking steps; not built): the warp runs as long as its busiest lane.
+//   step        : one tracking step per iteration whatever the lane's phase, ideally: the warp
+//                 runs as long as its busiest lane's steps.
+//   step (built): the step-level loop as built (-DTESSERA_CUDA_STEP_LOOP=ON, PathSteps): each
+//                 lane's loop iterations replayed in lockstep. An iteration costs the most
+//                 lookups any lane took in it (a call may end a walk and take the next walk's
+//                 first step), at least 1, plus the overhead when some lane ended a flight.
+//   step-defer  : the built loop with the code after a flight deferred until half the live
+//                 lanes wait for it (or none can step), then run by those lanes together
+//                 (a warp vote on a GPU; not built): a tracking step costs 1, that code the
+//                 overhead.
 // "Active lanes" is the lanes' useful steps over the warp's steps: the figure Nsight Compute
 // reports as active threads per warp instruction. Each bounce also costs `--overhead K` steps
 // (the collision's shading and sampling, the same for every lane). The model ignores the
@@ -54,16 +62,71 @@ struct Bounce {
 /// A lane's samples in order, each its bounces.
 using Lane = std::vector<std::vector<Bounce>>;
 
-/// Warp steps of the three designs, and the lanes' useful steps, for one pixel.
+/// One loop iteration of a lane of the built step-level loop: its tracking lookups, and
+/// whether a free flight ended in it (a collision's shading or a path's end).
+struct StepCall {
+  std::uint32_t lookups = 0;
+  bool bounce = false;
+};
+
+/// Warp steps of the designs, and the lanes' useful steps, for one pixel.
 struct WarpSteps {
-  double work = 0, per_sample = 0, regenerate = 0, step = 0;
+  double work = 0, per_sample = 0, regenerate = 0, step = 0, built = 0, deferred = 0;
   void add(const WarpSteps& o) {
+    deferred += o.deferred;
     work += o.work;
     per_sample += o.per_sample;
     regenerate += o.regenerate;
     step += o.step;
+    built += o.built;
   }
 };
+
+/// The built loop's iterations with the code between walks deferred: a lane whose flight has
+/// ended waits until at least `share` of the live lanes wait (or none can step), then the
+/// waiting lanes run that code together (a warp vote on a GPU; not built). Each lane's items:
+/// a tracking step (cost 1) or the code after a flight (cost `overhead`).
+double deferred_steps(const std::vector<std::vector<StepCall>>& lanes, double overhead, double share) {
+  const std::size_t n = lanes.size();
+  std::vector<std::size_t> call(n, 0);
+  std::vector<char> pending(n, 0);  // the lane's current call: its step taken, its flight's end not yet run
+  double w = 0;
+  for (;;) {
+    std::size_t live = 0, waiting = 0;
+    for (std::size_t q = 0; q < n; ++q) {
+      if (call[q] >= lanes[q].size() && !pending[q]) continue;
+      ++live;
+      waiting += pending[q] ? 1 : 0;
+    }
+    if (live == 0) return w;
+    if (waiting > 0 && (waiting == live || static_cast<double>(waiting) >= share * static_cast<double>(live))) {
+      for (std::size_t q = 0; q < n; ++q) pending[q] = 0;
+      w += overhead;
+      continue;
+    }
+    for (std::size_t q = 0; q < n; ++q)
+      if (!pending[q] && call[q] < lanes[q].size()) pending[q] = lanes[q][call[q]++].bounce ? 1 : 0;
+    w += 1;
+  }
+}
+
+/// The built step-level loop's warp steps: the lanes' iterations in lockstep.
+double built_steps(const std::vector<std::vector<StepCall>>& lanes, double overhead) {
+  std::size_t longest = 0;
+  for (const auto& l : lanes) longest = std::max(longest, l.size());
+  double w = 0;
+  for (std::size_t i = 0; i < longest; ++i) {
+    std::uint32_t most = 1;
+    bool bounce = false;
+    for (const auto& l : lanes)
+      if (i < l.size()) {
+        most = std::max(most, l[i].lookups);
+        bounce = bounce || l[i].bounce;
+      }
+    w += most + (bounce ? overhead : 0.0);
+  }
+  return w;
+}
 
 /// One iteration of a bounce loop over the lanes' bounces `b` (null: the lane is idle): the
 /// free-flight loop as long as its longest lane, then the shadow loop, plus the overhead.
@@ -151,6 +214,42 @@ std::vector<Lane> trace_pixel(const KernelScene& ks, const tessera::GridMedium<V
   return out;
 }
 
+/// Runs pixel (x, y)'s samples on the built step-level loop, lane by lane as draw_lane does
+/// (lane_kernel.h: a lane's next sample starts in the iteration after its path ended; a culled
+/// sample takes one iteration), recording each iteration's lookups.
+template <class V>
+std::vector<std::vector<StepCall>> trace_pixel_steps(const KernelScene& ks, const tessera::GridMedium<V>& medium,
+                                                     bool culled, int x, int y, int lanes) {
+  tessera::TileSampler<V> ts(ks, medium, culled, nullptr);
+  std::vector<std::vector<StepCall>> out(static_cast<std::size_t>(lanes));
+  tessera::PixelSums px;
+  tessera::AuxSums aux;
+  tessera::RenderStats st;
+  for (int lane = 0; lane < lanes; ++lane) {
+    typename tessera::TileSampler<V>::StepFlight f;
+    auto& calls = out[static_cast<std::size_t>(lane)];
+    for (int k = lane;;) {
+      if (!f.live) {
+        if (k >= ks.spp) break;
+        ts.start(x, y, px, static_cast<std::uint64_t>(k), st, f);
+        k += lanes;
+        if (!f.live) {
+          ts.finish(f, px, &aux, st);
+          calls.push_back({0, true});
+          continue;
+        }
+      }
+      const tessera::RenderStats& c = ts.counters();
+      const std::uint64_t l0 = c.free_flight_lookups + c.transmittance_lookups, r0 = c.real_collisions;
+      const bool live = ts.step(f);
+      calls.push_back({static_cast<std::uint32_t>(c.free_flight_lookups + c.transmittance_lookups - l0),
+                       !live || c.real_collisions != r0});
+      if (!live) ts.finish(f, px, &aux, st);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -163,16 +262,22 @@ int main(int argc, char** argv) try {
       if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
       return argv[++i];
     };
+    const auto positive = [&]() {
+      const int v = std::stoi(next());
+      if (v < 1) throw std::invalid_argument(a + " takes positive numbers");
+      return v;
+    };
     if (a == "--render") render = next();
     else if (a == "--image") {
-      width = std::stoi(next());
-      height = std::stoi(next());
-    } else if (a == "--spp") spp = std::stoi(next());
+      width = positive();
+      height = positive();
+    } else if (a == "--spp") spp = positive();
     else if (a == "--overhead") overhead = std::stod(next());
     else if (a == "--csv") csv = next();
     else if (scene.empty() && a.rfind("--", 0) != 0) scene = a;
     else throw std::invalid_argument("unknown argument " + a);
   }
+  if (!(overhead >= 0.0 && overhead < 1e9)) throw std::invalid_argument("--overhead takes a number in [0, 1e9)");
   if (scene.empty())
     throw std::invalid_argument(
         "usage: warp_model SCENE.yaml [--render NAME] [--image W H] [--spp S] [--overhead K] [--csv FILE]");
@@ -206,10 +311,14 @@ int main(int argc, char** argv) try {
     } else {
       const tessera::GridMedium<V> medium = tessera::make_medium<V>(ks);
       tbb::parallel_for(0, ks.height, [&](int y) {
-        for (int x = 0; x < ks.width; ++x)
-          rows[static_cast<std::size_t>(y)].add(
-              replay(trace_pixel<V>(ks, medium, culled[static_cast<std::size_t>(y) * ks.width + x] != 0, x, y, lanes),
-                     overhead));
+        for (int x = 0; x < ks.width; ++x) {
+          const bool c = culled[static_cast<std::size_t>(y) * ks.width + x] != 0;
+          WarpSteps w = replay(trace_pixel<V>(ks, medium, c, x, y, lanes), overhead);
+          const auto calls = trace_pixel_steps<V>(ks, medium, c, x, y, lanes);
+          w.built = built_steps(calls, overhead);
+          w.deferred = deferred_steps(calls, overhead, 0.5);
+          rows[static_cast<std::size_t>(y)].add(w);
+        }
       });
     }
   });
@@ -219,15 +328,17 @@ int main(int argc, char** argv) try {
   std::printf("%s, render '%s': %dx%d, %d spp, %d lanes per pixel, overhead %g steps per bounce\n", scene.c_str(),
               spec->name.c_str(), ks.width, ks.height, ks.spp, lanes, overhead);
   std::printf("  %-11s %14s %13s\n", "loop", "warp steps", "active lanes");
-  for (const auto& [name, steps] :
-       {std::pair{"per-sample", t.per_sample}, std::pair{"regenerate", t.regenerate}, std::pair{"step", t.step}})
-    std::printf("  %-11s %14.4g %8.2f / %d\n", name, steps, active(steps), lanes);
+  const std::pair<const char*, double> loops[] = {{"per-sample", t.per_sample},
+                                                  {"regenerate", t.regenerate},
+                                                  {"step", t.step},
+                                                  {"step-built", t.built},
+                                                  {"step-defer", t.deferred}};
+  for (const auto& [name, steps] : loops) std::printf("  %-11s %14.4g %8.2f / %d\n", name, steps, active(steps), lanes);
   if (!csv.empty()) {
     FILE* f = std::fopen(csv.c_str(), "w");
     if (!f) throw std::runtime_error("cannot write " + csv);
     std::fprintf(f, "scene,render,width,height,spp,lanes,overhead,loop,warp_steps,active_lanes\n");
-    for (const auto& [name, steps] :
-         {std::pair{"per-sample", t.per_sample}, std::pair{"regenerate", t.regenerate}, std::pair{"step", t.step}})
+    for (const auto& [name, steps] : loops)
       std::fprintf(f, "%s,%s,%d,%d,%d,%d,%g,%s,%.6g,%.4f\n", scene.c_str(), spec->name.c_str(), ks.width, ks.height,
                    ks.spp, lanes, overhead, name, steps, active(steps));
     std::fclose(f);

@@ -55,3 +55,9 @@ option(TESSERA_CUDA_PTXAS_VERBOSE "Print the CUDA kernels' register and spill co
 # for bit; off until it is measured faster on a GPU. The host emulation follows it, so a CPU
 # build with it on tests the loop the kernel would run.
 option(TESSERA_CUDA_PATH_REGEN "GPU kernel: one bounce per loop iteration, a lane's next sample started when its path ends" OFF)
+# The step-level loop (kernels/lane_loop.h, kernel/path_steps.h): regeneration with one tracking
+# step per loop iteration instead of one bounce. Off until measured on a GPU, as above.
+option(TESSERA_CUDA_STEP_LOOP "GPU kernel: one tracking step per loop iteration (free flight and shadow rays as phases)" OFF)
+if(TESSERA_CUDA_PATH_REGEN AND TESSERA_CUDA_STEP_LOOP)
+  message(FATAL_ERROR "TESSERA_CUDA_PATH_REGEN and TESSERA_CUDA_STEP_LOOP choose two lane loops: turn one off")
+endif()

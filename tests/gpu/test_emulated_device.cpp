@@ -229,10 +229,54 @@ TEST_CASE("Emulated device: any split of the tiles and a second call give the CP
   CHECK(aux_diff < 1e-9);
 }
 
-TEST_CASE("Emulated device: path regeneration gives the per-sample loop's sums bit for bit", "[emulated]") {
-  // The two lane loops (kernels/lane_loop.h) on scenes that exercise every way a path ends:
+namespace {
+
+/// heat_scene with what the last bounce and the shadow estimators can meet: two rect lights
+/// and two sphere lights (one inside the volume) before the gradient background, few
+/// bounces, BRDF shading with a specular lobe and delta-tracking shadows without roulette
+/// (variant 1), or the fixed-step march with phase shading (variant 2).
+tessera::SceneDesc loop_scene(int variant) {
+  tessera::SceneDesc s = heat_scene(kN, 11);
+  if (variant == 0) return s;
+  tessera::RectLightDesc r;
+  r.position = Vec3(-1.5, 0.5, 0.5);
+  r.target = Vec3(0.5, 0.5, 0.5);
+  r.width = r.height = 0.6;
+  r.radiance = Color(3.0, 2.0, 1.0);
+  s.lights.push_back(r);
+  tessera::SphereLightDesc a, b;
+  a.center = Vec3(0.5, 0.45, 0.55);
+  a.radius = 0.12;
+  a.radiance = Color(2.0);
+  b.center = Vec3(2.0, 1.8, 0.5);
+  b.radius = 0.3;
+  b.radiance = Color(1.0, 2.0, 4.0);
+  s.lights.push_back(a);
+  s.lights.push_back(b);
+  if (variant == 1) {
+    s.integrator.max_bounces = 2;
+    s.integrator.shading = tessera::Shading::Brdf;
+    s.tf.specular = tessera::ColorTF({0.0, 1.0}, {Color(0.04), Color(0.5)});
+    s.tf.roughness = tessera::ScalarTF({0.0, 1.0}, {0.2, 0.6});
+    s.integrator.shadow = tessera::ShadowMode::Delta;
+    s.integrator.shadow_roulette = false;
+  } else {
+    s.integrator.max_bounces = 3;
+    s.integrator.free_path = tessera::FreePath::Raymarch;
+    s.integrator.shading = tessera::Shading::Phase;
+    s.integrator.phase_g = 0.4;
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("Emulated device: path regeneration and the step-level loop give the per-sample loop's sums bit for bit",
+          "[emulated]") {
+  // The lane loops (kernels/lane_loop.h) on scenes that exercise every way a path ends:
   // multiple scattering with Russian roulette and the last bounce, single scattering, both
-  // samplers, culled tiles, a pixel's samples split over slices, and the denoiser's features
+  // samplers, culled tiles, a pixel's samples split over slices, and the denoiser's features;
+  // several lights of both kinds, both shadow estimators and both free-path strategies
   const auto loop_backend = [](tessera::cuda::LaneLoop loop) {
     EmulatedDevice d;
     d.lane_loop = loop;
@@ -240,30 +284,37 @@ TEST_CASE("Emulated device: path regeneration gives the per-sample loop's sums b
   };
   const auto per_sample = loop_backend(tessera::cuda::LaneLoop::PerSample);
   const auto regenerate = loop_backend(tessera::cuda::LaneLoop::Regenerate);
+  const auto steps = loop_backend(tessera::cuda::LaneLoop::Step);
   const std::vector<std::int16_t> field = heat_field<std::int16_t>(kN);
-  for (const auto scattering : {tessera::Scattering::Multiple, tessera::Scattering::Single})
-    for (const auto sampler : {tessera::SamplerKind::Sobol, tessera::SamplerKind::Independent}) {
-      tessera::SceneDesc s = heat_scene(kN, 11);
-      s.integrator.scattering = scattering;
-      s.integrator.sampler = sampler;
-      s.integrator.rr_depth = 2;
-      s.camera.fov_deg = 80.0;  // tiles that see neither the volume nor the light: culled
-      s.options.tile = 8;
-      const tessera::PreparedScene ps =
-          tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Int16, kN, kN, kN), s);
-      tessera::CudaLaunch odd;  // a pixel's samples over several slices, lanes cut mid-sample list
-      odd.samples_per_launch = 5;
-      odd.pixels_per_launch = 300;
-      tessera::RenderStats a_st, b_st;
-      const tessera::Film a = render_on(per_sample, ps, nullptr, &a_st, odd, true);
-      const tessera::Film b = render_on(regenerate, ps, nullptr, &b_st, odd, true);
-      INFO("scattering " << static_cast<int>(scattering) << ", sampler " << static_cast<int>(sampler));
-      CHECK(a_st.tiles_skipped > 0);
-      check_same_paths(a_st, b_st);
-      CHECK(same_bits(a, b));
-      REQUIRE(a.aux().size() == b.aux().size());
-      CHECK(std::memcmp(a.aux().data(), b.aux().data(), a.aux().size() * sizeof(tessera::AuxSums)) == 0);
-    }
+  for (int variant = 0; variant < 3; ++variant)
+    for (const auto scattering : {tessera::Scattering::Multiple, tessera::Scattering::Single})
+      for (const auto sampler : {tessera::SamplerKind::Sobol, tessera::SamplerKind::Independent}) {
+        tessera::SceneDesc s = loop_scene(variant);
+        s.integrator.scattering = scattering;
+        s.integrator.sampler = sampler;
+        s.integrator.rr_depth = 2;
+        s.camera.fov_deg = 80.0;  // tiles that see neither the volume nor the light: culled
+        s.options.tile = 8;
+        const tessera::PreparedScene ps =
+            tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Int16, kN, kN, kN), s);
+        tessera::CudaLaunch odd;  // a pixel's samples over several slices, lanes cut mid-sample list
+        odd.samples_per_launch = 5;
+        odd.pixels_per_launch = 300;
+        tessera::RenderStats a_st;
+        const tessera::Film a = render_on(per_sample, ps, nullptr, &a_st, odd, true);
+        CHECK(a_st.tiles_skipped > 0);
+        CHECK(a_st.transmittance_lookups > 0);
+        for (const auto& other : {regenerate, steps}) {
+          tessera::RenderStats b_st;
+          const tessera::Film b = render_on(other, ps, nullptr, &b_st, odd, true);
+          INFO("variant " << variant << ", scattering " << static_cast<int>(scattering) << ", sampler "
+                          << static_cast<int>(sampler) << ", loop " << (other == steps ? "step" : "regenerate"));
+          check_same_paths(a_st, b_st);
+          CHECK(same_bits(a, b));
+          REQUIRE(a.aux().size() == b.aux().size());
+          CHECK(std::memcmp(a.aux().data(), b.aux().data(), a.aux().size() * sizeof(tessera::AuxSums)) == 0);
+        }
+      }
 }
 
 TEST_CASE("Emulated device: the deadline stops the render between slices", "[emulated]") {

@@ -309,10 +309,13 @@ class MacrocellWalk {
     double ta, tb, majorant;
   };
 
-  TESSERA_HOST_DEVICE MacrocellWalk(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv, double t0, double t1)
+  /// A walk with no segments (a placeholder to assign a walk to).
+  MacrocellWalk() = default;
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE MacrocellWalk(const GridMedium<T>& m, const Vec3& ov, const Vec3& dv,
+                                                           double t0, double t1)
       : m_m(&m), m_ov(ov), m_dv(dv), m_t(t0), m_t1(t1) {
-    if (!(t0 < t1)) m_end = true;
-    else enter(t0);
+    m_end = !(t0 < t1);
+    if (!m_end) enter(t0);
   }
 
   /// The next segment, in order along the ray; false once the walk has passed t1 (or left the
@@ -398,12 +401,12 @@ class MacrocellWalk {
     return true;
   }
 
-  const GridMedium<T>* m_m;
-  Vec3 m_ov, m_dv;
-  double m_t, m_t1;
+  const GridMedium<T>* m_m = nullptr;
+  Vec3 m_ov{0.0}, m_dv{0.0};
+  double m_t = 0.0, m_t1 = 0.0;
   std::int64_t m_c[3] = {0, 0, 0}, m_step[3] = {0, 0, 0};
   double m_t_next[3] = {INFINITY, INFINITY, INFINITY}, m_t_delta[3] = {INFINITY, INFINITY, INFINITY};
-  bool m_end = false;  ///< past t1 or the medium: no more segments
+  bool m_end = true;  ///< past t1 or the medium: no more segments
 };
 
 /// Walks the macrocells a ray crosses between world distances t0 < t1, calling

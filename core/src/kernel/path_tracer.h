@@ -92,35 +92,84 @@ class PathTracer {
     return p;
   }
 
+  /// What a real collision hands next-event estimation and the path's next direction.
+  struct Scatter {
+    Vec3 x{0.0}, wo{0.0};
+    SurfaceBrdf brdf;
+    Color albedo{0.0};
+    bool surface = false;
+    bool first = false;  ///< the camera ray's first collision: its samples from `ld` when given
+  };
+
+  /// Next-event estimation's light sample, waiting for the transmittance of its shadow ray.
+  struct LightPending {
+    Ray shadow{Vec3(0.0), Vec3(0.0, 0.0, 1.0)};  ///< from the collision toward the light
+    double dist = 0.0;                           ///< the light's distance along `shadow`
+    Color fL{0.0};                               ///< scattering function x the light's radiance
+    double weight = 0.0;                         ///< MIS weight against phase/BRDF sampling
+    double pdf_light = 0.0;                      ///< the sample's pdf, light pick included
+  };
+
+  /// A voxel-space ray ov + t dv and the world distances [t0, t1] a majorant walk covers.
+  struct Span {
+    Vec3 ov{0.0}, dv{0.0};
+    double t0 = 0.0, t1 = 0.0;
+  };
+
+  /// How free flight starts (flight_begin): ended at once, or a majorant walk to follow.
+  enum class FlightStart { Miss, Hit, Stalled, Walk };
+  /// What follows a collision's direction sample (scatter).
+  enum class Next { End, Last, Continue };
+
   /// One bounce of path `p`: free flight to the next real collision, the emitters met, and
   /// at the collision next-event estimation and the next direction. False when the path has
-  /// ended (p.out is then its sample).
+  /// ended (p.out is then its sample). The pieces (free_flight's two halves, collide,
+  /// sample_light, transmittance's two halves, light_arrived, scatter, the last bounce's
+  /// emitters) are public for a caller that runs them one tracking step at a time
+  /// (path_steps.h): the same operations in the same order.
   TESSERA_HOST_DEVICE bool bounce(PathState& p, Rng& rng, KernelCounters& k, const SobolSampler* ld) const {
-    const TransferFunction& tf = *m_s.tf;
-    Ray& ray = p.ray;
-    SampleResult& out = p.out;
-    Color& beta = p.beta;
-    bool& from_camera = p.from_camera;
-    double& pdf_prev = p.pdf_prev;
-    int& depth = p.depth;
-    // Free flight to the next real collision (or none).
     double t_hit = INFINITY;
     bool stalled = false;
-    const bool hit = free_flight(ray, rng, k, &t_hit, &stalled);
+    const bool hit = free_flight(p.ray, rng, k, &t_hit, &stalled);
     if (stalled) return false;  // a loop guard ended the path: nothing more from it
-    // Lights met before the collision, and the background if the ray escaped.
-    gather_emitters(ray, t_hit, hit, from_camera, pdf_prev, beta, out.L);
+    Scatter s;
+    if (!collide(p, hit, t_hit, rng, k, ld, s)) return false;
+    if (m_L.count() > 0) {
+      // Next-event estimation to one light, MIS-weighted against phase/BRDF sampling
+      LightPending n;
+      Color d(0.0);
+      if (sample_light(s, p.ray.d, s.first ? ld : nullptr, rng, n))
+        d = light_arrived(n, transmittance(n.shadow, 0.0, n.dist, rng, k));
+      p.out.L += p.beta * d;
+    }
+    Ray next;
+    double pdf_dir;
+    const Next r = scatter(p, s, ld, rng, &next, &pdf_dir);
+    // Last collision: the sampled direction only gathers emitters, with transmittance.
+    if (r == Next::Last) gather_with_transmittance(next, pdf_dir, p.beta, rng, k, p.out.L);
+    return r == Next::Continue;
+  }
+
+  /// The end of p's free flight: the lights met before distance t_hit, the background if the
+  /// ray escaped, and at a real collision (`hit`) its emission and scattering model (`s`).
+  /// False when the path ends here.
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE bool collide(PathState& p, bool hit, double t_hit, Rng& rng,
+                                                          KernelCounters& k, const SobolSampler* ld, Scatter& s) const {
+    const TransferFunction& tf = *m_s.tf;
+    const Ray& ray = p.ray;
+    SampleResult& out = p.out;
+    gather_emitters(ray, t_hit, hit, p.from_camera, p.pdf_prev, p.beta, out.L);
     if (!hit) return false;
-    if (from_camera) out.alpha = 1.0;
-    ++depth;
+    if (p.from_camera) out.alpha = 1.0;
+    ++p.depth;
     // A long path polls the render's deadline now and then (the render then fails)
-    if ((depth & (kStopPollBounces - 1)) == 0 && poll_stop()) return false;
+    if ((p.depth & (kStopPollBounces - 1)) == 0 && poll_stop()) return false;
     ++k.real_collisions;
     const Vec3 x = ray.o + t_hit * ray.d;
     const Vec3 pv = to_voxel(x);
     const double u = m_m.u(pv);
-    if (m_s.has_emission) out.L += beta * tf.emission.eval(u);
-    const SobolSampler* first = from_camera ? ld : nullptr;  // the first collision's sampler, if any
+    if (m_s.has_emission) out.L += p.beta * tf.emission.eval(u);
+    const SobolSampler* first = p.from_camera ? ld : nullptr;  // the first collision's sampler, if any
     // Choose the scattering model at this point.
     const Vec3 wo = -ray.d;
     const Color albedo = tf.diffuse.eval(u);
@@ -148,51 +197,220 @@ class PathTracer {
         }
       }
     }
-    if (from_camera) {
+    if (p.from_camera) {
       out.albedo = glm::clamp(albedo, Color(0.0), Color(1.0));
       out.normal = normal;
     }
     const Color f0 = surface && m_s.has_specular ? tf.specular.eval(u) : Color(0.0);
     const double rough = surface ? tf.roughness.eval(u) : 0.0;
-    const SurfaceBrdf brdf(normal, albedo, f0, rough);
-    // Next-event estimation to one light, MIS-weighted against phase/BRDF sampling.
-    if (m_L.count() > 0) out.L += beta * direct_light(x, ray.d, wo, surface, brdf, albedo, first, rng, k);
-    // Sample the continuation direction.
+    s.x = x;
+    s.wo = wo;
+    s.brdf = SurfaceBrdf(normal, albedo, f0, rough);
+    s.albedo = albedo;
+    s.surface = surface;
+    s.first = p.from_camera;
+    return true;
+  }
+
+  /// Next-event estimation's light sample from collision `s` (ray direction d_in), with its
+  /// scattering function and MIS weight: one light chosen by the light sampler, the pick and
+  /// the light sample from `ld` when given. False when it adds nothing whatever the
+  /// transmittance; else the caller estimates the transmittance along n.shadow up to n.dist.
+  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE bool sample_light(const Scatter& s, const Vec3& d_in,
+                                                                const SobolSampler* ld, Rng& rng,
+                                                                LightPending& n) const {
+    const int pick = ld && m_L.count() == 1 ? 0 : m_L.sampler().pick(sample_1d(ld, SampleDim::LightPick, rng));
+    const Sample2 u = sample_2d(ld, SampleDim::LightUv, rng);
+    const LightSample ls = m_L[pick].sample(s.x, u.x, u.y);
+    if (!(ls.pdf > 0.0) || is_black(ls.L)) return false;
+    const double pdf_light = ls.pdf * m_L.sampler().pmf(pick);
+    Color f;
+    double pdf_b;
+    if (s.surface) {
+      f = s.brdf.eval(s.wo, ls.wi);
+      pdf_b = s.brdf.pdf(s.wo, ls.wi);
+    } else {
+      const double p = hg_eval(glm::dot(d_in, ls.wi), m_s.phase_g);
+      f = s.albedo * p;
+      pdf_b = p;
+    }
+    if (is_black(f)) return false;
+    n.shadow = Ray{s.x, ls.wi};
+    n.dist = ls.dist;
+    n.fL = f * ls.L;
+    n.weight = power_heuristic(pdf_light, pdf_b);
+    n.pdf_light = pdf_light;
+    return true;
+  }
+
+  /// The light sample's contribution (before the path throughput) once its shadow ray's
+  /// transmittance T is known.
+  TESSERA_HOST_DEVICE static Color light_arrived(const LightPending& n, double T) {
+    if (T <= 0.0) return Color(0.0);
+    return n.fL * (T * n.weight / n.pdf_light);
+  }
+
+  /// The continuation direction at collision `s`, the throughput updated and Russian
+  /// roulette applied. Continue: p.ray is the next ray. Last: the path ends at the depth
+  /// limit, and its sampled direction (*next, *pdf_dir) only gathers emitters with
+  /// transmittance (gather_with_transmittance). End: the path ends.
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE Next scatter(PathState& p, const Scatter& s, const SobolSampler* ld,
+                                                          Rng& rng, Ray* next, double* pdf_out) const {
+    const SobolSampler* first = s.first ? ld : nullptr;
     Vec3 wi;
     double pdf_dir;
     Color weight;
-    if (surface) {
+    if (s.surface) {
       const double u0 = sample_1d(first, SampleDim::Lobe, rng);
       const Sample2 u = sample_2d(first, SampleDim::Direction, rng);
-      if (!brdf.sample(wo, u0, u.x, u.y, &wi)) return false;
-      pdf_dir = brdf.pdf(wo, wi);
-      if (!(pdf_dir > 0.0)) return false;
-      weight = brdf.eval(wo, wi) / pdf_dir;
+      if (!s.brdf.sample(s.wo, u0, u.x, u.y, &wi)) return Next::End;
+      pdf_dir = s.brdf.pdf(s.wo, wi);
+      if (!(pdf_dir > 0.0)) return Next::End;
+      weight = s.brdf.eval(s.wo, wi) / pdf_dir;
     } else {
       const Sample2 u = sample_2d(first, SampleDim::Direction, rng);
-      pdf_dir = hg_sample(ray.d, m_s.phase_g, u.x, u.y, &wi);
-      weight = albedo;
+      pdf_dir = hg_sample(p.ray.d, m_s.phase_g, u.x, u.y, &wi);
+      weight = s.albedo;
     }
-    beta *= weight;
-    if (is_black(beta)) return false;
-    const Ray next{x, wi};
-    if (depth >= m_s.max_depth) {
-      // Last collision: the sampled direction only gathers emitters, with transmittance.
-      gather_with_transmittance(next, pdf_dir, beta, rng, k, out.L);
-      return false;
+    p.beta *= weight;
+    if (is_black(p.beta)) return Next::End;
+    const Ray nx{s.x, wi};
+    if (p.depth >= m_s.max_depth) {
+      *next = nx;
+      *pdf_out = pdf_dir;
+      return Next::Last;
     }
-    if (depth >= m_s.rr_depth) {
-      const double q = max_component(beta);
+    if (p.depth >= m_s.rr_depth) {
+      const double q = max_component(p.beta);
       if (q < 1.0) {
-        if (rng.uniform() >= q) return false;
-        beta /= q;
+        if (rng.uniform() >= q) return Next::End;
+        p.beta /= q;
       }
     }
-    ray = next;
-    pdf_prev = pdf_dir;
-    from_camera = false;
-    return true;
+    p.ray = nx;
+    p.pdf_prev = pdf_dir;
+    p.from_camera = false;
+    return Next::Continue;
   }
+
+  /// Free flight's first half: the ray clipped to the medium. Walk: a majorant walk over *sp
+  /// follows (flight_step at each tentative collision); otherwise the flight's result at once
+  /// (Hit with *t_hit: the fixed-step march, which runs here whole; Stalled: counted).
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE FlightStart flight_begin(const Ray& ray, Rng& rng, KernelCounters& k,
+                                                                      Span* sp, double* t_hit) const {
+    const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
+    double t0, t1;
+    if (!clip(ov, dv, &t0, &t1) || m_s.max_majorant <= 0.0) return FlightStart::Miss;
+    if (!(t1 < INFINITY)) return stall(k);
+    if (m_s.free_path == FreePath::Raymarch) {
+      const double h = m_s.march_step;
+      // t only grows, so if the last step advances every step does
+      if (!(t1 + h > t1)) return stall(k);
+      const int r = march_free_flight(m_m, ov, dv, t0, t1, h, rng, t_hit, [&] { ++k.free_flight_lookups; });
+      if (r < 0) return stall(k);
+      return r > 0 ? FlightStart::Hit : FlightStart::Miss;
+    }
+    *sp = Span{ov, dv, t0, t1};
+    return FlightStart::Walk;
+  }
+
+  /// Delta tracking's test at a tentative collision at voxel-space p with majorant maj: true
+  /// for a real collision.
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE bool flight_step(const Vec3& p, double maj, Rng& rng,
+                                                              KernelCounters& k) const {
+    ++k.free_flight_lookups;
+    if (rng.uniform() * maj < m_m.sigma_t(p)) return true;
+    ++k.null_collisions;
+    return false;
+  }
+
+  /// Transmittance's first half, between world distances ta and tb along the ray: its value
+  /// at once (>= 0: 1 when the span misses the medium, 0 for a loop guard, counted in
+  /// k.stalled_paths), or -1 when a majorant walk over *sp must estimate it (shadow_step at
+  /// each tentative collision, then shadow_end).
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE double shadow_begin(const Ray& ray, double ta, double tb,
+                                                                 KernelCounters& k, Span* sp) const {
+    const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
+    double t0, t1;
+    if (!clip(ov, dv, &t0, &t1)) return 1.0;
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (!(t0 < t1) || m_s.max_majorant <= 0.0) return 1.0;
+    if (!(t1 < INFINITY)) {
+      ++k.stalled_paths;
+      return 0.0;
+    }
+    *sp = Span{ov, dv, t0, t1};
+    return -1.0;
+  }
+
+  /// One shadow estimator's update of the transmittance estimate T at a tentative collision;
+  /// false once T has reached 0 (the walk stops).
+  template <ShadowMode kMode>
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE bool shadow_step(const Vec3& p, double maj, Rng& rng, KernelCounters& k,
+                                                              double& T) const {
+    ++k.transmittance_lookups;
+    TransmittanceStep<kMode>::apply(T, m_m.sigma_t(p), maj, m_s.shadow_roulette, rng);
+    return !(T <= 0.0);
+  }
+
+  /// shadow_step of the scene's shadow estimator (one branch per step: for a caller that
+  /// cannot keep the estimator as a template parameter between steps).
+  TESSERA_HOST_DEVICE bool shadow_update(const Vec3& p, double maj, Rng& rng, KernelCounters& k, double& T) const {
+    return m_s.shadow == ShadowMode::Delta ? shadow_step<ShadowMode::Delta>(p, maj, rng, k, T)
+                                           : shadow_step<ShadowMode::Ratio>(p, maj, rng, k, T);
+  }
+
+  /// The estimate once the walk has ended: 0 (counted) if a loop guard ended it.
+  TESSERA_HOST_DEVICE static double shadow_end(bool stalled, double T, KernelCounters& k) {
+    if (stalled) {
+      ++k.stalled_paths;
+      T = 0.0;
+    }
+    return std::max(T, 0.0);
+  }
+
+  /// The majorant walk over a span.
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE MajorantSteps<V> walk(const Span& sp) const {
+    return MajorantSteps<V>(m_m, sp.ov, sp.dv, sp.t0, sp.t1);
+  }
+
+  /// The area light the last bounce's ray `ray` meets next after distance t_prev (and after
+  /// light `last` at t_prev), in (distance, index) order, with `dist(i)` light i's distance
+  /// along the ray (not > 0: missed); -1 when none is left.
+  template <class Dist>
+  TESSERA_HOST_DEVICE int next_light(double t_prev, int last, Dist&& dist) const {
+    int next = -1;
+    double t_next = 0.0;
+    for (int i = 0; i < m_L.area_count(); ++i) {
+      const double t = dist(i);
+      if (!(t > 0.0) || t < t_prev || (t == t_prev && i <= last)) continue;
+      if (next < 0 || t < t_next) {
+        next = i;
+        t_next = t;
+      }
+    }
+    return next;
+  }
+
+  /// Area light i met at distance t by the last bounce's ray with transmittance T up to it.
+  TESSERA_HOST_DEVICE void add_area_light(int i, const Ray& ray, double t, double T, double pdf_dir, const Color& beta,
+                                          Color& L) const {
+    const Light& l = m_L[i];
+    L += beta * l.radiance(ray.d) * (T * power_heuristic(pdf_dir, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, t)));
+  }
+
+  /// The infinite lights behind everything, seen by the last bounce's ray with transmittance T.
+  TESSERA_HOST_DEVICE void add_infinite_lights(const Ray& ray, double T, double pdf_dir, const Color& beta,
+                                               Color& L) const {
+    for (int i = m_L.area_count(); i < m_L.count(); ++i) {
+      const Light& l = m_L[i];
+      L += beta * l.radiance(ray.d) *
+           (T * power_heuristic(pdf_dir, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, INFINITY)));
+    }
+  }
+
+  TESSERA_HOST_DEVICE const LightSet& lights() const { return m_L; }
 
  private:
   const KernelScene& m_s;
@@ -231,11 +449,10 @@ class PathTracer {
     return a < b;
   }
 
-  /// Ends the path for a loop guard: counted once, *stalled set.
-  TESSERA_HOST_DEVICE static bool stall(KernelCounters& k, bool* stalled) {
+  /// Ends the path for a loop guard: counted once.
+  TESSERA_HOST_DEVICE static FlightStart stall(KernelCounters& k) {
     ++k.stalled_paths;
-    *stalled = true;
-    return true;
+    return FlightStart::Stalled;
   }
 
   /// Free-flight sampling along the ray: delta tracking on the tracking loop (tracking.h),
@@ -245,31 +462,25 @@ class PathTracer {
   /// (loop_bounds.h) sets *stalled and returns false.
   TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE bool free_flight(const Ray& ray, Rng& rng, KernelCounters& k,
                                                                double* t_hit, bool* stalled) const {
-    const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
-    double t0, t1;
-    if (!clip(ov, dv, &t0, &t1) || m_s.max_majorant <= 0.0) return false;
-    if (!(t1 < INFINITY)) return !stall(k, stalled);
-    if (m_s.free_path == FreePath::Raymarch) {
-      const double h = m_s.march_step;
-      // t only grows, so if the last step advances every step does
-      if (!(t1 + h > t1)) return !stall(k, stalled);
-      const int r = march_free_flight(m_m, ov, dv, t0, t1, h, rng, t_hit, [&] { ++k.free_flight_lookups; });
-      if (r < 0) return !stall(k, stalled);
-      return r > 0;
-    } else {
-      const TrackEnd end = sample_majorant_steps(
-          m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double t, double maj) __attribute__((always_inline)) {
-            ++k.free_flight_lookups;
-            if (rng.uniform() * maj < m_m.sigma_t(p)) {
-              *t_hit = t;
-              return false;  // a real collision
-            }
-            ++k.null_collisions;
-            return true;
-          });
-      if (end == TrackEnd::Stalled) return !stall(k, stalled);
-      return end == TrackEnd::Stopped;
+    Span sp;
+    switch (flight_begin(ray, rng, k, &sp, t_hit)) {
+      case FlightStart::Miss: return false;
+      case FlightStart::Hit: return true;
+      case FlightStart::Stalled: *stalled = true; return false;
+      case FlightStart::Walk: break;
     }
+    const TrackEnd end = sample_majorant_steps(
+        m_m, sp.ov, sp.dv, sp.t0, sp.t1, rng, [&](const Vec3& p, double t, double maj) __attribute__((always_inline)) {
+          if (!flight_step(p, maj, rng, k)) return true;
+          *t_hit = t;
+          return false;  // a real collision
+        });
+    if (end == TrackEnd::Stalled) {
+      stall(k);
+      *stalled = true;
+      return false;
+    }
+    return end == TrackEnd::Stopped;
   }
 
   /// Transmittance between world distances ta and tb along the ray, by the scene's shadow
@@ -278,37 +489,22 @@ class PathTracer {
   /// k.stalled_paths.
   TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE double transmittance(const Ray& ray, double ta, double tb, Rng& rng,
                                                                    KernelCounters& k) const {
-    const Vec3 ov = to_voxel(ray.o), dv = ray.d * m_s.inv_spacing;
-    double t0, t1;
-    if (!clip(ov, dv, &t0, &t1)) return 1.0;
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (!(t0 < t1) || m_s.max_majorant <= 0.0) return 1.0;
-    if (!(t1 < INFINITY)) {
-      ++k.stalled_paths;
-      return 0.0;
-    }
+    Span sp;
+    const double v = shadow_begin(ray, ta, tb, k, &sp);
+    if (v >= 0.0) return v;
     double T = 1.0;
-    const TrackEnd end = m_s.shadow == ShadowMode::Delta ? shadow_walk<ShadowMode::Delta>(ov, dv, t0, t1, rng, k, T)
-                                                         : shadow_walk<ShadowMode::Ratio>(ov, dv, t0, t1, rng, k, T);
-    if (end == TrackEnd::Stalled) {
-      ++k.stalled_paths;
-      T = 0.0;
-    }
-    return std::max(T, 0.0);
+    const TrackEnd end = m_s.shadow == ShadowMode::Delta ? shadow_walk<ShadowMode::Delta>(sp, rng, k, T)
+                                                         : shadow_walk<ShadowMode::Ratio>(sp, rng, k, T);
+    return shadow_end(end == TrackEnd::Stalled, T, k);
   }
 
-  /// The tracking loop of one shadow estimator over voxel-space ray ov + t dv, t in [t0, t1],
-  /// updating the transmittance estimate T at each tentative collision.
+  /// The tracking loop of one shadow estimator over a span, updating the transmittance
+  /// estimate T at each tentative collision.
   template <ShadowMode kMode>
-  TESSERA_HOST_DEVICE TrackEnd shadow_walk(const Vec3& ov, const Vec3& dv, double t0, double t1, Rng& rng,
-                                           KernelCounters& k, double& T) const {
-    const bool roulette = m_s.shadow_roulette;
+  TESSERA_HOST_DEVICE TrackEnd shadow_walk(const Span& sp, Rng& rng, KernelCounters& k, double& T) const {
     return sample_majorant_steps(
-        m_m, ov, dv, t0, t1, rng, [&](const Vec3& p, double, double maj) __attribute__((always_inline)) {
-          ++k.transmittance_lookups;
-          TransmittanceStep<kMode>::apply(T, m_m.sigma_t(p), maj, roulette, rng);
-          return !(T <= 0.0);
+        m_m, sp.ov, sp.dv, sp.t0, sp.t1, rng, [&](const Vec3& p, double, double maj) __attribute__((always_inline)) {
+          return shadow_step<kMode>(p, maj, rng, k, T);
         });
   }
 
@@ -352,59 +548,19 @@ class PathTracer {
     for (int i = 0; i < n; ++i) t_hit[i] = m_L[i].intersect(ray);
     double T = 1.0, t_prev = 0.0;
     for (int last = -1; T > 0.0;) {
-      int next = -1;  // the first light after (t_prev, last) in (distance, index) order
-      for (int i = 0; i < n; ++i) {
-        const double t = t_hit[i];
-        if (!(t > 0.0) || t < t_prev || (t == t_prev && i <= last)) continue;
-        if (next < 0 || t < t_hit[next]) next = i;
-      }
+      const int next = next_light(t_prev, last, [&](int i) { return t_hit[i]; });
       if (next < 0) break;
       T *= transmittance(ray, t_prev, t_hit[next], rng, k);
       t_prev = t_hit[next];
       last = next;
-      if (T > 0.0) {
-        const Light& l = m_L[next];
-        L += beta * l.radiance(ray.d) *
-             (T * power_heuristic(pdf_dir, m_L.sampler().pmf(next) * l.pdf(ray.o, ray.d, t_prev)));
-      }
+      if (T > 0.0) add_area_light(next, ray, t_prev, T, pdf_dir, beta, L);
     }
     // The infinite lights, behind everything: one transmittance estimate to infinity
     if (m_L.area_count() < m_L.count() && T > 0.0) {
       T *= transmittance(ray, t_prev, INFINITY, rng, k);
       if (!(T > 0.0)) return;
-      for (int i = m_L.area_count(); i < m_L.count(); ++i) {
-        const Light& l = m_L[i];
-        L += beta * l.radiance(ray.d) *
-             (T * power_heuristic(pdf_dir, m_L.sampler().pmf(i) * l.pdf(ray.o, ray.d, INFINITY)));
-      }
+      add_infinite_lights(ray, T, pdf_dir, beta, L);
     }
-  }
-
-  /// Next-event estimation to one light chosen by the light sampler; the pick and the light
-  /// sample from `ld` when given (li).
-  TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE Color direct_light(const Vec3& x, const Vec3& d_in, const Vec3& wo,
-                                                                 bool surface, const SurfaceBrdf& brdf,
-                                                                 const Color& albedo, const SobolSampler* ld, Rng& rng,
-                                                                 KernelCounters& k) const {
-    const int pick = ld && m_L.count() == 1 ? 0 : m_L.sampler().pick(sample_1d(ld, SampleDim::LightPick, rng));
-    const Sample2 u = sample_2d(ld, SampleDim::LightUv, rng);
-    const LightSample ls = m_L[pick].sample(x, u.x, u.y);
-    if (!(ls.pdf > 0.0) || is_black(ls.L)) return Color(0.0);
-    const double pdf_light = ls.pdf * m_L.sampler().pmf(pick);
-    Color f;
-    double pdf_b;
-    if (surface) {
-      f = brdf.eval(wo, ls.wi);
-      pdf_b = brdf.pdf(wo, ls.wi);
-    } else {
-      const double p = hg_eval(glm::dot(d_in, ls.wi), m_s.phase_g);
-      f = albedo * p;
-      pdf_b = p;
-    }
-    if (is_black(f)) return Color(0.0);
-    const double T = transmittance(Ray{x, ls.wi}, 0.0, ls.dist, rng, k);
-    if (T <= 0.0) return Color(0.0);
-    return f * ls.L * (T * power_heuristic(pdf_light, pdf_b) / pdf_light);
   }
 };
 

@@ -17,6 +17,7 @@ struct SurfaceBrdf {
   double alpha;
   double p_spec;  ///< probability of sampling the specular lobe (0 when F0 is black)
 
+  SurfaceBrdf() = default;
   TESSERA_HOST_DEVICE SurfaceBrdf(const Vec3& normal, const Color& a, const Color& f, double roughness)
       : n(normal), albedo(a), f0(f) {
     alpha = std::fmax(1e-3, roughness * roughness);

@@ -38,7 +38,10 @@ enum class TrackStep {
 template <class V>
 class MajorantSteps {
  public:
-  TESSERA_HOST_DEVICE MajorantSteps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv, double t0, double t1)
+  /// A walk with no collisions (a placeholder to assign a walk to).
+  MajorantSteps() = default;
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE MajorantSteps(const GridMedium<V>& m, const Vec3& ov, const Vec3& dv,
+                                                           double t0, double t1)
       : m_walk(m, ov, dv, t0, t1), m_ov(ov), m_dv(dv) {}
 
   [[gnu::always_inline]] TESSERA_HOST_DEVICE TrackStep next(Rng& rng) {
@@ -77,7 +80,7 @@ class MajorantSteps {
 
  private:
   MacrocellWalk<V> m_walk;
-  Vec3 m_ov, m_dv;
+  Vec3 m_ov{0.0}, m_dv{0.0};
   double m_tau = -1.0;  ///< optical depth left to the next tentative collision (drawn at the first non-empty cell)
   double m_budget = kMaxTrackingSteps;
   double m_t = 0.0, m_tb = 0.0, m_maj = 0.0;  ///< within the current cell: position, exit, majorant

@@ -12,6 +12,7 @@
 #include "kernels/tile_sampler.h"
 
 #include <cstdint>
+#include <type_traits>
 
 namespace tessera::cuda {
 
@@ -40,7 +41,9 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
     for (int k = first; k < a.k1; k += a.lanes)
       ts.accumulate(job.x, job.y, px, aux_p, drawn0 + static_cast<std::uint64_t>(k), st);
   } else {
-    typename TileSampler<V>::Flight f;
+    using F = std::conditional_t<L == LaneLoop::Regenerate, typename TileSampler<V>::Flight,
+                                 typename TileSampler<V>::StepFlight>;
+    F f;
     for (int k = first;;) {
       if (!f.live) {
         if (k >= a.k1) break;

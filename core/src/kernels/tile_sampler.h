@@ -7,6 +7,7 @@
 #include <tessera/stats.h>
 
 #include "kernel/kernel_scene.h"
+#include "kernel/path_steps.h"
 #include "kernel/path_tracer.h"
 #include "kernel/stop_check.h"
 
@@ -69,30 +70,31 @@ class TileSampler {
                                                      RenderStats& st) {
     ++st.samples;
     ++px.drawn;
-    if (!draw(x, y, index, m_last)) {
-      ++st.discarded_samples;
-      return nullptr;
-    }
-    add_sample(px, m_last);
-    if (aux) add_aux(*aux, m_last);
-    return &m_last;
+    return keep(m_last, draw(x, y, index, m_last), px, aux, st) ? &m_last : nullptr;
   }
 
-  /// A sample in flight, for a caller that advances it one bounce at a time (path
-  /// regeneration, lane_kernel.h): its streams, its path, and whether it still bounces.
-  struct Flight {
+  /// A sample in flight, for a caller that advances it a piece at a time (lane_kernel.h): its
+  /// streams, its path, and whether it still runs. Path: PathTracer's PathState, one bounce
+  /// per step() (path regeneration), or PathSteps' State, tracking steps per step() (the
+  /// step-level loop).
+  template <class Path>
+  struct FlightOf {
     Rng rng{0, 0, 0, 0};
     SobolSampler ld{0, 0, 0, 0};
     bool has_ld = false;
-    bool live = false;  ///< false: path.out is the sample's value
-    typename PathTracer<V>::PathState path = PathTracer<V>::begin(Ray{Vec3(0.0), Vec3(0.0, 0.0, 1.0)});
+    bool live = false;  ///< false: the path's out is the sample's value
+    Path path{};
   };
+  using Flight = FlightOf<typename PathTracer<V>::PathState>;
+  using StepFlight = FlightOf<typename PathSteps<V>::State>;
 
   /// Starts sample `index` of pixel (x, y) in `f` and counts it drawn (accumulate's first
   /// half): the streams, the camera ray and the path before its first bounce, or the value
   /// of a culled tile's ray at once. Then step() until false, then finish(): the same values
   /// and sums as accumulate(), in the same order.
-  TESSERA_HOST_DEVICE void start(int x, int y, PixelSums& px, std::uint64_t index, RenderStats& st, Flight& f) const {
+  template <class Path>
+  TESSERA_HOST_DEVICE void start(int x, int y, PixelSums& px, std::uint64_t index, RenderStats& st,
+                                 FlightOf<Path>& f) const {
     ++st.samples;
     ++px.drawn;
     const std::uint64_t pixel = static_cast<std::uint64_t>(y) * m_s.width + x;
@@ -101,9 +103,9 @@ class TileSampler {
     if (f.has_ld) f.ld = SobolSampler(m_s.seed, m_s.frame, pixel, index);
     const SobolSampler* ld = f.has_ld ? &f.ld : nullptr;
     const Ray ray = camera_ray(x, y, f.rng, ld);
-    f.path = PathTracer<V>::begin(ray);
+    begin_path(f.path, ray);
     f.live = !m_culled;
-    if (m_culled) f.path.out = culled_value(ray);
+    if (m_culled) out(f.path) = culled_value(ray);
   }
 
   /// One bounce of f's path; false once it has ended (then finish()).
@@ -112,16 +114,19 @@ class TileSampler {
     return f.live;
   }
 
+  /// f's path up to its next tracking step that does not end a walk (PathSteps::advance);
+  /// false once it has ended (then finish()).
+  TESSERA_HOST_DEVICE bool step(StepFlight& f) {
+    f.live = PathSteps<V>::advance(m_tracer, f.path, f.rng, m_k, f.has_ld ? &f.ld : nullptr);
+    return f.live;
+  }
+
   /// Adds f's ended sample to the pixel's sums as accumulate() does (dropped and counted
   /// when not finite).
-  TESSERA_HOST_DEVICE void finish(const Flight& f, PixelSums& px, AuxSums* aux, RenderStats& st) const {
-    const SampleResult& r = f.path.out;
-    if (!is_finite(r.L)) {
-      ++st.discarded_samples;
-      return;
-    }
-    add_sample(px, r);
-    if (aux) add_aux(*aux, r);
+  template <class Path>
+  TESSERA_HOST_DEVICE void finish(FlightOf<Path>& f, PixelSums& px, AuxSums* aux, RenderStats& st) const {
+    const SampleResult& r = out(f.path);
+    keep(r, is_finite(r.L), px, aux, st);
   }
 
   /// Adds the tracer's counts (field lookups, collisions, stalled paths) to `st`.
@@ -137,6 +142,28 @@ class TileSampler {
     r = m_culled && own ? culled_value(ray) : m_tracer.li(ray, rng, m_k, ld);
     return is_finite(r.L);
   }
+
+  /// A drawn sample into the pixel's sums (and `aux` when given); a non-finite one (`finite`:
+  /// is_finite(r.L)) is counted discarded and dropped (false).
+  [[gnu::always_inline]] TESSERA_HOST_DEVICE static bool keep(const SampleResult& r, bool finite, PixelSums& px,
+                                                              AuxSums* aux, RenderStats& st) {
+    if (!finite) {
+      ++st.discarded_samples;
+      return false;
+    }
+    add_sample(px, r);
+    if (aux) add_aux(*aux, r);
+    return true;
+  }
+
+  TESSERA_HOST_DEVICE static void begin_path(typename PathTracer<V>::PathState& p, const Ray& ray) {
+    p = PathTracer<V>::begin(ray);
+  }
+  TESSERA_HOST_DEVICE static void begin_path(typename PathSteps<V>::State& p, const Ray& ray) {
+    p = PathSteps<V>::begin(ray);
+  }
+  TESSERA_HOST_DEVICE static SampleResult& out(typename PathTracer<V>::PathState& p) { return p.out; }
+  TESSERA_HOST_DEVICE static SampleResult& out(typename PathSteps<V>::State& p) { return p.path.out; }
 
   /// The camera ray of a sample of pixel (x, y): its pixel jitter and lens sample first.
   TESSERA_HOST_DEVICE Ray camera_ray(int x, int y, Rng& rng, const SobolSampler* ld) const {

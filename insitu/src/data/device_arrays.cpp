@@ -17,7 +17,6 @@ BlocksMemory blocks_memory(std::span<const FieldBlock> blocks) {
   for (const FieldBlock& b : blocks) {
     const MemoryKind k = cuda_memory_kind(b.view.data);
     m.device.push_back(k == MemoryKind::Device);
-    m.on_device |= k == MemoryKind::Device;
     m.gpu_readable |= k != MemoryKind::Host;
   }
   return m;

@@ -15,9 +15,14 @@ namespace tessera::insitu {
 /// Where a field's blocks live, from one question to the CUDA runtime per block (asked once:
 /// the answers are carried to the staging below).
 struct BlocksMemory {
-  bool on_device = false;     ///< some block is device memory (cudaMemoryTypeDevice; not managed)
   bool gpu_readable = false;  ///< some block is device or managed memory: a render may read it in place on the GPU
   std::vector<char> device;   ///< per block, in order: 1 where it is device memory
+  /// Some block is device memory (cudaMemoryTypeDevice; not managed).
+  bool on_device() const {
+    for (const char d : device)
+      if (d) return true;
+    return false;
+  }
 };
 BlocksMemory blocks_memory(std::span<const FieldBlock> blocks);
 

@@ -94,7 +94,7 @@ bool bind_magnitude(PhaseGate& gate, const PassContext& pass, BoundField& f) {
     const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
     // Components in device memory: staged to the host first (the magnitude is computed there)
     for (FieldBinding& part : parts)
-      if (const BlocksMemory where = blocks_memory(part.blocks); where.on_device)
+      if (const BlocksMemory where = blocks_memory(part.blocks); where.on_device())
         stage_blocks_to_host(part, where, f.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
     VectorField v = combine_components(parts, names, pass.ctx.size() == 1, limit.bytes, limit.text);
     f.binding = std::move(v.binding);

@@ -51,7 +51,7 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
     // scalar) field; staged magnitudes are host memory already
     field.device.in_place = sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
                             !field.magnitude && field.staged.empty() && where.gpu_readable;
-    if (field.device.in_place || !where.on_device) return;
+    if (field.device.in_place || !where.on_device()) return;
     const config::MemoryLimit limit = config::memory_limit(g, std::max(1, pass.ctx.ranks_on_node()));
     stage_blocks_to_host(b, where, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
   });

@@ -1,0 +1,200 @@
+#pragma once
+/// PathSteps<V>: a PathTracer's path run one tracking step at a time, for a GPU thread whose
+/// warp should run the same loop body together (the lanes' step-level loop, lane_loop.h):
+/// each call takes one tracking step (one tentative collision) of the path's current walk,
+/// and when that step ends the walk, runs the code of a bounce between walks up to the start
+/// of the next walk (or the path's end). Free flight, the shadow ray of next-event
+/// estimation and the last bounce's shadow rays are phases of one state machine over one
+/// resumable walk (MajorantSteps), so threads in any of them take the same tentative
+/// collision and field lookup at once. The pieces are PathTracer's own (bounce), run in the
+/// same order: the same values, rng draws and counters, bit for bit. Allocates nothing,
+/// throws nothing; no recursion (the phases are a loop).
+#include "kernel/path_tracer.h"
+#include "kernel/tracking.h"
+
+#include <cmath>
+
+namespace tessera {
+
+template <class V>
+class PathSteps {
+ public:
+  using Tracer = PathTracer<V>;
+
+  /// Where a path is: in a majorant walk (Flight, Shadow, LastShadow) or between walks.
+  enum class Phase : unsigned char {
+    StartFlight,  ///< free flight from path.ray to begin
+    Flight,       ///< free flight's walk
+    Collide,      ///< the flight has ended (hit, t_hit): emitters met, the collision, the light sample
+    Shadow,       ///< the light sample's shadow walk
+    Lit,          ///< the light sample's transmittance T is known
+    Scatter,      ///< the next direction
+    Gather,       ///< the last bounce: the next emitter along last_ray
+    LastShadow,   ///< the last bounce's walk up to that emitter
+    LastLit,      ///< that walk's transmittance T is known
+    Ended,        ///< path.out is the sample
+  };
+
+  /// A path between calls. Trivially copyable.
+  struct State {
+    typename Tracer::PathState path = Tracer::begin(Ray{Vec3(0.0), Vec3(0.0, 0.0, 1.0)});
+    typename Tracer::Scatter scatter;
+    typename Tracer::LightPending light;
+    MajorantSteps<V> steps;
+    Ray last_ray{Vec3(0.0), Vec3(0.0, 0.0, 1.0)};  ///< the last bounce's sampled direction
+    double last_pdf = 0.0;                         ///< its solid-angle pdf
+    double t_hit = INFINITY;                       ///< free flight's real collision
+    double T = 1.0;                                ///< the current shadow walk's estimate
+    double T_last = 1.0;                           ///< the last bounce's transmittance up to t_prev
+    double t_prev = 0.0;                           ///< the last bounce's emitter reached so far
+    int last = -1;                                 ///< ... and its index (-1: none yet)
+    int target = -1;  ///< the area light the last bounce's walk goes to (-1: the infinite lights)
+    bool hit = false;
+    Phase phase = Phase::Ended;
+  };
+
+  /// The path of a camera ray, before its first free flight.
+  TESSERA_HOST_DEVICE static State begin(const Ray& ray) {
+    State s;
+    s.path = Tracer::begin(ray);
+    s.phase = Phase::StartFlight;
+    return s;
+  }
+
+  /// Advances path s by one tracking step (see above); false once it has ended (s.path.out is
+  /// then its sample). A walk that needs no step (a ray through empty cells only) ends
+  /// without one; the biased fixed-step march (FreePath::Raymarch) is not resumable and runs
+  /// whole in the call that starts the flight.
+  TESSERA_HOST_DEVICE static bool advance(const Tracer& t, State& s, Rng& rng, KernelCounters& k,
+                                          const SobolSampler* ld) {
+    using Next = typename Tracer::Next;
+    using Span = typename Tracer::Span;
+    const LightSet& L = t.lights();
+    bool stepped = false;  // one tracking step per call
+    for (;;) {
+      switch (s.phase) {
+        case Phase::StartFlight: {
+          Span sp;
+          s.t_hit = INFINITY;
+          s.hit = false;
+          s.phase = Phase::Collide;
+          switch (t.flight_begin(s.path.ray, rng, k, &sp, &s.t_hit)) {
+            case Tracer::FlightStart::Miss: break;
+            case Tracer::FlightStart::Hit: s.hit = true; break;
+            case Tracer::FlightStart::Stalled: s.phase = Phase::Ended; break;
+            case Tracer::FlightStart::Walk:
+              s.steps = t.walk(sp);
+              s.phase = Phase::Flight;
+              break;
+          }
+          break;
+        }
+        case Phase::Flight: {
+          if (stepped) return true;
+          stepped = true;
+          const TrackStep r = s.steps.next(rng);
+          s.phase = Phase::Collide;
+          if (r == TrackStep::Collision) {
+            if (!t.flight_step(s.steps.position(), s.steps.majorant(), rng, k)) {
+              s.phase = Phase::Flight;  // a null collision: the walk goes on
+              return true;
+            }
+            s.hit = true;
+            s.t_hit = s.steps.t();
+          } else if (r == TrackStep::Stalled) {
+            ++k.stalled_paths;  // a loop guard ended the path: nothing more from it
+            s.phase = Phase::Ended;
+          }
+          break;
+        }
+        case Phase::Collide: {
+          s.phase = Phase::Ended;
+          if (!t.collide(s.path, s.hit, s.t_hit, rng, k, ld, s.scatter)) break;
+          s.phase = Phase::Scatter;
+          if (L.count() == 0) break;
+          if (!t.sample_light(s.scatter, s.path.ray.d, s.scatter.first ? ld : nullptr, rng, s.light)) {
+            s.path.out.L += s.path.beta * Color(0.0);  // as bounce adds a light sample that adds nothing
+            break;
+          }
+          shadow_walk_to(t, s, s.light.shadow, 0.0, s.light.dist, k, Phase::Shadow, Phase::Lit);
+          break;
+        }
+        case Phase::Shadow:
+        case Phase::LastShadow: {
+          if (stepped) return true;
+          stepped = true;
+          const TrackStep r = s.steps.next(rng);
+          if (r == TrackStep::Collision && t.shadow_update(s.steps.position(), s.steps.majorant(), rng, k, s.T))
+            return true;
+          s.T = Tracer::shadow_end(r == TrackStep::Stalled, s.T, k);
+          s.phase = s.phase == Phase::Shadow ? Phase::Lit : Phase::LastLit;
+          break;
+        }
+        case Phase::Lit:
+          s.path.out.L += s.path.beta * Tracer::light_arrived(s.light, s.T);
+          s.phase = Phase::Scatter;
+          break;
+        case Phase::Scatter: {
+          const Next r = t.scatter(s.path, s.scatter, ld, rng, &s.last_ray, &s.last_pdf);
+          s.phase = Phase::Ended;
+          if (r == Next::Continue) s.phase = Phase::StartFlight;
+          else if (r == Next::Last && L.count() > 0) {
+            s.T_last = 1.0;
+            s.t_prev = 0.0;
+            s.last = -1;
+            s.phase = Phase::Gather;
+          }
+          break;
+        }
+        case Phase::Gather: {
+          // The next area light along the ray while light gets through, then the infinite
+          // lights behind everything (gather_with_transmittance)
+          const Ray& ray = s.last_ray;
+          s.target = s.T_last > 0.0 ? t.next_light(s.t_prev, s.last, [&](int i) { return L[i].intersect(ray); }) : -1;
+          double tb = INFINITY;
+          if (s.target >= 0) tb = L[s.target].intersect(ray);
+          else if (!(L.area_count() < L.count() && s.T_last > 0.0)) {
+            s.phase = Phase::Ended;
+            break;
+          }
+          shadow_walk_to(t, s, ray, s.t_prev, tb, k, Phase::LastShadow, Phase::LastLit);
+          break;
+        }
+        case Phase::LastLit: {
+          s.T_last *= s.T;
+          if (s.target < 0) {
+            if (s.T_last > 0.0) t.add_infinite_lights(s.last_ray, s.T_last, s.last_pdf, s.path.beta, s.path.out.L);
+            s.phase = Phase::Ended;
+            break;
+          }
+          s.t_prev = L[s.target].intersect(s.last_ray);
+          s.last = s.target;
+          if (s.T_last > 0.0)
+            t.add_area_light(s.target, s.last_ray, s.t_prev, s.T_last, s.last_pdf, s.path.beta, s.path.out.L);
+          s.phase = Phase::Gather;
+          break;
+        }
+        case Phase::Ended: return false;
+      }
+    }
+  }
+
+ private:
+  /// A transmittance estimate along `ray` over [ta, tb]: its walk (phase `walking`) or, when
+  /// it needs none, its value at once (phase `known`).
+  TESSERA_HOST_DEVICE static void shadow_walk_to(const Tracer& t, State& s, const Ray& ray, double ta, double tb,
+                                                 KernelCounters& k, Phase walking, Phase known) {
+    typename Tracer::Span sp;
+    const double v = t.shadow_begin(ray, ta, tb, k, &sp);
+    if (v >= 0.0) {
+      s.T = v;
+      s.phase = known;
+      return;
+    }
+    s.T = 1.0;
+    s.steps = t.walk(sp);
+    s.phase = walking;
+  }
+};
+
+}  // namespace tessera
