@@ -19,8 +19,8 @@
 //                 first step), at least 1, plus the overhead when some lane ended a flight.
 //   step-defer  : the built loop with the code after a flight deferred until half the live
 //                 lanes wait for it (or none can step), then run by those lanes together
-//                 (a warp vote on a GPU; not built): a tracking step costs 1, that code the
-//                 overhead.
+//                 (the warp vote of -DTESSERA_CUDA_STEP_DEFER=ON): a tracking step costs 1,
+//                 that code the overhead.
 // "Active lanes" is the lanes' useful steps over the warp's steps: the figure Nsight Compute
 // reports as active threads per warp instruction. Each bounce also costs `--overhead K` steps
 // (the collision's shading and sampling, the same for every lane). The model ignores the
@@ -84,7 +84,7 @@ struct WarpSteps {
 
 /// The built loop's iterations with the code between walks deferred: a lane whose flight has
 /// ended waits until at least `share` of the live lanes wait (or none can step), then the
-/// waiting lanes run that code together (a warp vote on a GPU; not built). Each lane's items:
+/// waiting lanes run that code together (LaneLoop::StepDefer's warp vote). Each lane's items:
 /// a tracking step (cost 1) or the code after a flight (cost `overhead`).
 double deferred_steps(const std::vector<std::vector<StepCall>>& lanes, double overhead, double share) {
   const std::size_t n = lanes.size();

@@ -58,6 +58,15 @@ option(TESSERA_CUDA_PATH_REGEN "GPU kernel: one bounce per loop iteration, a lan
 # The step-level loop (kernels/lane_loop.h, kernel/path_steps.h): regeneration with one tracking
 # step per loop iteration instead of one bounce. Off until measured on a GPU, as above.
 option(TESSERA_CUDA_STEP_LOOP "GPU kernel: one tracking step per loop iteration (free flight and shadow rays as phases)" OFF)
-if(TESSERA_CUDA_PATH_REGEN AND TESSERA_CUDA_STEP_LOOP)
-  message(FATAL_ERROR "TESSERA_CUDA_PATH_REGEN and TESSERA_CUDA_STEP_LOOP choose two lane loops: turn one off")
+# The step-level loop with the code between walks deferred to a warp vote (LaneLoop::StepDefer).
+option(TESSERA_CUDA_STEP_DEFER "GPU kernel: the step-level loop, the code between walks run when half the warp waits for it" OFF)
+set(_tessera_lane_loops 0)
+foreach(_opt TESSERA_CUDA_PATH_REGEN TESSERA_CUDA_STEP_LOOP TESSERA_CUDA_STEP_DEFER)
+  if(${_opt})
+    math(EXPR _tessera_lane_loops "${_tessera_lane_loops} + 1")
+  endif()
+endforeach()
+if(_tessera_lane_loops GREATER 1)
+  message(FATAL_ERROR "TESSERA_CUDA_PATH_REGEN, TESSERA_CUDA_STEP_LOOP and TESSERA_CUDA_STEP_DEFER each choose "
+                      "the kernel's lane loop: turn on one at most")
 endif()

@@ -17,6 +17,7 @@
 #include <catch2/catch.hpp>
 
 #include "block_z_test.h"
+#include "same_paths.h"
 
 #include <cmath>
 #include <cstring>
@@ -143,16 +144,7 @@ inline double max_pixel_difference(const tessera::Film& a, const tessera::Film& 
   return d;
 }
 
-/// Two renders traced the same paths: every path counter equal (a CHECK each).
-inline void check_same_paths(const tessera::RenderStats& a, const tessera::RenderStats& b) {
-  CHECK(a.samples == b.samples);
-  CHECK(a.discarded_samples == b.discarded_samples);
-  CHECK(a.free_flight_lookups == b.free_flight_lookups);
-  CHECK(a.transmittance_lookups == b.transmittance_lookups);
-  CHECK(a.gradient_lookups == b.gradient_lookups);
-  CHECK(a.real_collisions == b.real_collisions);
-  CHECK(a.null_collisions == b.null_collisions);
-}
+using tessera_test::check_same_paths;  // same_paths.h
 
 inline bool same_bits(const tessera::Film& a, const tessera::Film& b) {
   return a.pixels().size() == b.pixels().size() &&

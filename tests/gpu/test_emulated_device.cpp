@@ -271,7 +271,7 @@ tessera::SceneDesc loop_scene(int variant) {
 
 }  // namespace
 
-TEST_CASE("Emulated device: path regeneration and the step-level loop give the per-sample loop's sums bit for bit",
+TEST_CASE("Emulated device: path regeneration and the step-level loops give the per-sample loop's sums bit for bit",
           "[emulated]") {
   // The lane loops (kernels/lane_loop.h) on scenes that exercise every way a path ends:
   // multiple scattering with Russian roulette and the last bounce, single scattering, both
@@ -285,6 +285,7 @@ TEST_CASE("Emulated device: path regeneration and the step-level loop give the p
   const auto per_sample = loop_backend(tessera::cuda::LaneLoop::PerSample);
   const auto regenerate = loop_backend(tessera::cuda::LaneLoop::Regenerate);
   const auto steps = loop_backend(tessera::cuda::LaneLoop::Step);
+  const auto deferred = loop_backend(tessera::cuda::LaneLoop::StepDefer);
   const std::vector<std::int16_t> field = heat_field<std::int16_t>(kN);
   for (int variant = 0; variant < 3; ++variant)
     for (const auto scattering : {tessera::Scattering::Multiple, tessera::Scattering::Single})
@@ -304,11 +305,14 @@ TEST_CASE("Emulated device: path regeneration and the step-level loop give the p
         const tessera::Film a = render_on(per_sample, ps, nullptr, &a_st, odd, true);
         CHECK(a_st.tiles_skipped > 0);
         CHECK(a_st.transmittance_lookups > 0);
-        for (const auto& other : {regenerate, steps}) {
+        for (const auto& other : {regenerate, steps, deferred}) {
           tessera::RenderStats b_st;
           const tessera::Film b = render_on(other, ps, nullptr, &b_st, odd, true);
           INFO("variant " << variant << ", scattering " << static_cast<int>(scattering) << ", sampler "
-                          << static_cast<int>(sampler) << ", loop " << (other == steps ? "step" : "regenerate"));
+                          << static_cast<int>(sampler) << ", loop "
+                          << (other == steps      ? "step"
+                              : other == deferred ? "step-defer"
+                                                  : "regenerate"));
           check_same_paths(a_st, b_st);
           CHECK(same_bits(a, b));
           REQUIRE(a.aux().size() == b.aux().size());

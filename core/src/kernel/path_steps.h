@@ -8,7 +8,8 @@
 /// resumable walk (MajorantSteps), so threads in any of them take the same tentative
 /// collision and field lookup at once. The pieces are PathTracer's own (bounce), run in the
 /// same order: the same values, rng draws and counters, bit for bit. Allocates nothing,
-/// throws nothing; no recursion (the phases are a loop).
+/// throws nothing; no recursion (the phases are a loop). A caller may also run the two
+/// halves itself (step, between: the code between walks deferred, LaneLoop::StepDefer).
 #include "kernel/path_tracer.h"
 #include "kernel/tracking.h"
 
@@ -61,18 +62,67 @@ class PathSteps {
     return s;
   }
 
+  /// True while path s is in a walk: its next piece is a tracking step (step()); else the
+  /// code between walks (between()), or nothing once it has ended.
+  TESSERA_HOST_DEVICE static bool walking(const State& s) {
+    return s.phase == Phase::Flight || s.phase == Phase::Shadow || s.phase == Phase::LastShadow;
+  }
+
   /// Advances path s by one tracking step (see above); false once it has ended (s.path.out is
   /// then its sample). A walk that needs no step (a ray through empty cells only) ends
   /// without one; the biased fixed-step march (FreePath::Raymarch) is not resumable and runs
-  /// whole in the call that starts the flight.
+  /// whole in the call that starts the flight. advance = between (when not walking), step,
+  /// and between again when the step ended its walk.
   TESSERA_HOST_DEVICE static bool advance(const Tracer& t, State& s, Rng& rng, KernelCounters& k,
+                                          const SobolSampler* ld) {
+    for (bool stepped = false;;) {  // (one call site of each half: the device's code stays small)
+      if (walking(s)) {
+        if (stepped) return true;
+        stepped = true;
+        if (step(t, s, rng, k)) return true;
+      }
+      if (!between(t, s, rng, k, ld)) return false;
+    }
+  }
+
+  /// One tracking step of s's walk (walking(s)); true while the walk goes on. When it ends, s
+  /// is between walks (between() next).
+  TESSERA_HOST_DEVICE static bool step(const Tracer& t, State& s, Rng& rng, KernelCounters& k) {
+    const TrackStep r = s.steps.next(rng);
+    if (s.phase == Phase::Flight) {
+      s.phase = Phase::Collide;
+      if (r == TrackStep::Collision) {
+        if (!t.flight_step(s.steps.position(), s.steps.majorant(), rng, k)) {
+          s.phase = Phase::Flight;  // a null collision: the walk goes on
+          return true;
+        }
+        s.hit = true;
+        s.t_hit = s.steps.t();
+      } else if (r == TrackStep::Stalled) {
+        ++k.stalled_paths;  // a loop guard ended the path: nothing more from it
+        s.phase = Phase::Ended;
+      }
+      return false;
+    }
+    if (r == TrackStep::Collision && t.shadow_update(s.steps.position(), s.steps.majorant(), rng, k, s.T)) return true;
+    s.T = Tracer::shadow_end(r == TrackStep::Stalled, s.T, k);
+    s.phase = s.phase == Phase::Shadow ? Phase::Lit : Phase::LastLit;
+    return false;
+  }
+
+  /// The code of s's bounce between walks, up to the start of its next walk (true: walking(s))
+  /// or the path's end (false).
+  TESSERA_HOST_DEVICE static bool between(const Tracer& t, State& s, Rng& rng, KernelCounters& k,
                                           const SobolSampler* ld) {
     using Next = typename Tracer::Next;
     using Span = typename Tracer::Span;
     const LightSet& L = t.lights();
-    bool stepped = false;  // one tracking step per call
     for (;;) {
       switch (s.phase) {
+        case Phase::Flight:
+        case Phase::Shadow:
+        case Phase::LastShadow: return true;
+        case Phase::Ended: return false;
         case Phase::StartFlight: {
           Span sp;
           s.t_hit = INFINITY;
@@ -89,24 +139,6 @@ class PathSteps {
           }
           break;
         }
-        case Phase::Flight: {
-          if (stepped) return true;
-          stepped = true;
-          const TrackStep r = s.steps.next(rng);
-          s.phase = Phase::Collide;
-          if (r == TrackStep::Collision) {
-            if (!t.flight_step(s.steps.position(), s.steps.majorant(), rng, k)) {
-              s.phase = Phase::Flight;  // a null collision: the walk goes on
-              return true;
-            }
-            s.hit = true;
-            s.t_hit = s.steps.t();
-          } else if (r == TrackStep::Stalled) {
-            ++k.stalled_paths;  // a loop guard ended the path: nothing more from it
-            s.phase = Phase::Ended;
-          }
-          break;
-        }
         case Phase::Collide: {
           s.phase = Phase::Ended;
           if (!t.collide(s.path, s.hit, s.t_hit, rng, k, ld, s.scatter)) break;
@@ -117,17 +149,6 @@ class PathSteps {
             break;
           }
           shadow_walk_to(t, s, s.light.shadow, 0.0, s.light.dist, k, Phase::Shadow, Phase::Lit);
-          break;
-        }
-        case Phase::Shadow:
-        case Phase::LastShadow: {
-          if (stepped) return true;
-          stepped = true;
-          const TrackStep r = s.steps.next(rng);
-          if (r == TrackStep::Collision && t.shadow_update(s.steps.position(), s.steps.majorant(), rng, k, s.T))
-            return true;
-          s.T = Tracer::shadow_end(r == TrackStep::Stalled, s.T, k);
-          s.phase = s.phase == Phase::Shadow ? Phase::Lit : Phase::LastLit;
           break;
         }
         case Phase::Lit:
@@ -174,16 +195,15 @@ class PathSteps {
           s.phase = Phase::Gather;
           break;
         }
-        case Phase::Ended: return false;
       }
     }
   }
 
  private:
-  /// A transmittance estimate along `ray` over [ta, tb]: its walk (phase `walking`) or, when
+  /// A transmittance estimate along `ray` over [ta, tb]: its walk (phase `walk_phase`) or, when
   /// it needs none, its value at once (phase `known`).
   TESSERA_HOST_DEVICE static void shadow_walk_to(const Tracer& t, State& s, const Ray& ray, double ta, double tb,
-                                                 KernelCounters& k, Phase walking, Phase known) {
+                                                 KernelCounters& k, Phase walk_phase, Phase known) {
     typename Tracer::Span sp;
     const double v = t.shadow_begin(ray, ta, tb, k, &sp);
     if (v >= 0.0) {
@@ -193,7 +213,7 @@ class PathSteps {
     }
     s.T = 1.0;
     s.steps = t.walk(sp);
-    s.phase = walking;
+    s.phase = walk_phase;
   }
 };
 

@@ -28,9 +28,10 @@ void emulate_slice(const SliceArgs& a, LaneLoop loop) {
     unsigned long long sum[kCounterCount] = {};
     for (std::int64_t t = r.begin(); t < r.end(); ++t) {
       unsigned long long c[kCounterCount];
-      const bool drawn = loop == LaneLoop::Regenerate ? draw_lane<V, LaneLoop::Regenerate>(a, t, c)
-                         : loop == LaneLoop::Step     ? draw_lane<V, LaneLoop::Step>(a, t, c)
-                                                      : draw_lane<V, LaneLoop::PerSample>(a, t, c);
+      const bool drawn = loop == LaneLoop::Regenerate  ? draw_lane<V, LaneLoop::Regenerate>(a, t, c)
+                         : loop == LaneLoop::Step      ? draw_lane<V, LaneLoop::Step>(a, t, c)
+                         : loop == LaneLoop::StepDefer ? draw_lane<V, LaneLoop::StepDefer>(a, t, c)
+                                                       : draw_lane<V, LaneLoop::PerSample>(a, t, c);
       if (!drawn) continue;
       for (int i = 0; i < kCounterCount; ++i) sum[i] += c[i];
     }

@@ -40,6 +40,25 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   if constexpr (L == LaneLoop::PerSample) {
     for (int k = first; k < a.k1; k += a.lanes)
       ts.accumulate(job.x, job.y, px, aux_p, drawn0 + static_cast<std::uint64_t>(k), st);
+  } else if constexpr (L == LaneLoop::StepDefer) {
+    // Lanes in a walk step; a lane between walks runs that code when the warp's vote says so
+    // (every lane votes at every iteration, whatever it does then)
+    typename TileSampler<V>::StepFlight f;
+    for (unsigned it = 0, k = first;; ++it) {
+      if (!f.live) {
+        if (static_cast<int>(k) >= a.k1) break;
+        ts.start(job.x, job.y, px, drawn0 + static_cast<std::uint64_t>(k), st, f);
+        k += a.lanes;
+        if (!f.live) {  // a culled tile's sample: its value is known
+          ts.finish(f, px, aux_p, st);
+          continue;
+        }
+      }
+      const bool waiting = !TileSampler<V>::walking(f);
+      const bool go = lane_quorum(waiting, it);
+      if (!waiting) ts.take_step(f);
+      else if (go && !ts.between(f)) ts.finish(f, px, aux_p, st);
+    }
   } else {
     using F = std::conditional_t<L == LaneLoop::Regenerate, typename TileSampler<V>::Flight,
                                  typename TileSampler<V>::StepFlight>;

@@ -1,10 +1,12 @@
 #pragma once
 /// LaneLoop: how a thread of the GPU backend's pixel kernel (lane_kernel.h) walks through its
-/// samples, and the one the CUDA kernel is built with. Plain data, host and device.
+/// samples, the one the CUDA kernel is built with, and the deferred step loop's warp vote.
+/// Host and device.
+#include <tessera/host_device.h>
 
 namespace tessera::cuda {
 
-/// How a lane walks through its samples; both give the same sums, bit for bit (the same
+/// How a lane walks through its samples; all give the same sums, bit for bit (the same
 /// operations of each sample, the samples ended in index order):
 /// - PerSample: one sample's whole path, then the next (TileSampler::accumulate, as the CPU);
 /// - Regenerate: one bounce per loop iteration, and a lane whose path has ended starts its
@@ -14,16 +16,36 @@ namespace tessera::cuda {
 ///   (PathSteps, kernel/path_steps.h), the code between walks run in the iteration whose
 ///   step ended the walk: threads in free flight and in shadow rays take their tentative
 ///   collisions together (the step-level loop).
-enum class LaneLoop : int { PerSample, Regenerate, Step };
+/// - StepDefer: like Step, but a lane whose walk has ended runs the code between walks only
+///   when at least half of its warp's active threads wait for it (a warp vote, lane_quorum),
+///   so that this code, far longer than a tracking step, runs for many lanes at once.
+enum class LaneLoop : int { PerSample, Regenerate, Step, StepDefer };
 
 /// The loop the CUDA kernel is compiled with (CMake: TESSERA_CUDA_LANE_LOOP); the host
 /// emulation runs this one unless told otherwise (EmulatedDevice::lane_loop).
-#if defined(TESSERA_CUDA_STEP_LOOP)
+#if defined(TESSERA_CUDA_STEP_DEFER)
+inline constexpr LaneLoop kDeviceLaneLoop = LaneLoop::StepDefer;
+#elif defined(TESSERA_CUDA_STEP_LOOP)
 inline constexpr LaneLoop kDeviceLaneLoop = LaneLoop::Step;
 #elif defined(TESSERA_CUDA_PATH_REGEN)
 inline constexpr LaneLoop kDeviceLaneLoop = LaneLoop::Regenerate;
 #else
 inline constexpr LaneLoop kDeviceLaneLoop = LaneLoop::PerSample;
 #endif
+
+/// StepDefer's vote, called by every lane of the loop at each iteration `it`: whether a lane
+/// that waits (`waiting`) runs the code between walks now. On the device: when at least half
+/// of the warp's active threads wait. In the host emulation, whose lanes run one after the
+/// other, a fixed pattern (two iterations of three) so that lanes also wait there. Any answer
+/// gives the same sums: it only decides when a lane's code runs, never what it computes.
+TESSERA_HOST_DEVICE inline bool lane_quorum(bool waiting, unsigned it) {
+#if defined(__CUDA_ARCH__)
+  const unsigned active = __activemask();
+  return 2 * __popc(__ballot_sync(active, waiting)) >= __popc(active);
+#else
+  (void)waiting;
+  return it % 3 != 2;
+#endif
+}
 
 }  // namespace tessera::cuda

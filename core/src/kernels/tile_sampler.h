@@ -121,6 +121,17 @@ class TileSampler {
     return f.live;
   }
 
+  /// The step-level loop's halves (PathSteps::walking, step, between), for a caller that
+  /// defers the code between walks: whether f's path is in a walk; one tracking step of it
+  /// (true while the walk goes on); the code between walks (false once the path has ended:
+  /// then finish()).
+  TESSERA_HOST_DEVICE static bool walking(const StepFlight& f) { return PathSteps<V>::walking(f.path); }
+  TESSERA_HOST_DEVICE bool take_step(StepFlight& f) { return PathSteps<V>::step(m_tracer, f.path, f.rng, m_k); }
+  TESSERA_HOST_DEVICE bool between(StepFlight& f) {
+    f.live = PathSteps<V>::between(m_tracer, f.path, f.rng, m_k, f.has_ld ? &f.ld : nullptr);
+    return f.live;
+  }
+
   /// Adds f's ended sample to the pixel's sums as accumulate() does (dropped and counted
   /// when not finite).
   template <class Path>
