@@ -44,9 +44,10 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
     // Lanes in a walk step; a lane between walks runs that code when the warp's vote says so
     // (every lane votes at every iteration, whatever it does then)
     typename TileSampler<V>::StepFlight f;
-    for (unsigned it = 0, k = first;; ++it) {
+    int k = first;
+    for (unsigned it = 0;; ++it) {
       if (!f.live) {
-        if (static_cast<int>(k) >= a.k1) break;
+        if (k >= a.k1) break;
         ts.start(job.x, job.y, px, drawn0 + static_cast<std::uint64_t>(k), st, f);
         k += a.lanes;
         if (!f.live) {  // a culled tile's sample: its value is known

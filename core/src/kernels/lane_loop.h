@@ -21,7 +21,8 @@ namespace tessera::cuda {
 ///   so that this code, far longer than a tracking step, runs for many lanes at once.
 enum class LaneLoop : int { PerSample, Regenerate, Step, StepDefer };
 
-/// The loop the CUDA kernel is compiled with (CMake: TESSERA_CUDA_LANE_LOOP); the host
+/// The loop the CUDA kernel is compiled with (CMake: TESSERA_CUDA_PATH_REGEN,
+/// TESSERA_CUDA_STEP_LOOP or TESSERA_CUDA_STEP_DEFER; none: PerSample); the host
 /// emulation runs this one unless told otherwise (EmulatedDevice::lane_loop).
 #if defined(TESSERA_CUDA_STEP_DEFER)
 inline constexpr LaneLoop kDeviceLaneLoop = LaneLoop::StepDefer;

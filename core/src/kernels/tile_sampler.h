@@ -75,7 +75,7 @@ class TileSampler {
 
   /// A sample in flight, for a caller that advances it a piece at a time (lane_kernel.h): its
   /// streams, its path, and whether it still runs. Path: PathTracer's PathState, one bounce
-  /// per step() (path regeneration), or PathSteps' State, tracking steps per step() (the
+  /// per step() (path regeneration), or PathSteps' State, one tracking step per step() (the
   /// step-level loop).
   template <class Path>
   struct FlightOf {
@@ -114,8 +114,8 @@ class TileSampler {
     return f.live;
   }
 
-  /// f's path up to its next tracking step that does not end a walk (PathSteps::advance);
-  /// false once it has ended (then finish()).
+  /// One tracking step of f's path, and the code between walks when that step ended its walk
+  /// (PathSteps::advance); false once the path has ended (then finish()).
   TESSERA_HOST_DEVICE bool step(StepFlight& f) {
     f.live = PathSteps<V>::advance(m_tracer, f.path, f.rng, m_k, f.has_ld ? &f.ld : nullptr);
     return f.live;
