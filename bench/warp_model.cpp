@@ -4,8 +4,9 @@
 // 256 spp) as neighbouring threads, one warp. A warp runs one instruction for all its threads,
 // so a thread whose path is shorter than its neighbours' waits. This program traces every
 // sample of a scene's render with the kernel's own code (TileSampler::start/step, one bounce at
-// a time), records each bounce's tracking steps (free-flight and transmittance lookups), and
-// replays the pixel's lanes as a warp under three loop designs:
+// a time), records each bounce's tracking steps (free-flight and transmittance lookups), runs
+// them again on the step-level loop (PathSteps) recording each iteration's lookups, and
+// replays the pixel's lanes as a warp under five loop designs:
 //   per-sample  : each lane traces one sample's whole path, then the next (the default kernel);
 //                 a bounce's free-flight loop runs as long as its longest lane, then its
 //                 shadow loop, and a sample as long as its longest path.
