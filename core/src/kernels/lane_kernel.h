@@ -40,10 +40,11 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   if constexpr (L == LaneLoop::PerSample) {
     for (int k = first; k < a.k1; k += a.lanes)
       ts.accumulate(job.x, job.y, px, aux_p, drawn0 + static_cast<std::uint64_t>(k), st);
-  } else if constexpr (L == LaneLoop::StepDefer) {
-    // Lanes in a walk step; a lane between walks runs that code when the warp's vote says so
-    // (every lane votes at every iteration, whatever it does then)
-    typename TileSampler<V>::StepFlight f;
+  } else {
+    // A lane whose path has ended starts its next sample at the next iteration
+    using F = std::conditional_t<L == LaneLoop::Regenerate, typename TileSampler<V>::Flight,
+                                 typename TileSampler<V>::StepFlight>;
+    F f;
     int k = first;
     for (unsigned it = 0;; ++it) {
       if (!f.live) {
@@ -55,26 +56,16 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
           continue;
         }
       }
-      const bool waiting = !TileSampler<V>::walking(f);
-      const bool go = lane_quorum(waiting, it);
-      if (!waiting) ts.take_step(f);
-      else if (go && !ts.between(f)) ts.finish(f, px, aux_p, st);
-    }
-  } else {
-    using F = std::conditional_t<L == LaneLoop::Regenerate, typename TileSampler<V>::Flight,
-                                 typename TileSampler<V>::StepFlight>;
-    F f;
-    for (int k = first;;) {
-      if (!f.live) {
-        if (k >= a.k1) break;
-        ts.start(job.x, job.y, px, drawn0 + static_cast<std::uint64_t>(k), st, f);
-        k += a.lanes;
-        if (!f.live) {  // a culled tile's sample: its value is known
-          ts.finish(f, px, aux_p, st);
-          continue;
-        }
+      if constexpr (L == LaneLoop::StepDefer) {
+        // Lanes in a walk step; a lane between walks runs that code when the warp's vote says
+        // so (every lane votes at every iteration, whatever it does then)
+        const bool waiting = !TileSampler<V>::walking(f);
+        const bool go = lane_quorum(waiting, it);
+        if (!waiting) ts.take_step(f);
+        else if (go && !ts.between(f)) ts.finish(f, px, aux_p, st);
+      } else if (!ts.step(f)) {
+        ts.finish(f, px, aux_p, st);
       }
-      if (!ts.step(f)) ts.finish(f, px, aux_p, st);
     }
   }
   a.lane_px[q] = px;
