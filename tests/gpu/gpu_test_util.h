@@ -7,6 +7,7 @@
 // tessera_emulated_device_tests, every build, CI included), which runs the GPU backend's host
 // half and its kernel's per-thread code on host threads.
 #include <tessera/cuda_render.h>
+#include <tessera/image.h>
 #include <tessera/render.h>
 
 #if defined(TESSERA_GPU_TESTS_EMULATED)
@@ -76,6 +77,30 @@ inline tessera::SceneDesc heat_scene(int n, std::uint64_t seed) {
   s.image = {48, 48, 32, 0.0};
   s.options.seed = seed;
   return s;
+}
+
+/// An equirectangular envmap of w x h texels: a smooth sky, a dark band and a bright sun
+/// (texel (w / 4, h / 5)), for a background that is sampled as a light.
+inline std::shared_ptr<tessera::Image> test_envmap(int w, int h) {
+  auto img = std::make_shared<tessera::Image>();
+  img->width = w;
+  img->height = h;
+  img->rgba.resize(static_cast<std::size_t>(w) * h * 4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float* p = img->px(x, y);
+      const double u = (x + 0.5) / w, v = (y + 0.5) / h;
+      const bool dark = v > 0.55 && v < 0.7;
+      p[0] = dark ? 0.0f : static_cast<float>(0.4 + 0.3 * std::sin(6.0 * u));
+      p[1] = dark ? 0.0f : static_cast<float>(0.5 * (1.0 - v));
+      p[2] = dark ? 0.0f : static_cast<float>(0.9 * (1.0 - v) + 0.1);
+      p[3] = 1.0f;
+    }
+  float* sun = img->px(w / 4, h / 5);
+  sun[0] = 60.0f;
+  sun[1] = 50.0f;
+  sun[2] = 40.0f;
+  return img;
 }
 
 /// Stretched coordinates of a rectilinear axis: x_i = (i / (m - 1))^p for m coordinates.

@@ -234,7 +234,7 @@ namespace {
 /// heat_scene with what the last bounce and the shadow estimators can meet: two rect lights
 /// and two sphere lights (one inside the volume) before the gradient background, few
 /// bounces, BRDF shading with a specular lobe and delta-tracking shadows without roulette
-/// (variant 1), or the fixed-step march with phase shading (variant 2).
+/// (variant 1), or the fixed-step march with phase shading under an envmap sky (variant 2).
 tessera::SceneDesc loop_scene(int variant) {
   tessera::SceneDesc s = heat_scene(kN, 11);
   if (variant == 0) return s;
@@ -261,6 +261,9 @@ tessera::SceneDesc loop_scene(int variant) {
     s.integrator.shadow = tessera::ShadowMode::Delta;
     s.integrator.shadow_roulette = false;
   } else {
+    s.background = {};
+    s.background.type = tessera::BackgroundType::EnvMap;
+    s.background.envmap = test_envmap(16, 8);
     s.integrator.max_bounces = 3;
     s.integrator.free_path = tessera::FreePath::Raymarch;
     s.integrator.shading = tessera::Shading::Phase;
@@ -492,4 +495,19 @@ TEST_CASE("Emulated device: the device copies need nothing of the prepared scene
         std::fill(l0.begin(), l0.end(), std::int16_t{-30000});
         std::fill(l1.begin(), l1.end(), std::int16_t{30000});
       });
+  // An envmap background: its texels and sampling table live in the prepared scene (freed
+  // before the render) and the image the scene was made from is overwritten
+  std::shared_ptr<tessera::Image> sky = test_envmap(24, 12);
+  const std::vector<double> hf = heat_field<double>(kN);
+  check_detached(
+      "envmap background",
+      [&] {
+        tessera::SceneDesc s = heat_scene(kN, 24);
+        s.background = {};
+        s.background.type = tessera::BackgroundType::EnvMap;
+        s.background.envmap = sky;
+        s.background.up = Vec3(0.3, 1.0, 0.0);
+        return tessera::prepare(FieldView::contiguous(hf.data(), tessera::DType::Float64, kN, kN, kN), s);
+      },
+      [&] { std::fill(sky->rgba.begin(), sky->rgba.end(), 1.0e6f); });
 }

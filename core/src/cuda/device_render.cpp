@@ -33,7 +33,6 @@ std::string unsupported(const DeviceBackend& b, const PreparedSceneImpl& s) {
   std::string why;
   if (!b.covers(s.kernel, &why)) return why;
   if (s.kernel.target_error > 0.0) return "adaptive sampling (image.target_error)";
-  if (s.desc.background.type == BackgroundType::EnvMap) return "an envmap background";
   return {};
 }
 

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <string>
 
 namespace tessera::cuda {
@@ -153,6 +154,14 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
     });
   }
 
+  // An envmap's texels and sampling table (the other backgrounds have none)
+  const std::span<const Color> texels = s.env.texels();
+  const std::span<const double> table = s.env.distribution_table();
+  if (!texels.empty()) {
+    m_off_texels = plan_copy(texels.data(), texels.size_bytes(), "envmap texels");
+    m_off_env_table = plan_copy(table.data(), table.size_bytes(), "envmap sampling table");
+  }
+
   // The background, the lights, the KernelScene and the medium: written by upload()
   m_off_env = reserve(sizeof(Environment));
   m_off_lights = reserve(static_cast<std::size_t>(ks.lights.count()) * sizeof(Light));
@@ -198,9 +207,11 @@ std::uint64_t DeviceScene::upload() {
     put(m_off_patches, patches.data(), patches.size() * sizeof(AmrPatchAddress), "patch addresses");
     d.amr.patch = reinterpret_cast<const AmrPatchAddress*>(base + m_off_patches);
   }
-  // The background (constant or gradient: no tables) and the lights, the background light
-  // pointing at the device's copy
-  put(m_off_env, &m_scene.env, sizeof(Environment), "background");
+  // The background (an envmap's over the copies of its tables) and the lights, the
+  // background light pointing at the device's copy
+  const Environment env = m_scene.env.relocated(reinterpret_cast<const Color*>(base + m_off_texels),
+                                                reinterpret_cast<const double*>(base + m_off_env_table));
+  put(m_off_env, &env, sizeof(Environment), "background");
   const auto* env_dev = reinterpret_cast<const Environment*>(base + m_off_env);
   std::vector<Light> host_lights;
   for (int i = 0; i < ks.lights.count(); ++i)

@@ -1,11 +1,12 @@
 #pragma once
 /// DeviceScene: the device copies of everything a prepared scene's KernelScene points to (the
 /// field unless it is device or managed memory, majorants, empty-space reach, transfer
-/// function, lights, background, rectilinear axes' coordinates and tables, refinement levels'
-/// tables and patches, a vector's components), in one device allocation, with the KernelScene
-/// and the medium over them, on a DeviceBackend (device_backend.h: CUDA, or the host
-/// emulation). Made in two steps so that its size is known before anything is allocated: the
-/// constructor plans (no allocation), upload() allocates and copies.
+/// function, lights, background (an envmap's texels and sampling table), rectilinear axes'
+/// coordinates and tables, refinement levels' tables and patches, a vector's components), in
+/// one device allocation, with the KernelScene and the medium over them, on a DeviceBackend
+/// (device_backend.h: CUDA, or the host emulation). Made in two steps so that its size is
+/// known before anything is allocated: the constructor plans (no allocation), upload()
+/// allocates and copies.
 /// Kept for a prepared scene's lifetime (PreparedSceneImpl::device_cache, render_cuda.cpp);
 /// read-only once uploaded, so concurrent renders may share it.
 #include "cuda/device_backend.h"
@@ -67,6 +68,7 @@ class DeviceScene {
   /// Pointer fix-ups run after allocation: each rewrites one pointer of the device KernelScene
   std::vector<std::function<void(unsigned char* base, KernelScene& d)>> m_fix;
   std::size_t m_off_kernel = 0, m_off_medium = 0, m_off_env = 0, m_off_lights = 0, m_off_patches = 0;
+  std::size_t m_off_texels = 0, m_off_env_table = 0;  ///< an envmap's tables (unused otherwise)
   std::size_t m_medium_bytes = 0, m_npatches = 0;
   std::vector<std::pair<std::size_t, std::ptrdiff_t>> m_patch_data;  ///< per patch: offset, lowest byte offset
   void* m_base = nullptr;

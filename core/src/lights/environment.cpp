@@ -36,8 +36,10 @@ Environment::Environment(const BackgroundDesc& desc)
       const Image& img = *desc.envmap;
       m_w = img.width;
       m_h = img.height;
-      m_texels.resize(static_cast<std::size_t>(m_w) * m_h);
-      std::vector<double> f(m_texels.size());
+      auto tables = std::make_shared<Tables>();
+      std::vector<Color>& texels = tables->texels;
+      texels.resize(static_cast<std::size_t>(m_w) * m_h);
+      std::vector<double> f(texels.size());
       for (int y = 0; y < m_h; ++y) {
         const double sin_theta = std::sin(kPi * (y + 0.5) / m_h);
         for (int x = 0; x < m_w; ++x) {
@@ -47,15 +49,36 @@ Environment::Environment(const BackgroundDesc& desc)
             throw std::invalid_argument("background: envmap texel (" + std::to_string(x) + ", " + std::to_string(y) +
                                         ") is negative or not finite");
           const std::size_t i = static_cast<std::size_t>(y) * m_w + x;
-          m_texels[i] = c;
+          texels[i] = c;
           f[i] = max_component(c) * sin_theta;
         }
       }
-      m_dist = Distribution2D(f, m_w, m_h);
+      tables->dist = Distribution2D(f, static_cast<std::size_t>(m_w), static_cast<std::size_t>(m_h));
+      m_texel = tables->texels.data();
+      m_dist = tables->dist.view();
+      m_tables = std::move(tables);
       m_emits = m_dist.integral() > 0.0;
       break;
     }
   }
+}
+
+std::span<const Color> Environment::texels() const {
+  return m_tables ? std::span<const Color>(m_tables->texels) : std::span<const Color>();
+}
+
+std::span<const double> Environment::distribution_table() const {
+  return m_tables ? std::span<const double>(m_tables->dist.table()) : std::span<const double>();
+}
+
+Environment Environment::relocated(const Color* texels, const double* table) const {
+  Environment e = *this;
+  e.m_tables.reset();
+  if (m_type == BackgroundType::EnvMap) {
+    e.m_texel = texels;
+    e.m_dist.t = table;
+  }
+  return e;
 }
 
 }  // namespace tessera

@@ -14,6 +14,10 @@
 #include "sampling/distribution.h"
 #include "sampling/zonal_linear.h"
 
+#include <memory>
+#include <span>
+#include <vector>
+
 namespace tessera {
 
 class Environment {
@@ -32,14 +36,30 @@ class Environment {
   TESSERA_HOST_DEVICE bool emits() const { return m_emits; }
   TESSERA_HOST_DEVICE bool visible() const { return m_visible; }
 
+  /// An envmap's tables (texels, row-major from the up pole; the sampling distribution's
+  /// table, Distribution2D's layout): empty for the other backgrounds. Host memory, shared by
+  /// the copies of this Environment.
+  std::span<const Color> texels() const;
+  std::span<const double> distribution_table() const;
+  /// A copy that reads its envmap tables at `texels` and `table` (copies of the two spans
+  /// above, e.g. on a GPU) and owns nothing: for a device copy of this object's bytes.
+  Environment relocated(const Color* texels, const double* table) const;
+
  private:
   BackgroundType m_type = BackgroundType::Constant;
   Color m_color{0.0}, m_top{0.0}, m_middle{0.0}, m_bottom{0.0};
   Frame m_frame{Vec3(0.0, 0.0, 1.0)};
   bool m_emits = false, m_visible = true;
   int m_w = 0, m_h = 0;
-  std::vector<Color> m_texels;
-  Distribution2D m_dist;
+  /// An envmap's tables, owned on the host (null for the other backgrounds and in relocated
+  /// copies); the lookups read them through m_texel and m_dist only
+  struct Tables {
+    std::vector<Color> texels;
+    Distribution2D dist;
+  };
+  std::shared_ptr<const Tables> m_tables;
+  const Color* m_texel = nullptr;
+  Distribution2DView m_dist;
   ZonalLinear m_zonal;      // a gradient's sampling density
   bool m_zonal_ok = false;  // false: sampled uniformly (a constant, or weights that overflow)
   TESSERA_HOST_DEVICE void to_uv(const Vec3& d, double* u, double* v) const;

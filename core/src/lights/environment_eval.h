@@ -1,9 +1,9 @@
 #pragma once
 /// Environment's lookups (eval, sample, pdf): their one definition, for the host and the
 /// device. Included by environment.cpp (the host's out-of-line symbols, as before) and by the
-/// CUDA translation units in their device pass only (core/src/cuda/). On the device only the
-/// constant and gradient backgrounds are read (an envmap's tables are host vectors: the
-/// CUDA backend refuses envmaps for now).
+/// CUDA translation units in their device pass only (core/src/cuda/). An envmap's tables are
+/// read through m_texel and m_dist, which point at the host's tables or, in a relocated copy,
+/// at the GPU's copies of them (cuda/device_scene.cpp).
 #include "lights/environment.h"
 #include "sampling/warp.h"
 
@@ -31,7 +31,7 @@ TESSERA_HOST_DEVICE Color Environment::eval(const Vec3& d) const {
       to_uv(d, &u, &v);
       const int x = std::min(m_w - 1, static_cast<int>(u * m_w));
       const int y = std::min(m_h - 1, static_cast<int>(v * m_h));
-      return m_texels[static_cast<std::size_t>(y) * m_w + x];
+      return m_texel[static_cast<std::size_t>(y) * m_w + x];
     }
   }
 }

@@ -16,7 +16,6 @@ namespace {
 std::string gpu_gap(const PassContext& pass, const BoundField& field) {
   if (field.amr) return "refinement levels";
   if (pass.spec.image.target_error > 0.0) return "adaptive sampling (image.target_error)";
-  if (pass.spec.background.type == BackgroundType::EnvMap) return "an envmap background";
   return {};
 }
 
