@@ -22,6 +22,7 @@ RenderFootprint render_footprint(const RenderSpec& spec, const RenderOptions& op
   f.samples = spec.output.samples;
   f.denoise = spec.image.denoise;
   f.gpu = options.device == Device::Cuda;
+  f.adaptive = spec.image.target_error > 0.0;
   f.formats.assign(formats.begin(), formats.end());
   for (int a = 0; a < 3; ++a) {
     f.field_dims[a] = field.dims[a];

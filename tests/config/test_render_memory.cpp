@@ -79,6 +79,14 @@ TEST_CASE("render_footprint: image, layers, formats, tile, threads and macrocell
   CHECK(estimate_render_memory(gpu).total() - estimate_render_memory(f).total() ==
         pixels * (kGpuHostBytesPerPixel + sizeof(AuxSums)));
   CHECK_THAT(estimate_render_memory(gpu).describe(), Contains("GPU call's host copies"));
+  // ... adaptive sampling's two passes: twice the copies and 12 bytes more per pixel
+  CHECK_FALSE(gpu.adaptive);
+  RenderSpec adaptive_spec = spec;
+  adaptive_spec.image.target_error = 0.05;
+  const RenderFootprint adaptive = render_footprint(adaptive_spec, options, png, field, 4);
+  CHECK(adaptive.adaptive);
+  CHECK(estimate_render_memory(adaptive).total() - estimate_render_memory(gpu).total() ==
+        pixels * (kGpuHostBytesPerPixel + sizeof(AuxSums) + 12));
 }
 
 TEST_CASE("memory_limit: tessera.memory_limit_mb, or the default for a process or a node's ranks",

@@ -229,6 +229,50 @@ TEST_CASE("Emulated device: any split of the tiles and a second call give the CP
   CHECK(aux_diff < 1e-9);
 }
 
+TEST_CASE("Emulated device: adaptive sampling gives the CPU's counts and sums for any split of the tiles",
+          "[emulated]") {
+  // Tiles of 12 pixels straddle the 8x8 blocks, so a tile's blocks reach into its neighbours:
+  // one call per tile redraws the pilots the CPU's tile redraws (the same lookups); one call of
+  // all tiles draws each pilot once (the same samples and sums)
+  const std::vector<double> field = heat_field<double>(kN);
+  tessera::SceneDesc s = heat_scene(kN, 31);
+  s.image = {44, 36, 48, 0.06};
+  s.options.tile = 12;
+  s.camera.fov_deg = 60.0;  // some tiles culled
+  const tessera::PreparedScene ps =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
+  const auto b = tessera::cuda::emulated_backend();
+  std::vector<int> tiles = all_tiles(ps);
+  std::reverse(tiles.begin(), tiles.end());
+  tessera::Film cpu(44, 36, true), split(44, 36, true);
+  tessera::RenderStats cst, gst;
+  tessera::CudaLaunch odd;
+  odd.samples_per_launch = 5;
+  odd.pixels_per_launch = 37;
+  for (const int t : tiles) {
+    tessera::render_tiles(ps, std::span<const int>(&t, 1), cpu, cst);
+    tessera::cuda::render_on_device(b, ps, std::span<const int>(&t, 1), split, gst, odd, nullptr);
+  }
+  INFO("samples " << gst.samples << " of " << 44 * 36 * 48 << ", tiles culled " << gst.tiles_skipped);
+  CHECK(gst.tiles_skipped > 0);
+  CHECK(gst.tiles_skipped < gst.tiles_total);
+  CHECK(gst.samples < std::uint64_t{44 * 36 * 48} * 3 / 4);
+  tessera_test::check_same_paths(gst, cst);
+  CHECK(max_pixel_difference(split, cpu) < 1e-12);
+  double aux_diff = 0.0;
+  for (std::size_t i = 0; i < cpu.aux().size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      aux_diff = std::fmax(aux_diff, std::fabs(cpu.aux()[i].albedo[c] - split.aux()[i].albedo[c]));
+  CHECK(aux_diff < 1e-9);
+  // One call of every tile: the same samples drawn and the same image
+  tessera::Film whole(44, 36, true);
+  tessera::RenderStats wst;
+  tessera::cuda::render_on_device(b, ps, all_tiles(ps), whole, wst, {}, nullptr);
+  CHECK(wst.samples == cst.samples);
+  CHECK(wst.real_collisions <= cst.real_collisions);
+  CHECK(max_pixel_difference(whole, cpu) < 1e-12);
+}
+
 namespace {
 
 /// heat_scene with what the last bounce and the shadow estimators can meet: two rect lights

@@ -39,10 +39,16 @@ struct DeviceArray {
   DeviceArray& operator=(const DeviceArray&) = delete;
 };
 
-std::string renders(int spp) {
+std::string renders(int spp, double target_error = 0.0) {
   // Variance in the EXR for the z-test; 48x48 pixels
-  return render_yaml("main", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr], variance: true}\n",
-                     "density", 48, spp);
+  std::string r = render_yaml("main", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr], variance: true}\n",
+                              "density", 48, spp);
+  if (target_error > 0.0) {
+    const std::string spp_key = "spp: " + std::to_string(spp) + "}";
+    r.replace(r.find(spp_key), spp_key.size(),
+              "spp: " + std::to_string(spp) + ", target_error: " + std::to_string(target_error) + "}");
+  }
+  return r;
 }
 
 struct Rendered {
@@ -51,10 +57,11 @@ struct Rendered {
 };
 
 Rendered render_once(const tessera_field& field, const tessera_grid& grid, const std::string& device, int spp,
-                     void* stream = nullptr) {
+                     void* stream = nullptr, double target_error = 0.0) {
   TempDir dir;
   Adapter adapter;
-  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), renders(spp), "  device: " + device + "\n"));
+  const std::string cfg =
+      dir.write("a.yaml", config_yaml(dir.file("out"), renders(spp, target_error), "  device: " + device + "\n"));
   adapter.set_quiet(true);
   REQUIRE(adapter.open(cfg) == TESSERA_OK);
   if (stream) REQUIRE(adapter.set_cuda_stream(stream) == TESSERA_OK);
@@ -119,6 +126,19 @@ TEST_CASE("a device field is read in place on the GPU: no field bytes copied, CP
   // The same bits on every run
   const Rendered again = render_once(on_device, unit_grid(kN), "auto", 64);
   CHECK(same_pixels(gpu.image, again.image));
+}
+
+TEST_CASE("adaptive sampling on the GPU: the CPU's sample counts, its image within MC error", "[gpu][insitu]") {
+  const std::vector<float> host = to_float(blob_values(kN));
+  DeviceArray<float> dev(host);
+  const Rendered cpu = render_once(dense_field("density", host.data(), kN), unit_grid(kN), "cpu", 64, nullptr, 0.05);
+  const Rendered gpu = render_once(dense_field("density", dev.ptr, kN), unit_grid(kN), "auto", 64, nullptr, 0.05);
+  CHECK(cpu.result.device == "cpu");
+  CHECK_THAT(gpu.result.device, Contains("cuda:0"));
+  INFO("samples " << gpu.result.stats.samples << " of " << 48 * 48 * 64);
+  CHECK(gpu.result.stats.samples == cpu.result.stats.samples);
+  CHECK(gpu.result.stats.samples < std::uint64_t{48 * 48 * 64});
+  CHECK(max_block_z(cpu.image, gpu.image) < 4.2);
 }
 
 TEST_CASE("device: cpu stages a device field to the host and renders the host array's bits", "[gpu][insitu]") {

@@ -15,9 +15,9 @@
 /// (copied once per prepared scene) or device / managed memory (read in place, any byte
 /// strides), uniform and rectilinear axes, a vector's magnitude, vertex and cell data, uniform
 /// sampling, every light kind, every background (an envmap's texels and sampling table are
-/// copied with the scene), every integrator mode, denoiser features. Refused by name
-/// (std::invalid_argument): refinement levels (not yet), meshes, paged (distributed) fields,
-/// adaptive sampling.
+/// copied with the scene), every integrator mode, denoiser features, adaptive sampling (the
+/// CPU's counts, in two passes). Refused by name (std::invalid_argument): refinement levels
+/// (not yet), meshes, paged (distributed) fields.
 ///
 /// The scene's device copies (field copy, majorants and every table) are made on a prepared
 /// scene's first render_tiles_cuda and kept, on that device, until the prepared scene is

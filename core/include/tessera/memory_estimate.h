@@ -45,6 +45,10 @@ struct RenderFootprint {
   /// kGpuHostBytesPerPixel (+ sizeof(AuxSums)) per pixel, beside the film. Device memory is
   /// checked apart, against the same limit, by the backend.
   bool gpu = false;
+  /// With `gpu`: adaptive sampling (image.target_error > 0), whose call holds the pilot pass's
+  /// copies and the second pass's at once for a moment: twice the copies above, plus a
+  /// sample count and an index (12 bytes) per pixel.
+  bool adaptive = false;
 };
 
 /// A CUDA call's host bytes per pixel without auxiliary sums: its pixel list (x, y, culled)

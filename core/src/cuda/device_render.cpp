@@ -3,9 +3,12 @@
 
 #include <tessera/memory_estimate.h>
 
+#include "cuda/adaptive_plan.h"
 #include "cuda/device_scene.h"
 #include "cuda/pixel_kernel.h"
+#include "kernel/adaptive_sampling.h"
 #include "kernel/stop_check.h"
+#include "kernels/lane_kernel.h"
 #include "render/tiles_call.h"
 #include "scene/prepared_scene_impl.h"
 
@@ -15,6 +18,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tessera::cuda {
@@ -32,7 +36,6 @@ std::mutex g_cache_mutex;
 std::string unsupported(const DeviceBackend& b, const PreparedSceneImpl& s) {
   std::string why;
   if (!b.covers(s.kernel, &why)) return why;
-  if (s.kernel.target_error > 0.0) return "adaptive sampling (image.target_error)";
   return {};
 }
 
@@ -82,6 +85,111 @@ std::shared_ptr<DeviceScene> device_scene(const std::shared_ptr<DeviceBackend>& 
   return dev;
 }
 
+/// A call's running totals over its passes.
+struct CallTotals {
+  std::array<unsigned long long, kCounterCount> counters{};
+  std::uint64_t to_device = 0, to_host = 0;
+  int launches = 0;
+};
+
+/// One pass of samples on the device: the jobs, their sums before the pass (which set each
+/// job's first sample index, PixelSums::drawn) and after it, `lanes` lanes per job, and which
+/// samples: ranges[i] = {k, count}: the pass's samples [previous k, k) of jobs [0, count)
+/// (ranges in increasing k, counts not increasing).
+struct SamplePass {
+  std::vector<PixelJob> jobs;
+  std::vector<PixelSums> px;
+  std::vector<AuxSums> aux;  ///< empty: no denoiser features
+  int lanes = 1;
+  std::vector<std::pair<int, std::int64_t>> ranges;
+
+  /// Device bytes of the pass's buffers with `with_lanes` lanes (0: its own).
+  std::uint64_t device_bytes(int with_lanes = 0) const {
+    const std::uint64_t l = static_cast<std::uint64_t>(with_lanes > 0 ? with_lanes : lanes);
+    const std::uint64_t per_job =
+        sizeof(PixelJob) + (1 + l) * (sizeof(PixelSums) + (aux.empty() ? 0 : sizeof(AuxSums)));
+    return jobs.size() * per_job + kCounterCount * sizeof(unsigned long long);
+  }
+};
+
+/// Runs `p` in bounded slices (the deadline checked between them), merges its lanes and
+/// copies its sums back into p.px / p.aux (also when stopped: they hold the samples drawn)
+/// and its counters into `t`. True when the deadline stopped it.
+bool run_pass(DeviceBackend& b, const DeviceScene& dev, const KernelScene& ks, SamplePass& p, const CudaLaunch& launch,
+              StopCheck& stop, CallTotals& t) {
+  const auto njobs = static_cast<std::int64_t>(p.jobs.size());
+  const int lanes = p.lanes;
+  const bool with_aux = !p.aux.empty();
+  std::array<unsigned long long, kCounterCount> counters{};
+  BackendBuffer d_jobs(b), d_px(b), d_aux(b), d_counters(b), d_lane_px(b), d_lane_aux(b);
+  t.to_device += d_jobs.upload(p.jobs.data(), p.jobs.size() * sizeof(PixelJob), "pixel list");
+  t.to_device += d_px.upload(p.px.data(), p.px.size() * sizeof(PixelSums), "pixel sums");
+  if (with_aux) t.to_device += d_aux.upload(p.aux.data(), p.aux.size() * sizeof(AuxSums), "auxiliary sums");
+  t.to_device += d_counters.upload(counters.data(), sizeof(counters), "counters");
+  d_lane_px.allocate(p.jobs.size() * lanes * sizeof(PixelSums), "sample lanes' sums");
+  b.zero(d_lane_px.get(), d_lane_px.bytes(), "sample lanes' sums");
+  if (with_aux) {
+    d_lane_aux.allocate(p.jobs.size() * lanes * sizeof(AuxSums), "sample lanes' auxiliary sums");
+    b.zero(d_lane_aux.get(), d_lane_aux.bytes(), "sample lanes' auxiliary sums");
+  }
+
+  // Bounded slices: the jobs' next few samples at a time; each lane's samples are drawn and
+  // added in index order whatever the slicing
+  bool stopped = false;
+  int k_begin = 0;
+  for (const auto& [k_end, count] : p.ranges) {
+    const std::int64_t per_launch_px =
+        launch.pixels_per_launch > 0 ? launch.pixels_per_launch : std::max<std::int64_t>(count, 1);
+    const int span = k_end - k_begin;
+    const int per_launch_spp = launch.samples_per_launch > 0
+                                   ? launch.samples_per_launch
+                                   : static_cast<int>(std::clamp<std::int64_t>(
+                                         kDefaultSamplesPerLaunch / std::max<std::int64_t>(count, 1), 1, span));
+    for (int s0 = k_begin; s0 < k_end && !stopped; s0 += per_launch_spp) {
+      for (std::int64_t j0 = 0; j0 < count; j0 += per_launch_px) {
+        if (stop.stop()) {
+          stopped = true;
+          break;
+        }
+        const SliceArgs a{dev.kernel(),
+                          dev.medium(),
+                          d_jobs.as<PixelJob>(),
+                          d_px.as<PixelSums>(),
+                          d_lane_px.as<PixelSums>(),
+                          with_aux ? d_lane_aux.as<AuxSums>() : nullptr,
+                          d_counters.as<unsigned long long>(),
+                          j0,
+                          std::min(count, j0 + per_launch_px),
+                          s0,
+                          std::min(k_end, s0 + per_launch_spp),
+                          lanes};
+        b.run_slice(dev.dispatch_scene(), a, launch.block_threads,
+                    pixel_kernel_name(ks) + " slice (samples " + std::to_string(s0) + "+, pixels " +
+                        std::to_string(j0) + "+ of " + std::to_string(count) + ")");
+        ++t.launches;
+      }
+    }
+    if (stopped) break;
+    k_begin = k_end;
+  }
+
+  // The lanes into the pixels (also after a deadline: the sums hold the samples drawn), then
+  // the sums and counters back
+  b.merge_lanes(d_px.as<PixelSums>(), with_aux ? d_aux.as<AuxSums>() : nullptr, d_lane_px.as<PixelSums>(),
+                with_aux ? d_lane_aux.as<AuxSums>() : nullptr, njobs, lanes);
+  b.copy_to_host(p.px.data(), d_px.get(), p.px.size() * sizeof(PixelSums), "pixel sums");
+  t.to_host += p.px.size() * sizeof(PixelSums);
+  if (with_aux) {
+    b.copy_to_host(p.aux.data(), d_aux.get(), p.aux.size() * sizeof(AuxSums), "auxiliary sums");
+    t.to_host += p.aux.size() * sizeof(AuxSums);
+  }
+  b.copy_to_host(counters.data(), d_counters.get(), sizeof(counters), "counters");
+  t.to_host += sizeof(counters);
+  for (int i = 0; i < kCounterCount; ++i)
+    t.counters[static_cast<std::size_t>(i)] += counters[static_cast<std::size_t>(i)];
+  return stopped;
+}
+
 }  // namespace
 
 void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const PreparedScene& scene,
@@ -97,94 +205,92 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
   // The simulation's queued work first: nothing is read before it is done
   b.wait_for_caller(launch.stream);
 
-  // The pixels of the listed tiles and their sums so far
-  const std::vector<PixelJob> jobs = pixel_jobs(s, tile_indices);
-  const auto njobs = static_cast<std::int64_t>(jobs.size());
-  std::vector<PixelSums> px(jobs.size());
-  std::vector<AuxSums> aux(film.has_aux() ? jobs.size() : 0);
-  for (std::size_t j = 0; j < jobs.size(); ++j) {
-    px[j] = film.at(jobs[j].x, jobs[j].y);
-    if (film.has_aux()) aux[j] = *film.aux_at(jobs[j].x, jobs[j].y);
-  }
-  std::array<unsigned long long, kCounterCount> counters{};
-  // Each pixel's samples in `lanes` threads (pixel_kernel.h): their sums on the device only
   const int spp = s.kernel.spp;
   const int lanes = sample_lanes(s.desc.image.width, s.desc.image.height, spp);
-  const std::uint64_t lane_bytes =
-      static_cast<std::uint64_t>(jobs.size()) * lanes * (sizeof(PixelSums) + (aux.empty() ? 0 : sizeof(AuxSums)));
-  const std::uint64_t call_bytes = jobs.size() * sizeof(PixelJob) + px.size() * sizeof(PixelSums) +
-                                   aux.size() * sizeof(AuxSums) + sizeof(counters) + lane_bytes;
-
-  std::uint64_t to_device = 0, device_bytes = 0;
-  bool reused = false;
-  const std::shared_ptr<DeviceScene> dev =
-      device_scene(backend, s, launch, call_bytes, &to_device, &device_bytes, &reused);
-
-  BackendBuffer d_jobs(b), d_px(b), d_aux(b), d_counters(b), d_lane_px(b), d_lane_aux(b);
-  to_device += d_jobs.upload(jobs.data(), jobs.size() * sizeof(PixelJob), "pixel list");
-  to_device += d_px.upload(px.data(), px.size() * sizeof(PixelSums), "pixel sums");
-  if (!aux.empty()) to_device += d_aux.upload(aux.data(), aux.size() * sizeof(AuxSums), "auxiliary sums");
-  to_device += d_counters.upload(counters.data(), sizeof(counters), "counters");
-  d_lane_px.allocate(jobs.size() * lanes * sizeof(PixelSums), "sample lanes' sums");
-  b.zero(d_lane_px.get(), d_lane_px.bytes(), "sample lanes' sums");
-  if (!aux.empty()) {
-    d_lane_aux.allocate(jobs.size() * lanes * sizeof(AuxSums), "sample lanes' auxiliary sums");
-    b.zero(d_lane_aux.get(), d_lane_aux.bytes(), "sample lanes' auxiliary sums");
-  }
-
-  // Bounded slices: all pixels' next few samples at a time; each lane's samples are drawn
-  // and added in index order whatever the slicing
-  const std::int64_t per_launch_px =
-      launch.pixels_per_launch > 0 ? launch.pixels_per_launch : std::max<std::int64_t>(njobs, 1);
-  const int per_launch_spp = launch.samples_per_launch > 0
-                                 ? launch.samples_per_launch
-                                 : static_cast<int>(std::clamp<std::int64_t>(
-                                       kDefaultSamplesPerLaunch / std::max<std::int64_t>(njobs, 1), 1, spp));
+  const bool with_aux = film.has_aux();
+  const bool adaptive = s.kernel.target_error > 0.0;
+  CallTotals totals;
   StopCheck stop(s.desc.options.deadline);
-  int launches = 0;
+  std::shared_ptr<DeviceScene> dev;
+  bool reused = false;
+  std::uint64_t device_bytes = 0;
   bool stopped = false;
-  for (int s0 = 0; s0 < spp && !stopped; s0 += per_launch_spp) {
-    for (std::int64_t j0 = 0; j0 < njobs; j0 += per_launch_px) {
-      if (stop.stop()) {
-        stopped = true;
-        break;
+  if (!adaptive) {
+    // Uniform sampling: the tiles' pixels continue from their sums so far (sample indices
+    // from PixelSums::drawn), spp each, and their sums replace the film's
+    SamplePass pass;
+    pass.jobs = pixel_jobs(s, tile_indices);
+    pass.px.resize(pass.jobs.size());
+    pass.aux.resize(with_aux ? pass.jobs.size() : 0);
+    for (std::size_t j = 0; j < pass.jobs.size(); ++j) {
+      pass.px[j] = film.at(pass.jobs[j].x, pass.jobs[j].y);
+      if (with_aux) pass.aux[j] = *film.aux_at(pass.jobs[j].x, pass.jobs[j].y);
+    }
+    pass.lanes = lanes;
+    pass.ranges = {{spp, static_cast<std::int64_t>(pass.jobs.size())}};
+    dev = device_scene(backend, s, launch, pass.device_bytes(), &totals.to_device, &device_bytes, &reused);
+    stopped = run_pass(b, *dev, s.kernel, pass, launch, stop, totals);
+    for (std::size_t j = 0; j < pass.jobs.size(); ++j) {
+      film.at(pass.jobs[j].x, pass.jobs[j].y) = pass.px[j];
+      if (with_aux) *film.aux_at(pass.jobs[j].x, pass.jobs[j].y) = pass.aux[j];
+    }
+  } else {
+    // Adaptive sampling (adaptive_plan.h): the pilot of every block pixel one lane each (so
+    // its sums are added in index order, as the CPU pools them), then the rest of each own
+    // pixel's count; every pixel's samples have indices 0..n-1, and the sums are added to
+    // the film's, as sample_adaptive does
+    const int pilot = adaptive_pilot(spp);
+    SamplePass first;
+    AdaptivePilot plan = adaptive_pilot_jobs(s, tile_indices);
+    first.jobs = std::move(plan.jobs);
+    first.px.resize(first.jobs.size());
+    first.aux.resize(with_aux ? first.jobs.size() : 0);
+    first.lanes = 1;
+    first.ranges = {{pilot, static_cast<std::int64_t>(first.jobs.size())}};
+    // The second pass's buffers are at most the first's with `lanes` lanes
+    const std::uint64_t call_bytes = std::max(first.device_bytes(), first.device_bytes(lanes));
+    dev = device_scene(backend, s, launch, call_bytes, &totals.to_device, &device_bytes, &reused);
+    stopped = run_pass(b, *dev, s.kernel, first, launch, stop, totals);
+    SamplePass rest;
+    if (!stopped) {
+      const std::vector<int> n =
+          adaptive_counts(plan.block_start, first.jobs, first.px, pilot, spp, s.kernel.adaptive_scale);
+      plan = {};
+      // The own pixels from their pilot sums, most samples first: samples [m_i-1, m_i) of the
+      // call's sample indices past the pilot are drawn by the pixels with m >= m_i, a prefix
+      std::vector<std::size_t> order;
+      for (std::size_t j = 0; j < first.jobs.size(); ++j)
+        if (first.jobs[j].culled != kJobNeighbour) order.push_back(j);
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) { return n[a] > n[c]; });
+      for (const std::size_t j : order) {
+        rest.jobs.push_back(first.jobs[j]);
+        rest.px.push_back(first.px[j]);
+        if (with_aux) rest.aux.push_back(first.aux[j]);
       }
-      const SliceArgs a{dev->kernel(),
-                        dev->medium(),
-                        d_jobs.as<PixelJob>(),
-                        d_px.as<PixelSums>(),
-                        d_lane_px.as<PixelSums>(),
-                        aux.empty() ? nullptr : d_lane_aux.as<AuxSums>(),
-                        d_counters.as<unsigned long long>(),
-                        j0,
-                        std::min(njobs, j0 + per_launch_px),
-                        s0,
-                        std::min(spp, s0 + per_launch_spp),
-                        lanes};
-      b.run_slice(dev->dispatch_scene(), a, launch.block_threads,
-                  pixel_kernel_name(s.kernel) + " slice (samples " + std::to_string(s0) + "+, pixels " +
-                      std::to_string(j0) + "+ of " + std::to_string(njobs) + ")");
-      ++launches;
+      for (std::size_t i = order.size(); i-- > 0;) {
+        const int more = n[order[i]] - pilot;
+        if (more > 0 && (rest.ranges.empty() || rest.ranges.back().first < more))
+          rest.ranges.push_back({more, static_cast<std::int64_t>(i + 1)});
+      }
+      first = {};
+      rest.lanes = lanes;
+      stopped = run_pass(b, *dev, s.kernel, rest, launch, stop, totals);
+    } else {
+      // The deadline in the pilot: the own pixels keep the pilot samples drawn
+      for (std::size_t j = 0; j < first.jobs.size(); ++j) {
+        if (first.jobs[j].culled == kJobNeighbour) continue;
+        rest.jobs.push_back(first.jobs[j]);
+        rest.px.push_back(first.px[j]);
+        if (with_aux) rest.aux.push_back(first.aux[j]);
+      }
+    }
+    for (std::size_t j = 0; j < rest.jobs.size(); ++j) {
+      add_sums(film.at(rest.jobs[j].x, rest.jobs[j].y), rest.px[j]);
+      if (with_aux) add_sums(*film.aux_at(rest.jobs[j].x, rest.jobs[j].y), rest.aux[j]);
     }
   }
 
-  // The lanes into the pixels (also after a deadline: the film holds the samples drawn), then
-  // the sums back into the film, the counters into the stats
-  b.merge_lanes(d_px.as<PixelSums>(), aux.empty() ? nullptr : d_aux.as<AuxSums>(), d_lane_px.as<PixelSums>(),
-                aux.empty() ? nullptr : d_lane_aux.as<AuxSums>(), njobs, lanes);
-  std::uint64_t to_host = 0;
-  b.copy_to_host(px.data(), d_px.get(), px.size() * sizeof(PixelSums), "pixel sums");
-  to_host += px.size() * sizeof(PixelSums);
-  if (!aux.empty()) {
-    b.copy_to_host(aux.data(), d_aux.get(), aux.size() * sizeof(AuxSums), "auxiliary sums");
-    to_host += aux.size() * sizeof(AuxSums);
-  }
-  b.copy_to_host(counters.data(), d_counters.get(), sizeof(counters), "counters");
-  to_host += sizeof(counters);
-  for (std::size_t j = 0; j < jobs.size(); ++j) {
-    film.at(jobs[j].x, jobs[j].y) = px[j];
-    if (!aux.empty()) *film.aux_at(jobs[j].x, jobs[j].y) = aux[j];
-  }
+  const auto& counters = totals.counters;
   stats.samples += counters[kSamples];
   stats.free_flight_lookups += counters[kFreeFlightLookups];
   stats.transmittance_lookups += counters[kTransmittanceLookups];
@@ -200,12 +306,12 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
   stats.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (transfer) {
     transfer->device_name = b.name();
-    transfer->bytes_to_device = to_device;
-    transfer->bytes_to_host = to_host;
+    transfer->bytes_to_device = totals.to_device;
+    transfer->bytes_to_host = totals.to_host;
     transfer->device_bytes = device_bytes;
     transfer->field_in_place = dev->field_in_place();
     transfer->scene_reused = reused;
-    transfer->launches = launches;
+    transfer->launches = totals.launches;
   }
   if (stopped) throw DeadlineExceeded(0, tile_indices.size());
 }

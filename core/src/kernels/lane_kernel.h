@@ -26,7 +26,7 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   if (j >= a.j1) return false;
   const int lane = static_cast<int>(t % a.lanes);
   const PixelJob job = a.jobs[j];
-  TileSampler<V> ts(*a.ks, *static_cast<const GridMedium<V>*>(a.medium), job.culled != 0, nullptr);
+  TileSampler<V> ts(*a.ks, *static_cast<const GridMedium<V>*>(a.medium), job.culled == kJobCulled, nullptr);
   const std::uint64_t drawn0 = a.px[j].drawn;
   const std::int64_t q = j * a.lanes + lane;
   PixelSums px = a.lane_px[q];
@@ -71,8 +71,9 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   a.lane_px[q] = px;
   if (a.lane_aux) a.lane_aux[q] = aux;
   const KernelCounters& k = ts.counters();
-  c[kSamples] = st.samples;
-  c[kDiscardedSamples] = st.discarded_samples;
+  const bool counted = job.culled != kJobNeighbour;  // a neighbour's pilot: only its lookups count
+  c[kSamples] = counted ? st.samples : 0;
+  c[kDiscardedSamples] = counted ? st.discarded_samples : 0;
   c[kFreeFlightLookups] = k.free_flight_lookups;
   c[kTransmittanceLookups] = k.transmittance_lookups;
   c[kGradientLookups] = k.gradient_lookups;
@@ -82,29 +83,33 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   return true;
 }
 
+/// `from` added to `to`, field by field.
+TESSERA_HOST_DEVICE inline void add_sums(PixelSums& to, const PixelSums& from) {
+  to.r += from.r;
+  to.g += from.g;
+  to.b += from.b;
+  to.a += from.a;
+  to.lum += from.lum;
+  to.lum2 += from.lum2;
+  to.n += from.n;
+  to.drawn += from.drawn;
+}
+TESSERA_HOST_DEVICE inline void add_sums(AuxSums& to, const AuxSums& from) {
+  for (int c = 0; c < 3; ++c) {
+    to.albedo[c] += from.albedo[c];
+    to.normal[c] += from.normal[c];
+  }
+}
+
 /// Job j's lane sums added to its pixel sums (and auxiliary sums when given) in lane order.
 TESSERA_HOST_DEVICE inline void merge_pixel(PixelSums* px, AuxSums* aux, const PixelSums* lane_px,
                                             const AuxSums* lane_aux, std::int64_t j, int lanes) {
   PixelSums p = px[j];
-  for (int l = 0; l < lanes; ++l) {
-    const PixelSums& q = lane_px[j * lanes + l];
-    p.r += q.r;
-    p.g += q.g;
-    p.b += q.b;
-    p.a += q.a;
-    p.lum += q.lum;
-    p.lum2 += q.lum2;
-    p.n += q.n;
-    p.drawn += q.drawn;
-  }
+  for (int l = 0; l < lanes; ++l) add_sums(p, lane_px[j * lanes + l]);
   px[j] = p;
   if (!aux) return;
   AuxSums x = aux[j];
-  for (int l = 0; l < lanes; ++l)
-    for (int c = 0; c < 3; ++c) {
-      x.albedo[c] += lane_aux[j * lanes + l].albedo[c];
-      x.normal[c] += lane_aux[j * lanes + l].normal[c];
-    }
+  for (int l = 0; l < lanes; ++l) add_sums(x, lane_aux[j * lanes + l]);
   aux[j] = x;
 }
 

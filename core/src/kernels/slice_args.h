@@ -10,10 +10,19 @@
 
 namespace tessera::cuda {
 
+/// PixelJob::culled: the pixel is traced (its tile has something to trace) ...
+inline constexpr int kJobTraced = 0;
+/// ... its tile has nothing to trace (its pixels get the background) ...
+inline constexpr int kJobCulled = 1;
+/// ... or it is another tile's pixel whose adaptive-sampling pilot samples a block neighbour
+/// needs (adaptive_plan.h): traced, its samples not counted in the samples drawn (the CPU's
+/// TileSampler::draw of a pixel outside the tile; its lookups are counted).
+inline constexpr int kJobNeighbour = 2;
+
 /// One pixel of the call's tiles: where it is and its tile's culling verdict.
 struct PixelJob {
   int x, y;
-  int culled;  ///< 1: the tile has nothing to trace (its pixels get the background)
+  int culled;  ///< kJobTraced, kJobCulled or kJobNeighbour
 };
 
 /// The counters the kernel adds up (RenderStats' fields of the same names).

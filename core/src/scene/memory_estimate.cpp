@@ -108,9 +108,10 @@ MemoryEstimate estimate_render_memory(const RenderFootprint& f) {
 
   // The CUDA backend's host copies of one call's pixels (device_render.cpp): the pixel list and
   // the sums back from the device, one call (view) at a time
-  if (f.gpu)
-    e.add("GPU call's host copies",
-          mul(pixels, kGpuHostBytesPerPixel + (f.denoise ? static_cast<u64>(sizeof(AuxSums)) : 0)));
+  if (f.gpu) {
+    const u64 per_pixel = kGpuHostBytesPerPixel + (f.denoise ? static_cast<u64>(sizeof(AuxSums)) : 0);
+    e.add("GPU call's host copies", mul(pixels, f.adaptive ? 2 * per_pixel + 12 : per_pixel));
+  }
 
   // Tiles and work lists: the tile list and culling flags (prepare), the tile indices, work
   // items, per-item counters and band counters (render_tiles); a short list is cut into bands

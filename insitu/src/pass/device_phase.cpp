@@ -15,7 +15,6 @@ namespace {
 /// What the render asks for that the GPU does not cover yet ("" when nothing).
 std::string gpu_gap(const PassContext& pass, const BoundField& field) {
   if (field.amr) return "refinement levels";
-  if (pass.spec.image.target_error > 0.0) return "adaptive sampling (image.target_error)";
   return {};
 }
 
