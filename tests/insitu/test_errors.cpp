@@ -8,6 +8,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <filesystem>
 #include <limits>
 #include <regex>
@@ -180,6 +183,54 @@ TEST_CASE("broken descriptors: TESSERA_ERROR_DATA naming the field and the fault
   CHECK(tessera_execute(nullptr, 0, 0.0, &ug, &good, 1) != TESSERA_OK);
 
   CHECK(sim == before);  // the simulation's memory is only read
+}
+
+TEST_CASE("unreadable field memory: TESSERA_ERROR_DATA naming the field and the pointer, no fault",
+          "[insitu][errors]") {
+  // Freed (unmapped) memory, pages without host access (what a freed cudaMalloc pointer is on
+  // the host), and an array running past the end of its mapping: each is found before any
+  // value is read, and the next call with good memory renders
+  constexpr int n = 16;  // 16 KiB of float32: several pages
+  TempDir dir;
+  const std::string cfg = dir.write("a.yaml", config_yaml(dir.file("out"), render_yaml("r", "{every: 1}")));
+  Adapter adapter;
+  adapter.set_quiet(true);
+  REQUIRE(adapter.open(cfg) == TESSERA_OK);
+  const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const std::size_t bytes = static_cast<std::size_t>(n) * n * n * sizeof(float);
+  const std::size_t pages = (bytes + page - 1) / page;
+  const auto data_error = [&](const void* p) {
+    const tessera_field f = dense_field("density", static_cast<const float*>(p), n);
+    CHECK(adapter.execute(0, 0.0, unit_grid(n), {&f, 1}) == TESSERA_ERROR_DATA);
+    return adapter.last_error();
+  };
+  // Unmapped
+  void* m = ::mmap(nullptr, pages * page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  REQUIRE(m != MAP_FAILED);
+  REQUIRE(::munmap(m, pages * page) == 0);
+  CHECK_THAT(data_error(m), Contains("field 'density'") && Contains("not readable host memory") &&
+                                Contains("byte 0 of the " + std::to_string(bytes) + " bytes"));
+  // No access
+  void* none = ::mmap(nullptr, pages * page, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  REQUIRE(none != MAP_FAILED);
+  CHECK_THAT(data_error(none), Contains("not readable host memory"));
+  ::munmap(none, pages * page);
+  // Readable but one page short: the last byte is past the mapping
+  void* shortm = ::mmap(nullptr, pages * page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  REQUIRE(shortm != MAP_FAILED);
+  REQUIRE(::munmap(static_cast<char*>(shortm) + (pages - 1) * page, page) == 0);
+  REQUIRE(pages > 1);
+  const std::string e = data_error(shortm);
+  CHECK_THAT(e, Contains("not readable host memory"));
+  std::smatch at;
+  REQUIRE(std::regex_search(e, at, std::regex("byte ([0-9]+) of the")));
+  CHECK(std::stoull(at[1].str()) >= (pages - 1) * page);  // a byte in the unmapped page
+  CHECK(std::stoull(at[1].str()) < bytes);
+  ::munmap(shortm, (pages - 1) * page);
+  // The next call with good memory renders
+  const std::vector<float> sim = to_float(blob_values(n));
+  const tessera_field good = dense_field("density", sim.data(), n);
+  CHECK(adapter.execute(1, 0.0, unit_grid(n), {&good, 1}) == TESSERA_OK);
 }
 
 TEST_CASE("a failing render leaves the simulation running and the others rendering", "[insitu][errors]") {

@@ -1,11 +1,15 @@
 #include "data/field_binding.h"
 
+#include <tessera/byte_span.h>
+#include <tessera/cuda_render.h>
+#include <tessera/host_readable.h>
 #include <tessera/loop_bounds.h>
 #include <tessera/number_text.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string_view>
@@ -179,6 +183,24 @@ FieldBinding bind_field(const tessera_field& f, const tessera_grid& g) {
   for (int a = 0; a < 3; ++a) block.offset[a] = g.offset[a];
   b.blocks.push_back(block);
   return b;
+}
+
+void require_readable(const FieldBinding& b, const std::string& label) {
+  for (std::size_t i = 0; i < b.blocks.size(); ++i) {
+    const FieldView& v = b.blocks[i].view;
+    if (cuda_memory_kind(v.data) != MemoryKind::Host) continue;  // managed pages would migrate
+    const ByteSpan sp = byte_span(v);
+    const auto* lo = static_cast<const unsigned char*>(v.data) + sp.lo;
+    const auto bad = unreadable_byte(lo, static_cast<std::size_t>(sp.bytes()));
+    if (!bad) continue;
+    char where[32];
+    std::snprintf(where, sizeof where, "%p", v.data);
+    fail(label + (b.blocks.size() > 1 ? ", block " + std::to_string(i) : std::string()),
+         std::string("data pointer ") + where + " is not readable host memory: byte " + std::to_string(*bad) +
+             " of the " + std::to_string(sp.bytes()) +
+             " bytes the render reads cannot be read (freed or unmapped memory, an array smaller than its dims and "
+             "strides say, or device memory the CUDA runtime does not know, such as a freed cudaMalloc pointer)");
+  }
 }
 
 void require_whole_grid(const tessera_field& field, const FieldBinding& b) {

@@ -57,6 +57,14 @@ FieldBinding bind_field(const tessera_field& field, const tessera_grid& grid);
 /// call an element a cell (`cells`) or a vertex.
 FieldView bind_array(const tessera_field& field, const std::string& label, bool cells = false);
 
+/// Throws std::invalid_argument naming `label` (and the block, when several) and the pointer
+/// when a block in host memory cannot be read where the render reads it (unreadable_byte,
+/// tessera/host_readable.h: freed or unmapped memory, an array smaller than its descriptor,
+/// device memory the CUDA runtime does not know). Device and managed memory are not probed.
+/// For the rendered field only: the other published fields' descriptors are checked, their
+/// memory never touched. One system call per block.
+void require_readable(const FieldBinding& b, const std::string& label);
+
 /// The int a C caller stored in an enum member of a descriptor (tessera_dtype, ...), read
 /// without assuming it is one of the enum's values: reading an out-of-range value as the enum
 /// is undefined behaviour, and any int may arrive from C or Fortran.

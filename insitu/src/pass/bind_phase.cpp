@@ -25,6 +25,7 @@ void bind_grid(const PassContext& pass, const std::string& field_name, BoundFiel
   const std::span<const tessera_field> fields(pub.fields, static_cast<std::size_t>(pub.nfields));
   const tessera_field& field = fields[find_field(fields, field_name, pass.spec.name)];
   f.binding = bind_field(field, *pub.grid);
+  require_readable(f.binding, field_label(field));
   // Every other published field's descriptors against the grid (descriptors only: no value is
   // read), so that a wrong one is found at the first call that renders, not when drawn
   for (const tessera_field& other : fields)
@@ -47,6 +48,7 @@ bool bind_all_domains(PhaseGate& gate, const PassContext& pass, const std::strin
                                                       static_cast<std::size_t>(pub.domains[0].nfields));
           f.name = fields[find_field(fields, field_name, pass.spec.name)].name;
         }
+        require_readable(f.binding, "field '" + f.name + "'");
       }))
     return false;
   return gate.run(TESSERA_ERROR_DATA, [&] {
