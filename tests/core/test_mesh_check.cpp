@@ -5,6 +5,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include "test_mesh_support.h"
 
 #include <cstdint>
@@ -167,6 +170,29 @@ TEST_CASE("mesh: every bad input names its domain and element", "[mesh]") {
     CHECK_THROWS_WITH(tessera::prepare(om.mesh, tessera::SceneDesc{}),
                       Catch::StartsWith("mesh domain 0: element 0: vertex 2 has a non-finite coordinate"));
   }
+}
+
+TEST_CASE("mesh: arrays in unmapped or no-access memory are named before anything reads them", "[mesh]") {
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  void* gone = ::mmap(nullptr, page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  REQUIRE(gone != MAP_FAILED);
+  REQUIRE(::munmap(gone, page) == 0);
+  void* locked = ::mmap(nullptr, page, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  REQUIRE(locked != MAP_FAILED);
+  const auto named = [](const std::string& e, const std::string& what) {
+    INFO(e);
+    CHECK(starts_with(e, "mesh domain 1: " + what + " at "));
+    CHECK(e.find("is not readable host memory: byte 0 of its") != std::string::npos);
+  };
+  named(fault_in_second([&](OwnedDomain&, tessera::MeshDomain& d) { d.coords.y = gone; }), "coords.y");
+  named(fault_in_second([&](OwnedDomain&, tessera::MeshDomain& d) { d.connectivity = locked; }), "the connectivity");
+  named(fault_in_second([&](OwnedDomain&, tessera::MeshDomain& d) { d.field.data = gone; }), "the field");
+  // ... and the arrays' reuse check (prepare's `reuse`) finds them too
+  ElementList m = grid_hexes(2, 2, 2, Vec3(0.0), Vec3(1.0), one);
+  OwnedMesh om = one_domain(m);
+  om.mesh.domains[0].coords.x = locked;
+  CHECK_THROWS_WITH(tessera::check_mesh_arrays(om.mesh), Catch::Contains("coords.x at"));
+  ::munmap(locked, page);
 }
 
 TEST_CASE("mesh: the checks take linear time on a large mesh", "[mesh]") {

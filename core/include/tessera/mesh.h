@@ -94,13 +94,17 @@ struct Mesh {
 /// cubed, or of the wrong sign: unstructured elements must be positively oriented in VTK's
 /// order, a curvilinear grid's cells must all share the first one's orientation); a hex whose
 /// trilinear map Newton's method cannot invert at interior test points to 1e-10 of its size;
-/// a field or ghost mask whose length is not the vertex or cell count.
+/// a field or ghost mask whose length is not the vertex or cell count; an array whose memory
+/// cannot be read (check_mesh_arrays below).
 void check_mesh(const Mesh& mesh);
 
 /// What check_mesh checks of each domain's descriptors (counts, strides, dtypes, shapes,
-/// null arrays, the field's and ghost mask's lengths), in time linear in the domains, reading
-/// no coordinate, index or value: all a mesh needs whose elements an earlier check_mesh
-/// accepted and that the caller promises unchanged (prepare's `reuse`, render.h).
+/// null arrays, the field's and ghost mask's lengths) and that each array's memory can be read
+/// (unreadable_byte, host_readable.h: 64 bytes probed per array, so freed or unmapped memory
+/// or an array shorter than its count is an error naming it, not a fault), in time linear in
+/// the domains, reading no coordinate, index or value otherwise: all a mesh needs whose
+/// elements an earlier check_mesh accepted and that the caller promises unchanged (prepare's
+/// `reuse`, render.h).
 void check_mesh_arrays(const Mesh& mesh);
 
 }  // namespace tessera
