@@ -60,6 +60,10 @@ option(TESSERA_CUDA_PATH_REGEN "GPU kernel: one bounce per loop iteration, a lan
 option(TESSERA_CUDA_STEP_LOOP "GPU kernel: one tracking step per loop iteration (free flight and shadow rays as phases)" OFF)
 # The step-level loop with the code between walks deferred to a warp vote (LaneLoop::StepDefer).
 option(TESSERA_CUDA_STEP_DEFER "GPU kernel: the step-level loop, the code between walks run when half the warp waits for it" OFF)
+# The kernel for refinement levels (pixel_kernel_amr.cu): off, so the GPU refuses refinement
+# levels by name, until its first GPU run (more samples than the image has, different from run
+# to run) is understood; on, the GPU tests render them against the CPU (docs/gpu.md).
+option(TESSERA_CUDA_AMR "GPU kernel for refinement levels (under test: see docs/gpu.md)" OFF)
 set(_tessera_lane_loops 0)
 foreach(_opt TESSERA_CUDA_PATH_REGEN TESSERA_CUDA_STEP_LOOP TESSERA_CUDA_STEP_DEFER)
   if(${_opt})

@@ -157,8 +157,8 @@ TEST_CASE("GPU: two refinement levels (refused on a CUDA device, checked in emul
     s.geometry.spacing = Vec3(1.0 / n0);
     return tessera::prepare(amr, s, nullptr);
   };
-#if defined(TESSERA_GPU_TESTS_EMULATED)
-  check_value("two refinement levels", prepare);
+#if defined(TESSERA_GPU_TESTS_EMULATED) || defined(TESSERA_CUDA_AMR)
+  check_value("two refinement levels", prepare);  // the kernel under test (-DTESSERA_CUDA_AMR=ON)
 #else
   const tessera::PreparedScene ps = prepare(1);
   tessera::Film f(ps.desc().image.width, ps.desc().image.height);

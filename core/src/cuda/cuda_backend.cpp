@@ -96,9 +96,14 @@ void launch_pixel_slice(const KernelScene& ks, const SliceArgs& a, int block_thr
   const auto blocks = static_cast<unsigned>((n + block_threads - 1) / block_threads);
   with_device_value(ks, [&](auto tag) {
     using V = typename decltype(tag)::type;
-    // No CUDA kernel for refinement levels yet (device_value_supported refuses them first)
+    // A CUDA kernel for refinement levels only with TESSERA_CUDA_AMR (device_value_supported
+    // refuses them first otherwise)
+#if defined(TESSERA_CUDA_AMR)
+    launch_pixel_samples<V>(a, blocks, static_cast<unsigned>(block_threads));
+#else
     if constexpr (!std::is_same_v<V, AmrValue>)
       launch_pixel_samples<V>(a, blocks, static_cast<unsigned>(block_threads));
+#endif
   });
   cuda_check(cudaGetLastError(), "launch of " + pixel_kernel_name(ks) + " (" + std::to_string(blocks) + " blocks of " +
                                      std::to_string(block_threads) + " threads, samples " + std::to_string(a.k0) +
