@@ -5,6 +5,11 @@
 #
 #   bash scripts/gpu_check.sh                # build-gpu/, architectures 90 (H100, H200)
 #   TESSERA_CUDA_ARCHS="80;90" bash scripts/gpu_check.sh
+#   TESSERA_GPU_BUILD=build-gpu-amr TESSERA_GPU_CMAKE_ARGS="-DTESSERA_CUDA_AMR=ON" bash scripts/gpu_check.sh
+#
+# TESSERA_GPU_CMAKE_ARGS: more CMake options, space-separated (a kernel under test:
+# -DTESSERA_CUDA_AMR=ON, or a lane loop: -DTESSERA_CUDA_STEP_DEFER=ON; docs/gpu.md), best
+# each in its own TESSERA_GPU_BUILD directory.
 #
 # A GPU machine may lack the Debian libraries Tessera links (TBB, OpenEXR, yaml-cpp, PNG,
 # FreeType, glm, Catch2). Bring their files in a git-ignored folder, prepared on a Debian 12
@@ -26,6 +31,8 @@ build=${TESSERA_GPU_BUILD:-build-gpu}
 archs=${TESSERA_CUDA_ARCHS:-90}
 cmake_args=(-DCMAKE_BUILD_TYPE=Release -DTESSERA_CUDA=ON "-DCMAKE_CUDA_ARCHITECTURES=$archs" -DTESSERA_WITH_MPI=OFF
   -DTESSERA_WITH_FORTRAN=OFF -DTESSERA_BUILD_PYTHON=OFF -DTESSERA_BUILD_BENCHMARKS=OFF -DTESSERA_CUDA_PTXAS_VERBOSE=ON)
+# shellcheck disable=SC2206  # options are split on spaces on purpose
+[[ -n "${TESSERA_GPU_CMAKE_ARGS:-}" ]] && cmake_args+=(${TESSERA_GPU_CMAKE_ARGS})
 if [[ -n "${TESSERA_GPU_DEPS:-}" ]]; then
   deps=$(cd "$TESSERA_GPU_DEPS" && pwd)
   cmake_args+=("-DCMAKE_PREFIX_PATH=$deps/usr;$deps/usr/lib/x86_64-linux-gnu/cmake;$deps/usr/lib/cmake"
