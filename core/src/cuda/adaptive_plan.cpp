@@ -47,7 +47,6 @@ AdaptivePilot adaptive_pilot_jobs(const PreparedSceneImpl& s, std::span<const in
     const int x0 = static_cast<int>(m.block % cols) * B, y0 = static_cast<int>(m.block / cols) * B;
     const int bw = std::min(B, width - x0), bh = std::min(B, height - y0);
     plan.block_start.push_back(static_cast<std::int64_t>(plan.jobs.size()));
-    plan.block_width.push_back(bw);
     for (int j = 0; j < bh; ++j)
       for (int k = 0; k < bw; ++k) {
         const std::uint64_t bit = std::uint64_t{1} << (j * B + k);

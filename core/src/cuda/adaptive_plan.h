@@ -26,7 +26,6 @@ namespace tessera::cuda {
 struct AdaptivePilot {
   std::vector<PixelJob> jobs;
   std::vector<std::int64_t> block_start;  ///< block b's jobs: [block_start[b], block_start[b + 1])
-  std::vector<int> block_width;           ///< block b's pixels per row (the image's edge clips it)
 };
 
 /// The blocks the listed tiles touch (tiles of `s`, valid indices) and their pixels.

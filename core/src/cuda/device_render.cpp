@@ -247,42 +247,36 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
     first.aux.resize(with_aux ? first.jobs.size() : 0);
     first.lanes = 1;
     first.ranges = {{pilot, static_cast<std::int64_t>(first.jobs.size())}};
-    // The second pass's buffers are at most the first's with `lanes` lanes
-    const std::uint64_t call_bytes = std::max(first.device_bytes(), first.device_bytes(lanes));
-    dev = device_scene(backend, s, launch, call_bytes, &totals.to_device, &device_bytes, &reused);
+    // The second pass's buffers are at most the first's with `lanes` lanes (>= 1)
+    dev = device_scene(backend, s, launch, first.device_bytes(lanes), &totals.to_device, &device_bytes, &reused);
     stopped = run_pass(b, *dev, s.kernel, first, launch, stop, totals);
-    SamplePass rest;
+    // The own pixels with their pilot sums: after a deadline in the pilot, what it drew; else
+    // most samples first, so that samples [m_i-1, m_i) of the call's sample indices past the
+    // pilot are drawn by the pixels with m >= m_i, a prefix
+    std::vector<std::size_t> order;
+    for (std::size_t j = 0; j < first.jobs.size(); ++j)
+      if (first.jobs[j].culled != kJobNeighbour) order.push_back(j);
+    std::vector<int> n;
     if (!stopped) {
-      const std::vector<int> n =
-          adaptive_counts(plan.block_start, first.jobs, first.px, pilot, spp, s.kernel.adaptive_scale);
-      plan = {};
-      // The own pixels from their pilot sums, most samples first: samples [m_i-1, m_i) of the
-      // call's sample indices past the pilot are drawn by the pixels with m >= m_i, a prefix
-      std::vector<std::size_t> order;
-      for (std::size_t j = 0; j < first.jobs.size(); ++j)
-        if (first.jobs[j].culled != kJobNeighbour) order.push_back(j);
+      n = adaptive_counts(plan.block_start, first.jobs, first.px, pilot, spp, s.kernel.adaptive_scale);
       std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) { return n[a] > n[c]; });
-      for (const std::size_t j : order) {
-        rest.jobs.push_back(first.jobs[j]);
-        rest.px.push_back(first.px[j]);
-        if (with_aux) rest.aux.push_back(first.aux[j]);
-      }
+    }
+    plan = {};
+    SamplePass rest;
+    for (const std::size_t j : order) {
+      rest.jobs.push_back(first.jobs[j]);
+      rest.px.push_back(first.px[j]);
+      if (with_aux) rest.aux.push_back(first.aux[j]);
+    }
+    first = {};
+    if (!stopped) {
       for (std::size_t i = order.size(); i-- > 0;) {
         const int more = n[order[i]] - pilot;
         if (more > 0 && (rest.ranges.empty() || rest.ranges.back().first < more))
           rest.ranges.push_back({more, static_cast<std::int64_t>(i + 1)});
       }
-      first = {};
       rest.lanes = lanes;
       stopped = run_pass(b, *dev, s.kernel, rest, launch, stop, totals);
-    } else {
-      // The deadline in the pilot: the own pixels keep the pilot samples drawn
-      for (std::size_t j = 0; j < first.jobs.size(); ++j) {
-        if (first.jobs[j].culled == kJobNeighbour) continue;
-        rest.jobs.push_back(first.jobs[j]);
-        rest.px.push_back(first.px[j]);
-        if (with_aux) rest.aux.push_back(first.aux[j]);
-      }
     }
     for (std::size_t j = 0; j < rest.jobs.size(); ++j) {
       add_sums(film.at(rest.jobs[j].x, rest.jobs[j].y), rest.px[j]);

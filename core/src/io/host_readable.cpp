@@ -16,9 +16,9 @@ std::optional<std::uint64_t> unreadable_byte(const void* p, std::size_t bytes) {
   char sink[kProbes];
   iovec local[kProbes], remote[kProbes];
   const auto base = reinterpret_cast<std::uintptr_t>(p);
+  const std::uint64_t last = bytes - 1;
   for (std::size_t i = 0; i < n; ++i) {
     // i (bytes - 1) / (n - 1) without overflow: bytes - 1 < 2^64 and i < 64
-    const std::uint64_t last = bytes - 1;
     offset[i] = n == 1 ? 0 : last / (n - 1) * i + last % (n - 1) * i / (n - 1);
     local[i] = {&sink[i], 1};
     remote[i] = {reinterpret_cast<void*>(base + offset[i]), 1};
