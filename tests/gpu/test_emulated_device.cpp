@@ -8,6 +8,7 @@
 // CPU, counters equal, sums equal to rounding.)
 #include "gpu_test_util.h"
 #include "two_levels.h"
+#include "warped_mesh.h"
 
 #include "cuda/device_render.h"
 #include "cuda/device_scene.h"
@@ -554,4 +555,39 @@ TEST_CASE("Emulated device: the device copies need nothing of the prepared scene
         return tessera::prepare(FieldView::contiguous(hf.data(), tessera::DType::Float64, kN, kN, kN), s);
       },
       [&] { std::fill(sky->rgba.begin(), sky->rgba.end(), 1.0e6f); });
+  // A mesh of two domains: a curvilinear piece (x, y, z interleaved in one float32 array: one
+  // copy) and tets (separate float64 coordinates, int64 indices), strided uint16 values; the
+  // elements, boxes, location lists and domain readers live in the prepared scene
+  std::vector<WarpedMeshPiece> pieces;
+  pieces.emplace_back(14, 0, 6, MeshForm::Curvilinear, tessera::DType::UInt16, false);
+  pieces.emplace_back(14, 6, 13, MeshForm::Tets, tessera::DType::UInt16, false, true);
+  check_detached(
+      "mesh", [&] { return tessera::prepare(mesh_of(pieces), heat_scene(14, 25)); },
+      [&] {
+        for (WarpedMeshPiece& p : pieces) p.scribble();
+      });
+}
+
+TEST_CASE("Emulated device: a mesh's interleaved coordinates are copied once", "[emulated][mesh]") {
+  // The same cells with interleaved float32 coordinates (one span: one copy) and as hexes with
+  // three separate float64 arrays (three copies); device memory is read in place
+  const std::vector<WarpedMeshPiece> curvi = {{12, 0, 11, MeshForm::Curvilinear, tessera::DType::Float32, false}};
+  const tessera::Mesh mesh = mesh_of(curvi);
+  const tessera::PreparedScene ps = tessera::prepare(mesh, heat_scene(12, 3));
+  const tessera::MeshDomain& d = mesh.domains[0];
+  const auto vertices = static_cast<std::uint64_t>(d.coords.count);
+  const auto values = static_cast<std::uint64_t>(2 * d.field.count - 1) * sizeof(float);  // strided: 2 apart
+  tessera::CudaTransfer tr;
+  const tessera::Film a = render_on(tessera::cuda::emulated_backend(), ps, &tr);
+  // In place: the coordinates and values in "device memory"
+  EmulatedDevice dev;
+  dev.device_ranges.emplace_back(d.coords.x, static_cast<std::size_t>(vertices * 3 * sizeof(float)));
+  dev.device_ranges.emplace_back(d.field.data, static_cast<std::size_t>(values));
+  const tessera::PreparedScene ps2 = tessera::prepare(mesh, heat_scene(12, 3));
+  tessera::CudaTransfer in_place;
+  const tessera::Film b = render_on(tessera::cuda::emulated_backend(dev), ps2, &in_place);
+  CHECK_FALSE(tr.field_in_place);
+  CHECK(in_place.field_in_place);
+  CHECK(tr.bytes_to_device - in_place.bytes_to_device == vertices * 3 * sizeof(float) + values);
+  CHECK(same_bits(a, b));
 }

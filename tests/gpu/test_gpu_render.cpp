@@ -8,8 +8,9 @@
 // furnace: image mean within 0.5% of L and |z| < 4. Fixed seeds throughout.
 #include "gpu_test_util.h"
 
+#include <tessera/brick_cache.h>
 #include <tessera/cuda_render.h>
-#include <tessera/mesh.h>
+#include <tessera/field_summary.h>
 #include <tessera/render.h>
 
 #include <catch2/catch.hpp>
@@ -186,23 +187,26 @@ TEST_CASE("GPU: white furnace within 0.5%", "[gpu][furnace]") {
 }
 
 TEST_CASE("GPU: what the backend does not cover is refused by name", "[gpu]") {
-  // A curvilinear mesh (one hex, vertex data): the CPU renders meshes
-  const std::vector<double> x = {0, 1, 0, 1, 0, 1, 0, 1}, y = {0, 0, 1, 1, 0, 0, 1, 1}, z = {0, 0, 0, 0, 1, 1, 1, 1};
-  const std::vector<double> v = {300, 1300, 300, 1300, 300, 1300, 300, 1300};
-  tessera::MeshDomain d;
-  d.coords = {x.data(), y.data(), z.data(), tessera::DType::Float64, sizeof(double), 8};
-  d.dims[0] = d.dims[1] = d.dims[2] = 2;
-  d.field.data = v.data();
-  d.field.dtype = tessera::DType::Float64;
-  d.field.byte_stride = sizeof(double);
-  d.field.count = 8;
-  tessera::Mesh mesh;
-  mesh.domains.push_back(d);
-  const tessera::PreparedScene ps = tessera::prepare(mesh, heat_scene(8, 1));
+  // A distributed (paged) field: its bricks come from other ranks through a host cache, so
+  // the CPU renders it; refused before any brick is asked for
+  constexpr int n = 16;
+  const std::vector<double> whole = heat_field<double>(n);
+  const FieldView view = FieldView::contiguous(whole.data(), tessera::DType::Float64, n, n, n);
+  const std::int64_t dims[3] = {n, n, n}, origin[3] = {0, 0, 0};
+  tessera::BrickCache cache(tessera::BrickGrid::make(dims, tessera::DType::Float64, 2), 4);
+  tessera::PagedField f;
+  f.dtype = tessera::DType::Float64;
+  for (int a = 0; a < 3; ++a) f.dims[a] = dims[a];
+  f.cache = &cache;
+  const tessera::SceneDesc s = heat_scene(n, 1);
+  const int edge = tessera::majorant_edge(view, s.integrator);
+  const tessera::PreparedScene ps = tessera::prepare(
+      f, s, tessera::FieldSummary::from_parts(tessera::FieldSummary::partial(view, origin, dims, edge), {}, edge));
   tessera::Film film(48, 48);
   tessera::RenderStats st;
   CHECK_THROWS_WITH(gpu_render_tiles(ps, all_tiles(ps), film, st),
-                    Catch::Contains("mesh") && Catch::Contains("not supported on the GPU"));
+                    Catch::Contains("distributed (paged) field") && Catch::Contains("not supported on the GPU"));
+  CHECK(st.samples == 0);
 }
 
 TEST_CASE("GPU against CPU: adaptive sampling", "[gpu]") {

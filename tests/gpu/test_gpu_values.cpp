@@ -1,12 +1,13 @@
 // Every field Value the device kernels hold against the CPU (docs/gpu.md): int16 (CT-like),
 // uint8 and uint16 fields, cell-centred data, rectilinear axes, a hierarchy of two refinement
-// levels and a vector's magnitude. Per Value: a block z-test between a CPU and a GPU render
-// with their own seeds (36 blocks of 8x8 pixels, each |z| < 4.2: two-sided false-alarm
+// levels, a vector's magnitude, curvilinear and unstructured meshes. Per Value: a block
+// z-test between a CPU and a GPU render with their own seeds (36 blocks of 8x8 pixels, each |z| < 4.2: two-sided false-alarm
 // probability 2.7e-5 per block, about 1e-3 per Value, Bonferroni), the same bits on two GPU
 // runs and under a second CudaLaunch, and every path counter equal to the CPU's at the same
 // seed. 48x48 pixels, 32 samples, fixed seeds.
 #include "amr_hierarchy.h"
 #include "gpu_test_util.h"
+#include "warped_mesh.h"
 
 #include <tessera/amr.h>
 #include <tessera/cuda_render.h>
@@ -182,4 +183,29 @@ TEST_CASE("GPU against CPU: a vector's magnitude", "[gpu][values]") {
   m.components[1] = FieldView::contiguous(b.data(), tessera::DType::Float64, kN, kN, kN);
   m.components[2] = FieldView::contiguous(c.data(), tessera::DType::Int16, kN, kN, kN);
   check_value("magnitude", [&](std::uint64_t seed) { return tessera::prepare(m, heat_scene(kN, seed), nullptr); });
+}
+
+TEST_CASE("GPU against CPU: a curvilinear mesh", "[gpu][values][mesh]") {
+  // One curvilinear domain of 20^3 warped vertices, float32 interleaved coordinates, float32
+  // vertex values: trilinear in each hex's parametric coordinates (Newton's inverse)
+  const std::vector<WarpedMeshPiece> pieces = {{20, 0, 19, MeshForm::Curvilinear, tessera::DType::Float32, false}};
+  const tessera::Mesh mesh = mesh_of(pieces);
+  check_value("curvilinear mesh", [&](std::uint64_t seed) { return tessera::prepare(mesh, heat_scene(20, seed)); });
+}
+
+TEST_CASE("GPU against CPU: unstructured hexes and tets in several domains", "[gpu][values][mesh]") {
+  // Three domains along k: tets (int32 indices), hexes (int64), a curvilinear piece; float64
+  // vertex values (barycentric on tets); then int16 cell data on tets
+  constexpr int n = 16;
+  const std::vector<WarpedMeshPiece> pieces = {{n, 0, 5, MeshForm::Tets, tessera::DType::Float64, false},
+                                               {n, 5, 11, MeshForm::Hexes, tessera::DType::Float64, false, true},
+                                               {n, 11, n - 1, MeshForm::Curvilinear, tessera::DType::Float64, false}};
+  const tessera::Mesh mesh = mesh_of(pieces);
+  check_value("hexes, tets and a curvilinear piece",
+              [&](std::uint64_t seed) { return tessera::prepare(mesh, heat_scene(n, seed)); });
+  const std::vector<WarpedMeshPiece> cells = {{n, 0, 8, MeshForm::Tets, tessera::DType::Int16, true, true},
+                                              {n, 8, n - 1, MeshForm::Tets, tessera::DType::Int16, true}};
+  const tessera::Mesh cell_mesh = mesh_of(cells);
+  check_value("int16 cell data on tets",
+              [&](std::uint64_t seed) { return tessera::prepare(cell_mesh, heat_scene(n, seed)); });
 }

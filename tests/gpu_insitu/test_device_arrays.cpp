@@ -3,7 +3,8 @@
 // "cuda:0") and its image agrees with the host array's CPU render within Monte Carlo error;
 // `device: cpu` stages it to the host and renders exactly what the host array renders; the
 // simulation's stream is waited for; a strided (ghost-layer) device view reads the right
-// elements; a mesh domain in device memory is refused by name (meshes are read on the host).
+// elements; a mesh domain in device memory is refused by name (a mesh's tables are built on
+// the host), while `device: cuda` renders a host mesh on the GPU from copies.
 #include "device_memory.h"
 #include "insitu_test_support.h"
 #include "mesh_blocks.h"
@@ -208,6 +209,47 @@ TEST_CASE("a mesh domain in device memory is refused by name, nothing read", "[g
   CHECK(ad.execute_mesh_domains(1, 0.0, {&d, 1}) == TESSERA_ERROR_DATA);
   CHECK_THAT(ad.last_error(), Contains("domain 0: coords.y is GPU (device) memory"));
   device_test::release(dev);
+}
+
+namespace {
+
+/// One mesh execute of two domains (unstructured hexes and tets) on `device`.
+Rendered render_mesh_once(const std::string& device) {
+  const std::int64_t n[3] = {12, 11, 13};
+  tessera_test::MeshBlock lower(n, 0, 6), upper(n, 6, 12);
+  const tessera_mesh_domain d[2] = {lower.domain(tessera_test::MeshBlock::Form::Hexes),
+                                    upper.domain(tessera_test::MeshBlock::Form::Tets)};
+  TempDir dir;
+  Adapter ad;
+  ad.set_quiet(true);
+  const std::string r = render_yaml(
+      "view", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr], variance: true}\n", "f", 48, 32);
+  REQUIRE(ad.open(dir.write("m.yaml", config_yaml(dir.file("out"), r, "  device: " + device + "\n"))) == TESSERA_OK);
+  const tessera_status s = ad.execute_mesh_domains(1, 0.0, {d, 2});
+  INFO(ad.last_error());
+  REQUIRE(s == TESSERA_OK);
+  return {*ad.last_image("view"), ad.last_results().at(0)};
+}
+
+}  // namespace
+
+TEST_CASE("device: cuda renders a mesh on the GPU from copies, auto keeps it on the CPU", "[gpu][insitu][mesh]") {
+  const Rendered cpu = render_mesh_once("auto");
+  const Rendered gpu = render_mesh_once("cuda");
+  CHECK(cpu.result.device == "cpu");
+  CHECK(cpu.result.stats.bytes_to_device == 0);
+  CHECK_THAT(gpu.result.device, Contains("cuda:0"));
+  // At least the coordinates, connectivity and values of both domains went to the device
+  const std::uint64_t lower = 12 * 11 * 7, upper = 12 * 11 * 7;  // vertices of each domain
+  const std::uint64_t cells = 11 * 10 * 6;                       // hexes of each domain
+  const std::uint64_t arrays = (lower + upper) * 4 * sizeof(double) + cells * 8 * 4 + cells * 6 * 4 * 4;
+  INFO("bytes to the device " << gpu.result.stats.bytes_to_device << ", the arrays " << arrays);
+  CHECK(gpu.result.stats.bytes_to_device > arrays);
+  CHECK(gpu.result.stats.samples == cpu.result.stats.samples);
+  CHECK(gpu.result.stats.real_collisions > 0);
+  CHECK(max_block_z(cpu.image, gpu.image) < 4.2);
+  // The same bits on every run
+  CHECK(same_pixels(gpu.image, render_mesh_once("cuda").image));
 }
 
 namespace {

@@ -3,9 +3,11 @@
 // no GPU) under device: cuda fail together, naming why, and the next call renders; under
 // device: auto the ranks agree on one device kind, so the image does not depend on which rank
 // renders a tile (a rank without a GPU sends every rank to the CPU); on the GPU each rank grabs
-// large chunks of tiles and the gathered image is the one-rank GPU image bit for bit.
+// large chunks of tiles and the gathered image is the one-rank GPU image bit for bit; mesh
+// domains spread over the ranks render on every rank's GPU with device: cuda.
 #include "../gpu/gpu_test_util.h"
 #include "blob_slab.h"
+#include "mesh_blocks.h"
 #include "mpi_test_support.h"
 
 #include "cuda/emulated_device.h"
@@ -17,6 +19,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -73,7 +76,54 @@ double max_difference(const tessera::Image& a, const tessera::Image& b) {
   return d;
 }
 
+/// One mesh call on `device`: a warped box of 4 blocks of cells (hexes and tets alternating),
+/// block b on rank b % ranks (a rank may hold none).
+Run run_mesh(const SharedTempDir& dir, const std::string& tag, const std::string& device) {
+  const std::int64_t n[3] = {9, 8, 13};
+  const std::int64_t cuts[5] = {0, 3, 6, 9, 12};
+  std::deque<tessera_test::MeshBlock> blocks;
+  std::vector<tessera_mesh_domain> mine;
+  for (int b = 0; b < 4; ++b) {
+    blocks.emplace_back(n, cuts[b], cuts[b + 1]);
+    if (b % world_size() == world_rank())
+      mine.push_back(
+          blocks.back().domain(b % 2 ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
+  }
+  std::string cfg = config(dir.file(tag), device);
+  cfg.replace(cfg.find("field: density"), 14, "field: f");
+  cfg.replace(cfg.find("range: [0, 250]"), 15, "range: [0, 1]");
+  Adapter a;
+  a.set_quiet(true);
+  REQUIRE(all_ranks(a.open(dir.write(tag + ".yaml", cfg), MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
+  Run r;
+  r.status = a.execute_mesh_domains(1, 0.0, {mine.data(), mine.size()});
+  r.error = a.last_error();
+  if (!a.last_results().empty()) r.device = a.last_results()[0].device;
+  if (const tessera::Image* im = a.last_image("view")) r.image = *im;
+  return r;
+}
+
 }  // namespace
+
+TEST_CASE("device: cuda renders mesh domains spread over the ranks: the CPU's image", "[mpi][gpu][mesh]") {
+  SharedTempDir dir("tessera_device_");
+  const Run cpu = run_mesh(dir, "mesh_cpu", "cpu");
+  const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
+  const Run dev = run_mesh(dir, "mesh_cuda", "cuda");
+  const Run automatic = run_mesh(dir, "mesh_auto", "auto");  // host arrays: the CPU
+  INFO(dev.error);
+  CHECK(all_ranks(cpu.status == TESSERA_OK));
+  CHECK(all_ranks(dev.status == TESSERA_OK));
+  CHECK(all_ranks(dev.device == "cuda:0"));
+  CHECK(all_ranks(automatic.device == "cpu"));
+  if (world_rank() == 0) {
+    REQUIRE(cpu.image);
+    REQUIRE(dev.image);
+    REQUIRE(automatic.image);
+    CHECK(max_difference(*cpu.image, *dev.image) < 1e-5);
+    CHECK(cpu.image->rgba == automatic.image->rgba);
+  }
+}
 
 TEST_CASE("device: cuda on every rank's GPU renders the CPU's image", "[mpi][gpu]") {
   SharedTempDir dir("tessera_device_");

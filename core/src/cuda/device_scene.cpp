@@ -48,8 +48,11 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
     return false;
   };
 
-  // The field's values: one array, a vector's three components, or the levels' patches
-  if (ks.amr.nlevels == 0 && !ks.magnitude.active()) {
+  // The field's values: a mesh's domains, one array, a vector's three components, or the
+  // levels' patches
+  if (ks.mesh.element != nullptr) {
+    plan_mesh();
+  } else if (ks.amr.nlevels == 0 && !ks.magnitude.active()) {
     m_field_in_place = strided(
         ks.field.data, ks.field.dims, ks.field.byte_strides, dtype_size(ks.field.dtype), "field copy",
         [](KernelScene& d, int, const unsigned char* p) { d.field.data = p; }, 0);
@@ -115,7 +118,7 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
 
   // A plain float32 field: widened to a float64 copy on the device (widen_field.h says why)
   m_dispatch = std::make_shared<KernelScene>(ks);
-  if (ks.amr.nlevels == 0 && !ks.magnitude.active() && ks.field.dtype == DType::Float32) {
+  if (ks.mesh.element == nullptr && ks.amr.nlevels == 0 && !ks.magnitude.active() && ks.field.dtype == DType::Float32) {
     const auto n = static_cast<std::size_t>(ks.field.dims[0] * ks.field.dims[1] * ks.field.dims[2]);
     m_off_widened = reserve(n * sizeof(double));
     m_dispatch->field.dtype = DType::Float64;
@@ -170,6 +173,76 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   m_off_medium = reserve(m_medium_bytes);
 }
 
+void DeviceScene::plan_mesh() {
+  const MeshTables& t = m_scene.mesh;
+  const MeshFieldView& v = m_scene.kernel.mesh;
+  // The tables prepare() built: per element its reference and box, the location cells' lists
+  const std::size_t n = t.element_count();
+  const auto loc = static_cast<std::size_t>(v.loc_n[0] * v.loc_n[1] * v.loc_n[2]);
+  const std::size_t e_off = plan_copy(v.element, n * sizeof(MeshElementRef), "mesh elements");
+  const std::size_t b_off = plan_copy(v.box, n * 6 * sizeof(double), "mesh element boxes");
+  const std::size_t f_off = plan_copy(v.first, (loc + 1) * sizeof(std::uint64_t), "mesh location cells");
+  const std::size_t l_off =
+      plan_copy(v.list, static_cast<std::size_t>(v.first[loc]) * sizeof(std::uint32_t), "mesh location lists");
+  m_off_domains = reserve(t.domains().size() * sizeof(DomainAccess));
+  const std::size_t d_off = m_off_domains;
+  m_fix.push_back([=](unsigned char* base, KernelScene& d) {
+    d.mesh.element = reinterpret_cast<const MeshElementRef*>(base + e_off);
+    d.mesh.box = reinterpret_cast<const double*>(base + b_off);
+    d.mesh.first = reinterpret_cast<const std::uint64_t*>(base + f_off);
+    d.mesh.list = reinterpret_cast<const std::uint32_t*>(base + l_off);
+    d.mesh.domain = reinterpret_cast<const DomainAccess*>(base + d_off);
+  });
+  // Each domain's arrays: [lo, hi) of `count` elements of `elem` bytes `stride` apart
+  struct Span {
+    const unsigned char* lo;
+    const unsigned char* hi;
+  };
+  const auto span_of = [](const unsigned char* p, std::int64_t count, std::int64_t stride, std::size_t elem) {
+    return Span{p, count > 0 ? p + (count - 1) * stride + static_cast<std::int64_t>(elem) : p};
+  };
+  const auto host = [&](const unsigned char* p) { return m_backend->memory_kind(p) == MemoryKind::Host; };
+  m_field_in_place = true;
+  for (const DomainAccess& d : t.domains()) {
+    MeshArrays m;
+    const auto copy = [&](int i, Span sp, const char* what) {
+      m.off[i] = plan_copy(sp.lo, static_cast<std::size_t>(sp.hi - sp.lo), what);
+      m.lo[i] = sp.lo;
+      m_field_in_place = false;
+    };
+    // Coordinates: interleaved x, y, z (their spans leave no gap between them) in one copy
+    const std::size_t celem = d.coord_f64 ? sizeof(double) : sizeof(float);
+    Span c[3] = {span_of(d.x, d.vertices, d.coord_stride, celem), span_of(d.y, d.vertices, d.coord_stride, celem),
+                 span_of(d.z, d.vertices, d.coord_stride, celem)};
+    if (host(d.x) && host(d.y) && host(d.z)) {
+      Span sorted[3] = {c[0], c[1], c[2]};
+      std::sort(sorted, sorted + 3, [](const Span& a, const Span& b) { return a.lo < b.lo; });
+      bool joined = true;
+      const unsigned char* reach = sorted[0].hi;
+      for (int i = 1; i < 3; ++i) {
+        joined &= sorted[i].lo <= reach;
+        reach = std::max(reach, sorted[i].hi);
+      }
+      if (joined) {
+        copy(0, Span{sorted[0].lo, reach}, "mesh coordinates");
+        for (int i = 1; i < 3; ++i) m.off[i] = m.off[0], m.lo[i] = m.lo[0];
+      } else {
+        for (int i = 0; i < 3; ++i) copy(i, c[i], "mesh coordinates");
+      }
+    } else {
+      for (int i = 0; i < 3; ++i)
+        if (host(i == 0 ? d.x : i == 1 ? d.y : d.z)) copy(i, c[i], "mesh coordinates");
+    }
+    if (!d.structured() && host(d.conn)) {
+      const std::size_t ielem = d.index64 ? sizeof(std::int64_t) : sizeof(std::int32_t);
+      copy(3, span_of(d.conn, d.cells * d.nv, static_cast<std::int64_t>(ielem), ielem), "mesh connectivity");
+    }
+    if (host(d.values))
+      copy(4, span_of(d.values, d.value_count, d.value_stride, dtype_size(d.value_dtype)), "mesh values");
+    m_mesh_arrays.push_back(m);
+  }
+}
+
 DeviceScene::~DeviceScene() { m_backend->release(m_base); }
 
 std::uint64_t DeviceScene::upload() {
@@ -206,6 +279,19 @@ std::uint64_t DeviceScene::upload() {
     }
     put(m_off_patches, patches.data(), patches.size() * sizeof(AmrPatchAddress), "patch addresses");
     d.amr.patch = reinterpret_cast<const AmrPatchAddress*>(base + m_off_patches);
+  }
+  if (!m_mesh_arrays.empty()) {
+    // A mesh's domain readers over the copies of their arrays
+    const std::span<const DomainAccess> host_domains = m_scene.mesh.domains();
+    std::vector<DomainAccess> domains(host_domains.begin(), host_domains.end());
+    for (std::size_t i = 0; i < domains.size(); ++i) {
+      DomainAccess& a = domains[i];
+      const MeshArrays& m = m_mesh_arrays[i];
+      const unsigned char** ptr[5] = {&a.x, &a.y, &a.z, &a.conn, &a.values};
+      for (int k = 0; k < 5; ++k)
+        if (m.off[k] != SIZE_MAX) *ptr[k] = base + m.off[k] + (*ptr[k] - m.lo[k]);
+    }
+    put(m_off_domains, domains.data(), domains.size() * sizeof(DomainAccess), "mesh domains");
   }
   // The background (an envmap's over the copies of its tables) and the lights, the
   // background light pointing at the device's copy

@@ -2,7 +2,8 @@
 /// DeviceScene: the device copies of everything a prepared scene's KernelScene points to (the
 /// field unless it is device or managed memory, majorants, empty-space reach, transfer
 /// function, lights, background (an envmap's texels and sampling table), rectilinear axes'
-/// coordinates and tables, refinement levels' tables and patches, a vector's components), in
+/// coordinates and tables, refinement levels' tables and patches, a vector's components, a
+/// curvilinear or unstructured mesh's tables and its domains' arrays), in
 /// one device allocation, with the KernelScene and the medium over them, on a DeviceBackend
 /// (device_backend.h: CUDA, or the host emulation). Made in two steps so that its size is
 /// known before anything is allocated: the constructor plans (no allocation), upload()
@@ -59,6 +60,9 @@ class DeviceScene {
   };
   std::size_t reserve(std::size_t bytes);
   std::size_t plan_copy(const void* src, std::size_t bytes, const char* what);
+  /// A mesh: its elements, boxes and location lists, and each domain's coordinates,
+  /// connectivity and values (each read in place where it is device or managed memory)
+  void plan_mesh();
 
   const PreparedSceneImpl& m_scene;
   std::shared_ptr<DeviceBackend> m_backend;
@@ -72,6 +76,15 @@ class DeviceScene {
   std::size_t m_medium_bytes = 0, m_npatches = 0;
   std::vector<std::pair<std::size_t, std::ptrdiff_t>> m_patch_data;  ///< per patch: offset, lowest byte offset
   void* m_base = nullptr;
+  /// A mesh's domain readers (DomainAccess) on the device: per domain and array (x, y, z,
+  /// connectivity, values), the copy's offset and the host address it starts at (offset
+  /// SIZE_MAX: read in place)
+  struct MeshArrays {
+    std::size_t off[5] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
+    const unsigned char* lo[5] = {};
+  };
+  std::vector<MeshArrays> m_mesh_arrays;
+  std::size_t m_off_domains = 0;
   /// A plain float32 field widened to float64 on the device: the copy's offset (else SIZE_MAX)
   std::size_t m_off_widened = SIZE_MAX;
   std::shared_ptr<KernelScene> m_dispatch;

@@ -9,12 +9,17 @@
 namespace tessera::cuda {
 
 /// fn(TypeTag<V>{}) for the device kernels' Value of `ks`, and true; false (fn not called) for
-/// what they cannot run: meshes, paged (distributed) fields and hierarchies with remote
-/// patches. A float32 field's Value is double: the device renders the float64 copy it widens
-/// (widen_field.h), so no float kernel exists.
+/// what they cannot run: paged (distributed) fields and hierarchies with remote patches. A
+/// float32 field's Value is double: the device renders the float64 copy it widens
+/// (widen_field.h), so no float kernel exists. A mesh's values are read per load in their
+/// dtype (mesh/domain_access.h): one MeshValue kernel for every dtype.
 template <class Fn>
 bool with_device_value(const KernelScene& ks, Fn&& fn) {
-  if (ks.mesh.element != nullptr || ks.paged.cache != nullptr) return false;
+  if (ks.mesh.element != nullptr) {
+    fn(TypeTag<MeshValue>{});
+    return true;
+  }
+  if (ks.paged.cache != nullptr) return false;
   if (ks.amr.nlevels > 0) {
     if (ks.amr.paged.cache != nullptr) return false;
     fn(TypeTag<AmrValue>{});

@@ -23,8 +23,7 @@ bool device_value_supported(const KernelScene& ks, std::string* why) {
 #endif
   if (with_device_value(ks, [](auto) {})) return true;
   if (why) {
-    if (ks.mesh.element != nullptr) *why = "a curvilinear or unstructured mesh";
-    else if (ks.paged.cache != nullptr) *why = "a distributed (paged) field";
+    if (ks.paged.cache != nullptr) *why = "a distributed (paged) field";
     else *why = "a distributed (paged) hierarchy of refinement levels";
   }
   return false;
@@ -32,6 +31,7 @@ bool device_value_supported(const KernelScene& ks, std::string* why) {
 
 std::string pixel_kernel_name(const KernelScene& ks) {
   std::string v;
+  if (ks.mesh.element != nullptr) return "pixel_samples<mesh>";
   if (ks.amr.nlevels > 0) v = std::string("refinement levels, ") + dtype_name(ks.amr.dtype);
   else if (ks.magnitude.active()) v = "magnitude";
   else v = dtype_name(ks.field.dtype);

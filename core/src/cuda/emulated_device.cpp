@@ -31,6 +31,7 @@ extern template void emulate_slice<Rectilinear<double>>(const SliceArgs&, LaneLo
 extern template void emulate_slice<MagnitudeValue>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<Rectilinear<MagnitudeValue>>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<AmrValue>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<MeshValue>(const SliceArgs&, LaneLoop);
 
 namespace {
 

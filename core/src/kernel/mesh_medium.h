@@ -23,20 +23,20 @@ struct FieldAccessor<MeshValue> {
 };
 
 template <>
-[[gnu::always_inline]] inline double GridMedium<MeshValue>::value(const Vec3& p) const {
+[[gnu::always_inline]] TESSERA_HOST_DEVICE inline double GridMedium<MeshValue>::value(const Vec3& p) const {
   double v;
   return field.value(p, tf->lo, tf->hi, &v) ? v : NAN;
 }
 
 template <>
-[[gnu::always_inline]] inline double GridMedium<MeshValue>::sigma_t(const Vec3& p) const {
+[[gnu::always_inline]] TESSERA_HOST_DEVICE inline double GridMedium<MeshValue>::sigma_t(const Vec3& p) const {
   double v;
   if (!field.value(p, tf->lo, tf->hi, &v)) return 0.0;
   return sigma_t_of_u(tf->normalise(v));
 }
 
 template <>
-inline Vec3 GridMedium<MeshValue>::gradient_voxel(const Vec3& p) const {
+TESSERA_HOST_DEVICE inline Vec3 GridMedium<MeshValue>::gradient_voxel(const Vec3& p) const {
   Vec3 g(0.0);
   const double u0 = u(p);
   for (int a = 0; a < 3; ++a) {

@@ -2,8 +2,11 @@
 /// DomainAccess: how the build and the kernels read one mesh domain's arrays in place
 /// (mesh.h): a vertex's position, a cell's vertex indices (a curvilinear cell's from its
 /// i, j, k; an unstructured one's from the connectivity) and a value, each dtype read per
-/// load. Trivially copyable; points into the caller's arrays (valid while they are).
+/// load. Trivially copyable; points into the caller's arrays (valid while they are). The
+/// readers are host and device code (host_device.h); the arrays' lengths say what a device
+/// copy of the domain takes (cuda/device_scene.h).
 #include <tessera/brick_cache.h>
+#include <tessera/host_device.h>
 #include <tessera/math.h>
 #include <tessera/mesh.h>
 
@@ -27,6 +30,8 @@ struct DomainAccess {
   DType value_dtype = DType::Float32;
   std::int64_t value_stride = 0;
   bool cell_data = false;
+  /// The arrays' lengths: vertices (coordinates), cells (connectivity rows) and values
+  std::int64_t vertices = 0, cells = 0, value_count = 0;
 
   static DomainAccess of(const MeshDomain& d) {
     DomainAccess a;
@@ -44,12 +49,15 @@ struct DomainAccess {
     a.value_dtype = d.field.dtype;
     a.value_stride = d.field.byte_stride;
     a.cell_data = d.field.association == Association::Cell;
+    a.vertices = d.coords.count;
+    a.cells = d.cell_count();
+    a.value_count = d.field.count;
     return a;
   }
 
-  bool structured() const { return dims[0] != 0; }
+  TESSERA_HOST_DEVICE bool structured() const { return dims[0] != 0; }
 
-  double coord(const unsigned char* base, std::int64_t v) const {
+  TESSERA_HOST_DEVICE double coord(const unsigned char* base, std::int64_t v) const {
     const unsigned char* p = base + v * coord_stride;
     if (coord_f64) {
       double c;
@@ -60,10 +68,10 @@ struct DomainAccess {
     __builtin_memcpy(&c, p, sizeof c);
     return static_cast<double>(c);
   }
-  Vec3 vertex(std::int64_t v) const { return Vec3(coord(x, v), coord(y, v), coord(z, v)); }
+  TESSERA_HOST_DEVICE Vec3 vertex(std::int64_t v) const { return Vec3(coord(x, v), coord(y, v), coord(z, v)); }
 
   /// The raw connectivity entry `corner` of unstructured cell `cell` (unchecked).
-  std::int64_t conn_entry(std::int64_t cell, int corner) const {
+  TESSERA_HOST_DEVICE std::int64_t conn_entry(std::int64_t cell, int corner) const {
     const std::int64_t e = cell * nv + corner;
     if (index64) {
       std::int64_t i;
@@ -77,7 +85,7 @@ struct DomainAccess {
 
   /// The nv vertex indices of `cell` in VTK order (a curvilinear cell's hex of vertices
   /// (i..i+1, j..j+1, k..k+1), cell index i fastest over dims - 1).
-  void cell_vertices(std::int64_t cell, std::int64_t* idx) const {
+  TESSERA_HOST_DEVICE void cell_vertices(std::int64_t cell, std::int64_t* idx) const {
     if (!structured()) {
       for (int c = 0; c < nv; ++c) idx[c] = conn_entry(cell, c);
       return;
@@ -89,7 +97,9 @@ struct DomainAccess {
     for (int c = 0; c < 8; ++c) idx[c] = base + off[c];
   }
 
-  double value(std::int64_t e) const { return detail::load_as_double(value_dtype, values + e * value_stride); }
+  TESSERA_HOST_DEVICE double value(std::int64_t e) const {
+    return detail::load_as_double(value_dtype, values + e * value_stride);
+  }
 };
 static_assert(std::is_trivially_copyable_v<DomainAccess>);
 

@@ -3,6 +3,8 @@
 /// barycentric coordinates, the hex's trilinear map, its Jacobian and its inverse by Newton's
 /// method (physics.md section 10). Pure functions of the corners: no allocation, no virtual
 /// call, the same arithmetic in the same order whatever domain or position the element has.
+/// Host and device code (host_device.h).
+#include <tessera/host_device.h>
 #include <tessera/math.h>
 
 #include <algorithm>
@@ -10,10 +12,14 @@
 
 namespace tessera {
 
-/// Parametric corner of a hex's vertex v (VTK order): r, s, t in {0, 1}.
-inline constexpr int kHexCornerR[8] = {0, 1, 1, 0, 0, 1, 1, 0};
-inline constexpr int kHexCornerS[8] = {0, 0, 1, 1, 0, 0, 1, 1};
-inline constexpr int kHexCornerT[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+/// Parametric corner of a hex's vertex v (VTK order): r, s, t in {0, 1}; r is 0, 1, 1, 0 around
+/// each face, s 0, 0, 1, 1, t 0 for vertices 0-3 and 1 for 4-7. Arithmetic rather than a table,
+/// so that device code reads no constant array by a run-time index.
+TESSERA_HOST_DEVICE constexpr int hex_corner_r(int v) { return (v ^ (v >> 1)) & 1; }
+TESSERA_HOST_DEVICE constexpr int hex_corner_s(int v) { return (v >> 1) & 1; }
+TESSERA_HOST_DEVICE constexpr int hex_corner_t(int v) { return (v >> 2) & 1; }
+static_assert(hex_corner_r(0) == 0 && hex_corner_r(1) == 1 && hex_corner_r(2) == 1 && hex_corner_r(3) == 0 &&
+              hex_corner_r(4) == 0 && hex_corner_r(5) == 1 && hex_corner_r(6) == 1 && hex_corner_r(7) == 0);
 
 /// Newton's method on the trilinear map: the update that counts as converged (parametric,
 /// i.e. relative to the cell's size), and the most iterations tried.
@@ -24,13 +30,15 @@ inline constexpr int kNewtonMaxIterations = 24;
 inline constexpr double kInsideSlack = 1e-9;
 
 /// det[a b c] (columns).
-inline double det3(const Vec3& a, const Vec3& b, const Vec3& c) { return glm::dot(a, glm::cross(b, c)); }
+TESSERA_HOST_DEVICE inline double det3(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return glm::dot(a, glm::cross(b, c));
+}
 
 /// Six times the signed volume of tet (p0, p1, p2, p3): positive in VTK's orientation.
-inline double tet_volume6(const Vec3* c) { return det3(c[1] - c[0], c[2] - c[0], c[3] - c[0]); }
+TESSERA_HOST_DEVICE inline double tet_volume6(const Vec3* c) { return det3(c[1] - c[0], c[2] - c[0], c[3] - c[0]); }
 
 /// Barycentric weights w[0..3] of x in tet c (Cramer's rule); false for a flat tet.
-inline bool tet_barycentric(const Vec3* c, const Vec3& x, double w[4]) {
+TESSERA_HOST_DEVICE inline bool tet_barycentric(const Vec3* c, const Vec3& x, double w[4]) {
   const Vec3 e1 = c[1] - c[0], e2 = c[2] - c[0], e3 = c[3] - c[0], d = x - c[0];
   const double det = det3(e1, e2, e3);
   if (!(det != 0.0)) return false;
@@ -43,13 +51,13 @@ inline bool tet_barycentric(const Vec3* c, const Vec3& x, double w[4]) {
 }
 
 /// The hex's trilinear shape functions at parametric r (VTK order).
-inline void hex_weights(const double r[3], double w[8]) {
+TESSERA_HOST_DEVICE inline void hex_weights(const double r[3], double w[8]) {
   const double a[2] = {1.0 - r[0], r[0]}, b[2] = {1.0 - r[1], r[1]}, c[2] = {1.0 - r[2], r[2]};
-  for (int v = 0; v < 8; ++v) w[v] = a[kHexCornerR[v]] * b[kHexCornerS[v]] * c[kHexCornerT[v]];
+  for (int v = 0; v < 8; ++v) w[v] = a[hex_corner_r(v)] * b[hex_corner_s(v)] * c[hex_corner_t(v)];
 }
 
 /// x(r) of the hex's trilinear map.
-inline Vec3 hex_map(const Vec3* c, const double r[3]) {
+TESSERA_HOST_DEVICE inline Vec3 hex_map(const Vec3* c, const double r[3]) {
   double w[8];
   hex_weights(r, w);
   Vec3 x(0.0);
@@ -58,11 +66,11 @@ inline Vec3 hex_map(const Vec3* c, const double r[3]) {
 }
 
 /// The Jacobian's columns dx/dr, dx/ds, dx/dt at parametric r.
-inline void hex_jacobian(const Vec3* c, const double r[3], Vec3 J[3]) {
+TESSERA_HOST_DEVICE inline void hex_jacobian(const Vec3* c, const double r[3], Vec3 J[3]) {
   const double a[2] = {1.0 - r[0], r[0]}, b[2] = {1.0 - r[1], r[1]}, t[2] = {1.0 - r[2], r[2]};
   J[0] = J[1] = J[2] = Vec3(0.0);
   for (int v = 0; v < 8; ++v) {
-    const int i = kHexCornerR[v], j = kHexCornerS[v], k = kHexCornerT[v];
+    const int i = hex_corner_r(v), j = hex_corner_s(v), k = hex_corner_t(v);
     const double si = i ? 1.0 : -1.0, sj = j ? 1.0 : -1.0, sk = k ? 1.0 : -1.0;
     J[0] += (si * b[j] * t[k]) * c[v];
     J[1] += (a[i] * sj * t[k]) * c[v];
@@ -71,9 +79,9 @@ inline void hex_jacobian(const Vec3* c, const double r[3], Vec3 J[3]) {
 }
 
 /// det J at the parametric corner of vertex v.
-inline double hex_corner_jacobian(const Vec3* c, int v) {
-  const double r[3] = {static_cast<double>(kHexCornerR[v]), static_cast<double>(kHexCornerS[v]),
-                       static_cast<double>(kHexCornerT[v])};
+TESSERA_HOST_DEVICE inline double hex_corner_jacobian(const Vec3* c, int v) {
+  const double r[3] = {static_cast<double>(hex_corner_r(v)), static_cast<double>(hex_corner_s(v)),
+                       static_cast<double>(hex_corner_t(v))};
   Vec3 J[3];
   hex_jacobian(c, r, J);
   return det3(J[0], J[1], J[2]);
@@ -82,7 +90,7 @@ inline double hex_corner_jacobian(const Vec3* c, int v) {
 /// Parametric r of world point x in hex c by Newton's method from the centre: true once an
 /// update is below kNewtonTolerance (r then holds the converged point, inside or not), false
 /// when the Jacobian is singular or kNewtonMaxIterations pass (r unusable).
-inline bool hex_inverse(const Vec3* c, const Vec3& x, double r[3]) {
+TESSERA_HOST_DEVICE inline bool hex_inverse(const Vec3* c, const Vec3& x, double r[3]) {
   r[0] = r[1] = r[2] = 0.5;
   for (int it = 0; it < kNewtonMaxIterations; ++it) {
     Vec3 J[3];
@@ -95,7 +103,7 @@ inline bool hex_inverse(const Vec3* c, const Vec3& x, double r[3]) {
     r[0] -= d[0];
     r[1] -= d[1];
     r[2] -= d[2];
-    const double step = std::max({std::fabs(d[0]), std::fabs(d[1]), std::fabs(d[2])});
+    const double step = std::max(std::max(std::fabs(d[0]), std::fabs(d[1])), std::fabs(d[2]));
     if (!(step < 4.0)) return false;  // diverging: x is far outside the element
     if (step < kNewtonTolerance) return true;
   }
@@ -103,7 +111,7 @@ inline bool hex_inverse(const Vec3* c, const Vec3& x, double r[3]) {
 }
 
 /// True when every parametric coordinate lies in [-kInsideSlack, 1 + kInsideSlack].
-inline bool inside_unit(const double r[3]) {
+TESSERA_HOST_DEVICE inline bool inside_unit(const double r[3]) {
   for (int a = 0; a < 3; ++a)
     if (!(r[a] >= -kInsideSlack && r[a] <= 1.0 + kInsideSlack)) return false;
   return true;

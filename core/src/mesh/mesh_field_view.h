@@ -17,6 +17,9 @@
 /// in the hex's parametric coordinates (Newton's inverse), each clamped to the element so that
 /// the value is a convex combination of its vertex values (the majorants bound it); cell data
 /// is the cell's value. NaN and -Inf values read as nf_lo, +Inf as nf_hi (as on grids).
+/// Host and device code (host_device.h): the CUDA backend reads a mesh through the same view
+/// over its device copies of the tables and arrays (cuda/device_scene.h).
+#include <tessera/host_device.h>
 #include <tessera/math.h>
 
 #include "mesh/domain_access.h"
@@ -48,8 +51,9 @@ struct MeshFieldView {
   Vec3 loc_lo{0.0}, loc_inv{1.0};           ///< location cell of x: floor((x - loc_lo) * loc_inv)
   std::int64_t loc_n[3] = {1, 1, 1};
 
-  /// The field at p into *out; false when p lies in no element (outside the mesh).
-  bool value(const Vec3& p, double nf_lo, double nf_hi, double* out) const {
+  /// The field at p into *out; false when p lies in no element (outside the mesh). Out of
+  /// line in device code (host_device.h), as element_value: the kernel's code halves.
+  TESSERA_DEVICE_NOINLINE TESSERA_HOST_DEVICE bool value(const Vec3& p, double nf_lo, double nf_hi, double* out) const {
     const Vec3 x = origin + p * spacing;
     std::int64_t c[3];
     for (int a = 0; a < 3; ++a) {
@@ -68,7 +72,8 @@ struct MeshFieldView {
   }
 
   /// The value of element r at x into *out if x lies in it.
-  bool element_value(const MeshElementRef& r, const Vec3& x, double nf_lo, double nf_hi, double* out) const {
+  TESSERA_DEVICE_NOINLINE TESSERA_HOST_DEVICE bool element_value(const MeshElementRef& r, const Vec3& x, double nf_lo,
+                                                                 double nf_hi, double* out) const {
     const DomainAccess& d = domain[r.domain];
     std::int64_t idx[8];
     Vec3 v[8];
@@ -92,7 +97,7 @@ struct MeshFieldView {
   }
 
   /// Barycentric weights of x in tet v, clamped to the tet; false outside it.
-  static bool tet_weights(const Vec3* v, const Vec3& x, double w[4]) {
+  TESSERA_HOST_DEVICE static bool tet_weights(const Vec3* v, const Vec3& x, double w[4]) {
     if (!tet_barycentric(v, x, w)) return false;
     double sum = 0.0;
     for (int k = 0; k < 4; ++k) {
@@ -106,7 +111,7 @@ struct MeshFieldView {
 
   /// Trilinear weights of x in hex v (Newton's inverse, clamped to the unit cube); false
   /// outside it or where Newton's method does not converge.
-  static bool hex_weights_at(const Vec3* v, const Vec3& x, double w[8]) {
+  TESSERA_HOST_DEVICE static bool hex_weights_at(const Vec3* v, const Vec3& x, double w[8]) {
     double r[3];
     if (!hex_inverse(v, x, r) || !inside_unit(r)) return false;
     for (double& a : r) a = std::clamp(a, 0.0, 1.0);

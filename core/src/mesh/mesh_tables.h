@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace tessera {
@@ -49,6 +50,8 @@ class MeshTables {
   VolumeGeometry geometry() const { return m_layout->geometry(); }
   const std::int64_t* dims() const { return m_layout->dims(); }
   std::size_t element_count() const { return m_layout ? m_layout->element_count() : 0; }
+  /// The domains' readers the view points to (one per domain, in order).
+  std::span<const DomainAccess> domains() const { return m_domain; }
   /// Element e's world box (lo x, y, z, hi x, y, z) and value range, in canonical order.
   const double* box(std::size_t e) const { return m_layout->box(e); }
   const ElementRange& range(std::size_t e) const { return m_range[e]; }

@@ -63,12 +63,15 @@ void one_array(const tessera_field& f, const std::string& label, std::int64_t d,
   *count = v.vertex_count();
 }
 
-/// Meshes are read on the host only (not yet on the GPU): an array in device memory is refused
-/// by name before anything reads it (managed memory is readable on the host and accepted).
+/// A mesh's arrays are read on the host (its elements are checked and its location tables
+/// built there; `device: cuda` then renders from device copies): an array in device memory is
+/// refused by name before anything reads it (managed memory is readable on the host and
+/// accepted).
 void require_host(const void* p, const std::string& what, std::int64_t d) {
   if (p && cuda_memory_kind(p) == MemoryKind::Device)
-    fail(d, what + " is GPU (device) memory: curvilinear and unstructured meshes are read on the host only, not yet "
-                   "on the GPU (copy it to host or managed memory)");
+    fail(d, what + " is GPU (device) memory: a curvilinear or unstructured mesh's arrays must be host or managed "
+                   "memory, since its elements are checked and its tables built on the host (copy it to host or "
+                   "managed memory; device: cuda still renders the mesh on the GPU)");
 }
 
 MeshDomain bind_one(const tessera_mesh_domain& m, std::int64_t d, std::span<const tessera_field> fields, int index) {

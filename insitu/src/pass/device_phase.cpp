@@ -6,6 +6,7 @@
 #include <tessera/config/render_memory.h>
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -21,30 +22,39 @@ std::string gpu_gap([[maybe_unused]] const BoundField& field) {
   return {};
 }
 
+/// This rank's device from `tessera.device` for data that is (or is not) GPU memory, with
+/// `gap` naming what the GPU does not cover ("" when nothing): `cuda` then throws, `auto`
+/// takes the CPU.
+config::DeviceSelection select_device(const PassContext& pass, bool gpu_readable, const std::string& gap) {
+  const config::GlobalOptions& g = pass.cfg.global;
+  const config::DeviceSelection sel = config::resolve_device(g, gpu_readable, pass.ctx.rank_on_node());
+  if (sel.device == Device::Cuda && !gap.empty()) {
+    if (g.device == config::DeviceChoice::Cuda)
+      throw std::runtime_error("tessera.device is cuda, but " + gap + " is not supported on the GPU yet");
+    return config::DeviceSelection{};
+  }
+  return sel;
+}
+
+/// One device kind on every rank: the GPU's sums differ from the CPU's by rounding, so a
+/// render with tiles on both would depend on which rank drew which tile. With `auto`, a rank
+/// that stays on the CPU (no GPU, or no device memory to read) keeps every rank there; with
+/// `cuda` every rank is on the GPU or the gate before this failed them all. Collective.
+void agree_device_kind(const PassContext& pass, config::DeviceSelection& sel) {
+  if (pass.ctx.size() > 1 && pass.ctx.any(sel.device == Device::Cpu)) sel = config::DeviceSelection{};
+}
+
 }  // namespace
 
 bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
-  const config::GlobalOptions& g = pass.cfg.global;
   BlocksMemory where;  // asked once: the blocks do not change between the two gates
   const bool chosen = gate.run(TESSERA_ERROR_RENDER, [&] {
     where = blocks_memory(field.binding.blocks);
-    config::DeviceSelection sel = config::resolve_device(g, where.gpu_readable, pass.ctx.rank_on_node());
-    if (sel.device == Device::Cuda) {
-      if (const std::string gap = gpu_gap(field); !gap.empty()) {
-        if (g.device == config::DeviceChoice::Cuda)
-          throw std::runtime_error("tessera.device is cuda, but " + gap + " is not supported on the GPU yet");
-        sel = config::DeviceSelection{};  // auto: the CPU, the field staged below
-      }
-    }
-    field.device.selection = sel;
+    // auto with a gap: the CPU, the field staged below
+    field.device.selection = select_device(pass, where.gpu_readable, gpu_gap(field));
   });
   if (!chosen) return false;
-  // One device kind on every rank: the GPU's sums differ from the CPU's by rounding, so a
-  // render with tiles on both would depend on which rank drew which tile. With `auto`, a rank
-  // that stays on the CPU (no GPU, or no device memory to read) keeps every rank there; with
-  // `cuda` every rank is on the GPU or the gate above failed them all.
-  if (pass.ctx.size() > 1 && pass.ctx.any(field.device.selection.device == Device::Cpu))
-    field.device.selection = config::DeviceSelection{};
+  agree_device_kind(pass, field.device.selection);
   return gate.run(TESSERA_ERROR_RENDER, [&] {
     FieldBinding& b = field.binding;
     const config::DeviceSelection& sel = field.device.selection;
@@ -53,14 +63,25 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
     field.device.in_place = sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
                             !field.magnitude && field.staged.empty() && where.gpu_readable;
     if (field.device.in_place || !where.on_device()) return;
-    const config::MemoryLimit limit = config::memory_limit(g, std::max(1, pass.ctx.ranks_on_node()));
+    const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
     stage_blocks_to_host(b, where, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
   });
 }
 
+std::optional<config::DeviceSelection> mesh_device_phase(PhaseGate& gate, const PassContext& pass) {
+  config::DeviceSelection sel;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] { sel = select_device(pass, false, {}); })) return std::nullopt;
+  agree_device_kind(pass, sel);
+  return sel;
+}
+
 void set_device_options(const PassContext& pass, const BoundField& field, RenderOptions& options) {
-  options.device = field.device.selection.device;
-  options.cuda_device = field.device.selection.cuda_device;
+  set_device_options(pass, field.device.selection, options);
+}
+
+void set_device_options(const PassContext& pass, const config::DeviceSelection& sel, RenderOptions& options) {
+  options.device = sel.device;
+  options.cuda_device = sel.cuda_device;
   options.cuda_stream = pass.call.cuda_stream;
   options.device_memory_limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node())).bytes;
 }

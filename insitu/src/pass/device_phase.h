@@ -8,6 +8,8 @@
 #include "pass/bind_phase.h"
 #include "pass/pass_context.h"
 
+#include <optional>
+
 namespace tessera::insitu {
 
 /// Decides the render's device and stages what must be (field.device). A `device: cuda` that
@@ -18,7 +20,15 @@ namespace tessera::insitu {
 /// ranks agreed on a failure (the gate's outcome holds it).
 bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field);
 
+/// The device of a render over curvilinear or unstructured domains: their arrays are host
+/// (or managed) memory (mesh_binding.h refuses device memory: the mesh's tables are built on
+/// the host), so `auto` renders on the CPU and `cuda` copies the mesh's tables and arrays to
+/// the GPU for the render (counted in bytes_to_device). Agreed as device_phase agrees;
+/// collective; nothing when the ranks agreed on a failure.
+std::optional<config::DeviceSelection> mesh_device_phase(PhaseGate& gate, const PassContext& pass);
+
 /// The GPU-side parts of the render's options: device, stream and device memory limit.
 void set_device_options(const PassContext& pass, const BoundField& field, RenderOptions& options);
+void set_device_options(const PassContext& pass, const config::DeviceSelection& sel, RenderOptions& options);
 
 }  // namespace tessera::insitu

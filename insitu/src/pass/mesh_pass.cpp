@@ -5,6 +5,7 @@
 #include "data/mesh_exchange.h"
 #include "data/mesh_plan.h"
 #include "pass/bind_phase.h"
+#include "pass/device_phase.h"
 #include "pass/pass_report.h"
 #include "pass/prepare_phase.h"
 #include "pass/render_phase.h"
@@ -155,11 +156,15 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         whole = unpack_meshes(received);
       }))
     return;
+  const std::optional<config::DeviceSelection> device = mesh_device_phase(gate, pass);
+  if (!device) return;
+  out.result.device = config::device_text(*device);
   BoundField field;  // what the scene phase reads of a field: its bounds
   field.binding.global_bounds = extent.bounds;
   field.name = bound->field;
-  const std::optional<SceneSetup> setup = scene_phase(gate, pass, field, range);
+  std::optional<SceneSetup> setup = scene_phase(gate, pass, field, range);
   if (!setup) return;
+  set_device_options(pass, *device, setup->scene.options);
   // The layout of the last call (every rank promised the same geometry) or of this call's
   // first render over the mesh
   MeshLayoutKeep& keep = pass.call.mesh_layout;
