@@ -44,8 +44,8 @@ class MeshDomain:
 def _plain(value, what, kinds, device=False):
     """``value`` as a numpy array of one of the dtypes ``kinds`` (names listed on refusal), never
     converted: anything else is a TypeError naming ``what``. ``device``: a CUDA array (by its
-    protocol, _arrays.array_of) is accepted too, as a DeviceArray (field values only: the
-    coordinates and connectivity are read on the host)."""
+    protocol, _arrays.array_of) is accepted too, as a DeviceArray (the adapter copies a mesh's
+    device arrays to the host, where it checks the elements and builds its tables)."""
     if isinstance(value, np.ma.MaskedArray):
         raise TypeError(f"{what}: a numpy masked array is not accepted (the values under its mask would be "
                         f"read); pass a.filled(value), or a.data")
@@ -76,8 +76,8 @@ def _dense_ijk(a):
 
 def _coords(value, what):
     """(held arrays, (x, y, z addresses, dtype code, byte stride, count), vertex shape or None)."""
-    if isinstance(value, np.ndarray) and not isinstance(value, np.ma.MaskedArray):
-        a = _plain(value, what, _FLOATS)
+    if is_array(value) and not isinstance(value, (list, tuple, np.ma.MaskedArray)):
+        a = _plain(value, what, _FLOATS, device=True)
         if a.ndim != 2 or a.shape[1] != 3:
             raise ValueError(f"{what}: an (n, 3) array (one row per vertex) or three arrays x, y, z are needed, "
                              f"got shape {a.shape}")
@@ -90,7 +90,7 @@ def _coords(value, what):
     out, layout = [], None
     for axis, v in zip("xyz", value):
         label = f"{what}[{'xyz'.index(axis)}] ({axis})"
-        a = _plain(v, label, _FLOATS)
+        a = _plain(v, label, _FLOATS, device=True)
         if a.ndim == 1:
             this = (a.dtype, a.strides[0], a.shape[0], None)
         elif a.ndim == 3 and _dense_ijk(a) is not None:
@@ -114,7 +114,7 @@ def _coords(value, what):
 def _connectivity(value, what, shape):
     """(array, address, index dtype code, ncells) of an element list of ``shape``."""
     k = SHAPES[shape][1]
-    a = _plain(value, what, _INDICES)
+    a = _plain(value, what, _INDICES, device=True)
     if not (a.ndim == 2 and a.shape[1] == k) and not (a.ndim == 1 and a.shape[0] % k == 0):
         raise ValueError(f"{what}: {k} vertex indices per {shape} are needed, as an (ncells, {k}) array or a flat "
                          f"one of a multiple of {k}, got shape {a.shape}")

@@ -3,8 +3,8 @@
 // "cuda:0") and its image agrees with the host array's CPU render within Monte Carlo error;
 // `device: cpu` stages it to the host and renders exactly what the host array renders; the
 // simulation's stream is waited for; a strided (ghost-layer) device view reads the right
-// elements; a mesh domain in device memory is refused by name (a mesh's tables are built on
-// the host), while `device: cuda` renders a host mesh on the GPU from copies.
+// elements; a mesh's arrays in device memory are copied to the host (where its tables are
+// built) and rendered on the GPU with `device: auto`, a host mesh with `device: cuda`.
 #include "device_memory.h"
 #include "insitu_test_support.h"
 #include "mesh_blocks.h"
@@ -15,6 +15,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -195,23 +197,30 @@ TEST_CASE("a strided device view with ghost layers and the simulation's stream",
   device_test::release(dev);
 }
 
-TEST_CASE("a mesh domain in device memory is refused by name, nothing read", "[gpu][insitu][mesh]") {
-  const std::int64_t n[3] = {5, 4, 6};
-  tessera_test::MeshBlock block(n, 0, 5);
-  tessera_mesh_domain d = block.domain(tessera_test::MeshBlock::Form::Hexes);
-  void* dev = device_test::alloc(1 << 16);
-  d.coords.y = dev;  // the y coordinates in GPU memory
+namespace {
+
+/// One mesh execute of `domains` on `device` (`extra`: more global options); status and
+/// error, the image and result when it rendered.
+struct MeshRun {
+  tessera_status status = TESSERA_OK;
+  std::string error;
+  std::optional<Rendered> rendered;
+};
+MeshRun execute_mesh(std::span<const tessera_mesh_domain> domains, const std::string& device,
+                     const std::string& extra = "") {
   TempDir dir;
   Adapter ad;
   ad.set_quiet(true);
-  REQUIRE(ad.open(dir.write("m.yaml", config_yaml(dir.file("out"), render_yaml("view", "", "", "f", 16, 1)))) ==
+  const std::string r = render_yaml(
+      "view", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr], variance: true}\n", "f", 48, 32);
+  REQUIRE(ad.open(dir.write("m.yaml", config_yaml(dir.file("out"), r, "  device: " + device + "\n" + extra))) ==
           TESSERA_OK);
-  CHECK(ad.execute_mesh_domains(1, 0.0, {&d, 1}) == TESSERA_ERROR_DATA);
-  CHECK_THAT(ad.last_error(), Contains("domain 0: coords.y is GPU (device) memory"));
-  device_test::release(dev);
+  MeshRun run;
+  run.status = ad.execute_mesh_domains(1, 0.0, domains);
+  run.error = ad.last_error();
+  if (run.status == TESSERA_OK) run.rendered = Rendered{*ad.last_image("view"), ad.last_results().at(0)};
+  return run;
 }
-
-namespace {
 
 /// One mesh execute of two domains (unstructured hexes and tets) on `device`.
 Rendered render_mesh_once(const std::string& device) {
@@ -219,19 +228,77 @@ Rendered render_mesh_once(const std::string& device) {
   tessera_test::MeshBlock lower(n, 0, 6), upper(n, 6, 12);
   const tessera_mesh_domain d[2] = {lower.domain(tessera_test::MeshBlock::Form::Hexes),
                                     upper.domain(tessera_test::MeshBlock::Form::Tets)};
-  TempDir dir;
-  Adapter ad;
-  ad.set_quiet(true);
-  const std::string r = render_yaml(
-      "view", "", "    output: {file: \"{name}_{step:04d}\", formats: [exr], variance: true}\n", "f", 48, 32);
-  REQUIRE(ad.open(dir.write("m.yaml", config_yaml(dir.file("out"), r, "  device: " + device + "\n"))) == TESSERA_OK);
-  const tessera_status s = ad.execute_mesh_domains(1, 0.0, {d, 2});
-  INFO(ad.last_error());
-  REQUIRE(s == TESSERA_OK);
-  return {*ad.last_image("view"), ad.last_results().at(0)};
+  const MeshRun run = execute_mesh(d, device);
+  INFO(run.error);
+  REQUIRE(run.status == TESSERA_OK);
+  return *run.rendered;
+}
+
+/// x, y, z interleaved (x0 y0 z0 x1 ...).
+std::vector<double> interleaved(const tessera_test::MeshBlock& b) {
+  std::vector<double> v;
+  for (std::size_t i = 0; i < b.x.size(); ++i) v.insert(v.end(), {b.x[i], b.y[i], b.z[i]});
+  return v;
 }
 
 }  // namespace
+
+TEST_CASE("mesh arrays in device memory are copied to the host, and auto renders them on the GPU",
+          "[gpu][insitu][mesh]") {
+  const std::int64_t n[3] = {12, 11, 13};
+  tessera_test::MeshBlock lower(n, 0, 6), upper(n, 6, 12);
+  tessera_mesh_domain d[2] = {lower.domain(tessera_test::MeshBlock::Form::Curvilinear),
+                              upper.domain(tessera_test::MeshBlock::Form::Tets)};
+  const MeshRun host = execute_mesh(d, "cuda");
+  INFO(host.error);
+  REQUIRE(host.rendered);
+  // The first domain's coordinates interleaved in one device array, the second's
+  // connectivity and field in device memory
+  const std::vector<double> xyz = interleaved(lower);
+  DeviceArray<double> dev_xyz(xyz), dev_field(upper.vertex_values);
+  DeviceArray<std::int32_t> dev_tets(upper.tets);
+  d[0].coords.x = dev_xyz.ptr;
+  d[0].coords.y = dev_xyz.ptr + 1;
+  d[0].coords.z = dev_xyz.ptr + 2;
+  d[0].coords.byte_stride = 3 * sizeof(double);
+  d[1].connectivity = dev_tets.ptr;
+  tessera_field f = d[1].fields[0];
+  f.data = dev_field.ptr;
+  d[1].fields = &f;
+  const MeshRun dev = execute_mesh(d, "auto");
+  INFO(dev.error);
+  REQUIRE(dev.rendered);
+  CHECK_THAT(dev.rendered->result.device, Contains("cuda:0"));
+  // x, y and z copied as one span (beside the film's sums, which every GPU render brings
+  // back); then the arrays the render reads go to the device as the host mesh's do
+  const std::uint64_t staged =
+      (xyz.size() + upper.vertex_values.size()) * sizeof(double) + upper.tets.size() * sizeof(std::int32_t);
+  CHECK(dev.rendered->result.stats.bytes_to_host == host.rendered->result.stats.bytes_to_host + staged);
+  CHECK(dev.rendered->result.stats.bytes_to_device == host.rendered->result.stats.bytes_to_device);
+  CHECK(same_pixels(dev.rendered->image, host.rendered->image));
+  // device: cpu renders the host copies on the CPU, the image within MC error
+  const MeshRun cpu = execute_mesh(d, "cpu");
+  REQUIRE(cpu.rendered);
+  CHECK(cpu.rendered->result.device == "cpu");
+  CHECK(cpu.rendered->result.stats.bytes_to_host == staged);
+  CHECK(max_block_z(cpu.rendered->image, dev.rendered->image) < 4.2);
+}
+
+TEST_CASE("staging a mesh's device arrays over memory_limit_mb is refused before copying", "[gpu][insitu][mesh]") {
+  const std::int64_t n[3] = {48, 48, 48};
+  tessera_test::MeshBlock block(n, 0, 47);
+  tessera_mesh_domain d = block.domain(tessera_test::MeshBlock::Form::Curvilinear);
+  const std::vector<double> xyz = interleaved(block);  // 2.6 MiB
+  DeviceArray<double> dev_xyz(xyz);
+  d.coords.x = dev_xyz.ptr;
+  d.coords.y = dev_xyz.ptr + 1;
+  d.coords.z = dev_xyz.ptr + 2;
+  d.coords.byte_stride = 3 * sizeof(double);
+  const MeshRun run = execute_mesh({&d, 1}, "auto", "  memory_limit_mb: 1\n");
+  CHECK(run.status == TESSERA_ERROR_RENDER);
+  CHECK_THAT(run.error, Contains("copying the mesh's device arrays to the host needs 2.53 MiB") &&
+                            Contains("tessera.memory_limit_mb = 1 MiB"));
+}
 
 TEST_CASE("device: cuda renders a mesh on the GPU from copies, auto keeps it on the CPU", "[gpu][insitu][mesh]") {
   const Rendered cpu = render_mesh_once("auto");

@@ -130,6 +130,23 @@ def test_blueprint_and_mesh_domain_fields_through_the_protocol(tmp_path, host_as
     assert np.array_equal(images[0], images[1]) and np.array_equal(images[0], images[2])
 
 
+def test_mesh_coordinates_and_connectivity_through_the_protocol(tmp_path, host_as_device):
+    # A mesh's coordinates (an (n, 3) array or x, y, z) and connectivity may be device arrays
+    # too: the adapter copies them to the host (here they are host memory already)
+    xyz, f, hexes = mesh_example.shell()
+    small = {"tessera": {"threads": 2, "on_error": "abort"},
+             "renders": [{"field": "f", "image": {"width": 40, "height": 30, "spp": 4}}]}
+    x, y, z = (np.ascontiguousarray(xyz[:, a]) for a in range(3))
+    images = []
+    for coords, conn in ((xyz, hexes), (FakeCudaArray(xyz), FakeCudaArray(hexes)),
+                         ([FakeCudaArray(x), FakeCudaArray(y), FakeCudaArray(z)], hexes)):
+        with tessera.Adapter(small, output_dir=str(tmp_path / "mesh"), quiet=True) as viz:
+            images.append(viz.execute_mesh_domains(0, 0.0, [{"coords": coords, "shape": "hex",
+                                                             "connectivity": conn, "fields": {"f": f}}])["f"])
+    assert images[0][..., :3].std() > 0
+    assert np.array_equal(images[0], images[1]) and np.array_equal(images[0], images[2])
+
+
 def test_dlpack_capsules_and_cuda_producers(tmp_path, host_as_device):
     data = field(dtype=np.int16).T
     plain, _ = adapter_image(tmp_path, {"temperature": data})

@@ -107,4 +107,28 @@ void check_mesh(const Mesh& mesh);
 /// `reuse`, render.h).
 void check_mesh_arrays(const Mesh& mesh);
 
+/// What check_mesh_arrays checks of the descriptors alone (counts, strides, dtypes, shapes,
+/// null arrays, the field's and ghost mask's lengths), reading no array's memory: for arrays
+/// that are not host memory yet (a GPU's, before they are copied to the host). Throws as
+/// check_mesh does.
+void check_mesh_descriptors(const Mesh& mesh);
+
+/// The arrays a domain's render reads, by slot.
+enum class MeshArraySlot : int { X = 0, Y, Z, Connectivity, Field, Ghosts };
+inline constexpr int kMeshArraySlots = 6;
+
+/// One array of a domain: its pointer (null where the domain has none: a curvilinear
+/// domain's connectivity, no ghost mask, a zero count), the bytes it spans from there, and
+/// its name as messages give it ("coords.x", "the connectivity", "the field", ...).
+struct MeshArraySpan {
+  const void* data = nullptr;
+  std::int64_t bytes = 0;
+  const char* name = "";
+};
+
+/// Slot `s` of `d`, whose descriptors check_mesh_descriptors accepted (so the span fits int64).
+MeshArraySpan mesh_array(const MeshDomain& d, MeshArraySlot s);
+/// Points slot `s` of `d` at `data`: the same bytes elsewhere (a host copy of a GPU array).
+void set_mesh_array(MeshDomain& d, MeshArraySlot s, const void* data);
+
 }  // namespace tessera

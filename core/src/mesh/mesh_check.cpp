@@ -173,49 +173,39 @@ void check_cells(const DomainCheck& c, const MeshDomain& d, std::int64_t cells) 
   }
 }
 
-/// `what`'s memory (count elements of `size` bytes, byte_stride apart; the descriptor checked)
-/// readable where it is read: freed, unmapped or device memory is named here, not met as a
-/// fault (unreadable_byte: 64 probes).
-void check_readable(const DomainCheck& c, const void* p, std::int64_t count, std::int64_t byte_stride,
-                    std::int64_t size, const char* what) {
-  if (!p || count <= 0) return;
-  const auto bytes = static_cast<std::size_t>((count - 1) * byte_stride + size);
-  const auto bad = unreadable_byte(p, bytes);
-  if (!bad) return;
-  char where[32];
-  std::snprintf(where, sizeof where, "%p", p);
-  c.require(false, std::string(what) + " at " + where + " is not readable host memory: byte " + std::to_string(*bad) +
-                       " of its " + std::to_string(bytes) +
-                       " bytes cannot be read (freed or unmapped memory, an array shorter than its count says, or "
-                       "device memory)");
-}
-
+/// Each array's memory readable where it is read (the descriptors checked): freed, unmapped
+/// or device memory is named here, not met as a fault (unreadable_byte: 64 probes).
 void check_memory(const DomainCheck& c, const MeshDomain& d) {
-  const auto csize = static_cast<std::int64_t>(dtype_size(d.coords.dtype));
-  check_readable(c, d.coords.x, d.coords.count, d.coords.byte_stride, csize, "coords.x");
-  check_readable(c, d.coords.y, d.coords.count, d.coords.byte_stride, csize, "coords.y");
-  check_readable(c, d.coords.z, d.coords.count, d.coords.byte_stride, csize, "coords.z");
-  if (!d.structured()) {
-    const std::int64_t isize = d.index_type == IndexType::Int64 ? 8 : 4;
-    const std::int64_t entries = d.ncells * shape_vertex_count(d.shape);
-    check_readable(c, d.connectivity, entries, isize, isize, "the connectivity");
+  for (int s = 0; s < kMeshArraySlots; ++s) {
+    const MeshArraySpan a = mesh_array(d, static_cast<MeshArraySlot>(s));
+    if (!a.data) continue;
+    const auto bytes = static_cast<std::size_t>(a.bytes);
+    const auto bad = unreadable_byte(a.data, bytes);
+    if (!bad) continue;
+    char where[32];
+    std::snprintf(where, sizeof where, "%p", a.data);
+    c.require(false, std::string(a.name) + " at " + where + " is not readable host memory: byte " +
+                         std::to_string(*bad) + " of its " + std::to_string(bytes) +
+                         " bytes cannot be read (freed or unmapped memory, an array shorter than its count says, or "
+                         "device memory)");
   }
-  const MeshField& f = d.field;
-  check_readable(c, f.data, f.count, f.byte_stride, static_cast<std::int64_t>(dtype_size(f.dtype)), "the field");
-  check_readable(c, d.ghosts.data, d.ghosts.count, d.ghosts.byte_stride, 1, "the ghost mask");
 }
 
 }  // namespace
 
-void check_mesh_arrays(const Mesh& mesh) {
+void check_mesh_descriptors(const Mesh& mesh) {
   if (mesh.domains.empty()) throw std::invalid_argument("mesh: no domain");
   for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
     const MeshDomain& d = mesh.domains[i];
     const DomainCheck c{i};
     check_coords(c, d.coords);
     check_field(c, d, check_topology(c, d));
-    check_memory(c, d);
   }
+}
+
+void check_mesh_arrays(const Mesh& mesh) {
+  check_mesh_descriptors(mesh);
+  for (std::size_t i = 0; i < mesh.domains.size(); ++i) check_memory(DomainCheck{i}, mesh.domains[i]);
 }
 
 void check_mesh(const Mesh& mesh) {

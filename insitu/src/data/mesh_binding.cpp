@@ -1,8 +1,6 @@
 // Curvilinear and unstructured domains bound as core Mesh views (mesh_binding.h).
 #include "data/mesh_binding.h"
 
-#include <tessera/cuda_render.h>
-
 #include "data/field_binding.h"
 
 #include <algorithm>
@@ -63,22 +61,8 @@ void one_array(const tessera_field& f, const std::string& label, std::int64_t d,
   *count = v.vertex_count();
 }
 
-/// A mesh's arrays are read on the host (its elements are checked and its location tables
-/// built there; `device: cuda` then renders from device copies): an array in device memory is
-/// refused by name before anything reads it (managed memory is readable on the host and
-/// accepted).
-void require_host(const void* p, const std::string& what, std::int64_t d) {
-  if (p && cuda_memory_kind(p) == MemoryKind::Device)
-    fail(d, what + " is GPU (device) memory: a curvilinear or unstructured mesh's arrays must be host or managed "
-                   "memory, since its elements are checked and its tables built on the host (copy it to host or "
-                   "managed memory; device: cuda still renders the mesh on the GPU)");
-}
-
 MeshDomain bind_one(const tessera_mesh_domain& m, std::int64_t d, std::span<const tessera_field> fields, int index) {
   MeshDomain out;
-  require_host(m.coords.x, "coords.x", d);
-  require_host(m.coords.y, "coords.y", d);
-  require_host(m.coords.z, "coords.z", d);
   const int assoc = raw_int(m.association);
   if (assoc != TESSERA_VERTEX && assoc != TESSERA_CELL)
     fail(d, "association = " + std::to_string(assoc) + " is neither TESSERA_VERTEX (0) nor TESSERA_CELL (1)");
@@ -95,13 +79,11 @@ MeshDomain bind_one(const tessera_mesh_domain& m, std::int64_t d, std::span<cons
     if (idt != TESSERA_INT32 && idt != TESSERA_INT64)
       fail(d, "index_dtype = " + std::to_string(idt) + " (allowed: TESSERA_INT32, TESSERA_INT64)");
     out.shape = static_cast<Shape>(shape);
-    require_host(m.connectivity, "connectivity", d);
     out.connectivity = m.connectivity;
     out.index_type = idt == TESSERA_INT32 ? IndexType::Int32 : IndexType::Int64;
     out.ncells = m.ncells;
   }
   const tessera_field& f = fields[static_cast<std::size_t>(index)];
-  require_host(f.data, field_label(f), d);
   one_array(f, field_label(f), d, &out.field.data, &out.field.dtype, &out.field.byte_stride, &out.field.count);
   out.field.association = assoc == TESSERA_CELL ? Association::Cell : Association::Vertex;
   if (m.ghost_field) {
@@ -112,7 +94,6 @@ MeshDomain bind_one(const tessera_mesh_domain& m, std::int64_t d, std::span<cons
     if (raw_int(it->dtype) != TESSERA_UINT8)
       fail(d, field_label(*it) + " (the ghost field) is not TESSERA_UINT8 (dtype " +
                   std::to_string(raw_int(it->dtype)) + ")");
-    require_host(it->data, field_label(*it) + " (the ghost field)", d);
     const void* data = nullptr;
     DType dt = DType::UInt8;
     one_array(*it, field_label(*it), d, &data, &dt, &out.ghosts.byte_stride, &out.ghosts.count);

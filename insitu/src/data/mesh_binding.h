@@ -2,10 +2,13 @@
 /// From tessera_execute_mesh_domains' descriptors (tessera.h: tessera_mesh_domain) to core
 /// Mesh views (mesh.h) of this rank's curvilinear and unstructured domains for one render's
 /// field: read in place, nothing copied. Only the descriptors are read here; check_mesh (which
-/// reads the coordinates and indices) runs after, in the pass.
+/// reads the coordinates and indices) runs after, in the pass, once arrays in GPU memory are
+/// copied to the host (mesh_staging.h).
 ///
 /// Every function throws std::invalid_argument with a message that names the domain (its
 /// index in the call) and the field (TESSERA_ERROR_DATA at the adapter boundary).
+#include "data/device_arrays.h"
+
 #include <tessera/mesh.h>
 #include <tessera/tessera.h>
 
@@ -21,6 +24,8 @@ struct MeshBinding {
   Association association = Association::Vertex;  ///< the field's (the domains agree)
   std::int64_t cells = 0;                         ///< this rank's cells, ghosts included
   std::int64_t vertices = 0;                      ///< this rank's vertices
+  bool gpu_readable = false;                      ///< some array was device or managed memory
+  HostStaging staging;                            ///< host copies of its device arrays (mesh_staging.h)
 };
 
 /// Binds field `field_name` ("" = the only published field) of `domains` (n of them, n in

@@ -68,9 +68,9 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
   });
 }
 
-std::optional<config::DeviceSelection> mesh_device_phase(PhaseGate& gate, const PassContext& pass) {
+std::optional<config::DeviceSelection> mesh_device_phase(PhaseGate& gate, const PassContext& pass, bool gpu_readable) {
   config::DeviceSelection sel;
-  if (!gate.run(TESSERA_ERROR_RENDER, [&] { sel = select_device(pass, false, {}); })) return std::nullopt;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] { sel = select_device(pass, gpu_readable, {}); })) return std::nullopt;
   agree_device_kind(pass, sel);
   return sel;
 }

@@ -20,12 +20,13 @@ namespace tessera::insitu {
 /// ranks agreed on a failure (the gate's outcome holds it).
 bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field);
 
-/// The device of a render over curvilinear or unstructured domains: their arrays are host
-/// (or managed) memory (mesh_binding.h refuses device memory: the mesh's tables are built on
-/// the host), so `auto` renders on the CPU and `cuda` copies the mesh's tables and arrays to
-/// the GPU for the render (counted in bytes_to_device). Agreed as device_phase agrees;
-/// collective; nothing when the ranks agreed on a failure.
-std::optional<config::DeviceSelection> mesh_device_phase(PhaseGate& gate, const PassContext& pass);
+/// The device of a render over curvilinear or unstructured domains, `gpu_readable` when some
+/// of this rank's arrays were device or managed memory: `auto` renders on the GPU then, `cuda`
+/// always. The mesh's elements are checked and its tables built on the host (device arrays
+/// were staged there, mesh_staging.h), and a GPU render copies the tables and arrays to the
+/// device (counted in bytes_to_device). Agreed as device_phase agrees; collective; nothing
+/// when the ranks agreed on a failure.
+std::optional<config::DeviceSelection> mesh_device_phase(PhaseGate& gate, const PassContext& pass, bool gpu_readable);
 
 /// The GPU-side parts of the render's options: device, stream and device memory limit.
 void set_device_options(const PassContext& pass, const BoundField& field, RenderOptions& options);

@@ -4,6 +4,7 @@
 #include "data/mesh_binding.h"
 #include "data/mesh_exchange.h"
 #include "data/mesh_plan.h"
+#include "data/mesh_staging.h"
 #include "pass/bind_phase.h"
 #include "pass/device_phase.h"
 #include "pass/pass_report.h"
@@ -12,6 +13,7 @@
 #include "pass/write_phase.h"
 
 #include <tessera/brick_cache.h>
+#include <tessera/config/render_memory.h>
 #include <tessera/render.h>
 
 #include <algorithm>
@@ -32,10 +34,12 @@ double at(const void* base, DType t, std::int64_t stride, std::int64_t e) {
   return detail::load_as_double(t, static_cast<const unsigned char*>(base) + e * stride);
 }
 
-/// This rank's mesh bound and checked; the ranks agree on the field's dtype and association.
+/// This rank's mesh bound, its device arrays staged to the host (mesh_staging.h) and checked;
+/// the ranks agree on the field's dtype and association.
 std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
   const Publication& pub = pass.call.pub;
   MeshBinding b;
+  MeshMemory where;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
         if (pub.refusal) throw std::invalid_argument(pub.refusal);
         if (!pass.spec.magnitude.empty())
@@ -44,6 +48,19 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
         if (pass.spec.output.cinema)
           throw std::invalid_argument("output.cinema with curvilinear or unstructured domains is not supported yet");
         b = bind_mesh_domains(pub.mesh_domains, pub.ndomains, pass.spec.field, pass.spec.name);
+        if (b.local.domains.empty()) return;
+        check_mesh_descriptors(b.local);
+        where = mesh_memory(b.local);
+        b.gpu_readable = where.gpu_readable;
+      }))
+    return std::nullopt;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] {
+        if (!where.on_device()) return;
+        const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
+        stage_mesh_to_host(b.local, where, b.staging, pass.call.cuda_stream, limit.bytes, limit.text);
+      }))
+    return std::nullopt;
+  if (!gate.run(TESSERA_ERROR_DATA, [&] {
         if (!b.local.domains.empty()) check_mesh(b.local);
       }))
     return std::nullopt;
@@ -156,9 +173,10 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         whole = unpack_meshes(received);
       }))
     return;
-  const std::optional<config::DeviceSelection> device = mesh_device_phase(gate, pass);
+  const std::optional<config::DeviceSelection> device = mesh_device_phase(gate, pass, bound->gpu_readable);
   if (!device) return;
   out.result.device = config::device_text(*device);
+  out.result.stats.bytes_to_host += bound->staging.bytes;
   BoundField field;  // what the scene phase reads of a field: its bounds
   field.binding.global_bounds = extent.bounds;
   field.name = bound->field;
