@@ -568,9 +568,10 @@ TEST_CASE("Emulated device: the device copies need nothing of the prepared scene
       });
 }
 
-TEST_CASE("Emulated device: a mesh's interleaved coordinates are copied once", "[emulated][mesh]") {
-  // The same cells with interleaved float32 coordinates (one span: one copy) and as hexes with
-  // three separate float64 arrays (three copies); device memory is read in place
+TEST_CASE("Emulated device: a mesh's interleaved coordinates are copied once, device copies read in place",
+          "[emulated][mesh]") {
+  // Interleaved float32 coordinates: one span, one copy; device memory, or device copies the
+  // caller names, read in place
   const std::vector<WarpedMeshPiece> curvi = {{12, 0, 11, MeshForm::Curvilinear, tessera::DType::Float32, false}};
   const tessera::Mesh mesh = mesh_of(curvi);
   const tessera::PreparedScene ps = tessera::prepare(mesh, heat_scene(12, 3));
@@ -590,4 +591,21 @@ TEST_CASE("Emulated device: a mesh's interleaved coordinates are copied once", "
   CHECK(in_place.field_in_place);
   CHECK(tr.bytes_to_device - in_place.bytes_to_device == vertices * 3 * sizeof(float) + values);
   CHECK(same_bits(a, b));
+  // Host arrays with named device copies (MeshDomain::device_copy, as the adapter's staging
+  // leaves them): the render reads the copies, never the host arrays, which are overwritten
+  std::vector<WarpedMeshPiece> twin = {{12, 0, 11, MeshForm::Curvilinear, tessera::DType::Float32, false}};
+  tessera::Mesh host_mesh = mesh_of(twin);
+  EmulatedDevice dev2;
+  dev2.device_ranges.emplace_back(d.coords.x, static_cast<std::size_t>(vertices * 3 * sizeof(float)));
+  dev2.device_ranges.emplace_back(d.field.data, static_cast<std::size_t>(values));
+  host_mesh.domains[0].device_copy[0] = d.coords.x;
+  host_mesh.domains[0].device_copy[1] = d.coords.y;
+  host_mesh.domains[0].device_copy[2] = d.coords.z;
+  host_mesh.domains[0].device_copy[4] = d.field.data;
+  const tessera::PreparedScene ps3 = tessera::prepare(host_mesh, heat_scene(12, 3));
+  twin[0].scribble();
+  tessera::CudaTransfer named;
+  const tessera::Film c = render_on(tessera::cuda::emulated_backend(dev2), ps3, &named);
+  CHECK(named.bytes_to_device == in_place.bytes_to_device);
+  CHECK(same_bits(a, c));
 }

@@ -57,6 +57,10 @@ struct MeshGhosts {
   std::int64_t count = 0;  ///< the cell count when data is set
 };
 
+/// The arrays a domain's render reads, by slot.
+enum class MeshArraySlot : int { X = 0, Y, Z, Connectivity, Field, Ghosts };
+inline constexpr int kMeshArraySlots = 6;
+
 /// One curvilinear or unstructured domain.
 struct MeshDomain {
   MeshCoords coords;
@@ -70,6 +74,11 @@ struct MeshDomain {
   std::int64_t ncells = 0;  ///< unstructured: elements; curvilinear: ignored
   MeshField field;
   MeshGhosts ghosts;
+  /// Optional, per slot (MeshArraySlot): the same bytes as that array in GPU device memory
+  /// (the original of a host copy the caller made to have the mesh checked and its tables
+  /// built on the host). A render on the GPU reads them there instead of copying the host
+  /// array; the CPU never reads them. Null: none (the GPU render copies the host array).
+  const void* device_copy[kMeshArraySlots] = {};
 
   bool structured() const { return dims[0] != 0 || dims[1] != 0 || dims[2] != 0; }
   /// Cells: ncells, or (dims[0]-1)(dims[1]-1)(dims[2]-1) for a curvilinear grid (after check_mesh).
@@ -112,10 +121,6 @@ void check_mesh_arrays(const Mesh& mesh);
 /// that are not host memory yet (a GPU's, before they are copied to the host). Throws as
 /// check_mesh does.
 void check_mesh_descriptors(const Mesh& mesh);
-
-/// The arrays a domain's render reads, by slot.
-enum class MeshArraySlot : int { X = 0, Y, Z, Connectivity, Field, Ghosts };
-inline constexpr int kMeshArraySlots = 6;
 
 /// One array of a domain: its pointer (null where the domain has none: a curvilinear
 /// domain's connectivity, no ghost mask, a zero count), the bytes it spans from there, and

@@ -8,6 +8,7 @@
 #include "scene/prepared_scene_impl.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -193,52 +194,50 @@ void DeviceScene::plan_mesh() {
     d.mesh.list = reinterpret_cast<const std::uint32_t*>(base + l_off);
     d.mesh.domain = reinterpret_cast<const DomainAccess*>(base + d_off);
   });
-  // Each domain's arrays: [lo, hi) of `count` elements of `elem` bytes `stride` apart
-  struct Span {
-    const unsigned char* lo;
-    const unsigned char* hi;
-  };
-  const auto span_of = [](const unsigned char* p, std::int64_t count, std::int64_t stride, std::size_t elem) {
-    return Span{p, count > 0 ? p + (count - 1) * stride + static_cast<std::int64_t>(elem) : p};
-  };
-  const auto host = [&](const unsigned char* p) { return m_backend->memory_kind(p) == MemoryKind::Host; };
+  // Each domain's arrays (x, y, z, connectivity, values): read in place where they are device
+  // or managed memory, or where the caller names a device copy of them; the others copied,
+  // those whose spans overlap or touch (interleaved x, y, z) in one copy
+  const auto host = [&](const void* p) { return m_backend->memory_kind(p) == MemoryKind::Host; };
   m_field_in_place = true;
-  for (const DomainAccess& d : t.domains()) {
-    MeshArrays m;
-    const auto copy = [&](int i, Span sp, const char* what) {
-      m.off[i] = plan_copy(sp.lo, static_cast<std::size_t>(sp.hi - sp.lo), what);
-      m.lo[i] = sp.lo;
-      m_field_in_place = false;
-    };
-    // Coordinates: interleaved x, y, z (their spans leave no gap between them) in one copy
+  const std::span<const DomainAccess> domains = t.domains();
+  for (std::size_t i = 0; i < domains.size(); ++i) {
+    const DomainAccess& d = domains[i];
+    const std::array<const void*, kMeshArraySlots>& dev = t.device_copies()[i];
     const std::size_t celem = d.coord_f64 ? sizeof(double) : sizeof(float);
-    Span c[3] = {span_of(d.x, d.vertices, d.coord_stride, celem), span_of(d.y, d.vertices, d.coord_stride, celem),
-                 span_of(d.z, d.vertices, d.coord_stride, celem)};
-    if (host(d.x) && host(d.y) && host(d.z)) {
-      Span sorted[3] = {c[0], c[1], c[2]};
-      std::sort(sorted, sorted + 3, [](const Span& a, const Span& b) { return a.lo < b.lo; });
-      bool joined = true;
-      const unsigned char* reach = sorted[0].hi;
-      for (int i = 1; i < 3; ++i) {
-        joined &= sorted[i].lo <= reach;
-        reach = std::max(reach, sorted[i].hi);
+    const std::size_t ielem = d.index64 ? sizeof(std::int64_t) : sizeof(std::int32_t);
+    // Slot k's array: count elements of `elem` bytes `stride` apart
+    const struct {
+      const unsigned char* p;
+      std::int64_t count, stride;
+      std::size_t elem;
+    } arrays[kMeshSlots] = {
+        {d.x, d.vertices, d.coord_stride, celem},
+        {d.y, d.vertices, d.coord_stride, celem},
+        {d.z, d.vertices, d.coord_stride, celem},
+        {d.structured() ? nullptr : d.conn, d.cells * d.nv, static_cast<std::int64_t>(ielem), ielem},
+        {d.values, d.value_count, d.value_stride, dtype_size(d.value_dtype)}};
+    MeshArrays m;
+    std::vector<AddressSpan> copies;
+    for (int k = 0; k < kMeshSlots; ++k) {
+      const auto& a = arrays[k];
+      if (!a.p || a.count <= 0) continue;
+      if (dev[static_cast<std::size_t>(k)] && !host(dev[static_cast<std::size_t>(k)])) {
+        m.in_place[k] = static_cast<const unsigned char*>(dev[static_cast<std::size_t>(k)]);
+        continue;
       }
-      if (joined) {
-        copy(0, Span{sorted[0].lo, reach}, "mesh coordinates");
-        for (int i = 1; i < 3; ++i) m.off[i] = m.off[0], m.lo[i] = m.lo[0];
-      } else {
-        for (int i = 0; i < 3; ++i) copy(i, c[i], "mesh coordinates");
+      if (!host(a.p)) continue;  // device or managed memory: read where it is
+      copies.push_back({a.p, a.p + (a.count - 1) * a.stride + static_cast<std::int64_t>(a.elem), k});
+    }
+    for (const SpanRun& r : merge_spans(copies)) {
+      static constexpr const char* kWhat[kMeshSlots] = {"mesh coordinates", "mesh coordinates", "mesh coordinates",
+                                                        "mesh connectivity", "mesh values"};
+      const std::size_t off = plan_copy(r.lo, static_cast<std::size_t>(r.hi - r.lo), kWhat[copies[r.first].tag]);
+      for (std::size_t c = r.first; c < r.last; ++c) {
+        m.off[copies[c].tag] = off;
+        m.lo[copies[c].tag] = r.lo;
       }
-    } else {
-      for (int i = 0; i < 3; ++i)
-        if (host(i == 0 ? d.x : i == 1 ? d.y : d.z)) copy(i, c[i], "mesh coordinates");
+      m_field_in_place = false;
     }
-    if (!d.structured() && host(d.conn)) {
-      const std::size_t ielem = d.index64 ? sizeof(std::int64_t) : sizeof(std::int32_t);
-      copy(3, span_of(d.conn, d.cells * d.nv, static_cast<std::int64_t>(ielem), ielem), "mesh connectivity");
-    }
-    if (host(d.values))
-      copy(4, span_of(d.values, d.value_count, d.value_stride, dtype_size(d.value_dtype)), "mesh values");
     m_mesh_arrays.push_back(m);
   }
 }
@@ -287,9 +286,11 @@ std::uint64_t DeviceScene::upload() {
     for (std::size_t i = 0; i < domains.size(); ++i) {
       DomainAccess& a = domains[i];
       const MeshArrays& m = m_mesh_arrays[i];
-      const unsigned char** ptr[5] = {&a.x, &a.y, &a.z, &a.conn, &a.values};
-      for (int k = 0; k < 5; ++k)
-        if (m.off[k] != SIZE_MAX) *ptr[k] = base + m.off[k] + (*ptr[k] - m.lo[k]);
+      const unsigned char** ptr[kMeshSlots] = {&a.x, &a.y, &a.z, &a.conn, &a.values};
+      for (int k = 0; k < kMeshSlots; ++k) {
+        if (m.in_place[k]) *ptr[k] = m.in_place[k];
+        else if (m.off[k] != SIZE_MAX) *ptr[k] = base + m.off[k] + (*ptr[k] - m.lo[k]);
+      }
     }
     put(m_off_domains, domains.data(), domains.size() * sizeof(DomainAccess), "mesh domains");
   }

@@ -77,11 +77,13 @@ class DeviceScene {
   std::vector<std::pair<std::size_t, std::ptrdiff_t>> m_patch_data;  ///< per patch: offset, lowest byte offset
   void* m_base = nullptr;
   /// A mesh's domain readers (DomainAccess) on the device: per domain and array (x, y, z,
-  /// connectivity, values), the copy's offset and the host address it starts at (offset
-  /// SIZE_MAX: read in place)
+  /// connectivity, values; the MeshArraySlot order), the copy's offset and the host address it
+  /// starts at (offset SIZE_MAX: not copied), or the device copy the caller named
+  static constexpr int kMeshSlots = 5;
   struct MeshArrays {
-    std::size_t off[5] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
-    const unsigned char* lo[5] = {};
+    std::size_t off[kMeshSlots] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
+    const unsigned char* lo[kMeshSlots] = {};
+    const unsigned char* in_place[kMeshSlots] = {};
   };
   std::vector<MeshArrays> m_mesh_arrays;
   std::size_t m_off_domains = 0;

@@ -22,7 +22,13 @@ void add_value(ElementRange& r, double v) {
 
 void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse) {
   m_domain.clear();
-  for (const MeshDomain& d : mesh.domains) m_domain.push_back(DomainAccess::of(d));
+  m_device_copy.clear();
+  for (const MeshDomain& d : mesh.domains) {
+    m_domain.push_back(DomainAccess::of(d));
+    std::array<const void*, kMeshArraySlots> c{};
+    std::copy(std::begin(d.device_copy), std::end(d.device_copy), c.begin());
+    m_device_copy.push_back(c);
+  }
   m_reused = reuse && reuse->fits(mesh);
   m_layout = m_reused ? std::move(reuse) : std::make_shared<const MeshLayout>(mesh, m_domain);
   // Each element's value range, in the layout's order
@@ -63,7 +69,7 @@ void MeshTables::count_values(const Mesh& mesh) {
 MeshFieldView MeshTables::view() const { return m_layout ? m_layout->view(m_domain.data()) : MeshFieldView{}; }
 
 std::uint64_t MeshTables::bytes() const {
-  return m_domain.size() * sizeof(DomainAccess) + m_range.size() * sizeof(ElementRange) +
+  return m_domain.size() * (sizeof(DomainAccess) + sizeof(m_device_copy[0])) + m_range.size() * sizeof(ElementRange) +
          (m_layout ? m_layout->bytes() : 0);
 }
 

@@ -3,7 +3,7 @@
 /// mesh's elements and builds its location tables on the host, so each of a domain's arrays
 /// that is device memory (cudaMemoryTypeDevice; managed memory is readable on the host and
 /// never copied) is copied to the host first, within the memory limit, and the domain pointed
-/// at the copy. A render on the GPU then copies the mesh to the device from those copies.
+/// at the copy. A render on the GPU then reads those arrays where they were, on the device.
 #include "data/device_arrays.h"
 
 #include <tessera/mesh.h>
@@ -25,7 +25,9 @@ struct MeshMemory {
 MeshMemory mesh_memory(const Mesh& m);
 
 /// Copies each domain's device arrays (`where`: mesh_memory(m)) to host buffers kept in `out`
-/// and points the domain at them: afterwards nothing of `m` is device memory. Arrays of one
+/// and points the domain at them, each original kept as its MeshDomain::device_copy (a
+/// render on the GPU reads it there, not a copy of the copy): afterwards nothing the CPU reads
+/// of `m` is device memory. Arrays of one
 /// domain whose byte spans overlap or touch (x, y and z interleaved) are copied once, as one
 /// span. The bytes are checked against `limit_bytes` before anything is allocated: over it,
 /// std::runtime_error naming the bytes and `limit_text`; CUDA failures (a pointer that is not
