@@ -4,6 +4,10 @@
 // scene, equal spp. Not a test: prints the figures and writes CSV rows.
 //
 //   mesh_bench [--csv FILE] [--grid N] [--image W H] [--spp S] [--reps R] [--threads T]
+//              [--device cpu|cuda]
+//
+// --device cuda renders every variant on the GPU (a build with CUDA; the three variants' host
+// arrays copied to the device with the scene, prepare stays on the host).
 //
 // The scene: N^3 cells over the unit cube, a smooth blobby field, multiple scattering lit by
 // a sphere light and a constant background. Each variant renders `reps` times; the fastest is
@@ -18,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -36,7 +41,7 @@ double blobby(const Vec3& p) {
   return std::exp(-8.0 * glm::dot(d, d)) + 0.3 * std::sin(6.0 * p.x) * std::cos(5.0 * p.z);
 }
 
-tessera::SceneDesc make_scene(const tessera::bench::BenchArgs& a) {
+tessera::SceneDesc make_scene(const tessera::bench::BenchArgs& a, tessera::Device device) {
   tessera::SceneDesc s;
   s.geometry.spacing = Vec3(1.0 / a.grid);
   s.tf.lo = -0.3;
@@ -54,6 +59,7 @@ tessera::SceneDesc make_scene(const tessera::bench::BenchArgs& a) {
   s.integrator.max_bounces = 6;
   s.image = {a.width, a.height, a.spp, 0.0};
   s.options.threads = a.threads;
+  s.options.device = device;
   return s;
 }
 
@@ -91,9 +97,19 @@ int main(int argc, char** argv) {
   a.grid = 48;
   a.width = a.height = 160;
   a.spp = 16;
-  tessera::bench::parse_args(argc, argv, a, [](const std::string&, auto) { return false; });
+  tessera::Device device = tessera::Device::Cpu;
+  tessera::bench::parse_args(argc, argv, a, [&](const std::string& flag, auto next) {
+    if (flag != "--device") return false;
+    const std::string d = next();
+    if (d != "cpu" && d != "cuda") {
+      std::fprintf(stderr, "--device: cpu or cuda, not %s\n", d.c_str());
+      std::exit(2);
+    }
+    device = d == "cuda" ? tessera::Device::Cuda : tessera::Device::Cpu;
+    return true;
+  });
   const int n = a.grid;
-  const tessera::SceneDesc s = make_scene(a);
+  const tessera::SceneDesc s = make_scene(a, device);
   const tessera_mesh_test::ElementList hexes = tessera_mesh_test::grid_hexes(n, n, n, Vec3(0.0), Vec3(1.0 / n), blobby);
   const tessera_mesh_test::ElementList tets = tessera_mesh_test::hexes_to_tets(hexes);
   const tessera::FieldView grid =
@@ -101,9 +117,14 @@ int main(int argc, char** argv) {
   const tessera_mesh_test::OwnedMesh hex_mesh = tessera_mesh_test::one_domain(hexes);
   const tessera_mesh_test::OwnedMesh tet_mesh = tessera_mesh_test::one_domain(tets);
   std::vector<Row> rows;
-  rows.push_back(run("grid", grid, hexes.element.size(), s, a.reps));
-  rows.push_back(run("hex_mesh", hex_mesh.mesh, hexes.element.size(), s, a.reps));
-  rows.push_back(run("tet_mesh", tet_mesh.mesh, tets.element.size(), s, a.reps));
+  try {
+    rows.push_back(run("grid", grid, hexes.element.size(), s, a.reps));
+    rows.push_back(run("hex_mesh", hex_mesh.mesh, hexes.element.size(), s, a.reps));
+    rows.push_back(run("tet_mesh", tet_mesh.mesh, tets.element.size(), s, a.reps));
+  } catch (const std::exception& e) {  // e.g. --device cuda without a GPU
+    std::fprintf(stderr, "mesh_bench: %s\n", e.what());
+    return 1;
+  }
   // check_mesh alone, per million elements
   auto t0 = Clock::now();
   tessera::check_mesh(hex_mesh.mesh);
@@ -111,20 +132,22 @@ int main(int argc, char** argv) {
   t0 = Clock::now();
   tessera::check_mesh(tet_mesh.mesh);
   const double check_tet = seconds_since(t0);
-  std::printf("%dx%dx%d cells, %dx%d, %d spp, %d thread(s)\n", n, n, n, a.width, a.height, a.spp, a.threads);
+  std::printf("%dx%dx%d cells, %dx%d, %d spp, %d thread(s), on the %s\n", n, n, n, a.width, a.height, a.spp, a.threads,
+              device == tessera::Device::Cuda ? "GPU" : "CPU");
   std::printf("%-9s %10s %12s %14s %10s %12s %10s\n", "variant", "elements", "prepare_s", "prepare_s/Mel", "render_s",
               "render/grid", "mean");
   std::ofstream csv(a.csv);
-  csv << "variant,elements,grid,width,height,spp,threads,prepare_s,prepare_s_per_million,check_s_per_million,"
-         "render_s,render_over_grid,mean_luminance\n";
+  csv << "variant,device,elements,grid,width,height,spp,threads,prepare_s,prepare_s_per_million,"
+         "check_s_per_million,render_s,render_over_grid,mean_luminance\n";
   for (const Row& r : rows) {
     const double mel = static_cast<double>(r.elements) * 1e-6;
     const double check = r.variant == "hex_mesh" ? check_hex : r.variant == "tet_mesh" ? check_tet : 0.0;
     std::printf("%-9s %10zu %12.4f %14.4f %10.3f %12.2f %10.5f\n", r.variant.c_str(), r.elements, r.prepare_s,
                 r.prepare_s / mel, r.render_s, r.render_s / rows[0].render_s, r.mean);
-    csv << r.variant << ',' << r.elements << ',' << n << ',' << a.width << ',' << a.height << ',' << a.spp << ','
-        << a.threads << ',' << r.prepare_s << ',' << r.prepare_s / mel << ',' << check / mel << ',' << r.render_s << ','
-        << r.render_s / rows[0].render_s << ',' << r.mean << '\n';
+    csv << r.variant << ',' << (device == tessera::Device::Cuda ? "cuda" : "cpu") << ',' << r.elements << ',' << n
+        << ',' << a.width << ',' << a.height << ',' << a.spp << ',' << a.threads << ',' << r.prepare_s << ','
+        << r.prepare_s / mel << ',' << check / mel << ',' << r.render_s << ',' << r.render_s / rows[0].render_s << ','
+        << r.mean << '\n';
   }
   std::printf("check_mesh: hex %.4f s/Mel, tet %.4f s/Mel\n", check_hex / (hexes.element.size() * 1e-6),
               check_tet / (tets.element.size() * 1e-6));

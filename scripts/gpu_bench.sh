@@ -12,7 +12,8 @@
 #       e.g. build-gpu-deps/root/usr/lib/x86_64-linux-gnu
 #   $PACK (default build-gpu-deps/data), from scripts/gpu_bench_data.sh: the compressed
 #       volumes, MANIFEST, the CPU run's references ref/<case>/ and its ete_cpu.csv
-# Writes into OUT_DIR: gpu.txt (nvidia-smi), lookup_cuda.{txt,csv}, ete_gpu_spp<N>/ete.{csv,md}
+# Writes into OUT_DIR: gpu.txt (nvidia-smi), lookup_cuda.{txt,csv}, mesh_bench.{txt,csv},
+# ete_gpu_spp<N>/ete.{csv,md}
 # and stats/, the GPU's run0.exr per case, ete_compare.md (against the CPU's CSV), resources.txt
 # (the kernels' registers and spills, when cuobjdump is on PATH), timing.txt. Progress lines on
 # stdout. Meant to finish in well under 4 minutes on one H100/H200: every step has a time limit
@@ -27,6 +28,7 @@
 #   FIELD_DTYPE=float32  the GPU renders float32 copies of the int16 CT and uint8 MRI (the same
 #                      values; docs/gpu.md: the backend refuses integer fields for now); native
 #                      once it takes them
+#   MESH_LIMIT=30      seconds for bench/mesh_bench on the device (0: skipped), before the cases
 #   CASE_LIMIT=60 LOOKUP_LIMIT=60 TOTAL_LIMIT=200 (seconds: a case, the lookup ceiling, and
 #                      the whole script: the cases left when it runs out are skipped), WORK=/tmp/tessera-gpu-bench (the unpacked data,
 #                      the float32 copies, all images: not under OUT_DIR, which travels back)
@@ -48,6 +50,7 @@ device=${DEVICE:-cuda}
 field_dtype=${FIELD_DTYPE:-float32}
 case_limit=${CASE_LIMIT:-60}
 lookup_limit=${LOOKUP_LIMIT:-60}
+mesh_limit=${MESH_LIMIT:-30}
 total_limit=${TOTAL_LIMIT:-200}
 cases=${ONLY:-ct_single,mri_single,heat_single,ct_multiple,mri_multiple,heat_multiple}
 export PYTHONUNBUFFERED=1
@@ -98,6 +101,17 @@ if command -v cuobjdump > /dev/null; then
   done > "$out/resources.txt" 2>&1
   say "registers and spills: resources.txt"
 fi
+
+# 3b. Curvilinear and unstructured meshes on the GPU (bench/mesh_bench: grid, hex mesh, tet
+# mesh; the CPU's figures are docs/BENCHMARKS.md's), when the build has it
+mesh_bench=$build/bench/mesh_bench
+if [[ -x $mesh_bench ]] && ((mesh_limit > 0)); then
+  say "mesh_bench --device $device (limit ${mesh_limit} s)"
+  timeout "$mesh_limit" "$mesh_bench" --device "$device" --threads "$threads" --reps 2 --csv "$out/mesh_bench.csv" \
+    2>&1 | tee "$out/mesh_bench.txt"
+  say "mesh_bench: exit ${PIPESTATUS[0]}"
+fi
+mark mesh
 
 # 4. Time to equal error: the six cases on the GPU against the CPU's references, per spp
 args=(--build "$build" --rmse "$rmse" --data "$work/data" --reference-dir "$pack/ref" --device "$device" --threads "$threads"

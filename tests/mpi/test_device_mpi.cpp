@@ -77,17 +77,26 @@ double max_difference(const tessera::Image& a, const tessera::Image& b) {
 }
 
 /// One mesh call on `device`: a warped box of 4 blocks of cells (hexes and tets alternating),
-/// block b on rank b % ranks (a rank may hold none).
-Run run_mesh(const SharedTempDir& dir, const std::string& tag, const std::string& device) {
+/// block b on rank b % ranks (a rank may hold none). `rank0_on_device`: rank 0's arrays are
+/// declared device memory to the emulated GPU (which must be installed).
+Run run_mesh(const SharedTempDir& dir, const std::string& tag, const std::string& device,
+             bool rank0_on_device = false) {
   const std::int64_t n[3] = {9, 8, 13};
   const std::int64_t cuts[5] = {0, 3, 6, 9, 12};
   std::deque<tessera_test::MeshBlock> blocks;
   std::vector<tessera_mesh_domain> mine;
   for (int b = 0; b < 4; ++b) {
     blocks.emplace_back(n, cuts[b], cuts[b + 1]);
-    if (b % world_size() == world_rank())
-      mine.push_back(
-          blocks.back().domain(b % 2 ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
+    if (b % world_size() != world_rank()) continue;
+    tessera_test::MeshBlock& m = blocks.back();
+    mine.push_back(m.domain(b % 2 ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
+    if (rank0_on_device && world_rank() == 0) {
+      const auto declare = [](const auto& v) {
+        tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), v.data(),
+                                                      v.size() * sizeof(v[0]));
+      };
+      declare(m.x), declare(m.y), declare(m.z), declare(m.vertex_values), declare(m.hexes), declare(m.tets);
+    }
   }
   std::string cfg = config(dir.file(tag), device);
   cfg.replace(cfg.find("field: density"), 14, "field: f");
@@ -122,6 +131,24 @@ TEST_CASE("device: cuda renders mesh domains spread over the ranks: the CPU's im
     REQUIRE(automatic.image);
     CHECK(max_difference(*cpu.image, *dev.image) < 1e-5);
     CHECK(cpu.image->rgba == automatic.image->rgba);
+  }
+}
+
+TEST_CASE("device: auto with mesh arrays in device memory on rank 0", "[mpi][gpu][mesh]") {
+  // Rank 0's arrays are copied to the host; alone it renders on its GPU, reading them there;
+  // with other ranks, whose arrays are host memory, every rank renders on the CPU
+  SharedTempDir dir("tessera_device_");
+  const Run cpu = run_mesh(dir, "mesh_cpu", "cpu");
+  const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
+  const Run dev = run_mesh(dir, "mesh_dev", "auto", true);
+  INFO(dev.error);
+  CHECK(all_ranks(dev.status == TESSERA_OK));
+  CHECK(all_ranks(dev.device == (world_size() == 1 ? "cuda:0" : "cpu")));
+  if (world_rank() == 0) {
+    REQUIRE(cpu.image);
+    REQUIRE(dev.image);
+    if (world_size() == 1) CHECK(max_difference(*cpu.image, *dev.image) < 1e-5);
+    else CHECK(cpu.image->rgba == dev.image->rgba);  // the CPU's bits: no tile rendered elsewhere
   }
 }
 
