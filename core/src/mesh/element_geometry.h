@@ -12,14 +12,14 @@
 
 namespace tessera {
 
-/// Parametric corner of a hex's vertex v (VTK order): r, s, t in {0, 1}; r is 0, 1, 1, 0 around
-/// each face, s 0, 0, 1, 1, t 0 for vertices 0-3 and 1 for 4-7. Arithmetic rather than a table,
-/// so that device code reads no constant array by a run-time index.
-TESSERA_HOST_DEVICE constexpr int hex_corner_r(int v) { return (v ^ (v >> 1)) & 1; }
-TESSERA_HOST_DEVICE constexpr int hex_corner_s(int v) { return (v >> 1) & 1; }
-TESSERA_HOST_DEVICE constexpr int hex_corner_t(int v) { return (v >> 2) & 1; }
-static_assert(hex_corner_r(0) == 0 && hex_corner_r(1) == 1 && hex_corner_r(2) == 1 && hex_corner_r(3) == 0 &&
-              hex_corner_r(4) == 0 && hex_corner_r(5) == 1 && hex_corner_r(6) == 1 && hex_corner_r(7) == 0);
+/// Parametric corner of a hex's vertex v (VTK order): r, s, t in {0, 1}. Device code reads its
+/// own copies of the tables (host_device.h, TESSERA_TABLE).
+inline constexpr int kHexCornerR[8] = {0, 1, 1, 0, 0, 1, 1, 0};
+inline constexpr int kHexCornerS[8] = {0, 0, 1, 1, 0, 0, 1, 1};
+inline constexpr int kHexCornerT[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+TESSERA_DEVICE_TABLE(kHexCornerR);
+TESSERA_DEVICE_TABLE(kHexCornerS);
+TESSERA_DEVICE_TABLE(kHexCornerT);
 
 /// Newton's method on the trilinear map: the update that counts as converged (parametric,
 /// i.e. relative to the cell's size), and the most iterations tried.
@@ -53,7 +53,8 @@ TESSERA_HOST_DEVICE inline bool tet_barycentric(const Vec3* c, const Vec3& x, do
 /// The hex's trilinear shape functions at parametric r (VTK order).
 TESSERA_HOST_DEVICE inline void hex_weights(const double r[3], double w[8]) {
   const double a[2] = {1.0 - r[0], r[0]}, b[2] = {1.0 - r[1], r[1]}, c[2] = {1.0 - r[2], r[2]};
-  for (int v = 0; v < 8; ++v) w[v] = a[hex_corner_r(v)] * b[hex_corner_s(v)] * c[hex_corner_t(v)];
+  for (int v = 0; v < 8; ++v)
+    w[v] = a[TESSERA_TABLE(kHexCornerR)[v]] * b[TESSERA_TABLE(kHexCornerS)[v]] * c[TESSERA_TABLE(kHexCornerT)[v]];
 }
 
 /// x(r) of the hex's trilinear map.
@@ -70,7 +71,7 @@ TESSERA_HOST_DEVICE inline void hex_jacobian(const Vec3* c, const double r[3], V
   const double a[2] = {1.0 - r[0], r[0]}, b[2] = {1.0 - r[1], r[1]}, t[2] = {1.0 - r[2], r[2]};
   J[0] = J[1] = J[2] = Vec3(0.0);
   for (int v = 0; v < 8; ++v) {
-    const int i = hex_corner_r(v), j = hex_corner_s(v), k = hex_corner_t(v);
+    const int i = TESSERA_TABLE(kHexCornerR)[v], j = TESSERA_TABLE(kHexCornerS)[v], k = TESSERA_TABLE(kHexCornerT)[v];
     const double si = i ? 1.0 : -1.0, sj = j ? 1.0 : -1.0, sk = k ? 1.0 : -1.0;
     J[0] += (si * b[j] * t[k]) * c[v];
     J[1] += (a[i] * sj * t[k]) * c[v];
@@ -80,8 +81,9 @@ TESSERA_HOST_DEVICE inline void hex_jacobian(const Vec3* c, const double r[3], V
 
 /// det J at the parametric corner of vertex v.
 TESSERA_HOST_DEVICE inline double hex_corner_jacobian(const Vec3* c, int v) {
-  const double r[3] = {static_cast<double>(hex_corner_r(v)), static_cast<double>(hex_corner_s(v)),
-                       static_cast<double>(hex_corner_t(v))};
+  const double r[3] = {static_cast<double>(TESSERA_TABLE(kHexCornerR)[v]),
+                       static_cast<double>(TESSERA_TABLE(kHexCornerS)[v]),
+                       static_cast<double>(TESSERA_TABLE(kHexCornerT)[v])};
   Vec3 J[3];
   hex_jacobian(c, r, J);
   return det3(J[0], J[1], J[2]);
