@@ -32,6 +32,7 @@
 #include <memory>
 #include <numeric>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace gpu_test;
@@ -382,6 +383,37 @@ TEST_CASE("Emulated device: the deadline stops the render between slices", "[emu
   CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, {}, &tr), tessera::DeadlineExceeded);
   CHECK(tr.launches == 0);
   CHECK(st.samples == 0);
+}
+
+TEST_CASE("Emulated device: a deadline in the adaptive pilot keeps the pilot samples drawn", "[emulated]") {
+  // One pilot sample per slice; after the second slice the test waits the deadline out, so
+  // the render stops inside the pilot: every pixel keeps its two samples, the counts are
+  // never decided, and the call says the deadline passed
+  const std::vector<double> field = heat_field<double>(kN);
+  tessera::SceneDesc s = heat_scene(kN, 7);
+  s.image.spp = 64;  // a pilot of 8
+  s.image.target_error = 0.05;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+  s.options.deadline = deadline;
+  const tessera::PreparedScene ps =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
+  EmulatedDevice d;
+  d.after_slice = [&](std::int64_t slices) {
+    if (slices == 2) std::this_thread::sleep_until(deadline + std::chrono::milliseconds(10));
+  };
+  const auto b = tessera::cuda::emulated_backend(d);
+  tessera::Film film(48, 48);
+  tessera::RenderStats st;
+  tessera::CudaTransfer tr;
+  tessera::CudaLaunch one;
+  one.samples_per_launch = 1;
+  REQUIRE(std::chrono::steady_clock::now() < deadline);  // prepare left the render its time
+  CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, one, &tr), tessera::DeadlineExceeded);
+  CHECK(tr.launches == 2);
+  CHECK(st.samples == std::uint64_t{48 * 48 * 2});
+  bool two_each = true;
+  for (const tessera::PixelSums& p : film.pixels()) two_each &= p.n == 2 && p.drawn == 2;
+  CHECK(two_each);
 }
 
 namespace {

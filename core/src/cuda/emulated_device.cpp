@@ -9,6 +9,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <atomic>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -113,6 +115,7 @@ class EmulatedBackend final : public DeviceBackend {
   void run_slice(const KernelScene& ks, const SliceArgs& a, int, const std::string& what) override {
     if (!with_device_value(ks, [&](auto tag) { emulate_slice<typename decltype(tag)::type>(a, m_d.lane_loop); }))
       throw std::invalid_argument("emulated device: no kernel for " + what);
+    if (m_d.after_slice) m_d.after_slice(++m_slices);
   }
   void merge_lanes(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const AuxSums* lane_aux, std::int64_t njobs,
                    int lanes) override {
@@ -144,6 +147,7 @@ class EmulatedBackend final : public DeviceBackend {
   mutable std::mutex m_mutex;  // guards m_live, m_held and m_d.device_ranges
   std::map<void*, std::size_t> m_live;
   std::size_t m_held = 0;
+  std::atomic<std::int64_t> m_slices{0};  ///< slices run (after_slice's count)
 };
 
 }  // namespace

@@ -15,6 +15,8 @@
 #include "kernels/lane_loop.h"
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -30,6 +32,9 @@ struct EmulatedDevice {
   std::vector<std::pair<const void*, std::size_t>> device_ranges;
   /// The lanes' loop the emulated kernel runs: by default the CUDA kernel's.
   LaneLoop lane_loop = kDeviceLaneLoop;
+  /// Called after each slice the backend runs, with the count of slices so far (a test's hook:
+  /// e.g. to wait out a deadline at a chosen point of a render). Null: nothing.
+  std::function<void(std::int64_t slices)> after_slice;
 };
 
 /// A backend emulating `d`. A prepared scene's device copies are kept per backend object, so
