@@ -4,8 +4,9 @@
 #  2. the heat-equation miniapp under mpirun, rendering in situ every few steps: out/heat/
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# Builds only the programs the demo runs (build/bin/), not the tests and benchmarks.
-TESSERA_SETUP_TARGETS="tessera-render tessera-synth tessera-heat" bash scripts/setup.sh
+# Builds only the programs the demo runs (build/bin/), not the tests and benchmarks; adds
+# ffmpeg for the heat demo's MP4s.
+TESSERA_SETUP_DEMO=1 TESSERA_SETUP_TARGETS="tessera-render tessera-synth tessera-heat" bash scripts/setup.sh
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 
 mkdir -p data out

@@ -9,9 +9,11 @@ pkgs=(build-essential cmake pkg-config libtbb-dev libopenexr-dev libglm-dev liby
       libfreetype-dev fonts-dejavu-core valgrind clang-format)
 # Opt-in extras, not needed by the normal build:
 #   TESSERA_SETUP_FUZZ=1        clang and its libFuzzer / sanitizer runtimes (scripts/fuzz.sh)
+#   TESSERA_SETUP_DEMO=1        ffmpeg, which turns the heat demo's frames into MP4s (demo.sh)
 #   TESSERA_SETUP_SKIP_BUILD=1  install packages only, do not configure or build ./build
 #   TESSERA_SETUP_TARGETS="a b" build only these targets (demo.sh: the three programs)
 if [ "${TESSERA_SETUP_FUZZ:-0}" = 1 ]; then pkgs+=(clang libclang-rt-14-dev); fi
+if [ "${TESSERA_SETUP_DEMO:-0}" = 1 ]; then pkgs+=(ffmpeg); fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
