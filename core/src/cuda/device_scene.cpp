@@ -174,6 +174,9 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   m_off_medium = reserve(m_medium_bytes);
 }
 
+// The device's mesh slots are MeshArraySlot's first five (a ghost mask is read on the host only)
+static_assert(static_cast<int>(MeshArraySlot::Field) == 4 && static_cast<int>(MeshArraySlot::Ghosts) == 5);
+
 void DeviceScene::plan_mesh() {
   const MeshTables& t = m_scene.mesh;
   const MeshFieldView& v = m_scene.kernel.mesh;
@@ -199,34 +202,20 @@ void DeviceScene::plan_mesh() {
   // those whose spans overlap or touch (interleaved x, y, z) in one copy
   const auto host = [&](const void* p) { return m_backend->memory_kind(p) == MemoryKind::Host; };
   m_field_in_place = true;
-  const std::span<const DomainAccess> domains = t.domains();
-  for (std::size_t i = 0; i < domains.size(); ++i) {
-    const DomainAccess& d = domains[i];
-    const std::array<const void*, kMeshArraySlots>& dev = t.device_copies()[i];
-    const std::size_t celem = d.coord_f64 ? sizeof(double) : sizeof(float);
-    const std::size_t ielem = d.index64 ? sizeof(std::int64_t) : sizeof(std::int32_t);
-    // Slot k's array: count elements of `elem` bytes `stride` apart
-    const struct {
-      const unsigned char* p;
-      std::int64_t count, stride;
-      std::size_t elem;
-    } arrays[kMeshSlots] = {
-        {d.x, d.vertices, d.coord_stride, celem},
-        {d.y, d.vertices, d.coord_stride, celem},
-        {d.z, d.vertices, d.coord_stride, celem},
-        {d.structured() ? nullptr : d.conn, d.cells * d.nv, static_cast<std::int64_t>(ielem), ielem},
-        {d.values, d.value_count, d.value_stride, dtype_size(d.value_dtype)}};
+  for (const MeshTables::DomainArrays& arrays : t.arrays()) {
     MeshArrays m;
     std::vector<AddressSpan> copies;
     for (int k = 0; k < kMeshSlots; ++k) {
-      const auto& a = arrays[k];
-      if (!a.p || a.count <= 0) continue;
-      if (dev[static_cast<std::size_t>(k)] && !host(dev[static_cast<std::size_t>(k)])) {
-        m.in_place[k] = static_cast<const unsigned char*>(dev[static_cast<std::size_t>(k)]);
+      const MeshArraySpan& a = arrays.span[static_cast<std::size_t>(k)];
+      const void* named = arrays.device_copy[static_cast<std::size_t>(k)];
+      if (!a.data) continue;
+      if (named && !host(named)) {
+        m.in_place[k] = static_cast<const unsigned char*>(named);
         continue;
       }
-      if (!host(a.p)) continue;  // device or managed memory: read where it is
-      copies.push_back({a.p, a.p + (a.count - 1) * a.stride + static_cast<std::int64_t>(a.elem), k});
+      if (!host(a.data)) continue;  // device or managed memory: read where it is
+      const auto* p = static_cast<const unsigned char*>(a.data);
+      copies.push_back({p, p + a.bytes, k});
     }
     for (const SpanRun& r : merge_spans(copies)) {
       static constexpr const char* kWhat[kMeshSlots] = {"mesh coordinates", "mesh coordinates", "mesh coordinates",

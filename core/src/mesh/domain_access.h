@@ -3,8 +3,7 @@
 /// (mesh.h): a vertex's position, a cell's vertex indices (a curvilinear cell's from its
 /// i, j, k; an unstructured one's from the connectivity) and a value, each dtype read per
 /// load. Trivially copyable; points into the caller's arrays (valid while they are). The
-/// readers are host and device code (host_device.h); the arrays' lengths say what a device
-/// copy of the domain takes (cuda/device_scene.h).
+/// readers are host and device code (host_device.h).
 #include <tessera/brick_cache.h>
 #include <tessera/host_device.h>
 #include <tessera/math.h>
@@ -30,8 +29,6 @@ struct DomainAccess {
   DType value_dtype = DType::Float32;
   std::int64_t value_stride = 0;
   bool cell_data = false;
-  /// The arrays' lengths: vertices (coordinates), cells (connectivity rows) and values
-  std::int64_t vertices = 0, cells = 0, value_count = 0;
 
   static DomainAccess of(const MeshDomain& d) {
     DomainAccess a;
@@ -49,9 +46,6 @@ struct DomainAccess {
     a.value_dtype = d.field.dtype;
     a.value_stride = d.field.byte_stride;
     a.cell_data = d.field.association == Association::Cell;
-    a.vertices = d.coords.count;
-    a.cells = d.cell_count();
-    a.value_count = d.field.count;
     return a;
   }
 

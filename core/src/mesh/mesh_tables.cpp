@@ -22,12 +22,14 @@ void add_value(ElementRange& r, double v) {
 
 void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse) {
   m_domain.clear();
-  m_device_copy.clear();
+  m_arrays.clear();
   for (const MeshDomain& d : mesh.domains) {
     m_domain.push_back(DomainAccess::of(d));
-    std::array<const void*, kMeshArraySlots> c{};
-    std::copy(std::begin(d.device_copy), std::end(d.device_copy), c.begin());
-    m_device_copy.push_back(c);
+    DomainArrays& a = m_arrays.emplace_back();
+    for (int s = 0; s < kMeshArraySlots; ++s) {
+      a.span[static_cast<std::size_t>(s)] = mesh_array(d, static_cast<MeshArraySlot>(s));
+      a.device_copy[static_cast<std::size_t>(s)] = d.device_copy[s];
+    }
   }
   m_reused = reuse && reuse->fits(mesh);
   m_layout = m_reused ? std::move(reuse) : std::make_shared<const MeshLayout>(mesh, m_domain);
@@ -69,7 +71,7 @@ void MeshTables::count_values(const Mesh& mesh) {
 MeshFieldView MeshTables::view() const { return m_layout ? m_layout->view(m_domain.data()) : MeshFieldView{}; }
 
 std::uint64_t MeshTables::bytes() const {
-  return m_domain.size() * (sizeof(DomainAccess) + sizeof(m_device_copy[0])) + m_range.size() * sizeof(ElementRange) +
+  return m_domain.size() * (sizeof(DomainAccess) + sizeof(DomainArrays)) + m_range.size() * sizeof(ElementRange) +
          (m_layout ? m_layout->bytes() : 0);
 }
 

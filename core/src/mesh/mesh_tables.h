@@ -53,8 +53,14 @@ class MeshTables {
   std::size_t element_count() const { return m_layout ? m_layout->element_count() : 0; }
   /// The domains' readers the view points to (one per domain, in order).
   std::span<const DomainAccess> domains() const { return m_domain; }
-  /// Per domain, the GPU copies of its arrays the caller named (MeshDomain::device_copy).
-  std::span<const std::array<const void*, kMeshArraySlots>> device_copies() const { return m_device_copy; }
+  /// Per domain, where each array the readers point into lies (MeshArraySlot order): its
+  /// span (mesh_array) and the GPU copy of it the caller named (MeshDomain::device_copy), for
+  /// a device render's copies (cuda/device_scene.h).
+  struct DomainArrays {
+    std::array<MeshArraySpan, kMeshArraySlots> span;
+    std::array<const void*, kMeshArraySlots> device_copy;
+  };
+  std::span<const DomainArrays> arrays() const { return m_arrays; }
   /// Element e's world box (lo x, y, z, hi x, y, z) and value range, in canonical order.
   const double* box(std::size_t e) const { return m_layout->box(e); }
   const ElementRange& range(std::size_t e) const { return m_range[e]; }
@@ -75,7 +81,7 @@ class MeshTables {
   std::shared_ptr<const MeshLayout> m_layout;
   bool m_reused = false;
   std::vector<DomainAccess> m_domain;  ///< the current arrays
-  std::vector<std::array<const void*, kMeshArraySlots>> m_device_copy;
+  std::vector<DomainArrays> m_arrays;
   std::vector<ElementRange> m_range;  ///< per element, in the layout's order
   std::uint64_t m_nan = 0, m_values = 0;
   double m_vmin = INFINITY, m_vmax = -INFINITY;
