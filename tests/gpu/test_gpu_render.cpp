@@ -186,29 +186,6 @@ TEST_CASE("GPU: white furnace within 0.5%", "[gpu][furnace]") {
   CHECK(std::fabs(mean - kL) < 4.0 * se + 1e-12);
 }
 
-TEST_CASE("GPU: what the backend does not cover is refused by name", "[gpu]") {
-  // A distributed (paged) field: its bricks come from other ranks through a host cache, so
-  // the CPU renders it; refused before any brick is asked for
-  constexpr int n = 16;
-  const std::vector<double> whole = heat_field<double>(n);
-  const FieldView view = FieldView::contiguous(whole.data(), tessera::DType::Float64, n, n, n);
-  const std::int64_t dims[3] = {n, n, n}, origin[3] = {0, 0, 0};
-  tessera::BrickCache cache(tessera::BrickGrid::make(dims, tessera::DType::Float64, 2), 4);
-  tessera::PagedField f;
-  f.dtype = tessera::DType::Float64;
-  for (int a = 0; a < 3; ++a) f.dims[a] = dims[a];
-  f.cache = &cache;
-  const tessera::SceneDesc s = heat_scene(n, 1);
-  const int edge = tessera::majorant_edge(view, s.integrator);
-  const tessera::PreparedScene ps = tessera::prepare(
-      f, s, tessera::FieldSummary::from_parts(tessera::FieldSummary::partial(view, origin, dims, edge), {}, edge));
-  tessera::Film film(48, 48);
-  tessera::RenderStats st;
-  CHECK_THROWS_WITH(gpu_render_tiles(ps, all_tiles(ps), film, st),
-                    Catch::Contains("distributed (paged) field") && Catch::Contains("not supported on the GPU"));
-  CHECK(st.samples == 0);
-}
-
 TEST_CASE("GPU against CPU: adaptive sampling", "[gpu]") {
   // Each pixel's count comes from its block neighbours' pilot samples, as on the CPU: the
   // same seed gives the same counts (samples and lookups equal), another seed an image that

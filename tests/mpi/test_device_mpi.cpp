@@ -51,13 +51,16 @@ struct Run {
 };
 
 /// One call of an adapter opened on `device` over this rank's slab (`data`: the slab's values
-/// or another copy of them).
-Run run(const SharedTempDir& dir, const std::string& tag, const std::string& device, const void* data = nullptr) {
+/// or another copy of them), the field shared as `distribution` says.
+Run run(const SharedTempDir& dir, const std::string& tag, const std::string& device, const void* data = nullptr,
+        const std::string& distribution = "auto") {
   BlobSlab slab;
   if (data) slab.field.data = data;
   Adapter a;
   a.set_quiet(true);
-  const std::string cfg = dir.write(tag + ".yaml", config(dir.file(tag), device));
+  std::string text = config(dir.file(tag), device);
+  text.replace(text.find("  threads: 1\n"), 13, "  threads: 1\n  distribution: " + distribution + "\n");
+  const std::string cfg = dir.write(tag + ".yaml", text);
   REQUIRE(all_ranks(a.open(cfg, MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
   Run r;
   r.status = a.execute(1, 0.0, slab.grid, {&slab.field, 1});
@@ -231,4 +234,35 @@ TEST_CASE("on GPUs the ranks grab large chunks and gather the one-rank GPU image
     CHECK(gpu_test::same_bits(film, one));
     CHECK(stats.real_collisions == one_stats.real_collisions);
   }
+}
+
+TEST_CASE("device: cuda in distributed mode renders the replicated GPU image bit for bit", "[mpi][gpu][paged]") {
+  // Every rank holds its slab only; the other ranks' bricks come over MPI to the host cache
+  // and from there to each rank's GPU as its launches miss them (replayed launches)
+  SharedTempDir dir("tessera_device_");
+  const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
+  const Run replicated = run(dir, "replicated", "cuda", nullptr, "replicated");
+  const Run distributed = run(dir, "distributed", "cuda", nullptr, "distributed");
+  INFO(distributed.error);
+  CHECK(all_ranks(replicated.status == TESSERA_OK));
+  CHECK(all_ranks(distributed.status == TESSERA_OK));
+  CHECK(all_ranks(distributed.device == "cuda:0"));
+  if (world_rank() == 0) {
+    REQUIRE(replicated.image);
+    REQUIRE(distributed.image);
+    CHECK(replicated.image->rgba == distributed.image->rgba);
+  }
+  // device: auto with the slabs in (emulated) device memory: the GPU, the same bits
+  std::vector<float> on_device = BlobSlab().values;
+  tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), on_device.data(),
+                                                on_device.size() * sizeof(float));
+  const Run from_device = run(dir, "auto", "auto", on_device.data(), "distributed");
+  INFO(from_device.error);
+  CHECK(all_ranks(from_device.status == TESSERA_OK));
+  CHECK(all_ranks(from_device.device == "cuda:0"));
+  if (world_rank() == 0) {
+    REQUIRE(from_device.image);
+    CHECK(replicated.image->rgba == from_device.image->rgba);
+  }
+  tessera::cuda::emulated_forget_device_memory(*tessera::cuda::gpu_emulation(), on_device.data());
 }

@@ -26,6 +26,11 @@
 ///
 /// Images do not depend on any of this: a vertex read from a slot has the same bits as the
 /// same vertex read in place, so residency, eviction and fetch order change nothing.
+///
+/// On a GPU (device_brick_table.h, core/src/cuda/device_bricks.h) the kernels read every
+/// vertex through a device copy of the bricks instead (PagedFieldView::device); the host fills
+/// those copies through this cache like a worker, between launches.
+#include <tessera/device_brick_table.h>
 #include <tessera/field_view.h>
 
 #include <atomic>
@@ -206,13 +211,16 @@ struct PagedFieldView {
   BrickCache* cache = nullptr;
   /// The rank's other own blocks (BrickCache::set_in_place); cell null when it has none.
   InPlaceTable in_place;
+  /// On a GPU: every vertex through the device's bricks (local and in_place empty, cache
+  /// never called); slot null on the CPU.
+  DeviceBrickTable device;
 
   /// Vertex (i, j, k) of the global field (inside dims) as double, exactly as
   /// TypedFieldView::load of the same vertex in a whole-field view gives it. Inline (the
   /// kernels' hot path): a vertex of `local` is one strided load; a vertex of a table cell
   /// wholly inside another own block one table load and one strided load (no search); another
   /// one a directory load (BrickCache::find) and a load from its slot; only a miss calls out.
-  double load(std::int64_t i, std::int64_t j, std::int64_t k) const;
+  TESSERA_HOST_DEVICE double load(std::int64_t i, std::int64_t j, std::int64_t k) const;
 };
 
 static_assert(std::is_trivially_copyable_v<PagedFieldView>);
@@ -258,7 +266,8 @@ TESSERA_HOST_DEVICE inline double load_element(DType t, const unsigned char* bas
 }
 }  // namespace detail
 
-inline double PagedFieldView::load(std::int64_t i, std::int64_t j, std::int64_t k) const {
+TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE inline double PagedFieldView::load(std::int64_t i, std::int64_t j,
+                                                                               std::int64_t k) const {
   // The own block, in place
   // (one unsigned compare per axis: a vertex below lo wraps to a huge offset)
   const std::int64_t li = i - lo[0], lj = j - lo[1], lk = k - lo[2];
@@ -287,9 +296,23 @@ inline double PagedFieldView::load(std::int64_t i, std::int64_t j, std::int64_t 
   }
   // Another rank's (or a cell straddling blocks): its brick's slot, fetched on a miss
   const std::int64_t b = ((k >> shift) * bricks[1] + (j >> shift)) * bricks[0] + (i >> shift);
-  const unsigned char* slot = cache->find(b);
-  if (!slot) [[unlikely]]
-    slot = cache->acquire(b);
+  const unsigned char* slot;
+  if (device.slot) {
+    // On a GPU: the device's copy, or 0 and the brick noted (the launch is run again)
+    slot = device.slot[b];
+    if (!slot) [[unlikely]] {
+      note_brick_miss(device, b);
+      return 0.0;
+    }
+  } else {
+#if defined(__CUDA_ARCH__)
+    return 0.0;  // never: a device's view always has its brick table
+#else
+    slot = cache->find(b);
+    if (!slot) [[unlikely]]
+      slot = cache->acquire(b);
+#endif
+  }
   const std::int64_t m = (std::int64_t{1} << shift) - 1;
   const std::int64_t e = ((((k & m) << shift) + (j & m)) << shift) + (i & m);
   return detail::load_element(dtype, slot, e);

@@ -17,7 +17,10 @@
 /// sampling, every light kind, every background (an envmap's texels and sampling table are
 /// copied with the scene), every integrator mode, denoiser features, adaptive sampling (the
 /// CPU's counts, in two passes). Refused by name (std::invalid_argument): refinement levels
-/// (not yet), meshes, paged (distributed) fields.
+/// (not yet) and distributed hierarchies of them. Meshes and distributed (paged) fields are
+/// covered: a paged field's bricks are copied to a bounded pool on the device as launches
+/// miss them, a launch that missed one run again (device_bricks.h); the host cache's service
+/// thread must run during the call, as for render_tiles.
 ///
 /// The scene's device copies (field copy, majorants and every table) are made on a prepared
 /// scene's first render_tiles_cuda and kept, on that device, until the prepared scene is
@@ -66,6 +69,11 @@ struct CudaTransfer {
   bool field_in_place = false;      ///< the field was device (or managed) memory, read in place
   bool scene_reused = false;        ///< the scene's device copies were kept from an earlier call
   int launches = 0;                 ///< kernel launches
+  /// A distributed (paged) field: launches run again because a lookup found a brick not yet
+  /// on the device (docs/gpu.md), and the bricks copied to the device (counted in
+  /// bytes_to_device too)
+  int replays = 0;
+  std::uint64_t bricks = 0;
 };
 
 /// Where a pointer's memory lives, as the CUDA runtime says (cudaPointerGetAttributes).

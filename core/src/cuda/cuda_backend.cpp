@@ -52,6 +52,9 @@ class CudaBackend final : public DeviceBackend {
   void zero(void* dst, std::size_t bytes, const std::string& what) override {
     cuda_check(cudaMemset(dst, 0, bytes), "cudaMemset(" + what + ")");
   }
+  void copy_on_device(void* dst, const void* src, std::size_t bytes, const std::string& what) override {
+    cuda_check(cudaMemcpy(dst, src, bytes, cudaMemcpyDeviceToDevice), "cudaMemcpy(" + what + " on the device)");
+  }
 
   void wait_for_caller(void* stream) override {
     if (stream)

@@ -41,6 +41,8 @@ class DeviceBackend {
   virtual void copy_to_device(void* dst, const void* src, std::size_t bytes, const std::string& what) = 0;
   virtual void copy_to_host(void* dst, const void* src, std::size_t bytes, const std::string& what) = 0;
   virtual void zero(void* dst, std::size_t bytes, const std::string& what) = 0;
+  /// Device memory to device memory (ranges that do not overlap).
+  virtual void copy_on_device(void* dst, const void* src, std::size_t bytes, const std::string& what) = 0;
 
   /// Returns once the caller's queued work no longer writes its arrays: `stream` (a
   /// cudaStream_t) when given, else the whole device.

@@ -6,6 +6,7 @@
 #include "cuda/adaptive_plan.h"
 #include "cuda/device_scene.h"
 #include "cuda/pixel_kernel.h"
+#include "cuda/replay_slice.h"
 #include "kernel/adaptive_sampling.h"
 #include "kernel/stop_check.h"
 #include "kernels/lane_kernel.h"
@@ -65,7 +66,18 @@ std::shared_ptr<DeviceScene> device_scene(const std::shared_ptr<DeviceBackend>& 
   const std::lock_guard lock(g_cache_mutex);
   auto dev = std::static_pointer_cast<DeviceScene>(s.device_cache);
   *reused = dev && dev->backend() == backend.get();
-  if (!*reused) dev = std::make_shared<DeviceScene>(s, backend);
+  if (!*reused) {
+    // A distributed field's brick pool takes what the limit and the device leave
+    std::uint64_t budget = 0;
+    if (s.kernel.paged.cache != nullptr) {
+      std::size_t free_bytes = 0, total_bytes = 0;
+      backend->memory_info(&free_bytes, &total_bytes);
+      budget = free_bytes;
+      if (launch.memory_limit_bytes > 0) budget = std::min<std::uint64_t>(budget, launch.memory_limit_bytes);
+      budget = budget > call_bytes ? budget - call_bytes : 1;
+    }
+    dev = std::make_shared<DeviceScene>(s, backend, budget);
+  }
   *device_bytes = dev->bytes() + call_bytes;
   const std::uint64_t new_bytes = (*reused ? 0 : dev->bytes()) + call_bytes;
   if (launch.memory_limit_bytes > 0 && *device_bytes > launch.memory_limit_bytes)
@@ -90,6 +102,37 @@ struct CallTotals {
   std::array<unsigned long long, kCounterCount> counters{};
   std::uint64_t to_device = 0, to_host = 0;
   int launches = 0;
+  int replays = 0;           ///< launches discarded for a missing brick (a distributed field)
+  std::uint64_t bricks = 0;  ///< a distributed field's bricks copied to the device
+};
+
+/// A distributed field's renders on one DeviceScene, one at a time: holds its pool's mutex
+/// for the call (a pool left stale by a failed call emptied first) and adds the bricks'
+/// traffic of the call to `t` when it ends. Nothing for other fields.
+class BrickLock {
+ public:
+  BrickLock(const DeviceScene& dev, CallTotals& t) : m_bricks(dev.bricks()), m_t(t) {
+    if (!m_bricks) return;
+    m_lock = std::unique_lock(dev.bricks_mutex());
+    if (!m_bricks->valid()) m_bricks->reset();
+    m_to_device = m_bricks->bytes_to_device();
+    m_to_host = m_bricks->bytes_to_host();
+    m_fetched = m_bricks->fetched();
+  }
+  ~BrickLock() {
+    if (!m_bricks) return;
+    m_t.to_device += m_bricks->bytes_to_device() - m_to_device;
+    m_t.to_host += m_bricks->bytes_to_host() - m_to_host;
+    m_t.bricks += m_bricks->fetched() - m_fetched;
+  }
+  BrickLock(const BrickLock&) = delete;
+  BrickLock& operator=(const BrickLock&) = delete;
+
+ private:
+  DeviceBricks* m_bricks;
+  CallTotals& m_t;
+  std::unique_lock<std::mutex> m_lock;
+  std::uint64_t m_to_device = 0, m_to_host = 0, m_fetched = 0;
 };
 
 /// One pass of samples on the device: the jobs, their sums before the pass (which set each
@@ -103,12 +146,14 @@ struct SamplePass {
   int lanes = 1;
   std::vector<std::pair<int, std::int64_t>> ranges;
 
-  /// Device bytes of the pass's buffers with `with_lanes` lanes (0: its own).
-  std::uint64_t device_bytes(int with_lanes = 0) const {
+  /// Device bytes of the pass's buffers with `with_lanes` lanes (0: its own); `replayed`: a
+  /// distributed field's, whose launches keep a copy of their lanes' sums and counters to
+  /// restore when they are run again (replay_slice).
+  std::uint64_t device_bytes(int with_lanes = 0, bool replayed = false) const {
     const std::uint64_t l = static_cast<std::uint64_t>(with_lanes > 0 ? with_lanes : lanes);
-    const std::uint64_t per_job =
-        sizeof(PixelJob) + (1 + l) * (sizeof(PixelSums) + (aux.empty() ? 0 : sizeof(AuxSums)));
-    return jobs.size() * per_job + kCounterCount * sizeof(unsigned long long);
+    const std::uint64_t sums = sizeof(PixelSums) + (aux.empty() ? 0 : sizeof(AuxSums));
+    const std::uint64_t per_job = sizeof(PixelJob) + (1 + l) * sums + (replayed ? l * sums : 0);
+    return jobs.size() * per_job + (replayed ? 2 : 1) * kCounterCount * sizeof(unsigned long long);
   }
 };
 
@@ -131,6 +176,14 @@ bool run_pass(DeviceBackend& b, const DeviceScene& dev, const KernelScene& ks, S
   if (with_aux) {
     d_lane_aux.allocate(p.jobs.size() * lanes * sizeof(AuxSums), "sample lanes' auxiliary sums");
     b.zero(d_lane_aux.get(), d_lane_aux.bytes(), "sample lanes' auxiliary sums");
+  }
+  // A distributed field: room to restore a launch's sums and counters (replay_slice)
+  DeviceBricks* const bricks = dev.bricks();
+  BackendBuffer keep_px(b), keep_aux(b), keep_counters(b);
+  if (bricks) {
+    keep_px.allocate(p.jobs.size() * lanes * sizeof(PixelSums), "sample lanes' sums (kept for a replay)");
+    if (with_aux) keep_aux.allocate(p.jobs.size() * lanes * sizeof(AuxSums), "sample lanes' sums (kept for a replay)");
+    keep_counters.allocate(sizeof(counters), "counters (kept for a replay)");
   }
 
   // Bounded slices: the jobs' next few samples at a time; each lane's samples are drawn and
@@ -163,10 +216,18 @@ bool run_pass(DeviceBackend& b, const DeviceScene& dev, const KernelScene& ks, S
                           s0,
                           std::min(k_end, s0 + per_launch_spp),
                           lanes};
-        b.run_slice(dev.dispatch_scene(), a, launch.block_threads,
-                    pixel_kernel_name(ks) + " slice (samples " + std::to_string(s0) + "+, pixels " +
-                        std::to_string(j0) + "+ of " + std::to_string(count) + ")");
-        ++t.launches;
+        const std::string name = pixel_kernel_name(ks) + " slice (samples " + std::to_string(s0) + "+, pixels " +
+                                 std::to_string(j0) + "+ of " + std::to_string(count) + ")";
+        if (!bricks) {
+          b.run_slice(dev.dispatch_scene(), a, launch.block_threads, name);
+          ++t.launches;
+        } else if (!replay_slice(
+                       b, *bricks, dev.dispatch_scene(), a,
+                       {keep_px.as<PixelSums>(), keep_aux.as<AuxSums>(), keep_counters.as<unsigned long long>()},
+                       launch, stop, name, t.launches, t.replays)) {
+          stopped = true;
+          break;
+        }
       }
     }
     if (stopped) break;
@@ -209,6 +270,7 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
   const int lanes = sample_lanes(s.desc.image.width, s.desc.image.height, spp);
   const bool with_aux = film.has_aux();
   const bool adaptive = s.kernel.target_error > 0.0;
+  const bool paged = s.kernel.paged.cache != nullptr;
   CallTotals totals;
   StopCheck stop(s.desc.options.deadline);
   std::shared_ptr<DeviceScene> dev;
@@ -228,7 +290,8 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
     }
     pass.lanes = lanes;
     pass.ranges = {{spp, static_cast<std::int64_t>(pass.jobs.size())}};
-    dev = device_scene(backend, s, launch, pass.device_bytes(), &totals.to_device, &device_bytes, &reused);
+    dev = device_scene(backend, s, launch, pass.device_bytes(0, paged), &totals.to_device, &device_bytes, &reused);
+    const BrickLock bricks(*dev, totals);
     stopped = run_pass(b, *dev, s.kernel, pass, launch, stop, totals);
     for (std::size_t j = 0; j < pass.jobs.size(); ++j) {
       film.at(pass.jobs[j].x, pass.jobs[j].y) = pass.px[j];
@@ -248,7 +311,8 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
     first.lanes = 1;
     first.ranges = {{pilot, static_cast<std::int64_t>(first.jobs.size())}};
     // The second pass's buffers are at most the first's with `lanes` lanes (>= 1)
-    dev = device_scene(backend, s, launch, first.device_bytes(lanes), &totals.to_device, &device_bytes, &reused);
+    dev = device_scene(backend, s, launch, first.device_bytes(lanes, paged), &totals.to_device, &device_bytes, &reused);
+    const BrickLock bricks(*dev, totals);
     stopped = run_pass(b, *dev, s.kernel, first, launch, stop, totals);
     // The own pixels with their pilot sums: after a deadline in the pilot, what it drew; else
     // most samples first, so that samples [m_i-1, m_i) of the call's sample indices past the
@@ -306,6 +370,8 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
     transfer->field_in_place = dev->field_in_place();
     transfer->scene_reused = reused;
     transfer->launches = totals.launches;
+    transfer->replays = totals.replays;
+    transfer->bricks = totals.bricks;
   }
   if (stopped) throw DeadlineExceeded(0, tile_indices.size());
 }

@@ -32,7 +32,7 @@ std::size_t DeviceScene::plan_copy(const void* src, std::size_t bytes, const cha
   return off;
 }
 
-DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBackend> backend)
+DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBackend> backend, std::uint64_t budget)
     : m_scene(s), m_backend(std::move(backend)) {
   const KernelScene& ks = s.kernel;
   // A strided array: read in place when device or managed memory, else its span copied and
@@ -53,6 +53,9 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   // levels' patches
   if (ks.mesh.element != nullptr) {
     plan_mesh();
+  } else if (ks.paged.cache != nullptr) {
+    // A distributed field: its bricks come to the device's pool as the launches ask (planned
+    // last, below, when the rest's size is known)
   } else if (ks.amr.nlevels == 0 && !ks.magnitude.active()) {
     m_field_in_place = strided(
         ks.field.data, ks.field.dims, ks.field.byte_strides, dtype_size(ks.field.dtype), "field copy",
@@ -119,7 +122,8 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
 
   // A plain float32 field: widened to a float64 copy on the device (widen_field.h says why)
   m_dispatch = std::make_shared<KernelScene>(ks);
-  if (ks.mesh.element == nullptr && ks.amr.nlevels == 0 && !ks.magnitude.active() && ks.field.dtype == DType::Float32) {
+  if (ks.mesh.element == nullptr && ks.amr.nlevels == 0 && !ks.magnitude.active() && ks.paged.cache == nullptr &&
+      ks.field.dtype == DType::Float32) {
     const auto n = static_cast<std::size_t>(ks.field.dims[0] * ks.field.dims[1] * ks.field.dims[2]);
     m_off_widened = reserve(n * sizeof(double));
     m_dispatch->field.dtype = DType::Float64;
@@ -172,6 +176,23 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   m_off_kernel = reserve(sizeof(KernelScene));
   m_medium_bytes = device_medium_bytes(*m_dispatch);
   m_off_medium = reserve(m_medium_bytes);
+
+  if (ks.paged.cache != nullptr) {
+    // The brick pool: the host cache's slots, within the budget beside the rest (256 bytes of
+    // alignment slack), at least one
+    // A launch has at most a thread per pixel and lane (sample_lanes)
+    const std::size_t bricks =
+        static_cast<std::size_t>(BrickGrid::make(ks.paged.dims, ks.paged.dtype, ks.paged.shift).brick_count());
+    m_brick_threads = static_cast<std::uint64_t>(ks.width) * static_cast<std::uint64_t>(ks.height) *
+                      static_cast<std::uint64_t>(sample_lanes(ks.width, ks.height, ks.spp));
+    std::size_t cap = std::min(ks.paged.cache->capacity(), bricks);
+    if (budget > 0)
+      cap = std::min(cap, DeviceBricks::capacity_for(ks.paged, budget > m_size + 256 ? budget - m_size - 256 : 0,
+                                                     m_brick_threads));
+    m_brick_capacity = std::max<std::size_t>(cap, 1);
+    m_off_bricks = reserve(DeviceBricks::bytes_for(ks.paged, m_brick_capacity, m_brick_threads));
+    m_field_in_place = false;
+  }
 }
 
 // The device's mesh slots are MeshArraySlot's first five (a ghost mask is read on the host only)
@@ -248,6 +269,12 @@ std::uint64_t DeviceScene::upload() {
   // The KernelScene over the device copies
   KernelScene d = ks;
   for (const auto& fix : m_fix) fix(base, d);
+  if (m_off_bricks != SIZE_MAX) {
+    m_bricks =
+        std::make_unique<DeviceBricks>(*m_backend, ks.paged, m_brick_capacity, m_brick_threads, base + m_off_bricks);
+    copied += m_bricks->reset();
+    d.paged = m_bricks->device_view();
+  }
   if (m_off_widened != SIZE_MAX) {
     // The float32 values (copied above, or the caller's device memory) widened to float64
     auto* wide = reinterpret_cast<double*>(base + m_off_widened);

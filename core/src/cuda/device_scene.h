@@ -3,7 +3,8 @@
 /// field unless it is device or managed memory, majorants, empty-space reach, transfer
 /// function, lights, background (an envmap's texels and sampling table), rectilinear axes'
 /// coordinates and tables, refinement levels' tables and patches, a vector's components, a
-/// curvilinear or unstructured mesh's tables and its domains' arrays), in
+/// curvilinear or unstructured mesh's tables and its domains' arrays, a distributed field's
+/// brick pool), in
 /// one device allocation, with the KernelScene and the medium over them, on a DeviceBackend
 /// (device_backend.h: CUDA, or the host emulation). Made in two steps so that its size is
 /// known before anything is allocated: the constructor plans (no allocation), upload()
@@ -11,11 +12,13 @@
 /// Kept for a prepared scene's lifetime (PreparedSceneImpl::device_cache, render_cuda.cpp);
 /// read-only once uploaded, so concurrent renders may share it.
 #include "cuda/device_backend.h"
+#include "cuda/device_bricks.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace tessera {
@@ -28,8 +31,11 @@ namespace cuda {
 class DeviceScene {
  public:
   /// Plans the copies of `s` for `backend`'s device: what is host memory is to be copied,
-  /// device or managed memory is read in place. `s` must outlive upload().
-  DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBackend> backend);
+  /// device or managed memory is read in place. `s` must outlive upload(). A distributed
+  /// (paged) field gets a pool of brick slots (device_bricks.h): as many as the host's cache
+  /// holds, but no more than `budget` bytes of device memory leave room for beside the rest
+  /// (0: no such bound), and at least one.
+  DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBackend> backend, std::uint64_t budget = 0);
   ~DeviceScene();
   DeviceScene(const DeviceScene&) = delete;
   DeviceScene& operator=(const DeviceScene&) = delete;
@@ -49,6 +55,10 @@ class DeviceScene {
   /// dispatch (launch_pixel_slice) only.
   const KernelScene& dispatch_scene() const { return *m_dispatch; }
   const void* medium() const;
+  /// A distributed field's bricks on the device (null otherwise), with the mutex that its
+  /// renders hold (the pool is the one mutable part of the copies).
+  DeviceBricks* bricks() const { return m_bricks.get(); }
+  std::mutex& bricks_mutex() const { return m_bricks_mutex; }
 
  private:
   /// A copy of `bytes` host bytes from `src` to the allocation's offset `offset`.
@@ -90,6 +100,11 @@ class DeviceScene {
   /// A plain float32 field widened to float64 on the device: the copy's offset (else SIZE_MAX)
   std::size_t m_off_widened = SIZE_MAX;
   std::shared_ptr<KernelScene> m_dispatch;
+  /// A distributed field: the bricks' part of the allocation and its slots
+  std::size_t m_off_bricks = SIZE_MAX, m_brick_capacity = 0;
+  std::uint64_t m_brick_threads = 0;
+  std::unique_ptr<DeviceBricks> m_bricks;
+  mutable std::mutex m_bricks_mutex;
 };
 
 }  // namespace cuda

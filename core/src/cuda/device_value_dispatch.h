@@ -9,25 +9,29 @@
 namespace tessera::cuda {
 
 /// fn(TypeTag<V>{}) for the device kernels' Value of `ks`, and true; false (fn not called) for
-/// what they cannot run: paged (distributed) fields and hierarchies with remote patches. A
-/// float32 field's Value is double: the device renders the float64 copy it widens
+/// what they cannot run: hierarchies of refinement levels with remote patches. A distributed
+/// (paged) field's Value is PagedValue (its dtype read per load), every vertex read through
+/// the device's bricks (device_bricks.h). A float32 field's Value is double: the device renders the float64 copy it widens
 /// (widen_field.h), so no float kernel exists. A mesh's values are read per load in their
 /// dtype (mesh/domain_access.h): one MeshValue kernel for every dtype.
 template <class Fn>
 bool with_device_value(const KernelScene& ks, Fn&& fn) {
-  if (ks.mesh.element != nullptr) {
-    fn(TypeTag<MeshValue>{});
-    return true;
-  }
-  if (ks.paged.cache != nullptr) return false;
   if (ks.amr.nlevels > 0) {
     if (ks.amr.paged.cache != nullptr) return false;
     fn(TypeTag<AmrValue>{});
     return true;
   }
+  if (ks.mesh.element != nullptr) {
+    fn(TypeTag<MeshValue>{});
+    return true;
+  }
   const bool rect = ks.axis[0].coords || ks.axis[1].coords || ks.axis[2].coords;
   if (ks.magnitude.active()) {
     rect ? fn(TypeTag<Rectilinear<MagnitudeValue>>{}) : fn(TypeTag<MagnitudeValue>{});
+    return true;
+  }
+  if (ks.paged.cache != nullptr) {
+    rect ? fn(TypeTag<Rectilinear<PagedValue>>{}) : fn(TypeTag<PagedValue>{});
     return true;
   }
   dispatch_dtype(ks.field, [&](auto view) {

@@ -22,10 +22,7 @@ bool device_value_supported(const KernelScene& ks, std::string* why) {
   }
 #endif
   if (with_device_value(ks, [](auto) {})) return true;
-  if (why) {
-    if (ks.paged.cache != nullptr) *why = "a distributed (paged) field";
-    else *why = "a distributed (paged) hierarchy of refinement levels";
-  }
+  if (why) *why = "a distributed (paged) hierarchy of refinement levels";
   return false;
 }
 
@@ -34,6 +31,7 @@ std::string pixel_kernel_name(const KernelScene& ks) {
   if (ks.mesh.element != nullptr) return "pixel_samples<mesh>";
   if (ks.amr.nlevels > 0) v = std::string("refinement levels, ") + dtype_name(ks.amr.dtype);
   else if (ks.magnitude.active()) v = "magnitude";
+  else if (ks.paged.cache != nullptr) v = std::string("distributed ") + dtype_name(ks.paged.dtype);
   else v = dtype_name(ks.field.dtype);
   if (ks.amr.nlevels == 0 && (ks.axis[0].coords || ks.axis[1].coords || ks.axis[2].coords)) v = "rectilinear " + v;
   return "pixel_samples<" + v + ">";

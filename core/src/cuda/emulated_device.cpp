@@ -34,6 +34,8 @@ extern template void emulate_slice<MagnitudeValue>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<Rectilinear<MagnitudeValue>>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<AmrValue>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<MeshValue>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<PagedValue>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<Rectilinear<PagedValue>>(const SliceArgs&, LaneLoop);
 
 namespace {
 
@@ -98,6 +100,9 @@ class EmulatedBackend final : public DeviceBackend {
   }
   void zero(void* dst, std::size_t bytes, const std::string&) override {
     if (bytes) std::memset(dst, 0, bytes);
+  }
+  void copy_on_device(void* dst, const void* src, std::size_t bytes, const std::string&) override {
+    if (bytes) std::memcpy(dst, src, bytes);
   }
 
   void wait_for_caller(void*) override {}

@@ -32,9 +32,9 @@ void merge_lanes(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const Au
                  int lanes);
 
 /// True when the CUDA kernels cover the scene's field Value (every dtype, uniform or
-/// rectilinear axes, a vector's magnitude, curvilinear and unstructured meshes; not
-/// refinement levels yet unless built with TESSERA_CUDA_AMR, nor paged fields); else false
-/// and *why names what is not covered.
+/// rectilinear axes, a vector's magnitude, curvilinear and unstructured meshes, distributed
+/// (paged) fields; not refinement levels yet unless built with TESSERA_CUDA_AMR, nor paged
+/// hierarchies); else false and *why names what is not covered.
 bool device_value_supported(const KernelScene& ks, std::string* why);
 
 /// The frame's Value as a kernel name says it, e.g. "pixel_samples<rectilinear int16>".

@@ -38,8 +38,13 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   const int first = a.k0 + ((lane - a.k0 % a.lanes) % a.lanes + a.lanes) % a.lanes;
   AuxSums* const aux_p = a.lane_aux ? &aux : nullptr;
   if constexpr (L == LaneLoop::PerSample) {
-    for (int k = first; k < a.k1; k += a.lanes)
+    // (a launch that missed a brick is run again: each lane ends it after its sample, so that
+    // every lane's path still asks for its bricks)
+    for (int k = first; k < a.k1; k += a.lanes) {
+      begin_brick_sample(a.path_missed, t);
       ts.accumulate(job.x, job.y, px, aux_p, drawn0 + static_cast<std::uint64_t>(k), st);
+      if (launch_missed(a)) break;
+    }
   } else {
     // A lane whose path has ended starts its next sample at the next iteration
     using F = std::conditional_t<L == LaneLoop::Regenerate, typename TileSampler<V>::Flight,
@@ -48,7 +53,8 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
     int k = first;
     for (unsigned it = 0;; ++it) {
       if (!f.live) {
-        if (k >= a.k1) break;
+        if (k >= a.k1 || (k != first && launch_missed(a))) break;
+        begin_brick_sample(a.path_missed, t);
         ts.start(job.x, job.y, px, drawn0 + static_cast<std::uint64_t>(k), st, f);
         k += a.lanes;
         if (!f.live) {  // a culled tile's sample: its value is known

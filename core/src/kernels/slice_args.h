@@ -2,10 +2,12 @@
 /// What one slice of the GPU backend's pixel kernel works on (a launch on a CUDA device, or a
 /// host loop in the emulation, emulated_slice.h): the pixels, the counters, the
 /// arguments. Plain data, host and device.
+#include <tessera/device_brick_table.h>
 #include <tessera/film.h>
 
 #include "kernel/kernel_scene.h"
 
+#include <atomic>
 #include <cstdint>
 
 namespace tessera::cuda {
@@ -51,6 +53,22 @@ struct SliceArgs {
   std::int64_t j0, j1;
   int k0, k1;
   int lanes;
+  /// A distributed field's bricks noted missing in this launch (DeviceBrickTable::count), or
+  /// null: once nonzero the launch is to be run again, so each lane stops after its sample
+  const unsigned long long* missed = nullptr;
+  /// Per thread: its sample has missed a brick (DeviceBrickTable::path_missed), or null
+  unsigned char* path_missed = nullptr;
 };
+
+/// True once a lookup of this launch missed a brick (a.missed set and nonzero). Any thread.
+TESSERA_HOST_DEVICE inline bool launch_missed(const SliceArgs& a) {
+  if (!a.missed) return false;
+#if defined(__CUDA_ARCH__)
+  return *static_cast<volatile const unsigned long long*>(a.missed) != 0;
+#else
+  return std::atomic_ref<unsigned long long>(*const_cast<unsigned long long*>(a.missed))
+             .load(std::memory_order_relaxed) != 0;
+#endif
+}
 
 }  // namespace tessera::cuda
