@@ -5,7 +5,11 @@
 // Not a test: prints the figures and writes CSV rows.
 //
 //   paged_field_bench [--csv FILE] [--grid N] [--image W H] [--spp S] [--reps R] [--threads T]
-//                     [--shift S] [--no-small-cache]
+//                     [--shift S] [--no-small-cache] [--device cpu|cuda]
+//
+// --device cuda renders every mode on the GPU (a build with CUDA): the paged modes through the
+// device's pool of bricks, launches replayed as they miss (docs/gpu.md, "Distributed fields on
+// the GPU"); the small cache's reps each start from a fresh prepared scene (an empty pool).
 //
 // Defaults: paged_field_bench.csv, 96^3 float32, 192x192, 8 spp, 3 reps (the best is kept),
 // 1 thread, bricks of 2^5 = 32 vertices.
@@ -22,6 +26,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +40,7 @@ using Clock = std::chrono::steady_clock;
 struct Args : tessera::bench::BenchArgs {
   int shift = 5;
   bool small_cache = true;  ///< --no-small-cache skips the (slow) 1/8 cache
+  tessera::Device device = tessera::Device::Cpu;
 };
 
 Args parse(int argc, char** argv) {
@@ -44,7 +50,14 @@ Args parse(int argc, char** argv) {
   tessera::bench::parse_args(argc, argv, a, [&](const std::string& s, auto next) {
     if (s == "--shift") a.shift = std::atoi(next());
     else if (s == "--no-small-cache") a.small_cache = false;
-    else return false;
+    else if (s == "--device") {
+      const std::string d = next();
+      if (d != "cpu" && d != "cuda") {
+        std::fprintf(stderr, "--device: cpu or cuda, not %s\n", d.c_str());
+        std::exit(2);
+      }
+      a.device = d == "cuda" ? tessera::Device::Cuda : tessera::Device::Cpu;
+    } else return false;
     return true;
   });
   return a;
@@ -68,6 +81,7 @@ tessera::SceneDesc blobs_scene(const Args& a) {
   s.image = {a.width, a.height, a.spp, 0.0};
   s.options.threads = a.threads;
   s.options.seed = 5;
+  s.options.device = a.device;
   return s;
 }
 
@@ -76,13 +90,25 @@ struct Row {
   std::size_t capacity = 0;
   double seconds = 0.0;
   tessera::BrickCacheStats cache;
+  std::uint64_t to_device = 0;  ///< bytes copied to the GPU in the best rep (--device cuda)
   bool same = true;
 };
 
 }  // namespace
 
+int run(const Args& a);
+
 int main(int argc, char** argv) {
   const Args a = parse(argc, argv);
+  try {
+    return run(a);
+  } catch (const std::exception& e) {  // e.g. --device cuda without a GPU
+    std::fprintf(stderr, "paged_field_bench: %s\n", e.what());
+    return 1;
+  }
+}
+
+int run(const Args& a) {
   const std::vector<float> data = tessera_test::blobby_field(a.grid, a.grid, a.grid);
   const tessera::FieldView whole =
       tessera::FieldView::contiguous(data.data(), tessera::DType::Float32, a.grid, a.grid, a.grid);
@@ -99,9 +125,12 @@ int main(int argc, char** argv) {
     r.mode = "plain";
     r.seconds = 1e300;
     for (int rep = 0; rep < a.reps; ++rep) {
+      tessera::RenderStats st;
       const auto t0 = Clock::now();
-      const tessera::Film film = tessera_test::render_film(ps);
-      r.seconds = std::min(r.seconds, std::chrono::duration<double>(Clock::now() - t0).count());
+      const tessera::Film film = tessera_test::render_film(ps, &st);
+      const double t = std::chrono::duration<double>(Clock::now() - t0).count();
+      if (t < r.seconds) r.to_device = st.bytes_to_device;
+      r.seconds = std::min(r.seconds, t);
       reference = film.pixels();
     }
     rows.push_back(r);
@@ -134,13 +163,21 @@ int main(int argc, char** argv) {
     r.capacity = m.capacity;
     r.seconds = 1e300;
     tessera_test::FakeBrickService service(cache, whole);
-    const tessera::PreparedScene ps = tessera::prepare(f, scene, summary);
-    if (m.warm) tessera_test::render_film(ps);  // first touch of every brick, not timed
+    auto ps = std::make_unique<tessera::PreparedScene>(tessera::prepare(f, scene, summary));
+    if (m.warm) tessera_test::render_film(*ps);  // first touch of every brick, not timed
     for (int rep = 0; rep < a.reps; ++rep) {
-      if (!m.warm) cache.reset();
+      if (!m.warm) {
+        cache.reset();
+        // On the GPU the pool lives with the prepared scene: a fresh one starts it empty
+        if (a.device == tessera::Device::Cuda && rep > 0)
+          ps = std::make_unique<tessera::PreparedScene>(tessera::prepare(f, scene, summary));
+      }
+      tessera::RenderStats st;
       const auto t0 = Clock::now();
-      const tessera::Film film = tessera_test::render_film(ps);
-      r.seconds = std::min(r.seconds, std::chrono::duration<double>(Clock::now() - t0).count());
+      const tessera::Film film = tessera_test::render_film(*ps, &st);
+      const double t = std::chrono::duration<double>(Clock::now() - t0).count();
+      if (t < r.seconds) r.to_device = st.bytes_to_device;
+      r.seconds = std::min(r.seconds, t);
       r.same = r.same && film.pixels().size() == reference.size() &&
                std::memcmp(film.pixels().data(), reference.data(), reference.size() * sizeof(reference[0])) == 0;
       if (!m.warm) r.cache = cache.stats();
@@ -149,20 +186,22 @@ int main(int argc, char** argv) {
     rows.push_back(r);
   }
 
-  std::printf("%d^3 float32, %dx%d, %d spp, %d thread(s), bricks of %lld^3 (%zu), best of %d\n", a.grid, a.width,
-              a.height, a.spp, a.threads, static_cast<long long>(grid.edge()), all, a.reps);
+  const bool gpu = a.device == tessera::Device::Cuda;
+  std::printf("%d^3 float32, %dx%d, %d spp, %s, bricks of %lld^3 (%zu), best of %d\n", a.grid, a.width, a.height, a.spp,
+              gpu ? "GPU" : (std::to_string(a.threads) + " thread(s)").c_str(), static_cast<long long>(grid.edge()),
+              all, a.reps);
   std::ofstream csv(a.csv);
-  csv << "mode,grid,width,height,spp,threads,brick_edge,bricks,capacity,seconds,ratio_to_plain,misses,flushes,fetched,"
-         "identical\n";
+  csv << "mode,device,grid,width,height,spp,threads,brick_edge,bricks,capacity,seconds,ratio_to_plain,misses,flushes,"
+         "fetched,bytes_to_device,identical\n";
   for (const Row& r : rows) {
-    std::printf("  %-36s %8.3f s  x%.3f  misses %llu  flushes %llu  fetched %llu  %s\n", r.mode.c_str(), r.seconds,
-                r.seconds / rows[0].seconds, static_cast<unsigned long long>(r.cache.misses),
+    std::printf("  %-36s %8.3f s  x%.3f  misses %llu  flushes %llu  fetched %llu  to device %llu  %s\n", r.mode.c_str(),
+                r.seconds, r.seconds / rows[0].seconds, static_cast<unsigned long long>(r.cache.misses),
                 static_cast<unsigned long long>(r.cache.flushes), static_cast<unsigned long long>(r.cache.fetched),
-                r.same ? "identical" : "DIFFERENT");
-    csv << '"' << r.mode << "\"," << a.grid << ',' << a.width << ',' << a.height << ',' << a.spp << ',' << a.threads
-        << ',' << grid.edge() << ',' << all << ',' << r.capacity << ',' << r.seconds << ','
+                static_cast<unsigned long long>(r.to_device), r.same ? "identical" : "DIFFERENT");
+    csv << '"' << r.mode << "\"," << (gpu ? "cuda" : "cpu") << ',' << a.grid << ',' << a.width << ',' << a.height << ','
+        << a.spp << ',' << a.threads << ',' << grid.edge() << ',' << all << ',' << r.capacity << ',' << r.seconds << ','
         << r.seconds / rows[0].seconds << ',' << r.cache.misses << ',' << r.cache.flushes << ',' << r.cache.fetched
-        << ',' << (r.same ? 1 : 0) << '\n';
+        << ',' << r.to_device << ',' << (r.same ? 1 : 0) << '\n';
   }
   return 0;
 }

@@ -13,6 +13,7 @@
 #   $PACK (default build-gpu-deps/data), from scripts/gpu_bench_data.sh: the compressed
 #       volumes, MANIFEST, the CPU run's references ref/<case>/ and its ete_cpu.csv
 # Writes into OUT_DIR: gpu.txt (nvidia-smi), lookup_cuda.{txt,csv}, mesh_bench.{txt,csv},
+# paged_field_bench.{txt,csv},
 # ete_gpu_spp<N>/ete.{csv,md}
 # and stats/, the GPU's run0.exr per case, ete_compare.md (against the CPU's CSV), resources.txt
 # (the kernels' registers and spills, when cuobjdump is on PATH), timing.txt. Progress lines on
@@ -29,6 +30,7 @@
 #                      values; docs/gpu.md: the backend refuses integer fields for now); native
 #                      once it takes them
 #   MESH_LIMIT=30      seconds for bench/mesh_bench on the device (0: skipped), before the cases
+#   PAGED_LIMIT=30     seconds for bench/paged_field_bench on the device (0: skipped), likewise
 #   CASE_LIMIT=60 LOOKUP_LIMIT=60 TOTAL_LIMIT=200 (seconds: a case, the lookup ceiling, and
 #                      the whole script: the cases left when it runs out are skipped), WORK=/tmp/tessera-gpu-bench (the unpacked data,
 #                      the float32 copies, all images: not under OUT_DIR, which travels back)
@@ -51,6 +53,7 @@ field_dtype=${FIELD_DTYPE:-float32}
 case_limit=${CASE_LIMIT:-60}
 lookup_limit=${LOOKUP_LIMIT:-60}
 mesh_limit=${MESH_LIMIT:-30}
+paged_limit=${PAGED_LIMIT:-30}
 total_limit=${TOTAL_LIMIT:-200}
 cases=${ONLY:-ct_single,mri_single,heat_single,ct_multiple,mri_multiple,heat_multiple}
 export PYTHONUNBUFFERED=1
@@ -112,6 +115,18 @@ if [[ -x $mesh_bench ]] && ((mesh_limit > 0)); then
   say "mesh_bench: exit ${PIPESTATUS[0]}"
 fi
 mark mesh
+
+# 3c. A distributed (paged) field on the GPU (bench/paged_field_bench: whole field, every brick
+# resident, a pool of 1/8 of the bricks with replayed launches; docs/gpu.md, "Distributed
+# fields on the GPU"), when the build has it
+paged_bench=$build/bench/paged_field_bench
+if [[ -x $paged_bench ]] && ((paged_limit > 0)); then
+  say "paged_field_bench --device $device (limit ${paged_limit} s)"
+  timeout "$paged_limit" "$paged_bench" --device "$device" --threads "$threads" --reps 2 \
+    --csv "$out/paged_field_bench.csv" 2>&1 | tee "$out/paged_field_bench.txt"
+  say "paged_field_bench: exit ${PIPESTATUS[0]}"
+fi
+mark paged
 
 # 4. Time to equal error: the six cases on the GPU against the CPU's references, per spp
 args=(--build "$build" --rmse "$rmse" --data "$work/data" --reference-dir "$pack/ref" --device "$device" --threads "$threads"

@@ -178,14 +178,24 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   m_off_medium = reserve(m_medium_bytes);
 
   if (ks.paged.cache != nullptr) {
-    // The brick pool: the host cache's slots, within the budget beside the rest (256 bytes of
-    // alignment slack), at least one
-    // A launch has at most a thread per pixel and lane (sample_lanes)
-    const std::size_t bricks =
-        static_cast<std::size_t>(BrickGrid::make(ks.paged.dims, ks.paged.dtype, ks.paged.shift).brick_count());
+    // The brick pool: the host cache's slots and the bricks of the rank's own blocks (the
+    // device reads those through the pool too), within the budget beside the rest (256 bytes
+    // of alignment slack), at least one. A launch has at most a thread per pixel and lane
+    // (sample_lanes)
     m_brick_threads = static_cast<std::uint64_t>(ks.width) * static_cast<std::uint64_t>(ks.height) *
                       static_cast<std::uint64_t>(sample_lanes(ks.width, ks.height, ks.spp));
-    std::size_t cap = std::min(ks.paged.cache->capacity(), bricks);
+    const BrickGrid g = BrickGrid::make(ks.paged.dims, ks.paged.dtype, ks.paged.shift);
+    const auto bricks = static_cast<std::uint64_t>(g.brick_count());
+    std::uint64_t own = 0;
+    if (ks.paged.local.data) {
+      own = 1;
+      for (int a = 0; a < 3; ++a)
+        own *= static_cast<std::uint64_t>(((ks.paged.hi[a] - 1) >> g.shift) - (ks.paged.lo[a] >> g.shift) + 1);
+    }
+    const auto edge3 = static_cast<std::uint64_t>(g.edge() * g.edge() * g.edge());
+    own += (ks.paged.cache->in_place_vertices() + edge3 - 1) / edge3 + ks.paged.cache->in_place_count();
+    std::size_t cap = static_cast<std::size_t>(
+        std::min<std::uint64_t>(static_cast<std::uint64_t>(ks.paged.cache->capacity()) + own, bricks));
     if (budget > 0)
       cap = std::min(cap, DeviceBricks::capacity_for(ks.paged, budget > m_size + 256 ? budget - m_size - 256 : 0,
                                                      m_brick_threads));

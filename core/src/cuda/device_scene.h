@@ -33,8 +33,8 @@ class DeviceScene {
   /// Plans the copies of `s` for `backend`'s device: what is host memory is to be copied,
   /// device or managed memory is read in place. `s` must outlive upload(). A distributed
   /// (paged) field gets a pool of brick slots (device_bricks.h): as many as the host's cache
-  /// holds, but no more than `budget` bytes of device memory leave room for beside the rest
-  /// (0: no such bound), and at least one.
+  /// holds plus the bricks of the rank's own blocks, but no more than `budget` bytes of device
+  /// memory leave room for beside the rest (0: no such bound), and at least one.
   DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBackend> backend, std::uint64_t budget = 0);
   ~DeviceScene();
   DeviceScene(const DeviceScene&) = delete;
