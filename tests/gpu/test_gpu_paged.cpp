@@ -9,16 +9,23 @@
 
 #include "../core/fake_brick_service.h"
 
+#if defined(TESSERA_GPU_TESTS_EMULATED)
+#include "cuda/device_render.h"
+#include "cuda/emulated_device.h"
+#endif
+
 #include <tessera/amr.h>
 #include <tessera/brick_cache.h>
 #include <tessera/field_summary.h>
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace gpu_test;
@@ -266,3 +273,40 @@ TEST_CASE("GPU: a distributed hierarchy of refinement levels is refused by name"
                         Catch::Contains("not supported on the GPU"));
   CHECK(st.samples == 0);
 }
+
+#if defined(TESSERA_GPU_TESTS_EMULATED)
+TEST_CASE("Emulated device: a deadline between replays keeps only whole launches of a distributed field",
+          "[emulated][paged]") {
+  // One sample per launch: the first launch misses the bricks it reaches, is discarded and run
+  // again; the deadline passes after the fourth launch. The film holds the samples of the
+  // launches that missed nothing, whole: every pixel the same count, the counters theirs
+  const std::vector<unsigned char> bytes = heat_bytes(tessera::DType::Float64, kN);
+  const FieldView whole = FieldView::contiguous(bytes.data(), tessera::DType::Float64, kN, kN, kN);
+  tessera::SceneDesc s = scene_for(tessera::DType::Float64, 6);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+  s.options.deadline = deadline;
+  Distributed d(whole, 2, 125, 0);
+  tessera_test::FakeBrickService service(d.cache, whole);
+  const tessera::PreparedScene ps = tessera::prepare(d.field, s, summary_of(whole, s));
+  tessera::cuda::EmulatedDevice e;
+  e.after_slice = [&](std::int64_t slices) {
+    if (slices == 4) std::this_thread::sleep_until(deadline + std::chrono::milliseconds(10));
+  };
+  const auto b = tessera::cuda::emulated_backend(e);
+  tessera::Film film(s.image.width, s.image.height);
+  tessera::RenderStats st;
+  tessera::CudaTransfer tr;
+  tessera::CudaLaunch one;
+  one.samples_per_launch = 1;
+  REQUIRE(std::chrono::steady_clock::now() < deadline);
+  CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, one, &tr), tessera::DeadlineExceeded);
+  CHECK(tr.launches == 4);
+  CHECK(tr.replays >= 1);
+  const std::uint64_t kept = film.pixels()[0].drawn;
+  CHECK(kept == static_cast<std::uint64_t>(4 - tr.replays));
+  bool same = true;
+  for (const tessera::PixelSums& p : film.pixels()) same &= p.drawn == kept;
+  CHECK(same);
+  CHECK(st.samples == kept * static_cast<std::uint64_t>(s.image.width * s.image.height));
+}
+#endif

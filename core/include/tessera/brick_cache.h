@@ -304,6 +304,7 @@ TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE inline double PagedFieldView::load(s
       note_brick_miss(device, b);
       return 0.0;
     }
+    mark_brick_used(device, b);
   } else {
 #if defined(__CUDA_ARCH__)
     return 0.0;  // never: a device's view always has its brick table

@@ -32,6 +32,9 @@ struct DeviceBrickTable {
   /// missed a brick. Device renders only; the host emulation keeps it per host thread.
   unsigned char* path_missed = nullptr;
   unsigned long long path_capacity = 0;  ///< entries of path_missed
+  /// Per brick: nonzero once a lookup of the launch read it (the host evicts the bricks read
+  /// longest ago first)
+  unsigned char* used = nullptr;
 };
 
 namespace detail {
@@ -72,6 +75,16 @@ TESSERA_HOST_DEVICE inline void note_brick_miss(const DeviceBrickTable& t, std::
 #endif
   if (first) detail::note_brick(t.wanted, 1u, t.certain, &t.count[0], t.list_capacity, b);
   else detail::note_brick(t.wanted, 2u, t.guess, &t.count[1], t.list_capacity, b);
+}
+
+/// Brick b (resident) was read on the device. Any thread.
+TESSERA_HOST_DEVICE inline void mark_brick_used(const DeviceBrickTable& t, std::int64_t b) {
+#if defined(__CUDA_ARCH__)
+  if (t.used[b] == 0) t.used[b] = 1;  // every writer stores the same byte
+#else
+  std::atomic_ref<unsigned char> u(t.used[b]);
+  if (u.load(std::memory_order_relaxed) == 0) u.store(1, std::memory_order_relaxed);
+#endif
 }
 
 /// A thread of a launch (its index `thread`) begins a sample: nothing missed yet.

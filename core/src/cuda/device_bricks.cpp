@@ -5,6 +5,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 namespace tessera::cuda {
 
@@ -14,11 +15,11 @@ constexpr std::uint64_t kAlign = 256;
 
 std::uint64_t aligned(std::uint64_t n) { return (n + kAlign - 1) / kAlign * kAlign; }
 
-/// Device bytes of everything but the slots: directory, flags, two lists of `capacity`,
-/// counts, a byte per thread.
+/// Device bytes of everything but the slots: directory, flags, use marks, two lists of
+/// `capacity`, counts, a byte per thread.
 std::uint64_t table_bytes(const BrickGrid& g, std::size_t capacity, std::uint64_t threads) {
   const auto n = static_cast<std::uint64_t>(g.brick_count());
-  return aligned(n * sizeof(const unsigned char*)) + aligned(n * sizeof(unsigned int)) +
+  return aligned(n * sizeof(const unsigned char*)) + aligned(n * sizeof(unsigned int)) + aligned(n) +
          2 * aligned(capacity * sizeof(std::int64_t)) + aligned(2 * sizeof(unsigned long long)) + aligned(threads);
 }
 
@@ -78,6 +79,8 @@ DeviceBricks::DeviceBricks(DeviceBackend& backend, const PagedFieldView& host, s
   off += aligned(n * sizeof(const unsigned char*));
   m_wanted = reinterpret_cast<unsigned int*>(base + off);
   off += aligned(n * sizeof(unsigned int));
+  m_used = base + off;
+  off += aligned(n);
   m_certain = reinterpret_cast<std::int64_t*>(base + off);
   off += aligned(m_capacity * sizeof(std::int64_t));
   m_guess = reinterpret_cast<std::int64_t*>(base + off);
@@ -89,19 +92,21 @@ DeviceBricks::DeviceBricks(DeviceBackend& backend, const PagedFieldView& host, s
   m_pool = base + off;
   m_dir_host.assign(static_cast<std::size_t>(n), nullptr);
   m_serial_of.assign(static_cast<std::size_t>(n), 0);
+  m_last.assign(static_cast<std::size_t>(n), 0);
   m_guessed.assign(static_cast<std::size_t>(n), false);
+  m_used_host.assign(static_cast<std::size_t>(n), 0);
   m_buffer.assign(m_grid.slot_bytes(), 0);
 }
 
 std::uint64_t DeviceBricks::reset() {
   const auto n = static_cast<std::size_t>(m_grid.brick_count());
   std::fill(m_dir_host.begin(), m_dir_host.end(), nullptr);
-  m_resident.clear();
   m_free.clear();
   const std::uint64_t slot = aligned(m_grid.slot_bytes());
   for (std::size_t i = m_capacity; i-- > 0;) m_free.push_back(m_pool + i * slot);
   m_b.copy_to_device(m_dir, m_dir_host.data(), n * sizeof(const unsigned char*), "brick directory");
   m_b.zero(m_wanted, n * sizeof(unsigned int), "brick flags");
+  m_b.zero(m_used, n, "brick use marks");
   m_b.zero(m_count, 2 * sizeof(unsigned long long), "brick counts");
   m_b.zero(m_path, m_threads, "per-thread brick flags");
   const std::uint64_t bytes = n * sizeof(const unsigned char*);
@@ -125,6 +130,7 @@ PagedFieldView DeviceBricks::device_view() const {
   v.device.list_capacity = m_capacity;
   v.device.path_missed = m_path;
   v.device.path_capacity = m_threads;
+  v.device.used = m_used;
   return v;
 }
 
@@ -145,6 +151,19 @@ bool DeviceBricks::take_noted(std::vector<std::int64_t>& certain, std::vector<st
   m_b.zero(m_wanted, static_cast<std::size_t>(m_grid.brick_count()) * sizeof(unsigned int), "brick flags");
   m_b.zero(m_count, sizeof count, "brick counts");
   return true;
+}
+
+void DeviceBricks::after_launch() {
+  const auto n = static_cast<std::size_t>(m_grid.brick_count());
+  m_b.copy_to_host(m_used_host.data(), m_used, n, "brick use marks");
+  m_to_host += n;
+  for (std::size_t b = 0; b < n; ++b)
+    if (m_used_host[b]) {
+      m_last[b] = m_stamp;
+      m_guessed[b] = false;  // read: no longer a mere guess
+    }
+  m_b.zero(m_used, n, "brick use marks");
+  ++m_stamp;
 }
 
 void DeviceBricks::fill(std::int64_t b, unsigned char* out) const {
@@ -175,14 +194,31 @@ bool DeviceBricks::bring(std::int64_t b, bool guess, std::uint64_t since, BrickR
     return true;
   }
   if (m_free.empty()) {
-    // The oldest resident brick makes room (no kernel runs now: nothing reads it), unless it
-    // came for this launch and b is only a guess
-    const auto old = static_cast<std::size_t>(m_resident.front());
-    if (m_serial_of[old] >= since) {
-      if (guess) return false;
-      if (!m_guessed[old]) r.overflow = true;  // a certain brick of this launch: it does not fit
+    // A victim (no kernel runs now: nothing reads it): first the bricks the current launch has
+    // not read nor asked for, read longest ago first; then its guesses (only for a certain
+    // brick); the bricks it read or was sure of last, which means it does not fit
+    if (m_victims.empty() && m_next_victim == 0) {
+      for (std::size_t i = 0; i < m_dir_host.size(); ++i)
+        if (m_dir_host[i]) m_victims.push_back(static_cast<std::int64_t>(i));
+      const auto rank = [&](std::int64_t x) {
+        const auto ux = static_cast<std::size_t>(x);
+        const int kind = m_last[ux] < since ? 0 : m_guessed[ux] ? 1 : 2;
+        return std::tuple(kind, m_last[ux], m_serial_of[ux]);
+      };
+      std::sort(m_victims.begin(), m_victims.end(), [&](std::int64_t x, std::int64_t y) { return rank(x) < rank(y); });
     }
-    m_resident.pop_front();
+    if (m_next_victim >= m_victims.size()) {
+      // Every resident brick came in this round
+      if (guess) return false;
+      r.overflow = true;
+      return true;  // not made resident: the launch is split (or given up)
+    }
+    const auto old = static_cast<std::size_t>(m_victims[m_next_victim]);
+    if (m_last[old] >= since) {  // the current launch's
+      if (guess) return false;   // a guess never displaces it
+      if (!m_guessed[old]) r.overflow = true;
+    }
+    ++m_next_victim;
     m_free.push_back(const_cast<unsigned char*>(m_dir_host[old]));
     m_dir_host[old] = nullptr;
     m_changed = true;
@@ -194,8 +230,8 @@ bool DeviceBricks::bring(std::int64_t b, bool guess, std::uint64_t since, BrickR
   m_to_device += m_grid.slot_bytes();
   m_dir_host[ub] = slot;
   m_serial_of[ub] = m_serial++;
+  m_last[ub] = m_stamp;
   m_guessed[ub] = guess;
-  m_resident.push_back(b);
   ++r.fetched;
   ++m_fetched;
   m_changed = true;
@@ -206,6 +242,8 @@ BrickRound DeviceBricks::fetch(std::span<const std::int64_t> certain, std::span<
                                std::uint64_t since) {
   BrickRound r;
   m_valid = false;  // until the directory is back on the device
+  m_victims.clear();
+  m_next_victim = 0;
   for (const std::int64_t b : certain) bring(b, false, since, r);
   for (const std::int64_t b : guesses)
     if (!bring(b, true, since, r)) break;

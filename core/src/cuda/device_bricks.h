@@ -21,7 +21,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <span>
 #include <vector>
 
@@ -70,15 +69,19 @@ class DeviceBricks {
   /// *more (when given): it noted more certain bricks than the list holds.
   bool take_noted(std::vector<std::int64_t>& certain, std::vector<std::int64_t>& guesses, bool* more = nullptr);
   /// Makes the `certain` bricks resident and as many `guesses` as fit without evicting a
-  /// brick fetched since `since` (each filled on the host and copied over), evicting the
-  /// oldest resident brick (in order of arrival) for each when the pool is full. `since`:
-  /// the serial (serial()) when the launch asking for them first ran; BrickRound::overflow
-  /// when the certain ones and the certain ones fetched since then do not fit together. Throws
+  /// brick of the current launch (read or fetched since `since`, stamp() when it first ran),
+  /// each filled on the host and copied over. A full pool evicts first the bricks the launch
+  /// has not touched, read longest ago first, then its unread guesses (for a certain brick
+  /// only); BrickRound::overflow when a certain brick would evict one it read or was sure of,
+  /// i.e. its bricks do not fit together. Throws
   /// std::runtime_error naming the host cache's failure (a rank's service failed) or a CUDA
   /// error.
   BrickRound fetch(std::span<const std::int64_t> certain, std::span<const std::int64_t> guesses, std::uint64_t since);
-  /// Serial of the next brick fetched (fetches are numbered from 0).
-  std::uint64_t serial() const { return m_serial; }
+  /// After every launch (kept or not): the bricks it read are marked as read now (eviction
+  /// takes those read longest ago first), the marks cleared; the launch count goes up.
+  void after_launch();
+  /// The launch count: pass its value when a launch first ran as fetch's `since`.
+  std::uint64_t stamp() const { return m_stamp; }
 
   std::uint64_t bytes_to_device() const { return m_to_device; }
   std::uint64_t bytes_to_host() const { return m_to_host; }
@@ -98,6 +101,7 @@ class DeviceBricks {
   // Device addresses
   const unsigned char** m_dir = nullptr;
   unsigned int* m_wanted = nullptr;
+  unsigned char* m_used = nullptr;  ///< per brick: read by the launch
   std::int64_t* m_certain = nullptr;
   std::int64_t* m_guess = nullptr;
   unsigned long long* m_count = nullptr;  ///< [0] certain notes, [1] guesses
@@ -107,11 +111,14 @@ class DeviceBricks {
   // Host bookkeeping
   std::vector<const unsigned char*> m_dir_host;  ///< per brick: its slot's device address or null
   std::vector<std::uint64_t> m_serial_of;        ///< per brick: the serial it was fetched with
-  std::vector<bool> m_guessed;                   ///< per brick: last asked for as a guess only
-  std::deque<std::int64_t> m_resident;           ///< in order of arrival
-  std::vector<unsigned char*> m_free;            ///< free slots
-  std::vector<unsigned char> m_buffer;           ///< one slot, filled on the host
-  std::uint64_t m_serial = 0;
+  std::vector<std::uint64_t> m_last;             ///< per brick: the launch that last read or fetched it
+  std::vector<bool> m_guessed;                   ///< per brick: fetched as a guess, not read since
+  std::vector<unsigned char> m_used_host;        ///< the use marks read back
+  std::vector<std::int64_t> m_victims;           ///< a fetch's eviction order (made at its first eviction)
+  std::size_t m_next_victim = 0;
+  std::vector<unsigned char*> m_free;   ///< free slots
+  std::vector<unsigned char> m_buffer;  ///< one slot, filled on the host
+  std::uint64_t m_serial = 0, m_stamp = 1;
   bool m_valid = false;
   bool m_changed = false;  ///< the host directory differs from the device's
   std::uint64_t m_to_device = 0, m_to_host = 0, m_fetched = 0;

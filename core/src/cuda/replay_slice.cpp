@@ -34,7 +34,7 @@ bool replay_slice(DeviceBackend& b, DeviceBricks& bricks, const KernelScene& dis
   while (!todo.empty()) {
     const Unit u = todo.back();
     todo.pop_back();
-    const std::uint64_t since = bricks.serial();
+    const std::uint64_t since = bricks.stamp();
     const std::size_t first = static_cast<std::size_t>(u.j0) * lanes;
     const std::size_t n = static_cast<std::size_t>(u.j1 - u.j0) * lanes;
     int unsplittable = 0;
@@ -49,6 +49,7 @@ bool replay_slice(DeviceBackend& b, DeviceBricks& bricks, const KernelScene& dis
       a.k1 = u.k1;
       b.run_slice(dispatch, a, launch.block_threads, name);
       ++launches;
+      bricks.after_launch();
       bool more = false;
       if (!bricks.take_noted(certain, guesses, &more)) break;  // every value it read was the field's: kept
       // Discarded: the sums and counters as they were, the bricks over, and again
