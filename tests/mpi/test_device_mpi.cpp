@@ -252,7 +252,9 @@ TEST_CASE("device: cuda in distributed mode renders the replicated GPU image bit
     REQUIRE(distributed.image);
     CHECK(replicated.image->rgba == distributed.image->rgba);
   }
-  // device: auto with the slabs in (emulated) device memory: the GPU, the same bits
+  // device: auto with the slabs in (emulated) device memory: the GPU, the same bits (each
+  // rank's slab read where it is; the bytes this saves depend on which tiles a rank grabs,
+  // so test_gpu_paged.cpp counts them)
   std::vector<float> on_device = BlobSlab().values;
   tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), on_device.data(),
                                                 on_device.size() * sizeof(float));

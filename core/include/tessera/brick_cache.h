@@ -211,8 +211,9 @@ struct PagedFieldView {
   BrickCache* cache = nullptr;
   /// The rank's other own blocks (BrickCache::set_in_place); cell null when it has none.
   InPlaceTable in_place;
-  /// On a GPU: every vertex through the device's bricks (local and in_place empty, cache
-  /// never called); slot null on the CPU.
+  /// On a GPU: `local` is a device copy (or the caller's device array), every other vertex
+  /// comes through the device's bricks (in_place empty, cache never called); slot null on the
+  /// CPU.
   DeviceBrickTable device;
 
   /// Vertex (i, j, k) of the global field (inside dims) as double, exactly as
@@ -329,6 +330,11 @@ struct PagedField {
   /// Non-null, grid dims and dtype as above; its in-place blocks (set_in_place), if any, are
   /// read in place too
   BrickCache* cache = nullptr;
+  /// The own block's values in GPU memory too, when the caller has them there (the adapter:
+  /// the simulation's device array whose host copy `local` is): element (0, 0, 0) of the same
+  /// dims, dtype and byte strides as `local`. A GPU render reads the own block there; without
+  /// it, it copies `local` to the device once per prepared scene. Never read on the CPU.
+  const void* local_device = nullptr;
 };
 
 }  // namespace tessera

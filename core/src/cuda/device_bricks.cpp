@@ -116,11 +116,15 @@ std::uint64_t DeviceBricks::reset() {
   return bytes;
 }
 
-PagedFieldView DeviceBricks::device_view() const {
+PagedFieldView DeviceBricks::device_view(const void* local) const {
   PagedFieldView v = m_host;
-  v.local = FieldView{};
-  v.local.dtype = m_host.dtype;
-  for (int a = 0; a < 3; ++a) v.lo[a] = v.hi[a] = 0;
+  if (local && m_host.local.data) {
+    v.local.data = local;
+  } else {
+    v.local = FieldView{};
+    v.local.dtype = m_host.dtype;
+    for (int a = 0; a < 3; ++a) v.lo[a] = v.hi[a] = 0;
+  }
   v.in_place = InPlaceTable{};
   v.device.slot = m_dir;
   v.device.wanted = m_wanted;

@@ -2,7 +2,8 @@
 /// DeviceBricks: a distributed (paged) field's bricks on the GPU (docs/gpu.md, "Distributed
 /// fields"). A kernel cannot wait for a brick that lives on another rank, so the device
 /// renders by replay:
-/// - the device holds a bounded pool of brick slots and a directory (per brick of the cut the
+/// - the device holds the rank's own block (PagedFieldView::local: the caller's device array
+///   or a copy), a bounded pool of brick slots and a directory (per brick of the cut the
 ///   device address of its slot, or null), DeviceBrickTable;
 /// - a lookup in a brick that is not resident notes it (once per launch; certain or a guess,
 ///   device_brick_table.h) and reads 0, and every lane of that launch stops after its
@@ -50,8 +51,9 @@ class DeviceBricks {
 
   /// Every brick absent, no brick noted; returns the bytes written to the device.
   std::uint64_t reset();
-  /// The view the kernels read: `host` with every vertex through the device's bricks.
-  PagedFieldView device_view() const;
+  /// The view the kernels read: `host` with its own block at device address `local` (same
+  /// dims and strides; null: none) and every other vertex through the device's bricks.
+  PagedFieldView device_view(const void* local) const;
   /// The device address of the launch's count of certain notes (SliceArgs::missed: nonzero
   /// once it missed any brick) and of its per-thread flags (SliceArgs::path_missed).
   const unsigned long long* missed() const { return m_count; }

@@ -54,8 +54,18 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   if (ks.mesh.element != nullptr) {
     plan_mesh();
   } else if (ks.paged.cache != nullptr) {
-    // A distributed field: its bricks come to the device's pool as the launches ask (planned
-    // last, below, when the rest's size is known)
+    // A distributed field: the own block read on the device (the caller's device array, or a
+    // copy of the host one); every other brick comes to the device's pool as the launches ask
+    // (planned last, below, when the rest's size is known)
+    if (ks.paged.local.data) {
+      const void* dev = s.paged_local_device;
+      if (dev && m_backend->memory_kind(dev) != MemoryKind::Host)
+        m_fix.push_back([dev](unsigned char*, KernelScene& d) { d.paged.local.data = dev; });
+      else
+        strided(
+            ks.paged.local.data, ks.paged.local.dims, ks.paged.local.byte_strides, dtype_size(ks.paged.dtype),
+            "own block copy", [](KernelScene& d, int, const unsigned char* p) { d.paged.local.data = p; }, 0);
+    }
   } else if (ks.amr.nlevels == 0 && !ks.magnitude.active()) {
     m_field_in_place = strided(
         ks.field.data, ks.field.dims, ks.field.byte_strides, dtype_size(ks.field.dtype), "field copy",
@@ -178,22 +188,17 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   m_off_medium = reserve(m_medium_bytes);
 
   if (ks.paged.cache != nullptr) {
-    // The brick pool: the host cache's slots and the bricks of the rank's own blocks (the
-    // device reads those through the pool too), within the budget beside the rest (256 bytes
-    // of alignment slack), at least one. A launch has at most a thread per pixel and lane
+    // The brick pool: the host cache's slots and the bricks of the rank's other own blocks
+    // (BrickCache::set_in_place: the device reads those through the pool too), within the
+    // budget beside the rest (256 bytes of alignment slack), at least one. A launch has at most a thread per pixel and lane
     // (sample_lanes)
     m_brick_threads = static_cast<std::uint64_t>(ks.width) * static_cast<std::uint64_t>(ks.height) *
                       static_cast<std::uint64_t>(sample_lanes(ks.width, ks.height, ks.spp));
     const BrickGrid g = BrickGrid::make(ks.paged.dims, ks.paged.dtype, ks.paged.shift);
     const auto bricks = static_cast<std::uint64_t>(g.brick_count());
-    std::uint64_t own = 0;
-    if (ks.paged.local.data) {
-      own = 1;
-      for (int a = 0; a < 3; ++a)
-        own *= static_cast<std::uint64_t>(((ks.paged.hi[a] - 1) >> g.shift) - (ks.paged.lo[a] >> g.shift) + 1);
-    }
     const auto edge3 = static_cast<std::uint64_t>(g.edge() * g.edge() * g.edge());
-    own += (ks.paged.cache->in_place_vertices() + edge3 - 1) / edge3 + ks.paged.cache->in_place_count();
+    const std::uint64_t own =
+        (ks.paged.cache->in_place_vertices() + edge3 - 1) / edge3 + ks.paged.cache->in_place_count();
     std::size_t cap = static_cast<std::size_t>(
         std::min<std::uint64_t>(static_cast<std::uint64_t>(ks.paged.cache->capacity()) + own, bricks));
     if (budget > 0)
@@ -283,7 +288,7 @@ std::uint64_t DeviceScene::upload() {
     m_bricks =
         std::make_unique<DeviceBricks>(*m_backend, ks.paged, m_brick_capacity, m_brick_threads, base + m_off_bricks);
     copied += m_bricks->reset();
-    d.paged = m_bricks->device_view();
+    d.paged = m_bricks->device_view(d.paged.local.data);
   }
   if (m_off_widened != SIZE_MAX) {
     // The float32 values (copied above, or the caller's device memory) widened to float64

@@ -38,11 +38,12 @@ bool replay_slice(DeviceBackend& b, DeviceBricks& bricks, const KernelScene& dis
     const std::size_t first = static_cast<std::size_t>(u.j0) * lanes;
     const std::size_t n = static_cast<std::size_t>(u.j1 - u.j0) * lanes;
     int unsplittable = 0;
+    // The sums and counters as they are before the unit (each try starts from them)
+    b.copy_on_device(keep.px, a.lane_px + first, n * sizeof(PixelSums), "sample lanes' sums");
+    if (a.lane_aux) b.copy_on_device(keep.aux, a.lane_aux + first, n * sizeof(AuxSums), "sample lanes' sums");
+    b.copy_on_device(keep.counters, a.counters, kCounterCount * sizeof(unsigned long long), "counters");
     for (;;) {
       if (stop.stop()) return false;
-      b.copy_on_device(keep.px, a.lane_px + first, n * sizeof(PixelSums), "sample lanes' sums");
-      if (a.lane_aux) b.copy_on_device(keep.aux, a.lane_aux + first, n * sizeof(AuxSums), "sample lanes' sums");
-      b.copy_on_device(keep.counters, a.counters, kCounterCount * sizeof(unsigned long long), "counters");
       a.j0 = u.j0;
       a.j1 = u.j1;
       a.k0 = u.k0;

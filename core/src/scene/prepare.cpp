@@ -403,6 +403,7 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shar
   PreparedScene ps;
   PreparedSceneImpl& p = *ps.m_impl;
   p.summary_reused = true;  // never a pass over the values here
+  p.paged_local_device = field.local.data ? field.local_device : nullptr;
   prepare_from(p, global, scene, std::move(summary), &view);
   return ps;
 }

@@ -42,6 +42,8 @@ struct PreparedSceneImpl {
   bool summary_reused = false;  ///< the grid's FieldSummary came from the caller
   /// The kernels' view of all of the above (kernel_scene.h), made last by prepare().
   KernelScene kernel;
+  /// A paged field's own block in GPU memory (PagedField::local_device), or null.
+  const void* paged_local_device = nullptr;
   /// The CUDA backend's device copies of what `kernel` points to (cuda/device_scene.h), made
   /// by the first render_tiles_cuda and freed (cudaFree) with this object; null until then and
   /// in a CPU build. Guarded by render_cuda.cpp's lock.

@@ -45,6 +45,7 @@ void stage_blocks_to_host(FieldBinding& b, const BlocksMemory& where, HostStagin
     cuda_copy_to_host(buf.data(), first, buf.size(), stream);
     const void* moved = buf.data() - sp.lo;
     if (b.local.data == blk.view.data) b.local.data = moved;
+    out.moved.emplace_back(moved, blk.view.data);
     blk.view.data = moved;
     out.bytes += buf.size();
   }

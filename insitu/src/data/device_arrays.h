@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tessera::insitu {
@@ -30,6 +31,16 @@ BlocksMemory blocks_memory(std::span<const FieldBlock> blocks);
 struct HostStaging {
   std::vector<std::vector<unsigned char>> buffers;
   std::uint64_t bytes = 0;  ///< copied device -> host
+  /// Per staged block: the view's data as staged (host) and as it was (device)
+  std::vector<std::pair<const void*, const void*>> moved;
+
+  /// The device address whose host copy `host_data` (a staged view's data) is; null when it
+  /// is not one.
+  const void* device_original(const void* host_data) const {
+    for (const auto& [to, from] : moved)
+      if (to == host_data && host_data != nullptr) return from;
+    return nullptr;
+  }
 };
 
 /// Copies each device-memory block of `b` (`where`: blocks_memory(b.blocks), asked before b's
