@@ -4,6 +4,7 @@
 
 #include <tessera/brick_cache.h>
 #include <tessera/config/config.h>
+#include <tessera/memory_estimate.h>
 
 #include <catch2/catch.hpp>
 
@@ -80,6 +81,26 @@ TEST_CASE("distribution: replicated over the limit fails naming the replica, dis
   CHECK(plan.capacity >= 1);
   CHECK(BrickCache::bytes_for(g, plan.capacity) + plan.base.total() <= (std::uint64_t{512} << 20));
   CHECK(static_cast<double>(plan.capacity * g.slot_bytes()) <= kCacheFieldFraction * 1000.0 * (1 << 20));
+}
+
+TEST_CASE("a distributed render on the GPU counts the host's bookkeeping of the device's bricks",
+          "[insitu][distribution]") {
+  // A limit that bounds the cache: the GPU's plan has the per-brick bookkeeping and one slot's
+  // fill buffer (beside its pixel copies) fewer bytes for the cache
+  const config::Config dist = config_for("distributed", 300);
+  const FieldBinding b = binding_for(640);
+  FieldPlan cpu = plan_field(dist, dist.renders[0], b, 4, 1, true);
+  FieldPlan gpu = plan_field(dist, dist.renders[0], b, 4, 1, true, nullptr, true);
+  plan_distributed(cpu, b);
+  plan_distributed(gpu, b);
+  REQUIRE(gpu.shift == cpu.shift);
+  const BrickGrid g = BrickGrid::make(b.placement.global_dims, DType::Float32, gpu.shift);
+  const std::uint64_t limit = std::uint64_t{300} << 20;
+  const std::uint64_t used = gpu.base.total() + BrickCache::bytes_for(g, 0) +
+                             kGpuHostBytesPerBrick * static_cast<std::uint64_t>(g.brick_count()) + g.slot_bytes();
+  CHECK(gpu.capacity == (limit - used) / g.slot_bytes());
+  CHECK(cpu.capacity == (limit - cpu.base.total() - BrickCache::bytes_for(g, 0)) / g.slot_bytes());
+  CHECK(gpu.capacity < cpu.capacity);
 }
 
 TEST_CASE("a distributed render whose limit leaves no room for one brick fails before allocating",

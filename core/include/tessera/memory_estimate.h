@@ -55,6 +55,11 @@ struct RenderFootprint {
 /// and the sums copied back from the device (docs/gpu.md).
 inline constexpr std::uint64_t kGpuHostBytesPerPixel = 3 * sizeof(int) + 64;
 
+/// A distributed (paged) field rendered by the CUDA backend: the host's bookkeeping of the
+/// device's pool per brick of the cut (the directory's host copy, arrival and use stamps, use
+/// marks read back, a guess flag; cuda/device_bricks.h), beside one slot's fill buffer.
+inline constexpr std::uint64_t kGpuHostBytesPerBrick = 26;
+
 /// Open Image Denoise's own working memory per pixel (its RT filter's tensors and scratch),
 /// an upper estimate: the peak RSS growth of denoised CLI renders, less the image and
 /// auxiliary buffers counted apart, is about 576 bytes per pixel from 256x256 to 2048x1024

@@ -1,6 +1,8 @@
 /// DeviceBricks (device_bricks.h): the device's pool of a distributed field's bricks.
 #include "cuda/device_bricks.h"
 
+#include <tessera/memory_estimate.h>
+
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -8,6 +10,9 @@
 #include <tuple>
 
 namespace tessera::cuda {
+
+// The host vectors per brick as the adapter's memory estimate counts them
+static_assert(sizeof(const unsigned char*) + 2 * sizeof(std::uint64_t) + 1 + 1 <= kGpuHostBytesPerBrick);
 
 namespace {
 

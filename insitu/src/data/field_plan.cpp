@@ -6,6 +6,7 @@
 #include <tessera/brick_cache.h>
 #include <tessera/config/build_scene.h>
 #include <tessera/config/render_memory.h>
+#include <tessera/memory_estimate.h>
 #include <tessera/number_text.h>
 
 #include <algorithm>
@@ -55,6 +56,7 @@ FieldPlan plan_field(const config::Config& cfg, const config::RenderSpec& spec, 
   plan.base = estimate_render_memory(f);
   if (binding.staged_bytes > 0) plan.base.add("vector magnitude (this rank's blocks, staged)", binding.staged_bytes);
   plan.threads = f.threads;
+  plan.gpu = gpu;
   config::MemoryLimit limit = config::memory_limit(cfg.global, node_ranks);
   plan.limit = limit.bytes;
   plan.limit_text = std::move(limit.text);
@@ -117,6 +119,11 @@ void plan_distributed(FieldPlan& plan, const FieldBinding& binding, int shift, c
   const std::uint64_t slot = grid.slot_bytes();
   MemoryEstimate e = base;
   e.add("brick directory", BrickCache::bytes_for(grid, 0));
+  if (plan.gpu) {
+    // The device's pool, kept on the host: per brick of the cut, and a slot to fill
+    e.add("the GPU's brick bookkeeping",
+          kGpuHostBytesPerBrick * static_cast<std::uint64_t>(grid.brick_count()) + grid.slot_bytes());
+  }
   const std::uint64_t used = e.total();
   const std::uint64_t budget = used < plan.limit ? std::min(plan.limit - used, cap_for(grid)) : 0;
   plan.capacity =

@@ -36,6 +36,7 @@ struct FieldPlan {
   MemoryEstimate base;                          ///< the render's own allocations without the field's
   int threads = 1;                              ///< rendering threads on this rank (paths in flight at once)
   int macrocell_edge = 8;                       ///< the scene's macrocell edge (level tables' size)
+  bool gpu = false;                             ///< rendered on the GPU (its host bookkeeping counted)
   /// Distributed: a warning when the cache is too small for the bricks the paths in flight
   /// cross (small_cache_warning); "" otherwise.
   std::string cache_warning;
