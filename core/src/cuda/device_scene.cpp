@@ -190,8 +190,8 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   if (ks.paged.cache != nullptr) {
     // The brick pool: the host cache's slots and the bricks of the rank's other own blocks
     // (BrickCache::set_in_place: the device reads those through the pool too), within the
-    // budget beside the rest (256 bytes of alignment slack), at least one. A launch has at most a thread per pixel and lane
-    // (sample_lanes)
+    // budget beside the rest (256 bytes of alignment slack), at least one. A launch has at
+    // most a thread per pixel and lane (sample_lanes)
     m_brick_threads = static_cast<std::uint64_t>(ks.width) * static_cast<std::uint64_t>(ks.height) *
                       static_cast<std::uint64_t>(sample_lanes(ks.width, ks.height, ks.spp));
     const BrickGrid g = BrickGrid::make(ks.paged.dims, ks.paged.dtype, ks.paged.shift);
