@@ -196,9 +196,9 @@ TEST_CASE("GPU: a distributed field whose path needs more bricks than the pool f
     const tessera::PreparedScene ps = tessera::prepare(d.field, s, summary_of(whole, s));
     tessera::Film film(s.image.width, s.image.height);
     tessera::RenderStats st;
-    CHECK_THROWS_WITH(
-        gpu_render_tiles(ps, all_tiles(ps), film, st),
-        Catch::Contains("needs more bricks at once than the device's pool of 1") && Catch::Contains("brick_cache"));
+    CHECK_THROWS_WITH(gpu_render_tiles(ps, all_tiles(ps), film, st),
+                      Catch::Contains("needs more bricks at once than the device's pool of 1") &&
+                          Catch::Contains("brick_cache") && Catch::Contains("one sample's path (pixel ("));
   }
   {
     // The service fails (another rank's brick cannot come): the call fails naming it; the

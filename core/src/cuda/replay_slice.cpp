@@ -75,12 +75,15 @@ bool replay_slice(DeviceBackend& b, DeviceBricks& bricks, const KernelScene& dis
       }
       // One sample of one pixel: its path may still fit (some bricks noted were read only
       // by the tries' paths through missing bricks), but not forever
-      if (++unsplittable >= kMaxUnsplittableTries)
-        throw std::runtime_error("render_tiles_cuda: distributed field: one sample's path (pixel " +
-                                 std::to_string(u.j0) + " of the call, sample " + std::to_string(u.k0) +
-                                 ") needs more bricks at once than the device's pool of " +
+      if (++unsplittable >= kMaxUnsplittableTries) {
+        PixelJob job{};  // which pixel, for the message
+        b.copy_to_host(&job, a.jobs + u.j0, sizeof job, "pixel list");
+        throw std::runtime_error("render_tiles_cuda: distributed field: one sample's path (pixel (" +
+                                 std::to_string(job.x) + ", " + std::to_string(job.y) + "), the call's sample " +
+                                 std::to_string(u.k0) + ") needs more bricks at once than the device's pool of " +
                                  std::to_string(bricks.capacity()) +
                                  " holds; raise tessera.brick_cache or memory_limit_mb, or render on the CPU");
+      }
     }
   }
   return true;
