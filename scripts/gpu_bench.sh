@@ -105,27 +105,26 @@ if command -v cuobjdump > /dev/null; then
   say "registers and spills: resources.txt"
 fi
 
+# bench/NAME on the device for at most LIMIT seconds, its table and CSV as OUT_DIR/NAME.{txt,csv};
+# nothing when the build has no such program or LIMIT is 0
+device_bench() {
+  local name=$1 limit=$2 bin=$build/bench/$1
+  [[ -x $bin ]] && ((limit > 0)) || return 0
+  say "$name --device $device (limit ${limit} s)"
+  timeout "$limit" "$bin" --device "$device" --threads "$threads" --reps 2 --csv "$out/$name.csv" 2>&1 |
+    tee "$out/$name.txt"
+  say "$name: exit ${PIPESTATUS[0]}"
+}
+
 # 3b. Curvilinear and unstructured meshes on the GPU (bench/mesh_bench: grid, hex mesh, tet
-# mesh; the CPU's figures are docs/BENCHMARKS.md's), when the build has it
-mesh_bench=$build/bench/mesh_bench
-if [[ -x $mesh_bench ]] && ((mesh_limit > 0)); then
-  say "mesh_bench --device $device (limit ${mesh_limit} s)"
-  timeout "$mesh_limit" "$mesh_bench" --device "$device" --threads "$threads" --reps 2 --csv "$out/mesh_bench.csv" \
-    2>&1 | tee "$out/mesh_bench.txt"
-  say "mesh_bench: exit ${PIPESTATUS[0]}"
-fi
+# mesh; the CPU's figures are docs/BENCHMARKS.md's)
+device_bench mesh_bench "$mesh_limit"
 mark mesh
 
 # 3c. A distributed (paged) field on the GPU (bench/paged_field_bench: whole field, every brick
 # resident, a pool of 1/8 of the bricks with replayed launches; docs/gpu.md, "Distributed
-# fields on the GPU"), when the build has it
-paged_bench=$build/bench/paged_field_bench
-if [[ -x $paged_bench ]] && ((paged_limit > 0)); then
-  say "paged_field_bench --device $device (limit ${paged_limit} s)"
-  timeout "$paged_limit" "$paged_bench" --device "$device" --threads "$threads" --reps 2 \
-    --csv "$out/paged_field_bench.csv" 2>&1 | tee "$out/paged_field_bench.txt"
-  say "paged_field_bench: exit ${PIPESTATUS[0]}"
-fi
+# fields on the GPU")
+device_bench paged_field_bench "$paged_limit"
 mark paged
 
 # 4. Time to equal error: the six cases on the GPU against the CPU's references, per spp

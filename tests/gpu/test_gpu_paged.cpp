@@ -22,7 +22,6 @@
 
 #include <chrono>
 #include <cstdint>
-#include <cstring>
 #include <memory>
 #include <string>
 #include <thread>
@@ -40,26 +39,11 @@ std::vector<unsigned char> heat_bytes(tessera::DType dtype, int n) {
   const std::size_t es = tessera::dtype_size(dtype);
   std::vector<unsigned char> out(v.size() * es);
   for (std::size_t i = 0; i < v.size(); ++i) {
-    unsigned char* p = out.data() + i * es;
-    switch (dtype) {
-      case tessera::DType::UInt8: *p = static_cast<std::uint8_t>(v[i] / 6.0); break;
-      case tessera::DType::Int16: {
-        const auto x = static_cast<std::int16_t>(v[i] * 10.0 - 6000.0);
-        std::memcpy(p, &x, es);
-        break;
-      }
-      case tessera::DType::UInt16: {
-        const auto x = static_cast<std::uint16_t>(v[i] * 40.0);
-        std::memcpy(p, &x, es);
-        break;
-      }
-      case tessera::DType::Float32: {
-        const auto x = static_cast<float>(v[i]);
-        std::memcpy(p, &x, es);
-        break;
-      }
-      default: std::memcpy(p, &v[i], es);
-    }
+    const double x = dtype == tessera::DType::UInt8    ? v[i] / 6.0
+                     : dtype == tessera::DType::Int16  ? v[i] * 10.0 - 6000.0
+                     : dtype == tessera::DType::UInt16 ? v[i] * 40.0
+                                                       : v[i];
+    tessera::detail::store_from_double(dtype, out.data() + i * es, x);
   }
   return out;
 }

@@ -265,6 +265,30 @@ TESSERA_HOST_DEVICE inline double load_element(DType t, const unsigned char* bas
     default: return load_as_double(t, base + 8 * e);
   }
 }
+/// `v` stored at p in dtype t (load_as_double's inverse: exact for a value read from that
+/// dtype; otherwise converted as static_cast converts).
+inline void store_from_double(DType t, unsigned char* p, double v) {
+  switch (t) {
+    case DType::UInt8: *p = static_cast<std::uint8_t>(v); break;
+    case DType::Int16: {
+      const auto x = static_cast<std::int16_t>(v);
+      __builtin_memcpy(p, &x, sizeof x);
+      break;
+    }
+    case DType::UInt16: {
+      const auto x = static_cast<std::uint16_t>(v);
+      __builtin_memcpy(p, &x, sizeof x);
+      break;
+    }
+    case DType::Float32: {
+      const auto x = static_cast<float>(v);
+      __builtin_memcpy(p, &x, sizeof x);
+      break;
+    }
+    case DType::Float64:
+    default: __builtin_memcpy(p, &v, sizeof v);
+  }
+}
 }  // namespace detail
 
 TESSERA_HOST_DEVICE TESSERA_DEVICE_NOINLINE inline double PagedFieldView::load(std::int64_t i, std::int64_t j,

@@ -4,7 +4,6 @@
 #include <tessera/memory_estimate.h>
 
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -28,34 +27,9 @@ std::uint64_t table_bytes(const BrickGrid& g, std::size_t capacity, std::uint64_
          2 * aligned(capacity * sizeof(std::int64_t)) + aligned(2 * sizeof(unsigned long long)) + aligned(threads);
 }
 
-BrickGrid grid_of(const PagedFieldView& v) { return BrickGrid::make(v.dims, v.dtype, v.shift); }
-
-/// v (a value read as double from dtype t) stored back in dtype t: exact, since every value of
-/// every dtype is a double.
-void store_as(DType t, unsigned char* p, double v) {
-  switch (t) {
-    case DType::UInt8: *p = static_cast<std::uint8_t>(v); break;
-    case DType::Int16: {
-      const auto x = static_cast<std::int16_t>(v);
-      std::memcpy(p, &x, sizeof x);
-      break;
-    }
-    case DType::UInt16: {
-      const auto x = static_cast<std::uint16_t>(v);
-      std::memcpy(p, &x, sizeof x);
-      break;
-    }
-    case DType::Float32: {
-      const auto x = static_cast<float>(v);
-      std::memcpy(p, &x, sizeof x);
-      break;
-    }
-    case DType::Float64:
-    default: std::memcpy(p, &v, sizeof v);
-  }
-}
-
 }  // namespace
+
+BrickGrid DeviceBricks::grid_of(const PagedFieldView& v) { return BrickGrid::make(v.dims, v.dtype, v.shift); }
 
 std::uint64_t DeviceBricks::bytes_for(const PagedFieldView& host, std::size_t capacity, std::uint64_t threads) {
   const BrickGrid g = grid_of(host);
@@ -187,7 +161,7 @@ void DeviceBricks::fill(std::int64_t b, unsigned char* out) const {
     for (std::int64_t j = lo[1]; j < hi[1]; ++j)
       for (std::int64_t i = lo[0]; i < hi[0]; ++i) {
         const std::int64_t at = (((k - lo[2]) * e + (j - lo[1])) * e) + (i - lo[0]);
-        store_as(m_grid.dtype, out + static_cast<std::size_t>(at) * es, m_host.load(i, j, k));
+        detail::store_from_double(m_grid.dtype, out + static_cast<std::size_t>(at) * es, m_host.load(i, j, k));
       }
   cache->leave_tile();
   if (cache->failed()) throw std::runtime_error("distributed field: " + cache->failure());

@@ -7,10 +7,10 @@
 ///   device address of its slot, or null), DeviceBrickTable;
 /// - a lookup in a brick that is not resident notes it (once per launch; certain or a guess,
 ///   device_brick_table.h) and reads 0, and every lane of that launch stops after its
-///   current sample; the host then restores the
-///   launch's sums and counters, copies the noted bricks over (filled on the host through the
-///   host's PagedFieldView: the rank's own blocks in place, other ranks' bricks through the
-///   host BrickCache and its service thread) and runs the launch again;
+///   current sample; the host then restores the launch's sums and counters, copies the noted
+///   bricks over (filled on the host through the host's PagedFieldView: the rank's own blocks
+///   in place, other ranks' bricks through the host BrickCache and its service thread) and
+///   runs the launch again;
 /// - only a launch that ran without a miss is kept, so every value it read is the field's,
 ///   and the image is the bits of the same scene rendered on the device from a whole field.
 /// The host half of render_on_device calls this class between launches only (no kernel then
@@ -30,13 +30,16 @@ namespace tessera::cuda {
 /// What one round of DeviceBricks::fetch did.
 struct BrickRound {
   std::uint64_t fetched = 0;  ///< bricks copied to the device
-  /// The bricks asked for could not all be resident at once with those fetched since
-  /// `since` (too many, or making room evicted one of them): the launch should be split.
+  /// The certain bricks asked for could not all be resident at once with those the launch
+  /// read or was sure of since `since` (making room evicted one of them, or no room was
+  /// left): the launch should be split.
   bool overflow = false;
 };
 
 class DeviceBricks {
  public:
+  /// The cut of `host`'s field into bricks.
+  static BrickGrid grid_of(const PagedFieldView& host);
   /// Device bytes for `capacity` slots over the cut of `host` and launches of up to
   /// `threads` threads (directory, flags, the two lists of notes, counts, a byte per thread,
   /// slots), each part aligned to 256 bytes.
@@ -91,9 +94,10 @@ class DeviceBricks {
 
  private:
   void fill(std::int64_t b, unsigned char* out) const;
-  /// b resident (fetched now unless it was); `since` as for fetch: false, nothing done, when
-  /// `guess` and room would take a brick fetched since then; r.overflow when a certain one
-  /// takes such a brick.
+  /// b resident (fetched now unless it was), a victim evicted when the pool is full (fetch's
+  /// order); `since` as for fetch. A guess: false, nothing done, when room would take a brick
+  /// of the current launch. A certain brick: r.overflow when room takes one the launch read or
+  /// was sure of, or when every resident brick came in this round (then b stays out).
   bool bring(std::int64_t b, bool guess, std::uint64_t since, BrickRound& r);
 
   DeviceBackend& m_b;

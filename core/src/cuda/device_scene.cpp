@@ -194,7 +194,7 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
     // most a thread per pixel and lane (sample_lanes)
     m_brick_threads = static_cast<std::uint64_t>(ks.width) * static_cast<std::uint64_t>(ks.height) *
                       static_cast<std::uint64_t>(sample_lanes(ks.width, ks.height, ks.spp));
-    const BrickGrid g = BrickGrid::make(ks.paged.dims, ks.paged.dtype, ks.paged.shift);
+    const BrickGrid g = DeviceBricks::grid_of(ks.paged);
     const auto bricks = static_cast<std::uint64_t>(g.brick_count());
     const auto edge3 = static_cast<std::uint64_t>(g.edge() * g.edge() * g.edge());
     const std::uint64_t own =

@@ -10,10 +10,11 @@ namespace tessera::cuda {
 
 /// fn(TypeTag<V>{}) for the device kernels' Value of `ks`, and true; false (fn not called) for
 /// what they cannot run: hierarchies of refinement levels with remote patches. A distributed
-/// (paged) field's Value is PagedValue (its dtype read per load), every vertex read through
-/// the device's bricks (device_bricks.h). A float32 field's Value is double: the device renders the float64 copy it widens
-/// (widen_field.h), so no float kernel exists. A mesh's values are read per load in their
-/// dtype (mesh/domain_access.h): one MeshValue kernel for every dtype.
+/// (paged) field's Value is PagedValue (its dtype read per load), every vertex but the own
+/// block's read through the device's bricks (device_bricks.h). A float32 field's Value is
+/// double: the device renders the float64 copy it widens (widen_field.h), so no float kernel
+/// exists. A mesh's values are read per load in their dtype (mesh/domain_access.h): one
+/// MeshValue kernel for every dtype.
 template <class Fn>
 bool with_device_value(const KernelScene& ks, Fn&& fn) {
   if (ks.amr.nlevels > 0) {
