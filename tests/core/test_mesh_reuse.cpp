@@ -90,3 +90,37 @@ TEST_CASE("mesh layout: one that does not fit the mesh is rebuilt, not used", "[
   bad.mesh.domains[0].field.count -= 1;
   CHECK_THROWS_WITH(tessera::prepare(bad.mesh, scene(), p.mesh_layout()), Catch::Contains("mesh domain 0"));
 }
+
+TEST_CASE("mesh layout: a broken promise is refused where the kernels would read outside the arrays", "[mesh][reuse]") {
+  const ElementList m = warped(0.0);
+  const OwnedMesh first = one_domain(m);
+  const tessera::PreparedScene p = tessera::prepare(first.mesh, scene());
+  // The same counts and shapes (the layout fits), but an index out of range or a vertex moved
+  // to NaN: named as check_mesh names them, though the layout is reused
+  const auto conn = [](OwnedMesh& o) { return o.owned[0]->conn32.data(); };  // int32 indices
+  OwnedMesh out = one_domain(m);
+  conn(out)[8 * 7 + 3] = static_cast<std::int32_t>(m.vertex.size());
+  CHECK_THROWS_WITH(tessera::prepare(out.mesh, scene(), p.mesh_layout()),
+                    Catch::Contains("mesh domain 0: element 7: vertex index " + std::to_string(m.vertex.size()) +
+                                    " (entry 3) is outside"));
+  OwnedMesh negative = one_domain(m);
+  conn(negative)[0] = -1;
+  CHECK_THROWS_WITH(tessera::prepare(negative.mesh, scene(), p.mesh_layout()),
+                    Catch::Contains("element 0: vertex index -1 (entry 0)"));
+  OwnedMesh nan = one_domain(m);
+  nan.owned[0]->y[5] = std::nan("");
+  CHECK_THROWS_WITH(tessera::prepare(nan.mesh, scene(), p.mesh_layout()),
+                    Catch::Contains("vertex 5 has a non-finite coordinate"));
+  // The shapes are the promise's: an element turned inside out is not looked at (check_mesh
+  // refuses it), and the render reads inside the arrays
+  OwnedMesh inverted = one_domain(m);
+  std::int32_t* c = conn(inverted);
+  std::swap(c[8 * 10 + 0], c[8 * 10 + 4]);
+  std::swap(c[8 * 10 + 1], c[8 * 10 + 5]);
+  std::swap(c[8 * 10 + 2], c[8 * 10 + 6]);
+  std::swap(c[8 * 10 + 3], c[8 * 10 + 7]);
+  CHECK_THROWS_WITH(tessera::check_mesh(inverted.mesh), Catch::Contains("element 10: hex is inverted"));
+  const tessera::PreparedScene q = tessera::prepare(inverted.mesh, scene(), p.mesh_layout());
+  CHECK(q.mesh_layout_reused());
+  CHECK(render_film(q).pixels().size() == 20u * 16u);
+}

@@ -184,3 +184,33 @@ TEST_CASE("mesh domains: the lookup structure is reused within a call, and acros
   REQUIRE(ad.execute_mesh_domains(4, 0.3, other.domains) == TESSERA_OK);
   CHECK_FALSE(reused("a"));
 }
+
+TEST_CASE("mesh domains: after mesh_unchanged an index out of range is still refused, the shapes are the promise",
+          "[insitu][mesh][reuse][errors]") {
+  TempDir dir;
+  Cut cut({0, 4, 9}, Form::Hexes);
+  const std::string tf = "    transfer_function: {range: [0, 1], density_scale: 20, opacity: [[0, 0], [1, 1]]}\n";
+  Adapter ad;
+  ad.set_quiet(true);
+  REQUIRE(ad.open(dir.write("promise.yaml", config_yaml(dir.file("promise"), render_yaml("a", "", tf, "f", 24, 2)))) ==
+          TESSERA_OK);
+  REQUIRE(ad.execute_mesh_domains(1, 0.0, cut.domains) == TESSERA_OK);
+  // A broken promise that would read outside the arrays: refused by domain and element
+  auto& entry = cut.blocks[1].hexes[8 * 5 + 3];
+  const auto kept = entry;
+  entry = 100000;
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  CHECK(ad.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_ERROR_DATA);
+  CHECK_THAT(ad.last_error(), Contains("mesh domain 1: element 5: vertex index 100000"));
+  CHECK_FALSE(std::filesystem::exists(dir.file("promise") + "/a_000002.exr"));
+  // A degenerate element is a fault of the shapes: not looked at under the promise (the
+  // layout's build checked them), refused again without it
+  entry = cut.blocks[1].hexes[8 * 5 + 0];
+  REQUIRE(ad.execute_mesh_domains(3, 0.2, Cut({0, 4, 9}, Form::Hexes).domains) == TESSERA_OK);
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  CHECK(ad.execute_mesh_domains(4, 0.3, cut.domains) == TESSERA_OK);
+  CHECK(ad.execute_mesh_domains(5, 0.4, cut.domains) == TESSERA_ERROR_DATA);
+  CHECK_THAT(ad.last_error(), Contains("element 5: hex is degenerate"));
+  entry = kept;
+  CHECK(ad.execute_mesh_domains(6, 0.5, cut.domains) == TESSERA_OK);
+}

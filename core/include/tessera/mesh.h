@@ -111,10 +111,16 @@ void check_mesh(const Mesh& mesh);
 /// null arrays, the field's and ghost mask's lengths) and that each array's memory can be read
 /// (unreadable_byte, host_readable.h: 64 bytes probed per array, so freed or unmapped memory
 /// or an array shorter than its count is an error naming it, not a fault), in time linear in
-/// the domains, reading no coordinate, index or value otherwise: all a mesh needs whose
-/// elements an earlier check_mesh accepted and that the caller promises unchanged (prepare's
-/// `reuse`, render.h).
+/// the domains, reading no coordinate, index or value otherwise.
 void check_mesh_arrays(const Mesh& mesh);
+
+/// check_mesh without the shapes: check_mesh_arrays, then every real cell's vertex indices in
+/// range and its vertices' coordinates finite (one pass over the elements, no Jacobian, no
+/// Newton), and at least one real cell; throws as check_mesh does for those faults. What a
+/// mesh needs whose elements an earlier check_mesh accepted and that the caller promises
+/// unchanged (prepare's `reuse`, render.h): a broken promise then gives wrong lookups, never a
+/// read outside the arrays.
+void check_mesh_indices(const Mesh& mesh);
 
 /// What check_mesh_arrays checks of the descriptors alone (counts, strides, dtypes, shapes,
 /// null arrays, the field's and ghost mask's lengths), reading no array's memory: for arrays

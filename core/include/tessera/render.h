@@ -143,10 +143,11 @@ PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared
 /// their order, nor on the thread count.
 ///
 /// `reuse`: the mesh_layout() of an earlier prepare of the same mesh. When it fits (the same
-/// domains with the same counts and shapes: MeshLayout::fits), only check_mesh_arrays runs and
-/// the layout is shared, not built: the caller's promise that the coordinates, connectivity
-/// and ghost masks are bit for bit those it was built from (not checked: that is the pass it
-/// saves; a broken promise gives wrong lookups, never a read outside the arrays' counts). The
+/// domains with the same counts and shapes: MeshLayout::fits), only check_mesh_indices runs
+/// (indices in range and finite vertices, not the shapes) and the layout is shared, not built:
+/// the caller's promise that the coordinates, connectivity and ghost masks are bit for bit
+/// those it was built from (not checked: that is the pass it saves; a broken promise gives
+/// wrong lookups, never a read outside the arrays' counts). The
 /// image is then bit-identical to a prepare without `reuse`. When it does not fit, as without.
 PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse = nullptr);
 

@@ -5,6 +5,7 @@
 
 #include "mesh/domain_access.h"
 #include "mesh/element_geometry.h"
+#include "mesh/element_indices.h"
 
 #include <algorithm>
 #include <cmath>
@@ -149,28 +150,49 @@ std::string tet_fault(const Vec3* v) {
          ", element size " + short_number(L) + ")";
 }
 
-/// Every real cell: indices in range, finite vertices, a sound shape.
-void check_cells(const DomainCheck& c, const MeshDomain& d, std::int64_t cells) {
+bool ghost(const MeshDomain& d, std::int64_t e) {
+  return d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0;
+}
+
+/// Cell e's vertex indices in range and its vertices finite (element_indices.h), read into
+/// idx and v; else throws naming the element and the corner.
+void check_indices(const DomainCheck& c, const MeshDomain& d, const DomainAccess& a, std::int64_t e, std::int64_t* idx,
+                   Vec3* v) {
+  const int k = element_index_fault(a, e, d.coords.count, idx, v);
+  if (k < 0) return;  // each message is made only on a fault (the checks run per element)
+  if (!(idx[k] >= 0 && idx[k] < d.coords.count))
+    c.require(false, e,
+              "vertex index " + std::to_string(idx[k]) + " (entry " + std::to_string(k) + ") is outside [0, " +
+                  std::to_string(d.coords.count) + ")");
+  c.require(false, e, "vertex " + std::to_string(idx[k]) + " has a non-finite coordinate " + point_text(v[k]));
+}
+
+/// Every real cell: indices in range, finite vertices, a sound shape (`shapes`) or not looked at.
+void check_cells(const DomainCheck& c, const MeshDomain& d, std::int64_t cells, bool shapes) {
   const DomainAccess a = DomainAccess::of(d);
   int sign = d.structured() ? 0 : 1;
   std::int64_t idx[8];
   Vec3 v[8];
   for (std::int64_t e = 0; e < cells; ++e) {
-    if (d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0) continue;
-    a.cell_vertices(e, idx);
-    // Each message is made only on a fault (the checks run per element)
-    for (int k = 0; k < a.nv; ++k) {
-      if (!(idx[k] >= 0 && idx[k] < d.coords.count))
-        c.require(false, e,
-                  "vertex index " + std::to_string(idx[k]) + " (entry " + std::to_string(k) + ") is outside [0, " +
-                      std::to_string(d.coords.count) + ")");
-      v[k] = a.vertex(idx[k]);
-      if (!(std::isfinite(v[k].x) && std::isfinite(v[k].y) && std::isfinite(v[k].z)))
-        c.require(false, e, "vertex " + std::to_string(idx[k]) + " has a non-finite coordinate " + point_text(v[k]));
-    }
+    if (ghost(d, e)) continue;
+    check_indices(c, d, a, e, idx, v);
+    if (!shapes) continue;
     const std::string fault = a.shape == Shape::Tet ? tet_fault(v) : hex_fault(v, &sign);
     if (!fault.empty()) c.require(false, e, std::string(shape_name(a.shape)) + " is " + fault);
   }
+}
+
+/// check_mesh_arrays, then every domain's real cells (check_cells); throws when no cell is real.
+void check_all_cells(const Mesh& mesh, bool shapes) {
+  check_mesh_arrays(mesh);
+  std::int64_t real = 0;
+  for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
+    const MeshDomain& d = mesh.domains[i];
+    const std::int64_t cells = d.cell_count();
+    check_cells(DomainCheck{i}, d, cells, shapes);
+    for (std::int64_t e = 0; e < cells; ++e) real += !ghost(d, e);
+  }
+  if (real == 0) throw std::invalid_argument("mesh: no real (non-ghost) cell in any domain");
 }
 
 /// Each array's memory readable where it is read (the descriptors checked): freed, unmapped
@@ -208,17 +230,8 @@ void check_mesh_arrays(const Mesh& mesh) {
   for (std::size_t i = 0; i < mesh.domains.size(); ++i) check_memory(DomainCheck{i}, mesh.domains[i]);
 }
 
-void check_mesh(const Mesh& mesh) {
-  check_mesh_arrays(mesh);
-  std::int64_t real = 0;
-  for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
-    const MeshDomain& d = mesh.domains[i];
-    const DomainCheck c{i};
-    const std::int64_t cells = d.cell_count();
-    check_cells(c, d, cells);
-    for (std::int64_t e = 0; e < cells; ++e) real += !(d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0);
-  }
-  if (real == 0) throw std::invalid_argument("mesh: no real (non-ghost) cell in any domain");
-}
+void check_mesh(const Mesh& mesh) { check_all_cells(mesh, true); }
+
+void check_mesh_indices(const Mesh& mesh) { check_all_cells(mesh, false); }
 
 }  // namespace tessera

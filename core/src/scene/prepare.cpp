@@ -462,7 +462,7 @@ PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared
 
 PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse) {
   const bool fits = reuse && reuse->fits(mesh);
-  if (fits) check_mesh_arrays(mesh);
+  if (fits) check_mesh_indices(mesh);
   else check_mesh(mesh);
   PreparedScene ps;
   PreparedSceneImpl& p = *ps.m_impl;

@@ -60,8 +60,17 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
         stage_mesh_to_host(b.local, where, b.staging, pass.call.cuda_stream, limit.bytes, limit.text);
       }))
     return std::nullopt;
+  // A geometry whose layout is kept (promised unchanged by tessera_mesh_unchanged, or built by
+  // this call's first render over the same domains) is checked as prepare checks it
+  // (check_mesh_indices: indices and finite vertices, not the shapes that the layout's build
+  // checked); if the ranks then do not agree on reusing it, prepare checks the whole mesh's
+  // shapes before building a layout
+  const MeshLayoutKeep& keep = pass.call.mesh_layout;
+  const bool promised = keep.layout != nullptr && (keep.carried || keep.decided);
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
-        if (!b.local.domains.empty()) check_mesh(b.local);
+        if (b.local.domains.empty()) return;
+        if (promised) check_mesh_indices(b.local);
+        else check_mesh(b.local);
       }))
     return std::nullopt;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
