@@ -354,3 +354,78 @@ TEST_CASE("staging a device field to the host over memory_limit_mb is refused be
   CHECK(s == TESSERA_ERROR_RENDER);
   CHECK_THAT(err, Contains("copying the field's device arrays to the host needs") && Contains("memory_limit_mb"));
 }
+
+TEST_CASE("a device mesh promised unchanged is read where it is: nothing copied to the host, the staged image's bits",
+          "[gpu][insitu][mesh]") {
+  const std::int64_t n[3] = {12, 11, 13};
+  tessera_test::MeshBlock lower(n, 0, 6), upper(n, 6, 12);
+  // Every array in device memory: the curvilinear domain's x, y, z interleaved in one array,
+  // the tets' coordinates, connectivity and values apart
+  const std::vector<double> xyz = interleaved(lower);
+  DeviceArray<double> dev_xyz(xyz), lower_f(lower.vertex_values), ux(upper.x), uy(upper.y), uz(upper.z),
+      upper_f(upper.vertex_values);
+  DeviceArray<std::int32_t> dev_tets(upper.tets);
+  tessera_mesh_domain d[2] = {lower.domain(tessera_test::MeshBlock::Form::Curvilinear),
+                              upper.domain(tessera_test::MeshBlock::Form::Tets)};
+  d[0].coords.x = dev_xyz.ptr;
+  d[0].coords.y = dev_xyz.ptr + 1;
+  d[0].coords.z = dev_xyz.ptr + 2;
+  d[0].coords.byte_stride = 3 * sizeof(double);
+  d[1].coords.x = ux.ptr;
+  d[1].coords.y = uy.ptr;
+  d[1].coords.z = uz.ptr;
+  d[1].connectivity = dev_tets.ptr;
+  tessera_field f[2] = {d[0].fields[0], d[1].fields[0]};
+  f[0].data = lower_f.ptr;
+  f[1].data = upper_f.ptr;
+  d[0].fields = &f[0];
+  d[1].fields = &f[1];
+  // range: auto (the values' range read on the device too)
+  const std::string tf = "    transfer_function: {range: auto, density_scale: {optical_depth: 10}, "
+                         "opacity: [[0, 0], [1, 1]], diffuse: viridis}\n";
+  const std::string r = render_yaml("view", "", tf, "f", 40, 8);
+  TempDir dir;
+  const auto open = [&](Adapter& ad, const std::string& name) {
+    ad.set_quiet(true);
+    REQUIRE(ad.open(dir.write(name + ".yaml", config_yaml(dir.file(name), r, "  device: auto\n"))) == TESSERA_OK);
+  };
+  Adapter ad;
+  open(ad, "kept");
+  REQUIRE(ad.execute_mesh_domains(1, 0.0, d) == TESSERA_OK);
+  const RenderResult first = ad.last_results().at(0);
+  CHECK_FALSE(first.mesh_layout_reused);
+  // Step 2: new values on the device, the geometry promised unchanged
+  for (double& v : lower.vertex_values) v = 1.5 * v + 0.25;
+  for (double& v : upper.vertex_values) v = 1.5 * v + 0.25;
+  device_test::upload(lower_f.ptr, lower.vertex_values.data(), lower.vertex_values.size() * sizeof(double));
+  device_test::upload(upper_f.ptr, upper.vertex_values.data(), upper.vertex_values.size() * sizeof(double));
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  REQUIRE(ad.execute_mesh_domains(2, 0.1, d) == TESSERA_OK);
+  const RenderResult resident = ad.last_results().at(0);
+  const tessera::Image resident_image = *ad.last_image("view");
+  CHECK(resident.mesh_layout_reused);
+  CHECK_THAT(resident.device, Contains("cuda:0"));
+  // Only the film's sums came back (as for any GPU render); the first call staged the mesh
+  const std::uint64_t staged = (xyz.size() + lower.vertex_values.size() + upper.x.size() * 4) * sizeof(double) +
+                               upper.tets.size() * sizeof(std::int32_t);
+  CHECK(first.stats.bytes_to_host == resident.stats.bytes_to_host + staged);
+  // The same step staged (a fresh adapter, no promise): the same bits
+  Adapter fresh;
+  open(fresh, "fresh");
+  REQUIRE(fresh.execute_mesh_domains(2, 0.1, d) == TESSERA_OK);
+  CHECK(fresh.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host + staged);
+  CHECK(same_pixels(*fresh.last_image("view"), resident_image));
+  // A broken promise that would read outside the arrays: refused by domain and element (its
+  // words as on the host), TESSERA_ERROR_DATA, the GPU still usable
+  std::vector<std::int32_t> tets = upper.tets;
+  tets[4 * 17 + 2] = 1 << 24;
+  device_test::upload(dev_tets.ptr, tets.data(), tets.size() * sizeof(std::int32_t));
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  CHECK(ad.execute_mesh_domains(3, 0.2, d) == TESSERA_ERROR_DATA);
+  CHECK_THAT(ad.last_error(), Contains("mesh domain 1: element 17: vertex index 16777216 (entry 2) is outside"));
+  device_test::upload(dev_tets.ptr, upper.tets.data(), upper.tets.size() * sizeof(std::int32_t));
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  REQUIRE(ad.execute_mesh_domains(4, 0.3, d) == TESSERA_OK);
+  CHECK(ad.last_results().at(0).mesh_layout_reused);
+  CHECK(ad.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host);
+}

@@ -36,6 +36,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 
 namespace tessera {
 
@@ -121,5 +122,26 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
 /// invalid field or edge < 1, CudaError for a CUDA failure, std::runtime_error in a build
 /// without CUDA for a pointer that is not host memory.
 std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, int edge, void* stream = nullptr);
+
+/// check_mesh_indices (mesh.h) for a mesh whose arrays are GPU memory (Mesh::device): the
+/// descriptors on the host, then every real cell's indices and vertices on the device that
+/// holds them, after the work queued on `stream`; throws check_mesh_indices'
+/// std::invalid_argument, its words, for the first faulty cell. CUDA failures as
+/// cuda_field_summary.
+void cuda_check_mesh_indices(const Mesh& mesh, void* stream = nullptr);
+
+/// The macrocell summary of a mesh whose arrays are GPU memory (Mesh::device) over the uniform
+/// grid at `grid` (origin, spacing) with `dims` vertices per axis that the layout of the same
+/// geometry lays over it, for macrocell edge `edge` (>= 1): what prepare() computes on the
+/// host for a host mesh, bit for bit, computed on the device that holds the arrays after the
+/// work queued on `stream`. For a mesh check_mesh_indices accepts. Throws as
+/// cuda_field_summary does.
+std::shared_ptr<const FieldSummary> cuda_mesh_summary(const Mesh& mesh, const VolumeGeometry& grid,
+                                                      const std::int64_t dims[3], int edge, void* stream = nullptr);
+
+/// The finite min / max of the values of a mesh whose arrays are GPU memory (Mesh::device),
+/// ghost cells' values left out for cell data (+Inf, -Inf when none), computed on the device
+/// that holds them after the work queued on `stream`. Throws as cuda_field_summary does.
+std::pair<double, double> cuda_mesh_value_range(const Mesh& mesh, void* stream = nullptr);
 
 }  // namespace tessera

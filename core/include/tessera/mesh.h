@@ -90,6 +90,11 @@ struct MeshDomain {
 /// The whole mesh: its domains (views; the vector is the caller's small list of them).
 struct Mesh {
   std::vector<MeshDomain> domains;
+  /// Every array is GPU memory (a CUDA device's), read where it is: prepare() then needs
+  /// `reuse` to fit (the layout is built on the host, by an earlier prepare of the same
+  /// geometry), checks the indices and summarises the values on the device, and the scene
+  /// renders on the GPU only (options.device = Cuda). The host never reads the arrays.
+  bool device = false;
 };
 
 /// Checks every domain, in time and memory linear in the mesh (one pass over the elements and

@@ -151,6 +151,10 @@ PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared
 /// image is then bit-identical to a prepare without `reuse`. When it does not fit, as without.
 PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse = nullptr);
 
+/// True when `layout` (a mesh_layout()) fits `mesh`: the same domains with the same counts and
+/// shapes, so that prepare(mesh, scene, layout) reuses it. Reads no array.
+bool mesh_layout_fits(const MeshLayout& layout, const Mesh& mesh);
+
 /// A vector's magnitude (magnitude_field.h), read in place: each lookup reads the three
 /// components and takes magnitude() of them, so the image is bit-identical to prepare() of a
 /// float64 array holding the magnitudes. `summary`: magnitude_summary() of this field with

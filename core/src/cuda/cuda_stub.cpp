@@ -5,6 +5,7 @@
 #include <tessera/cuda_render.h>
 
 #include "cuda/gpu_emulation.h"
+#include "cuda/mesh_device.h"
 
 #include <stdexcept>
 
@@ -41,4 +42,29 @@ std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, i
   return FieldSummary::build(field, edge);
 }
 
+namespace cuda {
+
+// A mesh in device memory: only an emulated GPU's "device memory" can be read here
+namespace {
+void require_emulation(const char* what) {
+  if (!gpu_emulation()) throw std::runtime_error(std::string(what) + ": " + kNoCuda);
+}
+}  // namespace
+
+MeshIndexFault mesh_index_fault(const Mesh& mesh, void*) {
+  require_emulation("checking a mesh in device memory");
+  return mesh_index_fault_host(mesh);
+}
+
+MeshValueStats mesh_value_stats(const Mesh& mesh, void*) {
+  require_emulation("the values of a mesh in device memory");
+  return mesh_value_stats_host(mesh);
+}
+
+FieldSummary::Parts mesh_summary_cells(const Mesh& mesh, const MacroGrid& g, void*) {
+  require_emulation("summarising a mesh in device memory");
+  return mesh_summary_cells_host(mesh, g);
+}
+
+}  // namespace cuda
 }  // namespace tessera

@@ -11,6 +11,7 @@
 #include "cuda/cuda_backend.h"
 #include "cuda/cuda_check.h"
 #include "cuda/gpu_emulation.h"
+#include "cuda/order_key.h"
 
 #include <cuda_runtime.h>
 
@@ -28,19 +29,6 @@ namespace tessera::cuda {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-/// A key whose unsigned order is the order of the doubles (no NaN passed).
-__host__ __device__ inline unsigned long long order_key(double v) {
-  unsigned long long b;
-  std::memcpy(&b, &v, sizeof b);
-  return (b >> 63) ? ~b : (b | (1ull << 63));
-}
-__host__ __device__ inline double from_key(unsigned long long k) {
-  const unsigned long long b = (k >> 63) ? (k & ~(1ull << 63)) : ~k;
-  double v;
-  std::memcpy(&v, &b, sizeof v);
-  return v;
-}
 
 struct SummaryArgs {
   const unsigned char* base;

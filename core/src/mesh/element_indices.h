@@ -10,6 +10,7 @@
 #include "mesh/domain_access.h"
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace tessera {
@@ -27,5 +28,11 @@ TESSERA_HOST_DEVICE inline int element_index_fault(const DomainAccess& a, std::i
   }
   return -1;
 }
+
+/// Throws check_mesh's std::invalid_argument for cell `cell` of domain `domain` whose corner
+/// `corner` element_index_fault named: its `index` outside [0, `vertices`), or its vertex `v`
+/// not finite. Host code (mesh_check.cpp).
+[[noreturn]] void throw_index_fault(std::size_t domain, std::int64_t cell, int corner, std::int64_t index,
+                                    std::int64_t vertices, const Vec3& v);
 
 }  // namespace tessera

@@ -159,12 +159,7 @@ bool ghost(const MeshDomain& d, std::int64_t e) {
 void check_indices(const DomainCheck& c, const MeshDomain& d, const DomainAccess& a, std::int64_t e, std::int64_t* idx,
                    Vec3* v) {
   const int k = element_index_fault(a, e, d.coords.count, idx, v);
-  if (k < 0) return;  // each message is made only on a fault (the checks run per element)
-  if (!(idx[k] >= 0 && idx[k] < d.coords.count))
-    c.require(false, e,
-              "vertex index " + std::to_string(idx[k]) + " (entry " + std::to_string(k) + ") is outside [0, " +
-                  std::to_string(d.coords.count) + ")");
-  c.require(false, e, "vertex " + std::to_string(idx[k]) + " has a non-finite coordinate " + point_text(v[k]));
+  if (k >= 0) throw_index_fault(c.domain, e, k, idx[k], d.coords.count, v[k]);
 }
 
 /// Every real cell: indices in range, finite vertices, a sound shape (`shapes`) or not looked at.
@@ -214,6 +209,18 @@ void check_memory(const DomainCheck& c, const MeshDomain& d) {
 }
 
 }  // namespace
+
+void throw_index_fault(std::size_t domain, std::int64_t cell, int corner, std::int64_t index, std::int64_t vertices,
+                       const Vec3& v) {
+  // Each message is made only on a fault (the checks run per element)
+  const DomainCheck c{domain};
+  if (!(index >= 0 && index < vertices))
+    c.require(false, cell,
+              "vertex index " + std::to_string(index) + " (entry " + std::to_string(corner) + ") is outside [0, " +
+                  std::to_string(vertices) + ")");
+  c.require(false, cell, "vertex " + std::to_string(index) + " has a non-finite coordinate " + point_text(v));
+  throw std::logic_error("throw_index_fault: no fault");
+}
 
 void check_mesh_descriptors(const Mesh& mesh) {
   if (mesh.domains.empty()) throw std::invalid_argument("mesh: no domain");

@@ -2,6 +2,10 @@
 /// over their box and list them per location cell.
 #include "mesh/mesh_layout.h"
 
+#include <tessera/render.h>
+
+#include "mesh/element_range.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -25,18 +29,10 @@ Item make_item(const DomainAccess& d, std::int32_t domain, std::int64_t e) {
   it.ref.domain = domain;
   std::int64_t idx[8];
   d.cell_vertices(e, idx);
-  Vec3 sum(0.0), lo(INFINITY), hi(-INFINITY);
-  for (int k = 0; k < d.nv; ++k) {
-    const Vec3 v = d.vertex(idx[k]);
-    sum += v;
-    lo = glm::min(lo, v);
-    hi = glm::max(hi, v);
-  }
+  Vec3 sum(0.0);
+  for (int k = 0; k < d.nv; ++k) sum += d.vertex(idx[k]);
   it.centroid = sum / static_cast<double>(d.nv);
-  for (int a = 0; a < 3; ++a) {
-    it.box[a] = lo[a];
-    it.box[3 + a] = hi[a];
-  }
+  element_box(d, e, it.box);  // a device summarising the mesh computes the same boxes
   return it;
 }
 
@@ -89,6 +85,8 @@ MeshLayout::MeshLayout(const Mesh& mesh, const std::vector<DomainAccess>& domain
   place_grid();
   build_location();
 }
+
+bool mesh_layout_fits(const MeshLayout& layout, const Mesh& mesh) { return layout.fits(mesh); }
 
 bool MeshLayout::fits(const Mesh& mesh) const {
   std::vector<std::int64_t> s;

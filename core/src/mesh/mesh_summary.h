@@ -19,4 +19,13 @@ namespace tessera {
 
 std::shared_ptr<const FieldSummary> mesh_summary(const MeshTables& tables, int edge);
 
+/// The macrocells with edge `edge` (>= 1) over the grid of `geometry` with `dims` vertices per
+/// axis (MeshTables' grid) that mesh_summary fills.
+MacroGrid macro_grid(const VolumeGeometry& geometry, const std::int64_t* dims, int edge);
+
+/// Empty macrocells of `g` (lo +Inf, hi -Inf, no flag) in a Parts (cells set, nothing else).
+FieldSummary::Parts empty_cells(const MacroGrid& g);
+/// Folds range `r` of an element with box `box` into every macrocell of `g` the box meets.
+void fold_into_cells(FieldSummary::Parts& parts, const MacroGrid& g, const double* box, const ElementRange& r);
+
 }  // namespace tessera

@@ -5,22 +5,30 @@
 #include <cmath>
 
 namespace tessera {
-namespace {
-
-void add_value(ElementRange& r, double v) {
-  if (std::isnan(v)) r.flags |= 1;
-  else if (v == INFINITY) r.flags |= 2;
-  else if (v == -INFINITY) r.flags |= 4;
-  else {
-    v += 0.0;  // -0.0 as +0.0, so that ranges are bit-identical in any order
-    r.lo = std::min(r.lo, v);
-    r.hi = std::max(r.hi, v);
-  }
+void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse) {
+  bind(mesh);
+  m_reused = reuse && reuse->fits(mesh);
+  m_layout = m_reused ? std::move(reuse) : std::make_shared<const MeshLayout>(mesh, m_domain);
+  // Each element's value range, in the layout's order
+  const std::size_t n = m_layout->element_count();
+  m_range.assign(n, ElementRange{});
+  for (std::size_t e = 0; e < n; ++e) m_range[e] = element_range(m_domain.data(), m_layout->element(e));
+  count_values(mesh);
 }
 
-}  // namespace
+void MeshTables::build_on_device(const Mesh& mesh, std::shared_ptr<const MeshLayout> layout) {
+  bind(mesh);
+  m_layout = std::move(layout);
+  m_reused = true;
+  m_on_device = true;
+  m_range.clear();
+  m_nan = m_values = 0;
+  m_vmin = INFINITY;
+  m_vmax = -INFINITY;
+}
 
-void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse) {
+void MeshTables::bind(const Mesh& mesh) {
+  m_on_device = false;
   m_domain.clear();
   m_arrays.clear();
   for (const MeshDomain& d : mesh.domains) {
@@ -31,24 +39,6 @@ void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse
       a.device_copy[static_cast<std::size_t>(s)] = d.device_copy[s];
     }
   }
-  m_reused = reuse && reuse->fits(mesh);
-  m_layout = m_reused ? std::move(reuse) : std::make_shared<const MeshLayout>(mesh, m_domain);
-  // Each element's value range, in the layout's order
-  const std::size_t n = m_layout->element_count();
-  m_range.assign(n, ElementRange{});
-  for (std::size_t e = 0; e < n; ++e) {
-    const MeshElementRef& ref = m_layout->element(e);
-    const DomainAccess& d = m_domain[static_cast<std::size_t>(ref.domain)];
-    ElementRange& r = m_range[e];
-    if (d.cell_data) {
-      add_value(r, d.value(ref.cell));
-      continue;
-    }
-    std::int64_t idx[8];
-    d.cell_vertices(ref.cell, idx);
-    for (int k = 0; k < d.nv; ++k) add_value(r, d.value(idx[k]));
-  }
-  count_values(mesh);
 }
 
 void MeshTables::count_values(const Mesh& mesh) {

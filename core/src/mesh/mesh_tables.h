@@ -19,6 +19,7 @@
 #include <tessera/scene.h>
 
 #include "mesh/domain_access.h"
+#include "mesh/element_range.h"
 #include "mesh/mesh_field_view.h"
 #include "mesh/mesh_layout.h"
 
@@ -30,19 +31,19 @@
 
 namespace tessera {
 
-/// Value range of one element (or of the elements meeting one macrocell): finite min / max
-/// and bit 0 NaN, bit 1 +Inf, bit 2 -Inf among the values (FieldSummary::Parts' flags).
-struct ElementRange {
-  double lo = INFINITY, hi = -INFINITY;
-  std::uint8_t flags = 0;
-};
-
 class MeshTables {
  public:
   /// Builds the tables of `mesh`, which check_mesh has accepted: its layout (`reuse` when it
   /// fits the mesh: the caller's promise that the geometry is that layout's; else built), then
   /// every element's value range from the mesh's current arrays.
   void build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse = nullptr);
+  /// The tables of a mesh in device memory (Mesh::device), whose values a device summarises
+  /// (cuda_mesh_summary, cuda_render.h): `layout` (which fits it) and the readers of its
+  /// arrays; no element's range nor value totals (range() and the totals must not be used:
+  /// the device folds them into the summary).
+  void build_on_device(const Mesh& mesh, std::shared_ptr<const MeshLayout> layout);
+  /// Built by build_on_device: the arrays are device memory, read on the device only.
+  bool on_device() const { return m_on_device; }
 
   bool empty() const { return !m_layout || m_layout->element_count() == 0; }
   /// The kernels' view (element null when empty()).
@@ -77,9 +78,11 @@ class MeshTables {
 
  private:
   void count_values(const Mesh& mesh);
+  void bind(const Mesh& mesh);
 
   std::shared_ptr<const MeshLayout> m_layout;
   bool m_reused = false;
+  bool m_on_device = false;
   std::vector<DomainAccess> m_domain;  ///< the current arrays
   std::vector<DomainArrays> m_arrays;
   std::vector<ElementRange> m_range;  ///< per element, in the layout's order

@@ -105,6 +105,8 @@ void render_tiles(const PreparedScene& scene, std::span<const int> tile_indices,
     render_on_gpu(scene, tile_indices, film, stats, progress);
     return;
   }
+  if (s.mesh.on_device())  // prepare refuses it; the host never reads device arrays
+    throw std::logic_error("render_tiles: a mesh in device memory renders on the GPU only");
 
   const int threads = render_threads(s.desc.options);
   const std::vector<WorkItem> work = plan_work(s, tile_indices, threads);

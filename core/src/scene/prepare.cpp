@@ -1,5 +1,7 @@
 #include <tessera/render.h>
 
+#include <tessera/cuda_render.h>
+
 #include <tessera/loop_bounds.h>
 #include <tessera/number_text.h>
 
@@ -460,14 +462,12 @@ PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared
   return ps;
 }
 
-PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse) {
-  const bool fits = reuse && reuse->fits(mesh);
-  if (fits) check_mesh_indices(mesh);
-  else check_mesh(mesh);
-  PreparedScene ps;
-  PreparedSceneImpl& p = *ps.m_impl;
-  p.mesh.build(mesh, fits ? std::move(reuse) : nullptr);
-  // The scene over the grid laid over the mesh's box (mesh/mesh_tables.h)
+namespace {
+
+/// The scene over the grid laid over the mesh's box (mesh/mesh_tables.h), p.mesh built;
+/// `summary` gives the macrocells' FieldSummary for the scene's edge.
+template <class Summary>
+void prepare_mesh_scene(PreparedSceneImpl& p, const SceneDesc& scene, Summary&& summary) {
   SceneDesc s = scene;
   s.geometry = p.mesh.geometry();
   PagedField grid;
@@ -476,7 +476,38 @@ PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<
   const FieldView global = global_descriptor(grid);
   validate_scene(global, s);
   const int edge = majorant_edge(global, s.integrator);
-  prepare_from(p, global, s, mesh_summary(p.mesh, edge), nullptr);
+  prepare_from(p, global, s, summary(edge), nullptr);
+}
+
+/// A mesh whose arrays are GPU memory (Mesh::device): checked and summarised on the device
+/// (cuda/mesh_device.h) over the layout of an earlier prepare.
+void prepare_device_mesh(PreparedSceneImpl& p, const Mesh& mesh, const SceneDesc& scene,
+                         std::shared_ptr<const MeshLayout> reuse) {
+  require(scene.options.device == Device::Cuda,
+          "a mesh in device memory (Mesh::device) renders on the GPU only: options.device must be cuda");
+  require(reuse && reuse->fits(mesh), "a mesh in device memory (Mesh::device) needs the layout of an earlier prepare "
+                                      "of the same geometry (reuse): the layout is built on the host");
+  void* stream = scene.options.cuda_stream;
+  cuda_check_mesh_indices(mesh, stream);
+  p.mesh.build_on_device(mesh, std::move(reuse));
+  prepare_mesh_scene(p, scene,
+                     [&](int edge) { return cuda_mesh_summary(mesh, p.mesh.geometry(), p.mesh.dims(), edge, stream); });
+}
+
+}  // namespace
+
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse) {
+  PreparedScene ps;
+  PreparedSceneImpl& p = *ps.m_impl;
+  if (mesh.device) {
+    prepare_device_mesh(p, mesh, scene, std::move(reuse));
+    return ps;
+  }
+  const bool fits = reuse && reuse->fits(mesh);
+  if (fits) check_mesh_indices(mesh);
+  else check_mesh(mesh);
+  p.mesh.build(mesh, fits ? std::move(reuse) : nullptr);
+  prepare_mesh_scene(p, scene, [&](int edge) { return mesh_summary(p.mesh, edge); });
   return ps;
 }
 

@@ -26,6 +26,7 @@ struct MeshBinding {
   std::int64_t vertices = 0;                      ///< this rank's vertices
   bool gpu_readable = false;                      ///< some array was device or managed memory
   HostStaging staging;                            ///< host copies of its device arrays (mesh_staging.h)
+  bool resident = false;  ///< read on the device where it is, nothing staged (mesh_pass.cpp; local.device)
 };
 
 /// Binds field `field_name` ("" = the only published field) of `domains` (n of them, n in

@@ -6,6 +6,7 @@
 /// reusing it once per call, at its first render over the mesh (mesh_pass.cpp); within a call
 /// every later render reuses the first one's layout (the same domains, so no promise needed).
 #include <tessera/render.h>
+#include <tessera/scene.h>
 
 #include <memory>
 
@@ -13,6 +14,7 @@ namespace tessera::insitu {
 
 struct MeshLayoutKeep {
   std::shared_ptr<const MeshLayout> layout;  ///< the last mesh render's
+  Bounds bounds;                             ///< that render's mesh bounds (every rank's vertices)
   bool marked = false;                       ///< tessera_mesh_unchanged since the last mesh call
   bool carried = false;                      ///< this call: it was marked when the call began
   bool decided = false;                      ///< this call: the ranks have agreed on reusing

@@ -34,6 +34,15 @@ bool MeshMemory::on_device() const {
   return false;
 }
 
+bool MeshMemory::all_device(const Mesh& m) const {
+  if (device.size() != m.domains.size()) return false;
+  for (std::size_t i = 0; i < m.domains.size(); ++i)
+    for (int s = 0; s < kMeshArraySlots; ++s)
+      if (mesh_array(m.domains[i], static_cast<MeshArraySlot>(s)).data && !device[i][static_cast<std::size_t>(s)])
+        return false;
+  return !m.domains.empty();
+}
+
 MeshMemory mesh_memory(const Mesh& m) {
   MeshMemory w;
   for (const MeshDomain& d : m.domains) {

@@ -20,6 +20,8 @@ struct MeshMemory {
   bool gpu_readable = false;                              ///< some array is device or managed memory
   std::vector<std::array<char, kMeshArraySlots>> device;  ///< per domain and slot: 1 where device memory
   bool on_device() const;
+  /// Every array of `m` (the mesh this was asked of) is device memory.
+  bool all_device(const Mesh& m) const;
 };
 /// Of `m`, whose descriptors check_mesh_descriptors accepted.
 MeshMemory mesh_memory(const Mesh& m);

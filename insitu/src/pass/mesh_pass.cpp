@@ -13,7 +13,9 @@
 #include "pass/write_phase.h"
 
 #include <tessera/brick_cache.h>
+#include <tessera/config/device_choice.h>
 #include <tessera/config/render_memory.h>
+#include <tessera/cuda_render.h>
 #include <tessera/render.h>
 
 #include <algorithm>
@@ -34,8 +36,20 @@ double at(const void* base, DType t, std::int64_t stride, std::int64_t e) {
   return detail::load_as_double(t, static_cast<const unsigned char*>(base) + e * stride);
 }
 
-/// This rank's mesh bound, its device arrays staged to the host (mesh_staging.h) and checked;
-/// the ranks agree on the field's dtype and association.
+/// Whether `m` is read where it is, on the device, with nothing copied to the host: one rank,
+/// every array device memory, the geometry of a kept layout that fits it (promised unchanged
+/// by tessera_mesh_unchanged, or this call's), and the GPU chosen. prepare then checks its
+/// indices and summarises its values on the device (Mesh::device).
+bool resident_on_device(const PassContext& pass, const Mesh& m, const MeshMemory& where) {
+  const MeshLayoutKeep& keep = pass.call.mesh_layout;
+  return pass.ctx.size() == 1 && keep.layout != nullptr && (keep.carried || keep.decided) &&
+         mesh_layout_fits(*keep.layout, m) && where.all_device(m) &&
+         config::resolve_device(pass.cfg.global, true, pass.ctx.rank_on_node()).device == Device::Cuda;
+}
+
+/// This rank's mesh bound, its device arrays staged to the host (mesh_staging.h) and checked,
+/// or left where they are (resident_on_device); the ranks agree on the field's dtype and
+/// association.
 std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
   const Publication& pub = pass.call.pub;
   MeshBinding b;
@@ -56,6 +70,10 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
     return std::nullopt;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (!where.on_device()) return;
+        if (resident_on_device(pass, b.local, where)) {
+          b.resident = b.local.device = true;
+          return;
+        }
         const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
         stage_mesh_to_host(b.local, where, b.staging, pass.call.cuda_stream, limit.bytes, limit.text);
       }))
@@ -69,7 +87,8 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
   const bool promised = keep.layout != nullptr && (keep.carried || keep.decided);
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
         if (b.local.domains.empty()) return;
-        if (promised) check_mesh_indices(b.local);
+        if (b.resident) cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
+        else if (promised) check_mesh_indices(b.local);
         else check_mesh(b.local);
       }))
     return std::nullopt;
@@ -101,6 +120,12 @@ struct Extent {
 };
 
 Extent extent_of(const PassContext& pass, const MeshBinding& b) {
+  if (b.resident) {  // one rank, the kept layout's geometry: its bounds
+    Extent e;
+    e.bounds = pass.call.mesh_layout.bounds;
+    for (const MeshDomain& d : b.local.domains) e.cells += static_cast<std::uint64_t>(d.cell_count());
+    return e;
+  }
   double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
   std::uint64_t cells = 0;
   for (const MeshDomain& d : b.local.domains) {
@@ -132,6 +157,7 @@ Extent extent_of(const PassContext& pass, const MeshBinding& b) {
 
 /// The finite min / max of the field's values over every rank (ghost cells' values left out).
 std::pair<double, double> value_range(const PassContext& pass, const MeshBinding& b) {
+  if (b.resident) return cuda_mesh_value_range(b.local, pass.call.cuda_stream);  // one rank
   double lo = kInf, hi = -kInf;
   for (const MeshDomain& d : b.local.domains)
     for (std::int64_t e = 0; e < d.field.count; ++e) {
@@ -205,6 +231,7 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         try {
           prepared = prepare(whole, setup->scene, keep.layout);
           keep.layout = prepared.mesh_layout();
+          keep.bounds = extent.bounds;
         } catch (const DeadlineExceeded& e) {
           time_limit_passed(pass, e);
         }
