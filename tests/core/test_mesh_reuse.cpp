@@ -124,3 +124,78 @@ TEST_CASE("mesh layout: a broken promise is refused where the kernels would read
   CHECK(q.mesh_layout_reused());
   CHECK(render_film(q).pixels().size() == 20u * 16u);
 }
+
+TEST_CASE("mesh receipt: prepare takes a check's receipt for the same arrays instead of checking again",
+          "[mesh][reuse][receipt]") {
+  const ElementList m = warped(0.0);
+  const OwnedMesh a = one_domain(m);
+  const tessera::MeshChecked full = tessera::check_mesh(a.mesh);
+  const tessera::MeshChecked indices = tessera::check_mesh_indices(a.mesh);
+  CHECK(full.covers(a.mesh, true));
+  CHECK(full.covers(a.mesh, false));
+  CHECK(indices.covers(a.mesh, false));
+  CHECK_FALSE(indices.covers(a.mesh, true));  // the shapes were not looked at
+  CHECK_FALSE(tessera::MeshChecked{}.covers(a.mesh, false));
+  CHECK(full.values() == nullptr);  // a host check measures no values
+  // Any descriptor that differs is another mesh: other arrays, a count, a stride, a mask, the
+  // memory it is in
+  const OwnedMesh b = one_domain(m);  // the same contents in other arrays
+  CHECK_FALSE(full.covers(b.mesh, false));
+  for (int change = 0; change < 5; ++change) {
+    tessera::Mesh other = a.mesh;
+    tessera::MeshDomain& d = other.domains[0];
+    if (change == 0) d.field.count -= 1;
+    if (change == 1) d.coords.byte_stride += 8;
+    if (change == 2) d.ghosts = {reinterpret_cast<const std::uint8_t*>(d.field.data), 1, d.ncells};
+    if (change == 3) other.device = true;
+    if (change == 4) other.domains.push_back(d);
+    CHECK_FALSE(full.covers(other, false));
+  }
+
+  // Covered: the check is not run again. The proof: an element inverted after the receipt
+  // was taken (a promise the caller broke) passes, and is refused without the receipt
+  OwnedMesh inverted = one_domain(m);
+  const tessera::MeshChecked before = tessera::check_mesh(inverted.mesh);
+  std::int32_t* c = inverted.owned[0]->conn32.data();
+  for (int k = 0; k < 4; ++k) std::swap(c[8 * 10 + k], c[8 * 10 + 4 + k]);
+  CHECK_THROWS_WITH(tessera::prepare(inverted.mesh, scene()), Catch::Contains("element 10: hex is inverted"));
+  CHECK_NOTHROW(tessera::prepare(inverted.mesh, scene(), nullptr, before));
+  // An indices-only receipt does not stand for the shapes a new layout needs
+  const tessera::MeshChecked only_indices = tessera::check_mesh_indices(inverted.mesh);
+  CHECK_THROWS_WITH(tessera::prepare(inverted.mesh, scene(), nullptr, only_indices),
+                    Catch::Contains("element 10: hex is inverted"));
+  // ... and a receipt of other arrays stands for nothing
+  CHECK_THROWS_WITH(tessera::prepare(inverted.mesh, scene(), nullptr, full), Catch::Contains("hex is inverted"));
+
+  // With the promise kept, the image is the one of a prepare that checks, bit for bit, with a
+  // new layout and with a reused one
+  const tessera::PreparedScene checked = tessera::prepare(a.mesh, scene());
+  const tessera::PreparedScene taken = tessera::prepare(a.mesh, scene(), nullptr, full);
+  CHECK_FALSE(taken.mesh_layout_reused());
+  CHECK(same(render_film(taken), render_film(checked)));
+  const tessera::PreparedScene reused = tessera::prepare(a.mesh, scene(), checked.mesh_layout(), indices);
+  CHECK(reused.mesh_layout_reused());
+  CHECK(same(render_film(reused), render_film(checked)));
+}
+
+TEST_CASE("mesh receipt: check_mesh_copy checks the indices and takes the caller's word for the shapes",
+          "[mesh][reuse][receipt]") {
+  const ElementList m = warped(0.0);
+  OwnedMesh copy = one_domain(m);
+  std::int32_t* c = copy.owned[0]->conn32.data();
+  for (int k = 0; k < 4; ++k) std::swap(c[8 * 10 + k], c[8 * 10 + 4 + k]);  // a shape check_mesh refuses
+  const tessera::MeshChecked word = tessera::check_mesh_copy(copy.mesh);
+  CHECK(word.covers(copy.mesh, true));
+  CHECK_NOTHROW(tessera::prepare(copy.mesh, scene(), nullptr, word));
+  // The indices and vertices are checked, as check_mesh_indices does
+  OwnedMesh out = one_domain(m);
+  out.owned[0]->conn32[8 * 7 + 3] = static_cast<std::int32_t>(m.vertex.size());
+  CHECK_THROWS_WITH(tessera::check_mesh_copy(out.mesh), Catch::Contains("mesh domain 0: element 7: vertex index"));
+  OwnedMesh nan = one_domain(m);
+  nan.owned[0]->x[3] = std::nan("");
+  CHECK_THROWS_WITH(tessera::check_mesh_copy(nan.mesh), Catch::Contains("vertex 3 has a non-finite coordinate"));
+  // A sound copy renders as a checked one, bit for bit
+  const OwnedMesh sound = one_domain(m);
+  CHECK(same(render_film(tessera::prepare(sound.mesh, scene(), nullptr, tessera::check_mesh_copy(sound.mesh))),
+             render_film(tessera::prepare(sound.mesh, scene()))));
+}

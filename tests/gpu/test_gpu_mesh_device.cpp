@@ -149,7 +149,25 @@ TEST_CASE("GPU: a mesh in device memory is summarised on the device as the host 
     // prepare over the host's layout: the same image bit for bit
     const tessera::PreparedScene on_device = tessera::prepare(dm.mesh, scene, on_host.mesh_layout());
     CHECK(on_device.mesh_layout_reused());
-    CHECK(same_bits(render_gpu(on_device), render_gpu(on_host)));
+    const tessera::Film want = render_gpu(on_host);
+    CHECK(same_bits(render_gpu(on_device), want));
+    // The device check's receipt: the value totals measured with it (the host's), covering
+    // the device mesh only; prepare given it reads neither indices nor values again, and
+    // renders the same bits
+    const tessera::MeshChecked receipt = tessera::cuda_check_mesh_indices(dm.mesh);
+    CHECK(receipt.covers(dm.mesh, false));
+    CHECK_FALSE(receipt.covers(dm.mesh, true));
+    CHECK_FALSE(receipt.covers(host, false));
+    REQUIRE(receipt.values() != nullptr);
+    const tessera::MeshValueTotals& t = *receipt.values();
+    CHECK(t.values == hv.values);
+    CHECK(t.nan == hv.nan);
+    CHECK(std::memcmp(&t.lo, &hv.all.lo, sizeof(double)) == 0);
+    CHECK(std::memcmp(&t.hi, &hv.all.hi, sizeof(double)) == 0);
+    CHECK(t.real_lo == hv.real.lo);
+    CHECK(t.real_hi == hv.real.hi);
+    const tessera::PreparedScene taken = tessera::prepare(dm.mesh, scene, on_host.mesh_layout(), receipt);
+    CHECK(same_bits(render_gpu(taken), want));
   }
 }
 

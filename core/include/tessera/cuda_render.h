@@ -127,17 +127,22 @@ std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, i
 /// descriptors on the host, then every real cell's indices and vertices on the device that
 /// holds them, after the work queued on `stream`; throws check_mesh_indices'
 /// std::invalid_argument, its words, for the first faulty cell. CUDA failures as
-/// cuda_field_summary.
-void cuda_check_mesh_indices(const Mesh& mesh, void* stream = nullptr);
+/// cuda_field_summary. Its receipt (MeshChecked) also carries the values' totals, measured on
+/// the device in the same call (MeshChecked::values: the range a `range: auto` needs, and
+/// what cuda_mesh_summary and prepare() then need not read again).
+MeshChecked cuda_check_mesh_indices(const Mesh& mesh, void* stream = nullptr);
 
 /// The macrocell summary of a mesh whose arrays are GPU memory (Mesh::device) over the uniform
 /// grid at `grid` (origin, spacing) with `dims` vertices per axis that the layout of the same
 /// geometry lays over it, for macrocell edge `edge` (>= 1): what prepare() computes on the
 /// host for a host mesh, bit for bit, computed on the device that holds the arrays after the
-/// work queued on `stream`. For a mesh check_mesh_indices accepts. Throws as
+/// work queued on `stream`. For a mesh check_mesh_indices accepts. `checked`: a receipt of
+/// cuda_check_mesh_indices that covers `mesh`, whose value totals are used instead of reading
+/// the values again (null, or one that does not cover it: they are read). Throws as
 /// cuda_field_summary does.
 std::shared_ptr<const FieldSummary> cuda_mesh_summary(const Mesh& mesh, const VolumeGeometry& grid,
-                                                      const std::int64_t dims[3], int edge, void* stream = nullptr);
+                                                      const std::int64_t dims[3], int edge, void* stream = nullptr,
+                                                      const MeshChecked* checked = nullptr);
 
 /// The finite min / max of the values of a mesh whose arrays are GPU memory (Mesh::device),
 /// ghost cells' values left out for cell data (+Inf, -Inf when none), computed on the device

@@ -10,6 +10,7 @@
 /// per cell and an optional ghost mask per cell (nonzero: a ghost, never sampled). The image
 /// does not depend on how the cells are cut into domains nor on their order.
 #include <tessera/field_view.h>
+#include <tessera/host_device.h>
 #include <tessera/scene.h>
 
 #include <cstdint>
@@ -55,6 +56,12 @@ struct MeshGhosts {
   const std::uint8_t* data = nullptr;  ///< null: no ghosts
   std::int64_t byte_stride = 1;
   std::int64_t count = 0;  ///< the cell count when data is set
+
+  /// Whether cell `cell` (< count) is a ghost; always false without a mask. Reads the mask
+  /// where it is (host or device code, memory of the caller's side).
+  TESSERA_HOST_DEVICE bool is_ghost(std::int64_t cell) const {
+    return data != nullptr && data[cell * byte_stride] != 0;
+  }
 };
 
 /// The arrays a domain's render reads, by slot.
@@ -97,6 +104,42 @@ struct Mesh {
   bool device = false;
 };
 
+/// The values of a mesh as a check on the device measured them (cuda_check_mesh_indices): the
+/// count, the NaN count and the min / max of the finite ones (zeros as +0.0; every value,
+/// ghosts' too), and the finite min / max with ghost cells' values left out for cell data
+/// (+Inf, -Inf when none is finite).
+struct MeshValueTotals {
+  std::uint64_t values = 0, nan = 0;
+  double lo = 0.0, hi = 0.0;
+  double real_lo = 0.0, real_hi = 0.0;
+};
+
+/// A receipt: what a check of one mesh's arrays established (check_mesh: indices and shapes;
+/// check_mesh_indices or cuda_check_mesh_indices: indices), so that prepare() can take it
+/// instead of checking the same arrays again in the same step. It covers a mesh whose domains
+/// have exactly the descriptors of the one checked (the same pointers, counts, strides,
+/// dtypes, dims, shapes and masks) and the same Mesh::device; only the check functions make a
+/// non-empty one. Passing it is the caller's promise that the arrays' contents have not
+/// changed since the check (as a simulation's do not while it waits for the render); a
+/// mesh it does not cover is checked as if none were given. Holds one copy of the domains'
+/// descriptors (no array).
+class MeshChecked {
+ public:
+  MeshChecked() = default;  ///< covers nothing
+  /// Whether this receipt covers `mesh`, with its shapes (`shapes`: a check_mesh's) or not.
+  bool covers(const Mesh& mesh, bool shapes) const;
+  /// The values' totals, when the check measured them (cuda_check_mesh_indices); else null.
+  const MeshValueTotals* values() const { return m_has_values ? &m_values : nullptr; }
+
+ private:
+  friend struct MeshCheckedIssuer;  // core/src/mesh/mesh_checked_issuer.h: the check functions'
+  std::vector<MeshDomain> m_domains;
+  bool m_device = false;
+  bool m_shapes = false;
+  bool m_has_values = false;
+  MeshValueTotals m_values;
+};
+
 /// Checks every domain, in time and memory linear in the mesh (one pass over the elements and
 /// the values, no allocation proportional to it), and throws std::invalid_argument whose
 /// message begins "mesh domain D" (and names "element E" where one element is at fault) for:
@@ -109,8 +152,8 @@ struct Mesh {
 /// order, a curvilinear grid's cells must all share the first one's orientation); a hex whose
 /// trilinear map Newton's method cannot invert at interior test points to 1e-10 of its size;
 /// a field or ghost mask whose length is not the vertex or cell count; an array whose memory
-/// cannot be read (check_mesh_arrays below).
-void check_mesh(const Mesh& mesh);
+/// cannot be read (check_mesh_arrays below). Returns its receipt (MeshChecked) for prepare().
+MeshChecked check_mesh(const Mesh& mesh);
 
 /// What check_mesh checks of each domain's descriptors (counts, strides, dtypes, shapes,
 /// null arrays, the field's and ghost mask's lengths) and that each array's memory can be read
@@ -124,8 +167,15 @@ void check_mesh_arrays(const Mesh& mesh);
 /// Newton), and at least one real cell; throws as check_mesh does for those faults. What a
 /// mesh needs whose elements an earlier check_mesh accepted and that the caller promises
 /// unchanged (prepare's `reuse`, render.h): a broken promise then gives wrong lookups, never a
-/// read outside the arrays.
-void check_mesh_indices(const Mesh& mesh);
+/// read outside the arrays. Returns its receipt (MeshChecked: indices, not shapes).
+MeshChecked check_mesh_indices(const Mesh& mesh);
+
+/// check_mesh_indices of a mesh made of copies of meshes that check_mesh accepted (the other
+/// ranks' domains, received after each rank checked its own), whose receipt also stands for
+/// the shapes: the caller's word that every element's shape is one check_mesh accepted, so
+/// that prepare() builds a new layout without checking the shapes again. The indices and
+/// vertices are checked (a false word gives a wrong image, never a read outside the arrays).
+MeshChecked check_mesh_copy(const Mesh& mesh);
 
 /// What check_mesh_arrays checks of the descriptors alone (counts, strides, dtypes, shapes,
 /// null arrays, the field's and ghost mask's lengths), reading no array's memory: for arrays

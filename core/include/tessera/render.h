@@ -55,7 +55,7 @@ class PreparedScene {
   friend PreparedScene prepare(const FieldView&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const AmrField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
-  friend PreparedScene prepare(const Mesh&, const SceneDesc&, std::shared_ptr<const MeshLayout>);
+  friend PreparedScene prepare(const Mesh&, const SceneDesc&, std::shared_ptr<const MeshLayout>, const MeshChecked&);
   friend PreparedScene prepare(const MagnitudeField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   /// The prepared data, for core's own sources (core/src/scene/prepared_scene_impl.h).
   friend const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
@@ -149,7 +149,13 @@ PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared
 /// those it was built from (not checked: that is the pass it saves; a broken promise gives
 /// wrong lookups, never a read outside the arrays' counts). The
 /// image is then bit-identical to a prepare without `reuse`. When it does not fit, as without.
-PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse = nullptr);
+///
+/// `checked`: the receipt of a check the caller ran on these arrays in the same step
+/// (MeshChecked, mesh.h). When it covers `mesh` (with its shapes, where no layout is reused)
+/// that check is not run again; its value totals, when it has them (a device mesh's), are not
+/// measured again. Otherwise prepare checks as described above.
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse = nullptr,
+                      const MeshChecked& checked = {});
 
 /// True when `layout` (a mesh_layout()) fits `mesh`: the same domains with the same counts and
 /// shapes, so that prepare(mesh, scene, layout) reuses it. Reads no array.

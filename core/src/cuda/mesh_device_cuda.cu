@@ -27,10 +27,6 @@ unsigned blocks_for(std::int64_t n) {
 __device__ inline std::int64_t first_thread() { return blockIdx.x * static_cast<std::int64_t>(blockDim.x) + threadIdx.x; }
 __device__ inline std::int64_t thread_step() { return static_cast<std::int64_t>(gridDim.x) * blockDim.x; }
 
-__device__ inline bool is_ghost(const unsigned char* ghosts, std::int64_t stride, std::int64_t e) {
-  return ghosts != nullptr && ghosts[e * stride] != 0;
-}
-
 /// Min / max keys and flags of one range (or of the cells a box meets).
 struct RangeKeys {
   unsigned long long* lo;
@@ -56,11 +52,11 @@ __global__ void init_keys(RangeKeys k, std::int64_t n, unsigned long long lo, un
 }
 
 /// The lowest faulty real cell (element_index_fault) into *first; the real cells into *real.
-__global__ void find_index_fault(DomainAccess a, const unsigned char* ghosts, std::int64_t gstride, std::int64_t cells,
+__global__ void find_index_fault(DomainAccess a, MeshGhosts ghosts, std::int64_t cells,
                                  std::int64_t vertices, unsigned long long* first, unsigned long long* real) {
   unsigned long long mine = 0;
   for (std::int64_t e = first_thread(); e < cells; e += thread_step()) {
-    if (is_ghost(ghosts, gstride, e)) continue;
+    if (ghosts.is_ghost(e)) continue;
     ++mine;
     std::int64_t idx[8];
     Vec3 v[8];
@@ -81,7 +77,7 @@ __global__ void describe_fault(DomainAccess a, std::int64_t cell, std::int64_t v
 }
 
 /// Totals over `count` values: [0] NaN count; keys all (lo, hi, flags) and real (lo, hi).
-__global__ void value_stats(DomainAccess a, const unsigned char* ghosts, std::int64_t gstride, bool cell_data,
+__global__ void value_stats(DomainAccess a, MeshGhosts ghosts, bool cell_data,
                             std::int64_t count, unsigned long long* nan, RangeKeys all, RangeKeys real) {
   unsigned long long nans = 0;
   ElementRange mine_all, mine_real;
@@ -89,7 +85,7 @@ __global__ void value_stats(DomainAccess a, const unsigned char* ghosts, std::in
     const double v = a.value(e);
     nans += v != v ? 1 : 0;
     add_value(mine_all, v);
-    if (!(cell_data && is_ghost(ghosts, gstride, e)) && value_flag(v) == 0) add_value(mine_real, v);
+    if (!(cell_data && ghosts.is_ghost(e)) && value_flag(v) == 0) add_value(mine_real, v);
   }
   if (nans) atomicAdd(nan, nans);
   fold(all, 0, mine_all);
@@ -97,10 +93,10 @@ __global__ void value_stats(DomainAccess a, const unsigned char* ghosts, std::in
 }
 
 /// Every real cell's range folded into the macrocells its box meets.
-__global__ void summarise_cells(DomainAccess a, const unsigned char* ghosts, std::int64_t gstride, std::int64_t cells,
+__global__ void summarise_cells(DomainAccess a, MeshGhosts ghosts, std::int64_t cells,
                                 MacroGrid g, RangeKeys k) {
   for (std::int64_t e = first_thread(); e < cells; e += thread_step()) {
-    if (is_ghost(ghosts, gstride, e)) continue;
+    if (ghosts.is_ghost(e)) continue;
     double box[6];
     element_box(a, e, box);
     const ElementRange r = element_range(&a, MeshElementRef{e, 0});
@@ -142,8 +138,6 @@ class MeshDevice {
   DeviceGuard m_guard;
   std::shared_ptr<DeviceBackend> m_backend;
 };
-
-const unsigned char* ghosts_of(const MeshDomain& d) { return static_cast<const unsigned char*>(d.ghosts.data); }
 
 /// Device keys for n ranges: lo, hi (init +Inf / -Inf keys), flags, then `extra` counters (0).
 struct KeyBuffer {
@@ -197,7 +191,7 @@ MeshIndexFault mesh_index_fault(const Mesh& mesh, void* stream) {
     dev.backend().zero(real, sizeof(unsigned long long), "mesh index check");
     const std::int64_t cells = d.cell_count();
     const DomainAccess a = DomainAccess::of(d);
-    find_index_fault<<<blocks_for(cells), kThreads>>>(a, ghosts_of(d), d.ghosts.byte_stride, cells, d.coords.count,
+    find_index_fault<<<blocks_for(cells), kThreads>>>(a, d.ghosts, cells, d.coords.count,
                                                       first, real);
     cuda_check(cudaGetLastError(), "launch of find_index_fault (mesh domain " + std::to_string(i) + ")");
     unsigned long long host[2] = {0, 0};
@@ -228,7 +222,7 @@ MeshValueStats mesh_value_stats(const Mesh& mesh, void* stream) {
   MeshValueStats s;
   for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
     const MeshDomain& d = mesh.domains[i];
-    value_stats<<<blocks_for(d.field.count), kThreads>>>(DomainAccess::of(d), ghosts_of(d), d.ghosts.byte_stride,
+    value_stats<<<blocks_for(d.field.count), kThreads>>>(DomainAccess::of(d), d.ghosts,
                                                          d.field.association == Association::Cell, d.field.count,
                                                          k.extra, all, real);
     cuda_check(cudaGetLastError(), "launch of value_stats (mesh domain " + std::to_string(i) + ")");
@@ -249,7 +243,7 @@ FieldSummary::Parts mesh_summary_cells(const Mesh& mesh, const MacroGrid& g, voi
   for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
     const MeshDomain& d = mesh.domains[i];
     const std::int64_t cells = d.cell_count();
-    summarise_cells<<<blocks_for(cells), kThreads>>>(DomainAccess::of(d), ghosts_of(d), d.ghosts.byte_stride, cells, g,
+    summarise_cells<<<blocks_for(cells), kThreads>>>(DomainAccess::of(d), d.ghosts, cells, g,
                                                      k.keys);
     cuda_check(cudaGetLastError(), "launch of summarise_cells (mesh domain " + std::to_string(i) + ")");
   }

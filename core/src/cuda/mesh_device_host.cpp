@@ -4,6 +4,7 @@
 #include <tessera/cuda_render.h>
 
 #include "mesh/element_indices.h"
+#include "mesh/mesh_checked_issuer.h"
 #include "mesh/mesh_summary.h"
 
 #include <algorithm>
@@ -12,13 +13,7 @@
 #include <string>
 
 namespace tessera::cuda {
-namespace {
-
-bool ghost(const MeshDomain& d, std::int64_t e) {
-  return d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 MeshIndexFault mesh_index_fault_host(const Mesh& mesh) {
   MeshIndexFault f;
@@ -27,7 +22,7 @@ MeshIndexFault mesh_index_fault_host(const Mesh& mesh) {
     const DomainAccess a = DomainAccess::of(md);
     const std::int64_t cells = md.cell_count();
     for (std::int64_t e = 0; e < cells; ++e) {
-      if (ghost(md, e)) continue;
+      if (md.ghosts.is_ghost(e)) continue;
       ++f.real_cells;
       if (f.domain >= 0) continue;
       std::int64_t idx[8];
@@ -53,7 +48,7 @@ MeshValueStats mesh_value_stats_host(const Mesh& mesh) {
       const double v = a.value(e);
       s.nan += v != v ? 1 : 0;
       add_value(s.all, v);
-      if (!(cells && ghost(md, e)) && value_flag(v) == 0) add_value(s.real, v);
+      if (!(cells && md.ghosts.is_ghost(e)) && value_flag(v) == 0) add_value(s.real, v);
     }
     s.values += static_cast<std::uint64_t>(md.field.count);
   }
@@ -68,7 +63,7 @@ FieldSummary::Parts mesh_summary_cells_host(const Mesh& mesh, const MacroGrid& g
     const MeshDomain& md = mesh.domains[i];
     const std::int64_t cells = md.cell_count();
     for (std::int64_t e = 0; e < cells; ++e) {
-      if (ghost(md, e)) continue;
+      if (md.ghosts.is_ghost(e)) continue;
       double box[6];
       element_box(access[i], e, box);
       fold_into_cells(parts, g, box, element_range(access.data(), MeshElementRef{e, static_cast<std::int32_t>(i)}));
@@ -81,29 +76,56 @@ FieldSummary::Parts mesh_summary_cells_host(const Mesh& mesh, const MacroGrid& g
 
 namespace tessera {
 
-void cuda_check_mesh_indices(const Mesh& mesh, void* stream) {
+namespace {
+
+MeshValueTotals totals_of(const cuda::MeshValueStats& s) {
+  MeshValueTotals t;
+  t.values = s.values;
+  t.nan = s.nan;
+  t.lo = s.all.lo;
+  t.hi = s.all.hi;
+  t.real_lo = s.real.lo;
+  t.real_hi = s.real.hi;
+  return t;
+}
+
+/// The summary over `v`, the mesh's value totals (what MeshTables counts: mesh_summary.cpp).
+std::shared_ptr<const FieldSummary> summary_with(const Mesh& mesh, const VolumeGeometry& grid,
+                                                 const std::int64_t dims[3], int edge, const MeshValueTotals& v,
+                                                 void* stream) {
+  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
+  FieldSummary::Parts parts = cuda::mesh_summary_cells(mesh, macro_grid(grid, dims, edge), stream);
+  parts.nan = v.nan;
+  parts.elements = std::max<std::uint64_t>(1, v.values);
+  parts.vmin = v.lo;
+  parts.vmax = v.hi;
+  FieldLayout layout;
+  layout.dtype = DType::Float64;
+  for (int a = 0; a < 3; ++a) layout.dims[a] = dims[a];
+  return FieldSummary::from_parts(std::move(parts), layout, edge);
+}
+
+}  // namespace
+
+MeshChecked cuda_check_mesh_indices(const Mesh& mesh, void* stream) {
   check_mesh_descriptors(mesh);
   const cuda::MeshIndexFault f = cuda::mesh_index_fault(mesh, stream);
   if (f.domain >= 0)
     throw_index_fault(static_cast<std::size_t>(f.domain), f.cell, f.corner, f.index,
                       mesh.domains[static_cast<std::size_t>(f.domain)].coords.count, f.vertex);
   if (f.real_cells == 0) throw std::invalid_argument("mesh: no real (non-ghost) cell in any domain");
+  MeshChecked c = MeshCheckedIssuer::issue(mesh, false);
+  MeshCheckedIssuer::record(c, totals_of(cuda::mesh_value_stats(mesh, stream)));
+  return c;
 }
 
 std::shared_ptr<const FieldSummary> cuda_mesh_summary(const Mesh& mesh, const VolumeGeometry& grid,
-                                                      const std::int64_t dims[3], int edge, void* stream) {
+                                                      const std::int64_t dims[3], int edge, void* stream,
+                                                      const MeshChecked* checked) {
+  if (checked && checked->values() && checked->covers(mesh, false))
+    return summary_with(mesh, grid, dims, edge, *checked->values(), stream);
   if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
-  const cuda::MeshValueStats v = cuda::mesh_value_stats(mesh, stream);
-  FieldSummary::Parts parts = cuda::mesh_summary_cells(mesh, macro_grid(grid, dims, edge), stream);
-  // the totals as MeshTables counts them (mesh_summary.cpp)
-  parts.nan = v.nan;
-  parts.elements = std::max<std::uint64_t>(1, v.values);
-  parts.vmin = v.all.lo;
-  parts.vmax = v.all.hi;
-  FieldLayout layout;
-  layout.dtype = DType::Float64;
-  for (int a = 0; a < 3; ++a) layout.dims[a] = dims[a];
-  return FieldSummary::from_parts(std::move(parts), layout, edge);
+  return summary_with(mesh, grid, dims, edge, totals_of(cuda::mesh_value_stats(mesh, stream)), stream);
 }
 
 std::pair<double, double> cuda_mesh_value_range(const Mesh& mesh, void* stream) {

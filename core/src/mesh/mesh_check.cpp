@@ -6,6 +6,7 @@
 #include "mesh/domain_access.h"
 #include "mesh/element_geometry.h"
 #include "mesh/element_indices.h"
+#include "mesh/mesh_checked_issuer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -150,10 +151,6 @@ std::string tet_fault(const Vec3* v) {
          ", element size " + short_number(L) + ")";
 }
 
-bool ghost(const MeshDomain& d, std::int64_t e) {
-  return d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0;
-}
-
 /// Cell e's vertex indices in range and its vertices finite (element_indices.h), read into
 /// idx and v; else throws naming the element and the corner.
 void check_indices(const DomainCheck& c, const MeshDomain& d, const DomainAccess& a, std::int64_t e, std::int64_t* idx,
@@ -169,7 +166,7 @@ void check_cells(const DomainCheck& c, const MeshDomain& d, std::int64_t cells, 
   std::int64_t idx[8];
   Vec3 v[8];
   for (std::int64_t e = 0; e < cells; ++e) {
-    if (ghost(d, e)) continue;
+    if (d.ghosts.is_ghost(e)) continue;
     check_indices(c, d, a, e, idx, v);
     if (!shapes) continue;
     const std::string fault = a.shape == Shape::Tet ? tet_fault(v) : hex_fault(v, &sign);
@@ -185,7 +182,7 @@ void check_all_cells(const Mesh& mesh, bool shapes) {
     const MeshDomain& d = mesh.domains[i];
     const std::int64_t cells = d.cell_count();
     check_cells(DomainCheck{i}, d, cells, shapes);
-    for (std::int64_t e = 0; e < cells; ++e) real += !ghost(d, e);
+    for (std::int64_t e = 0; e < cells; ++e) real += !d.ghosts.is_ghost(e);
   }
   if (real == 0) throw std::invalid_argument("mesh: no real (non-ghost) cell in any domain");
 }
@@ -237,8 +234,19 @@ void check_mesh_arrays(const Mesh& mesh) {
   for (std::size_t i = 0; i < mesh.domains.size(); ++i) check_memory(DomainCheck{i}, mesh.domains[i]);
 }
 
-void check_mesh(const Mesh& mesh) { check_all_cells(mesh, true); }
+MeshChecked check_mesh(const Mesh& mesh) {
+  check_all_cells(mesh, true);
+  return MeshCheckedIssuer::issue(mesh, true);
+}
 
-void check_mesh_indices(const Mesh& mesh) { check_all_cells(mesh, false); }
+MeshChecked check_mesh_indices(const Mesh& mesh) {
+  check_all_cells(mesh, false);
+  return MeshCheckedIssuer::issue(mesh, false);
+}
+
+MeshChecked check_mesh_copy(const Mesh& mesh) {
+  check_all_cells(mesh, false);
+  return MeshCheckedIssuer::issue(mesh, true);  // the shapes: the caller's word
+}
 
 }  // namespace tessera

@@ -101,7 +101,7 @@ void MeshLayout::gather(const std::vector<DomainAccess>& domains, const Mesh& me
     const MeshDomain& md = mesh.domains[i];
     const std::int64_t cells = md.cell_count();
     for (std::int64_t e = 0; e < cells; ++e) {
-      if (md.ghosts.data && md.ghosts.data[e * md.ghosts.byte_stride] != 0) continue;
+      if (md.ghosts.is_ghost(e)) continue;
       items.push_back(make_item(domains[i], static_cast<std::int32_t>(i), e));
     }
   }

@@ -479,33 +479,37 @@ void prepare_mesh_scene(PreparedSceneImpl& p, const SceneDesc& scene, Summary&& 
   prepare_from(p, global, s, summary(edge), nullptr);
 }
 
-/// A mesh whose arrays are GPU memory (Mesh::device): checked and summarised on the device
-/// (cuda/mesh_device.h) over the layout of an earlier prepare.
+/// A mesh whose arrays are GPU memory (Mesh::device): checked (unless `checked` covers it)
+/// and summarised on the device (cuda/mesh_device.h) over the layout of an earlier prepare.
 void prepare_device_mesh(PreparedSceneImpl& p, const Mesh& mesh, const SceneDesc& scene,
-                         std::shared_ptr<const MeshLayout> reuse) {
+                         std::shared_ptr<const MeshLayout> reuse, const MeshChecked& checked) {
   require(scene.options.device == Device::Cuda,
           "a mesh in device memory (Mesh::device) renders on the GPU only: options.device must be cuda");
   require(reuse && reuse->fits(mesh), "a mesh in device memory (Mesh::device) needs the layout of an earlier prepare "
                                       "of the same geometry (reuse): the layout is built on the host");
   void* stream = scene.options.cuda_stream;
-  cuda_check_mesh_indices(mesh, stream);
+  const MeshChecked receipt = checked.covers(mesh, false) ? checked : cuda_check_mesh_indices(mesh, stream);
   p.mesh.build_on_device(mesh, std::move(reuse));
-  prepare_mesh_scene(p, scene,
-                     [&](int edge) { return cuda_mesh_summary(mesh, p.mesh.geometry(), p.mesh.dims(), edge, stream); });
+  prepare_mesh_scene(p, scene, [&](int edge) {
+    return cuda_mesh_summary(mesh, p.mesh.geometry(), p.mesh.dims(), edge, stream, &receipt);
+  });
 }
 
 }  // namespace
 
-PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse) {
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse,
+                      const MeshChecked& checked) {
   PreparedScene ps;
   PreparedSceneImpl& p = *ps.m_impl;
   if (mesh.device) {
-    prepare_device_mesh(p, mesh, scene, std::move(reuse));
+    prepare_device_mesh(p, mesh, scene, std::move(reuse), checked);
     return ps;
   }
   const bool fits = reuse && reuse->fits(mesh);
-  if (fits) check_mesh_indices(mesh);
-  else check_mesh(mesh);
+  if (!checked.covers(mesh, !fits)) {  // a reused layout: the indices; a new one: the shapes too
+    if (fits) check_mesh_indices(mesh);
+    else check_mesh(mesh);
+  }
   p.mesh.build(mesh, fits ? std::move(reuse) : nullptr);
   prepare_mesh_scene(p, scene, [&](int edge) { return mesh_summary(p.mesh, edge); });
   return ps;

@@ -27,6 +27,7 @@ struct MeshBinding {
   bool gpu_readable = false;                      ///< some array was device or managed memory
   HostStaging staging;                            ///< host copies of its device arrays (mesh_staging.h)
   bool resident = false;  ///< read on the device where it is, nothing staged (mesh_pass.cpp; local.device)
+  MeshChecked checked;    ///< the receipt of the pass's check of `local` (for prepare: not checked twice)
 };
 
 /// Binds field `field_name` ("" = the only published field) of `domains` (n of them, n in

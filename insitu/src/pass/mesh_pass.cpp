@@ -37,13 +37,13 @@ double at(const void* base, DType t, std::int64_t stride, std::int64_t e) {
 }
 
 /// Whether `m` is read where it is, on the device, with nothing copied to the host: one rank,
-/// every array device memory, the geometry of a kept layout that fits it (promised unchanged
-/// by tessera_mesh_unchanged, or this call's), and the GPU chosen. prepare then checks its
-/// indices and summarises its values on the device (Mesh::device).
-bool resident_on_device(const PassContext& pass, const Mesh& m, const MeshMemory& where) {
+/// every array device memory, the geometry of a kept layout that fits it (`promised`: a kept
+/// layout, promised unchanged by tessera_mesh_unchanged or this call's), and the GPU chosen.
+/// The pass then checks its indices and measures its values on the device, and prepare
+/// summarises them there (Mesh::device).
+bool resident_on_device(const PassContext& pass, const Mesh& m, const MeshMemory& where, bool promised) {
   const MeshLayoutKeep& keep = pass.call.mesh_layout;
-  return pass.ctx.size() == 1 && keep.layout != nullptr && (keep.carried || keep.decided) &&
-         mesh_layout_fits(*keep.layout, m) && where.all_device(m) &&
+  return pass.ctx.size() == 1 && promised && mesh_layout_fits(*keep.layout, m) && where.all_device(m) &&
          config::resolve_device(pass.cfg.global, true, pass.ctx.rank_on_node()).device == Device::Cuda;
 }
 
@@ -52,6 +52,13 @@ bool resident_on_device(const PassContext& pass, const Mesh& m, const MeshMemory
 /// association.
 std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
   const Publication& pub = pass.call.pub;
+  // A geometry whose layout is kept (promised unchanged by tessera_mesh_unchanged, or built by
+  // this call's first render over the same domains) is checked as prepare checks it
+  // (check_mesh_indices: indices and finite vertices, not the shapes that the layout's build
+  // checked); if the ranks then do not agree on reusing it, prepare checks the whole mesh's
+  // shapes before building a layout (the receipt, b.checked, covers only the indices)
+  const MeshLayoutKeep& keep = pass.call.mesh_layout;
+  const bool promised = keep.layout != nullptr && (keep.carried || keep.decided);
   MeshBinding b;
   MeshMemory where;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
@@ -70,7 +77,7 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
     return std::nullopt;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (!where.on_device()) return;
-        if (resident_on_device(pass, b.local, where)) {
+        if (resident_on_device(pass, b.local, where, promised)) {
           b.resident = b.local.device = true;
           return;
         }
@@ -78,18 +85,11 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
         stage_mesh_to_host(b.local, where, b.staging, pass.call.cuda_stream, limit.bytes, limit.text);
       }))
     return std::nullopt;
-  // A geometry whose layout is kept (promised unchanged by tessera_mesh_unchanged, or built by
-  // this call's first render over the same domains) is checked as prepare checks it
-  // (check_mesh_indices: indices and finite vertices, not the shapes that the layout's build
-  // checked); if the ranks then do not agree on reusing it, prepare checks the whole mesh's
-  // shapes before building a layout
-  const MeshLayoutKeep& keep = pass.call.mesh_layout;
-  const bool promised = keep.layout != nullptr && (keep.carried || keep.decided);
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
         if (b.local.domains.empty()) return;
-        if (b.resident) cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
-        else if (promised) check_mesh_indices(b.local);
-        else check_mesh(b.local);
+        if (b.resident) b.checked = cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
+        else if (promised) b.checked = check_mesh_indices(b.local);
+        else b.checked = check_mesh(b.local);
       }))
     return std::nullopt;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
@@ -157,12 +157,14 @@ Extent extent_of(const PassContext& pass, const MeshBinding& b) {
 
 /// The finite min / max of the field's values over every rank (ghost cells' values left out).
 std::pair<double, double> value_range(const PassContext& pass, const MeshBinding& b) {
-  if (b.resident) return cuda_mesh_value_range(b.local, pass.call.cuda_stream);  // one rank
+  if (b.resident) {  // one rank; measured on the device by its check
+    const MeshValueTotals* v = b.checked.values();
+    return v ? std::pair{v->real_lo, v->real_hi} : cuda_mesh_value_range(b.local, pass.call.cuda_stream);
+  }
   double lo = kInf, hi = -kInf;
   for (const MeshDomain& d : b.local.domains)
     for (std::int64_t e = 0; e < d.field.count; ++e) {
-      if (d.field.association == Association::Cell && d.ghosts.data && d.ghosts.data[e * d.ghosts.byte_stride] != 0)
-        continue;
+      if (d.field.association == Association::Cell && d.ghosts.is_ghost(e)) continue;
       const double v = at(d.field.data, d.field.dtype, d.field.byte_stride, e);
       if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
     }
@@ -196,16 +198,24 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
                          extent.others_bytes);
       }))
     return;
-  // Several ranks: every rank's domains here (a copy of the others'); one rank: in place
+  // Several ranks: every rank's domains here (a copy of the others'). When every rank checked
+  // its own domains' shapes in bind_mesh (none promised them unchanged), only the copies'
+  // indices are checked again (check_mesh_copy: no read outside them, whatever came); else
+  // prepare checks as it would. One rank: in place, with bind_mesh's receipt
   std::vector<std::string> received;
   Mesh whole;
+  MeshChecked whole_checked;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (pass.ctx.size() == 1) {
           whole = bound->local;
+          whole_checked = bound->checked;
           return;
         }
+        const bool shapes_checked =
+            pass.ctx.agree(bound->local.domains.empty() || bound->checked.covers(bound->local, true));
         received = pass.ctx.allgather_bytes(pack_mesh(bound->local), plan.limit);
         whole = unpack_meshes(received);
+        if (shapes_checked) whole_checked = check_mesh_copy(whole);
       }))
     return;
   const std::optional<config::DeviceSelection> device = mesh_device_phase(gate, pass, bound->gpu_readable);
@@ -229,7 +239,7 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         const auto t0 = PassClock::now();
         try {
-          prepared = prepare(whole, setup->scene, keep.layout);
+          prepared = prepare(whole, setup->scene, keep.layout, whole_checked);  // not checked again
           keep.layout = prepared.mesh_layout();
           keep.bounds = extent.bounds;
         } catch (const DeadlineExceeded& e) {

@@ -4,8 +4,9 @@
 /// on the field's dtype and association), extent (the mesh's bounds and cells over the
 /// ranks), range (`range: auto` and `when` triggers), plan (memory; replicated only), gather
 /// (several ranks: every rank's domains on every rank; one rank: in place), then the scene,
-/// prepare(Mesh), render and write phases of a grid's render. Every fault is agreed on by
-/// every rank (PhaseGate); none hangs.
+/// prepare(Mesh), render and write phases of a grid's render. The mesh is checked once per
+/// call: prepare takes bind's receipt (MeshChecked), or on several ranks check_mesh_copy's
+/// of the gathered copies. Every fault is agreed on by every rank (PhaseGate); none hangs.
 #include "pass/pass_context.h"
 
 namespace tessera::insitu {

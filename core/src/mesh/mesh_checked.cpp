@@ -1,0 +1,40 @@
+/// MeshChecked::covers (mesh.h): the receipt's descriptors against a mesh's, field by field.
+#include <tessera/mesh.h>
+
+namespace tessera {
+namespace {
+
+bool same(const MeshCoords& a, const MeshCoords& b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z && a.dtype == b.dtype && a.byte_stride == b.byte_stride &&
+         a.count == b.count;
+}
+
+bool same(const MeshField& a, const MeshField& b) {
+  return a.data == b.data && a.dtype == b.dtype && a.byte_stride == b.byte_stride && a.count == b.count &&
+         a.association == b.association;
+}
+
+bool same(const MeshGhosts& a, const MeshGhosts& b) {
+  return a.data == b.data && a.byte_stride == b.byte_stride && a.count == b.count;
+}
+
+bool same(const MeshDomain& a, const MeshDomain& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.dims[i] != b.dims[i]) return false;
+  for (int s = 0; s < kMeshArraySlots; ++s)
+    if (a.device_copy[s] != b.device_copy[s]) return false;
+  return same(a.coords, b.coords) && a.shape == b.shape && a.connectivity == b.connectivity &&
+         a.index_type == b.index_type && a.ncells == b.ncells && same(a.field, b.field) && same(a.ghosts, b.ghosts);
+}
+
+}  // namespace
+
+bool MeshChecked::covers(const Mesh& mesh, bool shapes) const {
+  if (m_domains.empty() || mesh.device != m_device || (shapes && !m_shapes) || mesh.domains.size() != m_domains.size())
+    return false;
+  for (std::size_t i = 0; i < m_domains.size(); ++i)
+    if (!same(m_domains[i], mesh.domains[i])) return false;
+  return true;
+}
+
+}  // namespace tessera
