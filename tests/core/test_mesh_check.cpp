@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <tbb/task_arena.h>
+
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -201,4 +203,43 @@ TEST_CASE("mesh: the checks take linear time on a large mesh", "[mesh]") {
   OwnedMesh om = one_domain(m);
   om.owned[0]->conn32.back() = -7;
   CHECK(starts_with(fault(om.mesh), "mesh domain 0: element 63999: vertex index -7 (entry 7)"));
+}
+
+TEST_CASE("mesh: the check runs over threads and names the lowest faulty element under any thread count", "[mesh]") {
+  // 40^3 hexes with faults at three places (an index, an inverted cell, a NaN vertex): the
+  // message is the one for the lowest of them, however many threads run the check
+  ElementList m = grid_hexes(40, 40, 40, Vec3(0.0), Vec3(1.0), one);
+  OwnedMesh om = one_domain(m);
+  std::int32_t* conn = om.owned[0]->conn32.data();
+  conn[8 * 61000 + 2] = 1 << 30;
+  for (int k = 0; k < 4; ++k) std::swap(conn[8 * 23456 + k], conn[8 * 23456 + 4 + k]);
+  const std::string want = "mesh domain 0: element 23456: hex is inverted";
+  for (const int threads : {1, 2, 3, 8}) {
+    tbb::task_arena arena(threads);
+    std::string got;
+    arena.execute([&] { got = fault(om.mesh); });
+    INFO(threads << " threads");
+    CHECK(starts_with(got, want));
+  }
+  om.owned[0]->z[conn[8 * 40000 + 5]] = std::numeric_limits<double>::infinity();
+  CHECK(starts_with(fault(om.mesh), want));
+  for (int k = 0; k < 4; ++k) std::swap(conn[8 * 23456 + k], conn[8 * 23456 + 4 + k]);  // mended
+  CHECK(starts_with(fault(om.mesh), "mesh domain 0: element 40000: "));
+  CHECK_THAT(fault(om.mesh), Catch::Contains("non-finite coordinate"));
+
+  // A curvilinear grid takes its first real cell's handedness: mirrored, it passes; one cell
+  // of the other handedness is named, whichever thread meets it
+  ElementList mirrored =
+      grid_hexes(30, 30, 30, Vec3(0.0), Vec3(1.0), one, [](const Vec3& p) { return Vec3(-p.x, p.y, p.z); });
+  OwnedMesh cm = curvilinear(mirrored, 30, 30, 30);
+  CHECK(fault(cm.mesh).empty());
+  cm.owned[0]->x[15 + 31 * (15 + 31 * 15)] -= 2.5;  // an inner vertex pushed through its neighbours
+  std::string alone;
+  tbb::task_arena(1).execute([&] { alone = fault(cm.mesh); });
+  CHECK_THAT(alone, Catch::Contains("mesh domain 0: element ") && Catch::Contains(": hex is "));
+  for (const int threads : {2, 5}) {
+    std::string got;
+    tbb::task_arena(threads).execute([&] { got = fault(cm.mesh); });
+    CHECK(got == alone);
+  }
 }

@@ -141,8 +141,9 @@ class MeshChecked {
 };
 
 /// Checks every domain, in time and memory linear in the mesh (one pass over the elements and
-/// the values, no allocation proportional to it), and throws std::invalid_argument whose
-/// message begins "mesh domain D" (and names "element E" where one element is at fault) for:
+/// the values, no allocation proportional to it; the elements over TBB's threads), and throws
+/// std::invalid_argument whose message begins "mesh domain D" (and names "element E", the
+/// lowest at fault in the first faulty domain, whatever the thread count) for:
 /// no domain or no cell; negative counts or strides below the dtype size; counts x strides
 /// overflowing int64; a non-float coordinate dtype or unknown index type or shape (wedge and
 /// pyramid: not supported yet); null arrays; dims that do not match the vertex count; an index

@@ -8,7 +8,11 @@
 #include "mesh/element_indices.h"
 #include "mesh/mesh_checked_issuer.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -159,19 +163,57 @@ void check_indices(const DomainCheck& c, const MeshDomain& d, const DomainAccess
   if (k >= 0) throw_index_fault(c.domain, e, k, idx[k], d.coords.count, v[k]);
 }
 
-/// Every real cell: indices in range, finite vertices, a sound shape (`shapes`) or not looked at.
-void check_cells(const DomainCheck& c, const MeshDomain& d, std::int64_t cells, bool shapes) {
-  const DomainAccess a = DomainAccess::of(d);
-  int sign = d.structured() ? 0 : 1;
+/// Cell e's shape fault ("" when sound) for a hex's orientation `sign` (+1 or -1).
+std::string shape_fault(const DomainAccess& a, const Vec3* v, int sign) {
+  return a.shape == Shape::Tet ? tet_fault(v) : hex_fault(v, &sign);
+}
+
+/// The orientation every hex of `d` must share: +1 for unstructured cells (VTK's order); a
+/// curvilinear grid's first real cell's (either handedness, the same throughout).
+int orientation(const MeshDomain& d, const DomainAccess& a, std::int64_t cells) {
+  if (!d.structured()) return 1;
+  std::int64_t e = 0;
+  while (e < cells && d.ghosts.is_ghost(e)) ++e;
+  if (e == cells) return 1;
   std::int64_t idx[8];
   Vec3 v[8];
-  for (std::int64_t e = 0; e < cells; ++e) {
-    if (d.ghosts.is_ghost(e)) continue;
-    check_indices(c, d, a, e, idx, v);
-    if (!shapes) continue;
-    const std::string fault = a.shape == Shape::Tet ? tet_fault(v) : hex_fault(v, &sign);
-    if (!fault.empty()) c.require(false, e, std::string(shape_name(a.shape)) + " is " + fault);
-  }
+  if (element_index_fault(a, e, d.coords.count, idx, v) >= 0) return 1;  // cell e is the first fault
+  return hex_corner_jacobian(v, 0) < 0.0 ? -1 : 1;
+}
+
+/// The lowest real cell whose indices, vertices or (`shapes`) shape fail, or `cells`: the
+/// cells in parallel (TBB), each chunk in order and stopping past the lowest fault found so
+/// far, so that the answer is the lowest whatever the threads do.
+std::int64_t first_fault(const MeshDomain& d, const DomainAccess& a, std::int64_t cells, bool shapes, int sign) {
+  std::atomic<std::int64_t> first{cells};
+  tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, cells, 2048), [&](const auto& r) {
+    std::int64_t idx[8];
+    Vec3 v[8];
+    for (std::int64_t e = r.begin(); e != r.end() && e < first.load(std::memory_order_relaxed); ++e) {
+      if (d.ghosts.is_ghost(e)) continue;
+      if (element_index_fault(a, e, d.coords.count, idx, v) < 0 && (!shapes || shape_fault(a, v, sign).empty()))
+        continue;
+      std::int64_t seen = first.load(std::memory_order_relaxed);
+      while (e < seen && !first.compare_exchange_weak(seen, e, std::memory_order_relaxed)) {
+      }
+      return;
+    }
+  });
+  return first.load();
+}
+
+/// Every real cell: indices in range, finite vertices, a sound shape (`shapes`) or not looked
+/// at; throws for the lowest faulty cell, in the words of a check of that cell alone.
+void check_cells(const DomainCheck& c, const MeshDomain& d, std::int64_t cells, bool shapes) {
+  const DomainAccess a = DomainAccess::of(d);
+  const int sign = orientation(d, a, cells);
+  const std::int64_t e = first_fault(d, a, cells, shapes, sign);
+  if (e == cells) return;
+  std::int64_t idx[8];
+  Vec3 v[8];
+  check_indices(c, d, a, e, idx, v);
+  const std::string fault = shape_fault(a, v, sign);
+  c.require(fault.empty(), e, std::string(shape_name(a.shape)) + " is " + fault);
 }
 
 /// check_mesh_arrays, then every domain's real cells (check_cells); throws when no cell is real.

@@ -6,6 +6,10 @@
 
 #include "mesh/element_range.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -56,7 +60,10 @@ struct CanonicalLess {
       for (int k = 0; k < 3; ++k)
         if (va[k] != vb[k]) return va[k] < vb[k];
     }
-    return false;
+    // The same element twice (overlapping cells, which the mesh must not have): by where it
+    // is in the input, so that the order is total and a parallel sort's is the serial one's
+    if (a.ref.domain != b.ref.domain) return a.ref.domain < b.ref.domain;
+    return a.ref.cell < b.ref.cell;
   }
 };
 
@@ -96,19 +103,26 @@ bool MeshLayout::fits(const Mesh& mesh) const {
 }
 
 void MeshLayout::gather(const std::vector<DomainAccess>& domains, const Mesh& mesh) {
-  std::vector<Item> items;
+  // The real cells, in input order; their items over threads; the canonical order by a
+  // parallel sort (a total order: the same result as a serial sort, any thread count)
+  std::vector<MeshElementRef> real;
   for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
     const MeshDomain& md = mesh.domains[i];
     const std::int64_t cells = md.cell_count();
-    for (std::int64_t e = 0; e < cells; ++e) {
-      if (md.ghosts.is_ghost(e)) continue;
-      items.push_back(make_item(domains[i], static_cast<std::int32_t>(i), e));
-    }
+    for (std::int64_t e = 0; e < cells; ++e)
+      if (!md.ghosts.is_ghost(e)) real.push_back(MeshElementRef{e, static_cast<std::int32_t>(i)});
   }
-  if (items.size() >= std::numeric_limits<std::uint32_t>::max())
-    throw std::invalid_argument("mesh: " + std::to_string(items.size()) +
-                                " real cells, at most 2^32 - 1 are supported");
-  std::sort(items.begin(), items.end(), CanonicalLess{domains});
+  if (real.size() >= std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument("mesh: " + std::to_string(real.size()) + " real cells, at most 2^32 - 1 are supported");
+  std::vector<Item> items(real.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, real.size(), 4096), [&](const auto& r) {
+    for (std::size_t e = r.begin(); e != r.end(); ++e) {
+      const MeshElementRef& ref = real[e];
+      items[e] = make_item(domains[static_cast<std::size_t>(ref.domain)], ref.domain, ref.cell);
+    }
+  });
+  std::vector<MeshElementRef>().swap(real);
+  tbb::parallel_sort(items.begin(), items.end(), CanonicalLess{domains});
   const std::size_t n = items.size();
   m_element.resize(n);
   m_box.resize(6 * n);
