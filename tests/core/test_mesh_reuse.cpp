@@ -5,12 +5,14 @@
 #include <tessera/render.h>
 
 #include <catch2/catch.hpp>
+#include <tbb/task_arena.h>
 
 #include "test_mesh_support.h"
 #include "test_support.h"
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 using tessera::Vec3;
 using namespace tessera_mesh_test;
@@ -198,4 +200,25 @@ TEST_CASE("mesh receipt: check_mesh_copy checks the indices and takes the caller
   const OwnedMesh sound = one_domain(m);
   CHECK(same(render_film(tessera::prepare(sound.mesh, scene(), nullptr, tessera::check_mesh_copy(sound.mesh))),
              render_film(tessera::prepare(sound.mesh, scene()))));
+}
+
+TEST_CASE("mesh prepare over threads: the tables and the image do not depend on the thread count", "[mesh][reuse]") {
+  // prepare's check, gather, canonical sort, ranges and totals run over TBB's threads (in
+  // chunks of 2048 to 16384 items: a mesh of several chunks)
+  const ElementList m = grid_hexes(
+      28, 24, 20, Vec3(0.0), Vec3(1.0 / 28, 1.0 / 24, 1.0 / 20),
+      [](const Vec3& p) { return 0.5 + 0.5 * std::sin(9.0 * p.x) * std::cos(5.0 * p.y + 2.0 * p.z); },
+      [](const Vec3& p) { return Vec3(p.x + 0.08 * p.y * p.y, p.y, p.z + 0.05 * p.x); });
+  for (const bool tets : {false, true}) {
+    const OwnedMesh om = one_domain(tets ? hexes_to_tets(m) : m);
+    std::optional<tessera::Film> first;
+    for (const int threads : {1, 2, 5}) {
+      std::optional<tessera::PreparedScene> p;
+      tbb::task_arena(threads).execute([&] { p.emplace(tessera::prepare(om.mesh, scene())); });
+      tessera::Film f = render_film(*p);
+      INFO((tets ? "tets, " : "hexes, ") << threads << " threads");
+      if (first) CHECK(same(f, *first));
+      else first.emplace(std::move(f));
+    }
+  }
 }

@@ -11,6 +11,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -179,17 +180,24 @@ void MeshLayout::build_location() {
       m_loc_inv[a] = 1.0 / edge;
       m_loc_n[a] = static_cast<std::int64_t>(std::floor((m_hi[a] + 0.5 * m_spacing[a] - m_loc_lo[a]) / edge)) + 1;
     }
-    double pairs = 0.0;
-    for (std::size_t e = 0; e < n && pairs <= budget; ++e) {
-      double p = 1.0;
-      for (int a = 0; a < 3; ++a) {
-        std::int64_t c0, c1;
-        span(e, a, &c0, &c1);
-        p *= static_cast<double>(c1 - c0 + 1);
+    // The (element, cell) pairs, an integer sum over threads; chunks stop once it is over
+    // the budget (whether it is over does not depend on the split)
+    std::atomic<std::uint64_t> pairs{0};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const auto& r) {
+      if (static_cast<double>(pairs.load(std::memory_order_relaxed)) > budget) return;
+      std::uint64_t mine = 0;
+      for (std::size_t e = r.begin(); e != r.end(); ++e) {
+        std::uint64_t p = 1;
+        for (int a = 0; a < 3; ++a) {
+          std::int64_t c0, c1;
+          span(e, a, &c0, &c1);
+          p *= static_cast<std::uint64_t>(c1 - c0 + 1);
+        }
+        mine += p;
       }
-      pairs += p;
-    }
-    if (pairs <= budget) break;
+      pairs.fetch_add(mine, std::memory_order_relaxed);
+    });
+    if (static_cast<double>(pairs.load()) <= budget) break;
   }
   // Lists: count, prefix sums, fill in canonical order
   const std::int64_t cells = m_loc_n[0] * m_loc_n[1] * m_loc_n[2];

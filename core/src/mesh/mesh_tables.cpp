@@ -1,6 +1,10 @@
 /// MeshTables::build (mesh_tables.h): the layout (built, or reused), then the values' ranges.
 #include "mesh/mesh_tables.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -12,7 +16,10 @@ void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse
   // Each element's value range, in the layout's order
   const std::size_t n = m_layout->element_count();
   m_range.assign(n, ElementRange{});
-  for (std::size_t e = 0; e < n; ++e) m_range[e] = element_range(m_domain.data(), m_layout->element(e));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+    for (std::size_t e = r.begin(); e != r.end(); ++e)
+      m_range[e] = element_range(m_domain.data(), m_layout->element(e));
+  });
   count_values(mesh);
 }
 
@@ -41,21 +48,47 @@ void MeshTables::bind(const Mesh& mesh) {
   }
 }
 
+namespace {
+
+/// NaN count and range of some values: min / max (zeros as +0.0) and an integer sum, so that
+/// any split of the values over threads gives the same bits.
+struct ValueTally {
+  std::uint64_t nan = 0;
+  ElementRange all;
+  void merge(const ValueTally& o) {
+    nan += o.nan;
+    all.lo = std::min(all.lo, o.all.lo);
+    all.hi = std::max(all.hi, o.all.hi);
+    all.flags |= o.all.flags;
+  }
+};
+
+}  // namespace
+
 void MeshTables::count_values(const Mesh& mesh) {
   m_nan = m_values = 0;
-  ElementRange all;
+  ValueTally total;
   for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
     const DomainAccess& d = m_domain[i];
     const std::int64_t count = mesh.domains[i].field.count;
-    for (std::int64_t v = 0; v < count; ++v) {
-      const double x = d.value(v);
-      m_nan += std::isnan(x) ? 1 : 0;
-      add_value(all, x);
-    }
+    total.merge(tbb::parallel_reduce(
+        tbb::blocked_range<std::int64_t>(0, count, 16384), ValueTally{},
+        [&](const auto& r, ValueTally t) {
+          for (std::int64_t v = r.begin(); v != r.end(); ++v) {
+            const double x = d.value(v);
+            t.nan += std::isnan(x) ? 1 : 0;
+            add_value(t.all, x);
+          }
+          return t;
+        },
+        [](ValueTally a, const ValueTally& b) {
+          a.merge(b);
+          return a;
+        }));
     m_values += static_cast<std::uint64_t>(count);
   }
-  m_vmin = all.lo;
-  m_vmax = all.hi;
+  m_vmin = total.all.lo;
+  m_vmax = total.all.hi;
 }
 
 MeshFieldView MeshTables::view() const { return m_layout ? m_layout->view(m_domain.data()) : MeshFieldView{}; }
