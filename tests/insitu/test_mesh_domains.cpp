@@ -164,21 +164,39 @@ TEST_CASE("mesh domains: the lookup structure is reused within a call, and acros
   CHECK_FALSE(reused("a"));
   CHECK(reused("b"));  // the same call's mesh
   const tessera::Image first = *ad.last_image("a");
-  // Other values at step 2: without the promise the structure is built again
+  // Other values at step 2, no promise: the geometry hashes as the last one's, so the
+  // structure is reused all the same, and the image is a fresh adapter's bit for bit
   for (MeshBlock& b : cut.blocks)
     for (double& v : b.vertex_values) v = 1.0 - v;
   REQUIRE(ad.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_OK);
-  CHECK_FALSE(reused("a"));
+  CHECK(reused("a"));
   const tessera::Image built = *ad.last_image("a");
   CHECK_FALSE(same_pixels(first, built));
-  // With it, reused; the image as a build gives it
+  {
+    Adapter fresh;
+    fresh.set_quiet(true);
+    REQUIRE(fresh.open(dir.write("fresh.yaml", config_yaml(dir.file("fresh"), renders))) == TESSERA_OK);
+    REQUIRE(fresh.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_OK);
+    CHECK(same_pixels(built, *fresh.last_image("a")));
+  }
+  // With the promise, reused; the image as a build gives it
   REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
   REQUIRE(ad.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_OK);
   CHECK(reused("a"));
   CHECK(same_pixels(built, *ad.last_image("a")));
-  // One-shot, and a mesh of other shapes is built again even after the promise
+  // A vertex moved, no promise: built again; the next call with it unmoved is found again
+  // (the hash is the one of the geometry the structure was built over)
+  double& x = cut.blocks[1].x[7];
+  const double x0 = x;
+  x += 1e-3;
   REQUIRE(ad.execute_mesh_domains(3, 0.2, cut.domains) == TESSERA_OK);
   CHECK_FALSE(reused("a"));
+  REQUIRE(ad.execute_mesh_domains(4, 0.25, cut.domains) == TESSERA_OK);
+  CHECK(reused("a"));
+  x = x0;
+  REQUIRE(ad.execute_mesh_domains(5, 0.25, cut.domains) == TESSERA_OK);
+  CHECK_FALSE(reused("a"));
+  // A mesh of other shapes is built again even after the promise
   Cut other({0, 9}, Form::Hexes);
   REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
   REQUIRE(ad.execute_mesh_domains(4, 0.3, other.domains) == TESSERA_OK);

@@ -82,8 +82,9 @@ struct RenderResult {
   /// macrocell edge otherwise, however many Cinema cameras.
   int field_passes = 0;
   /// A curvilinear or unstructured mesh: the render reused the mesh's lookup structure (an
-  /// earlier render's in the same call, or the last call's after mesh_unchanged()) instead of
-  /// building and checking every element again.
+  /// earlier render's in the same call, or the last call's after mesh_unchanged() or for a
+  /// geometry that hashes as the one it was built over) instead of building and checking
+  /// every element again.
   bool mesh_layout_reused = false;
   RenderStats stats;  ///< summed over ranks on rank 0 (and over Cinema cameras)
   /// Where it traced: "cpu" or "cuda:N" (tessera.device, docs/gpu.md). stats.bytes_to_device and

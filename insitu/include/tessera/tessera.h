@@ -299,14 +299,17 @@ tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* fie
  * connectivity, dims, shapes and ghost fields as at the last such call: only field values may
  * differ. That call then reuses the mesh's lookup structure (the elements' canonical order,
  * boxes and location lists: about 200 to 480 bytes and an O(n log n) sort per cell) and checks
- * only the descriptors, instead of building and checking every element again; the image is
+ * the descriptors, every cell's vertex indices and its vertices' coordinates (finite), not the
+ * cells' shapes, instead of building and checking every element again; the image is
  * bit-identical. One-shot, like tessera_field_unchanged; with MPI not collective: the
  * structure is reused only if every rank made this call (they agree inside the execute). The
- * adapter still compares the domains' counts and shapes and builds again when they differ;
- * the coordinates and indices themselves are not checked (a broken promise gives a wrong
- * image, never a read outside the arrays). Within one execute call every render after the
- * first reuses the structure anyway. Returns TESSERA_OK, or TESSERA_ERROR_CONFIG for a NULL
- * or closed adapter. */
+ * adapter still compares the domains' counts and shapes and builds again when they differ (a
+ * broken promise gives a wrong image, never a read outside the arrays). Without the promise,
+ * a mesh in host memory whose geometry hashes as the one the structure was built over (two
+ * independent 64-bit hashes of the coordinates, connectivity and ghost flags: one pass) is
+ * reused the same way; the promise saves that pass, and keeps a mesh in device memory on the
+ * device. Within one execute call every render after the first reuses the structure anyway.
+ * Returns TESSERA_OK, or TESSERA_ERROR_CONFIG for a NULL or closed adapter. */
 tessera_status tessera_mesh_unchanged(tessera_adapter* adapter);
 
 /* The CUDA stream (a cudaStream_t, passed as void* so that this header needs no CUDA) on which

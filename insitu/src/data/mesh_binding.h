@@ -8,6 +8,7 @@
 /// Every function throws std::invalid_argument with a message that names the domain (its
 /// index in the call) and the field (TESSERA_ERROR_DATA at the adapter boundary).
 #include "data/device_arrays.h"
+#include "data/geometry_hash.h"
 
 #include <tessera/mesh.h>
 #include <tessera/tessera.h>
@@ -28,6 +29,8 @@ struct MeshBinding {
   HostStaging staging;                            ///< host copies of its device arrays (mesh_staging.h)
   bool resident = false;  ///< read on the device where it is, nothing staged (mesh_pass.cpp; local.device)
   MeshChecked checked;    ///< the receipt of the pass's check of `local` (for prepare: not checked twice)
+  GeometryHash geometry;  ///< the hash of `local`'s geometry, where `hashed` (mesh_pass.cpp)
+  bool hashed = false;
 };
 
 /// Binds field `field_name` ("" = the only published field) of `domains` (n of them, n in

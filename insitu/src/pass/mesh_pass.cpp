@@ -1,6 +1,7 @@
 // A render over curvilinear and unstructured domains (mesh_pass.h).
 #include "pass/mesh_pass.h"
 
+#include "data/geometry_hash.h"
 #include "data/mesh_binding.h"
 #include "data/mesh_exchange.h"
 #include "data/mesh_plan.h"
@@ -52,12 +53,13 @@ bool resident_on_device(const PassContext& pass, const Mesh& m, const MeshMemory
 /// association.
 std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
   const Publication& pub = pass.call.pub;
-  // A geometry whose layout is kept (promised unchanged by tessera_mesh_unchanged, or built by
-  // this call's first render over the same domains) is checked as prepare checks it
-  // (check_mesh_indices: indices and finite vertices, not the shapes that the layout's build
-  // checked); if the ranks then do not agree on reusing it, prepare checks the whole mesh's
-  // shapes before building a layout (the receipt, b.checked, covers only the indices)
-  const MeshLayoutKeep& keep = pass.call.mesh_layout;
+  // A geometry whose layout is kept (promised unchanged by tessera_mesh_unchanged, found the
+  // same by its hash below, or built by this call's first render over the same domains) is
+  // checked as prepare checks it (check_mesh_indices: indices and finite vertices, not the
+  // shapes that the layout's build checked); if the ranks then do not agree on reusing it,
+  // prepare checks the whole mesh's shapes before building a layout (the receipt, b.checked,
+  // covers only the indices)
+  MeshLayoutKeep& keep = pass.call.mesh_layout;
   const bool promised = keep.layout != nullptr && (keep.carried || keep.decided);
   MeshBinding b;
   MeshMemory where;
@@ -85,10 +87,23 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
         stage_mesh_to_host(b.local, where, b.staging, pass.call.cuda_stream, limit.bytes, limit.text);
       }))
     return std::nullopt;
+  // The first render of a call over host arrays hashes the geometry: the same as the kept
+  // layout's, it is reused without the promise (one pass over the geometry instead of the
+  // shapes' check and the layout's sort)
+  if (!gate.run(TESSERA_ERROR_DATA, [&] {
+        if (b.local.domains.empty() || b.resident || keep.decided) return;
+        check_mesh_arrays(b.local);  // readable before the hash reads it
+        b.geometry = geometry_hash(b.local);
+        b.hashed = true;
+        // (this rank's domains: the hash covers their counts, dims and shapes; the layout is
+        // of every rank's, and prepare still checks that it fits the gathered mesh)
+        keep.detected = !promised && keep.layout && keep.geometry_known && keep.geometry == b.geometry;
+      }))
+    return std::nullopt;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
         if (b.local.domains.empty()) return;
         if (b.resident) b.checked = cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
-        else if (promised) b.checked = check_mesh_indices(b.local);
+        else if (promised || keep.detected) b.checked = check_mesh_indices(b.local);
         else b.checked = check_mesh(b.local);
       }))
     return std::nullopt;
@@ -231,8 +246,9 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   // The layout of the last call (every rank promised the same geometry) or of this call's
   // first render over the mesh
   MeshLayoutKeep& keep = pass.call.mesh_layout;
-  if (!keep.decided) {
-    if (!pass.ctx.agree(keep.carried && keep.layout != nullptr)) keep.layout.reset();
+  const bool first = !keep.decided;
+  if (first) {
+    if (!pass.ctx.agree(keep.same_geometry() && keep.layout != nullptr)) keep.layout.reset();
     keep.decided = true;
   }
   PreparedScene prepared;
@@ -242,6 +258,10 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
           prepared = prepare(whole, setup->scene, keep.layout, whole_checked);  // not checked again
           keep.layout = prepared.mesh_layout();
           keep.bounds = extent.bounds;
+          if (first && !prepared.mesh_layout_reused()) {  // the geometry it was built over
+            keep.geometry = bound->geometry;
+            keep.geometry_known = bound->hashed;
+          }
         } catch (const DeadlineExceeded& e) {
           time_limit_passed(pass, e);
         }

@@ -1,0 +1,111 @@
+// One adapter call over an unstructured hex mesh, per call, as a simulation with a fixed mesh
+// sees it: the values change every step; the geometry is the same (found by its hash, no
+// promise), promised the same (tessera_mesh_unchanged), or moved a little every step (the
+// layout built and every element checked at every call: what an unchanged mesh cost before
+// the hash). Not a test: prints seconds per call (median of the steps after the first) and
+// writes a CSV.
+//
+//   mesh_insitu_bench [--cells N] [--steps S] [--csv PATH]     (defaults: 64, 6, mesh_insitu_bench.csv)
+#include <tessera/adapter.h>
+
+#include "mesh_blocks.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Row {
+  std::string mode;
+  double call_s = 0.0, prepare_s = 0.0;
+  int reused = 0;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::int64_t cells = 64;
+  int steps = 6;
+  std::string csv = "mesh_insitu_bench.csv";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i];
+    if (flag == "--cells") cells = std::max<std::int64_t>(2, std::atoll(argv[i + 1]));
+    else if (flag == "--steps") steps = std::max(2, std::atoi(argv[i + 1]));
+    else if (flag == "--csv") csv = argv[i + 1];
+    else {
+      std::fprintf(stderr, "mesh_insitu_bench: unknown flag %s\n", flag.c_str());
+      return 2;
+    }
+  }
+  const fs::path dir = fs::temp_directory_path() / ("mesh_insitu_bench_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path config = dir / "bench.yaml";
+  std::ofstream(config) << "tessera:\n  output_dir: " << (dir / "out").string()
+                        << "\n  threads: 0\nrenders:\n  - name: view\n    field: f\n"
+                           "    image: {width: 32, height: 32, spp: 1}\n"
+                           "    camera: {position: {orbit: {azimuth: 30, elevation: 25, distance: 3}}, look_at: "
+                           "center, up: [0, 0, 1], fov: 40}\n"
+                           "    transfer_function: {range: auto, density_scale: 40, opacity: [[0, 0], [1, 1]]}\n";
+  const std::int64_t n[3] = {cells + 1, cells + 1, cells + 1};
+  std::vector<Row> rows;
+  for (const std::string mode : {"moved", "same (hash)", "promised"}) {
+    tessera_test::MeshBlock block(n, 0, cells);
+    std::vector<tessera_mesh_domain> domains = {block.domain(tessera_test::MeshBlock::Form::Hexes)};
+    tessera::insitu::Adapter ad;
+    ad.set_quiet(true);
+    if (ad.open(config.string()) != TESSERA_OK) {
+      std::fprintf(stderr, "mesh_insitu_bench: %s\n", ad.last_error().c_str());
+      return 1;
+    }
+    std::vector<double> call, prepare;
+    Row row{mode};
+    for (int s = 1; s <= steps; ++s) {
+      for (double& v : block.vertex_values) v = 0.98 * v + 0.01;  // new values every step
+      if (mode == "moved")
+        for (double& x : block.x) x += 1e-7;
+      if (mode == "promised" && s > 1) ad.mesh_unchanged();
+      const auto t0 = std::chrono::steady_clock::now();
+      if (ad.execute_mesh_domains(s, 0.1 * s, domains) != TESSERA_OK) {
+        std::fprintf(stderr, "mesh_insitu_bench: %s\n", ad.last_error().c_str());
+        return 1;
+      }
+      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (s == 1) continue;
+      call.push_back(t);
+      prepare.push_back(ad.last_results().at(0).prepare_seconds);
+      row.reused += ad.last_results().at(0).mesh_layout_reused ? 1 : 0;
+    }
+    row.call_s = median(call);
+    row.prepare_s = median(prepare);
+    rows.push_back(row);
+  }
+  fs::remove_all(dir);
+  const double mel = static_cast<double>(cells * cells * cells) * 1e-6;
+  std::printf("%lld^3 hexes, 32x32, 1 spp, steps 2..%d\n", static_cast<long long>(cells), steps);
+  std::printf("%-12s %10s %12s %12s %8s\n", "geometry", "call_s", "call_s/Mel", "prepare_s", "reused");
+  std::ofstream out(csv);
+  out << "geometry,cells,steps,call_s,call_s_per_million,prepare_s,layout_reused_calls\n";
+  for (const Row& r : rows) {
+    std::printf("%-12s %10.4f %12.4f %12.4f %5d/%d\n", r.mode.c_str(), r.call_s, r.call_s / mel, r.prepare_s, r.reused,
+                steps - 1);
+    out << '"' << r.mode << "\"," << cells * cells * cells << ',' << steps << ',' << r.call_s << ',' << r.call_s / mel
+        << ',' << r.prepare_s << ',' << r.reused << '\n';
+  }
+  std::printf("wrote %s\n", csv.c_str());
+  return 0;
+}
