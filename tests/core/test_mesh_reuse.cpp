@@ -222,3 +222,49 @@ TEST_CASE("mesh prepare over threads: the tables and the image do not depend on 
     }
   }
 }
+
+TEST_CASE("mesh geometry hash: the geometry, not the values nor where the arrays are, under any thread count",
+          "[mesh][reuse][hash]") {
+  const ElementList m = grid_hexes(
+      24, 20, 18, Vec3(0.0), Vec3(1.0 / 24, 1.0 / 20, 1.0 / 18), [](const Vec3& p) { return p.x * p.y; },
+      [](const Vec3& p) { return Vec3(p.x + 0.05 * p.y * p.y, p.y, p.z); });
+  const OwnedMesh a = one_domain(m);
+  const tessera::MeshGeometryHash h = tessera::mesh_geometry_hash(a.mesh);
+  // The same geometry in other arrays, with other values: the same hash
+  OwnedMesh b = one_domain(m);
+  for (double& v : b.owned[0]->values) v = 7.0 - v;
+  CHECK(tessera::mesh_geometry_hash(b.mesh) == h);
+  for (const int threads : {1, 3}) {
+    tessera::MeshGeometryHash t;
+    tbb::task_arena(threads).execute([&] { t = tessera::mesh_geometry_hash(a.mesh); });
+    CHECK(t == h);
+  }
+  // Any change of the geometry changes both values: a coordinate by one ulp, an index, a
+  // ghost flag, the dims of another cut
+  const auto both_differ = [&](const tessera::Mesh& other) {
+    const tessera::MeshGeometryHash o = tessera::mesh_geometry_hash(other);
+    return o.a != h.a && o.b != h.b;
+  };
+  OwnedMesh moved = one_domain(m);
+  moved.owned[0]->z[100] = std::nextafter(moved.owned[0]->z[100], 2.0);
+  CHECK(both_differ(moved.mesh));
+  OwnedMesh swapped = one_domain(m);
+  std::swap(swapped.owned[0]->conn32[8 * 3000 + 1], swapped.owned[0]->conn32[8 * 3000 + 2]);
+  CHECK(both_differ(swapped.mesh));
+  OwnedMesh ghosted = one_domain(m);
+  std::vector<std::uint8_t> mask(static_cast<std::size_t>(ghosted.mesh.domains[0].ncells), 0);
+  ghosted.mesh.domains[0].ghosts = {mask.data(), 1, static_cast<std::int64_t>(mask.size())};
+  const tessera::MeshGeometryHash no_ghost = tessera::mesh_geometry_hash(ghosted.mesh);
+  CHECK(no_ghost != h);  // a mask of zeros is still a mask
+  mask[5000] = 1;
+  const tessera::MeshGeometryHash one_ghost = tessera::mesh_geometry_hash(ghosted.mesh);
+  CHECK(one_ghost.a != no_ghost.a);
+  CHECK(one_ghost.b != no_ghost.b);
+  std::vector<int> halves(m.element.size());
+  for (std::size_t e = 0; e < halves.size(); ++e) halves[e] = e < halves.size() / 2 ? 0 : 1;
+  CHECK(both_differ(cut(m, halves, {0, 1}).mesh));
+  // Unreadable or bad descriptors: named as check_mesh_arrays names them
+  OwnedMesh bad = one_domain(m);
+  bad.mesh.domains[0].field.count -= 1;
+  CHECK_THROWS_WITH(tessera::mesh_geometry_hash(bad.mesh), Catch::Contains("mesh domain 0"));
+}

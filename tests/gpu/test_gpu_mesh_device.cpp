@@ -168,6 +168,8 @@ TEST_CASE("GPU: a mesh in device memory is summarised on the device as the host 
     CHECK(t.real_hi == hv.real.hi);
     const tessera::PreparedScene taken = tessera::prepare(dm.mesh, scene, on_host.mesh_layout(), receipt);
     CHECK(same_bits(render_gpu(taken), want));
+    // The geometry's hash on the device: the host's
+    CHECK(tessera::cuda_mesh_geometry_hash(dm.mesh) == tessera::mesh_geometry_hash(host));
   }
 }
 

@@ -428,4 +428,23 @@ TEST_CASE("a device mesh promised unchanged is read where it is: nothing copied 
   REQUIRE(ad.execute_mesh_domains(4, 0.3, d) == TESSERA_OK);
   CHECK(ad.last_results().at(0).mesh_layout_reused);
   CHECK(ad.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host);
+  // No promise: the geometry hashed on the device is the one the layout was built over, so the
+  // mesh stays where it is all the same; new values, the staged render's bits
+  for (double& v : upper.vertex_values) v = 0.5 * v;
+  device_test::upload(upper_f.ptr, upper.vertex_values.data(), upper.vertex_values.size() * sizeof(double));
+  REQUIRE(ad.execute_mesh_domains(5, 0.4, d) == TESSERA_OK);
+  CHECK(ad.last_results().at(0).mesh_layout_reused);
+  CHECK(ad.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host);
+  const tessera::Image found = *ad.last_image("view");
+  Adapter fresh5;
+  open(fresh5, "fresh5");
+  REQUIRE(fresh5.execute_mesh_domains(5, 0.4, d) == TESSERA_OK);
+  CHECK(same_pixels(*fresh5.last_image("view"), found));
+  // A vertex moved on the device, no promise: staged and built again
+  std::vector<double> moved_x = upper.x;
+  moved_x[9] += 1e-3;
+  device_test::upload(ux.ptr, moved_x.data(), moved_x.size() * sizeof(double));
+  REQUIRE(ad.execute_mesh_domains(6, 0.5, d) == TESSERA_OK);
+  CHECK_FALSE(ad.last_results().at(0).mesh_layout_reused);
+  CHECK(ad.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host + staged);
 }

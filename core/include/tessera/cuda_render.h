@@ -144,6 +144,12 @@ std::shared_ptr<const FieldSummary> cuda_mesh_summary(const Mesh& mesh, const Vo
                                                       const std::int64_t dims[3], int edge, void* stream = nullptr,
                                                       const MeshChecked* checked = nullptr);
 
+/// mesh_geometry_hash (mesh.h) of a mesh whose arrays are GPU memory (Mesh::device): the
+/// descriptors checked on the host (check_mesh_descriptors), the items summed on the device
+/// that holds them after the work queued on `stream`; the same value as the host's for the
+/// same geometry. Throws as cuda_field_summary does.
+MeshGeometryHash cuda_mesh_geometry_hash(const Mesh& mesh, void* stream = nullptr);
+
 /// The finite min / max of the values of a mesh whose arrays are GPU memory (Mesh::device),
 /// ghost cells' values left out for cell data (+Inf, -Inf when none), computed on the device
 /// that holds them after the work queued on `stream`. Throws as cuda_field_summary does.

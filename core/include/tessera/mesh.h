@@ -184,6 +184,21 @@ MeshChecked check_mesh_copy(const Mesh& mesh);
 /// check_mesh does.
 void check_mesh_descriptors(const Mesh& mesh);
 
+/// Two independent 64-bit hashes of what a mesh's layout depends on: its domains' counts,
+/// dims, shapes and dtypes, every vertex's coordinates, every connectivity entry and every
+/// ghost flag, never the values (so that a caller can tell a geometry that is the same bit
+/// for bit as an earlier one, and reuse its layout: prepare's `reuse`). The same geometry in
+/// other arrays (other pointers or strides) has the same hash. An accidental match of another
+/// geometry needs both to collide (about 2^-128); not cryptographic. check_mesh_arrays first
+/// (throws as it does), then one pass over the items over TBB's threads: the same value under
+/// any thread count. cuda_mesh_geometry_hash (cuda_render.h) gives the same value for arrays in
+/// GPU memory.
+struct MeshGeometryHash {
+  std::uint64_t a = 0, b = 0;
+  bool operator==(const MeshGeometryHash&) const = default;
+};
+MeshGeometryHash mesh_geometry_hash(const Mesh& mesh);
+
 /// One array of a domain: its pointer (null where the domain has none: a curvilinear
 /// domain's connectivity, no ghost mask, a zero count), the bytes it spans from there, and
 /// its name as messages give it ("coords.x", "the connectivity", "the field", ...).

@@ -66,5 +66,10 @@ FieldSummary::Parts mesh_summary_cells(const Mesh& mesh, const MacroGrid& g, voi
   return mesh_summary_cells_host(mesh, g);
 }
 
+GeometrySums mesh_geometry_sums(const Mesh& mesh, void*) {
+  require_emulation("hashing a mesh in device memory");
+  return mesh_geometry_sums_host(mesh);
+}
+
 }  // namespace cuda
 }  // namespace tessera

@@ -16,6 +16,7 @@
 #include <tessera/mesh.h>
 
 #include "mesh/element_range.h"
+#include "mesh/geometry_hash.h"
 
 #include <cstdint>
 
@@ -48,11 +49,14 @@ MeshValueStats mesh_value_stats(const Mesh& mesh, void* stream);
 /// real cell's box (element_box) and value range: what mesh_summary gives for the layout of
 /// the same geometry.
 FieldSummary::Parts mesh_summary_cells(const Mesh& mesh, const MacroGrid& g, void* stream);
+/// mesh/geometry_hash.h's item sums over every array of geometry_arrays(mesh).
+GeometrySums mesh_geometry_sums(const Mesh& mesh, void* stream);
 
 /// The same on the host, reading the arrays as host memory: the emulation's device, and the
 /// reference the tests hold the device to.
 MeshIndexFault mesh_index_fault_host(const Mesh& mesh);
 MeshValueStats mesh_value_stats_host(const Mesh& mesh);
 FieldSummary::Parts mesh_summary_cells_host(const Mesh& mesh, const MacroGrid& g);
+GeometrySums mesh_geometry_sums_host(const Mesh& mesh);
 
 }  // namespace tessera::cuda

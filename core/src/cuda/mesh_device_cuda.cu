@@ -172,6 +172,15 @@ struct KeyBuffer {
   }
 };
 
+/// The item sums of one geometry array (geometry_hash.h), added into sums[0], sums[1].
+__global__ void geometry_sums(GeometryArray g, unsigned long long* sums) {
+  GeometrySums s;
+  for (std::int64_t i = first_thread(); i < g.count; i += thread_step())
+    add_geometry_item(s, g.tag, static_cast<std::uint64_t>(i), geometry_item(g, i));
+  if (s.a != 0) atomicAdd(sums, static_cast<unsigned long long>(s.a));
+  if (s.b != 0) atomicAdd(sums + 1, static_cast<unsigned long long>(s.b));
+}
+
 }  // namespace
 
 MeshIndexFault mesh_index_fault(const Mesh& mesh, void* stream) {
@@ -267,6 +276,24 @@ FieldSummary::Parts mesh_summary_cells(const Mesh& mesh, const MacroGrid& g, voi
     parts.flags[c] = static_cast<std::uint8_t>(flags[c]);
   }
   return parts;
+}
+
+GeometrySums mesh_geometry_sums(const Mesh& mesh, void* stream) {
+  if (gpu_emulation()) return mesh_geometry_sums_host(mesh);
+  throw_if_disabled();
+  MeshDevice dev(mesh, stream, "hashing the mesh's geometry");
+  BackendBuffer buf(dev.backend());
+  buf.allocate(2 * sizeof(unsigned long long), "mesh geometry hash");
+  auto* sums = buf.as<unsigned long long>();
+  dev.backend().zero(sums, 2 * sizeof(unsigned long long), "mesh geometry hash");
+  for (const GeometryArray& g : geometry_arrays(mesh)) {
+    if (g.count == 0) continue;
+    geometry_sums<<<blocks_for(g.count), kThreads>>>(g, sums);
+    cuda_check(cudaGetLastError(), "launch of geometry_sums (mesh geometry hash)");
+  }
+  unsigned long long host[2] = {0, 0};
+  cuda_check(cudaMemcpy(host, sums, sizeof host, cudaMemcpyDeviceToHost), "geometry_sums (mesh geometry hash)");
+  return GeometrySums{host[0], host[1]};
 }
 
 }  // namespace tessera::cuda

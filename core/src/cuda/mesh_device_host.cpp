@@ -72,6 +72,14 @@ FieldSummary::Parts mesh_summary_cells_host(const Mesh& mesh, const MacroGrid& g
   return parts;
 }
 
+GeometrySums mesh_geometry_sums_host(const Mesh& mesh) {
+  GeometrySums s;
+  for (const GeometryArray& g : geometry_arrays(mesh))
+    for (std::int64_t i = 0; i < g.count; ++i)
+      add_geometry_item(s, g.tag, static_cast<std::uint64_t>(i), geometry_item(g, i));
+  return s;
+}
+
 }  // namespace tessera::cuda
 
 namespace tessera {
@@ -126,6 +134,11 @@ std::shared_ptr<const FieldSummary> cuda_mesh_summary(const Mesh& mesh, const Vo
     return summary_with(mesh, grid, dims, edge, *checked->values(), stream);
   if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
   return summary_with(mesh, grid, dims, edge, totals_of(cuda::mesh_value_stats(mesh, stream)), stream);
+}
+
+MeshGeometryHash cuda_mesh_geometry_hash(const Mesh& mesh, void* stream) {
+  check_mesh_descriptors(mesh);
+  return finish_geometry_hash(mesh, cuda::mesh_geometry_sums(mesh, stream));
 }
 
 std::pair<double, double> cuda_mesh_value_range(const Mesh& mesh, void* stream) {

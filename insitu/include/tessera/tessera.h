@@ -305,10 +305,10 @@ tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* fie
  * structure is reused only if every rank made this call (they agree inside the execute). The
  * adapter still compares the domains' counts and shapes and builds again when they differ (a
  * broken promise gives a wrong image, never a read outside the arrays). Without the promise,
- * a mesh in host memory whose geometry hashes as the one the structure was built over (two
- * independent 64-bit hashes of the coordinates, connectivity and ghost flags: one pass) is
- * reused the same way; the promise saves that pass, and keeps a mesh in device memory on the
- * device. Within one execute call every render after the first reuses the structure anyway.
+ * a mesh whose geometry hashes as the one the structure was built over (two independent
+ * 64-bit hashes of the coordinates, connectivity and ghost flags: one pass, on the GPU for a
+ * mesh in device memory on one rank) is reused the same way; the promise saves that pass.
+ * Within one execute call every render after the first reuses the structure anyway.
  * Returns TESSERA_OK, or TESSERA_ERROR_CONFIG for a NULL or closed adapter. */
 tessera_status tessera_mesh_unchanged(tessera_adapter* adapter);
 

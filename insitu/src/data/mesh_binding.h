@@ -8,7 +8,6 @@
 /// Every function throws std::invalid_argument with a message that names the domain (its
 /// index in the call) and the field (TESSERA_ERROR_DATA at the adapter boundary).
 #include "data/device_arrays.h"
-#include "data/geometry_hash.h"
 
 #include <tessera/mesh.h>
 #include <tessera/tessera.h>
@@ -27,9 +26,9 @@ struct MeshBinding {
   std::int64_t vertices = 0;                      ///< this rank's vertices
   bool gpu_readable = false;                      ///< some array was device or managed memory
   HostStaging staging;                            ///< host copies of its device arrays (mesh_staging.h)
-  bool resident = false;  ///< read on the device where it is, nothing staged (mesh_pass.cpp; local.device)
-  MeshChecked checked;    ///< the receipt of the pass's check of `local` (for prepare: not checked twice)
-  GeometryHash geometry;  ///< the hash of `local`'s geometry, where `hashed` (mesh_pass.cpp)
+  bool resident = false;      ///< read on the device where it is, nothing staged (mesh_pass.cpp; local.device)
+  MeshChecked checked;        ///< the receipt of the pass's check of `local` (for prepare: not checked twice)
+  MeshGeometryHash geometry;  ///< the hash of `local`'s geometry, where `hashed` (mesh_pass.cpp)
   bool hashed = false;
 };
 

@@ -6,8 +6,6 @@
 /// geometry it was built over, which finds the same geometry unpromised. The ranks agree on
 /// reusing it once per call, at its first render over the mesh (mesh_pass.cpp); within a call
 /// every later render reuses the first one's layout (the same domains, so no promise needed).
-#include "data/geometry_hash.h"
-
 #include <tessera/render.h>
 #include <tessera/scene.h>
 
@@ -20,7 +18,7 @@ struct MeshLayoutKeep {
   Bounds bounds;                             ///< that render's mesh bounds (every rank's vertices)
   /// The hash of this rank's geometry that `layout` was built over (host meshes; not known
   /// for a mesh read on the device), so that the same geometry is found without the promise
-  GeometryHash geometry;
+  MeshGeometryHash geometry;
   bool geometry_known = false;
   bool marked = false;    ///< tessera_mesh_unchanged since the last mesh call
   bool carried = false;   ///< this call: it was marked when the call began

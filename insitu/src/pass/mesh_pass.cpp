@@ -1,7 +1,6 @@
 // A render over curvilinear and unstructured domains (mesh_pass.h).
 #include "pass/mesh_pass.h"
 
-#include "data/geometry_hash.h"
 #include "data/mesh_binding.h"
 #include "data/mesh_exchange.h"
 #include "data/mesh_plan.h"
@@ -37,15 +36,23 @@ double at(const void* base, DType t, std::int64_t stride, std::int64_t e) {
   return detail::load_as_double(t, static_cast<const unsigned char*>(base) + e * stride);
 }
 
-/// Whether `m` is read where it is, on the device, with nothing copied to the host: one rank,
-/// every array device memory, the geometry of a kept layout that fits it (`promised`: a kept
-/// layout, promised unchanged by tessera_mesh_unchanged or this call's), and the GPU chosen.
-/// The pass then checks its indices and measures its values on the device, and prepare
-/// summarises them there (Mesh::device).
-bool resident_on_device(const PassContext& pass, const Mesh& m, const MeshMemory& where, bool promised) {
-  const MeshLayoutKeep& keep = pass.call.mesh_layout;
-  return pass.ctx.size() == 1 && promised && mesh_layout_fits(*keep.layout, m) && where.all_device(m) &&
-         config::resolve_device(pass.cfg.global, true, pass.ctx.rank_on_node()).device == Device::Cuda;
+/// Whether b.local is read where it is, on the device, with nothing copied to the host: one
+/// rank, every array device memory, the GPU chosen, and the geometry of a kept layout that
+/// fits it: `promised` (promised unchanged by tessera_mesh_unchanged, or this call's), or
+/// found the same by its hash, computed on the device (keep.detected; b.geometry). The pass
+/// then checks its indices and measures its values on the device, and prepare summarises
+/// them there (Mesh::device).
+bool resident_on_device(const PassContext& pass, MeshBinding& b, const MeshMemory& where, bool promised) {
+  MeshLayoutKeep& keep = pass.call.mesh_layout;
+  if (pass.ctx.size() != 1 || !keep.layout || !mesh_layout_fits(*keep.layout, b.local) || !where.all_device(b.local) ||
+      config::resolve_device(pass.cfg.global, true, pass.ctx.rank_on_node()).device != Device::Cuda)
+    return false;
+  if (promised) return true;
+  if (!keep.geometry_known) return false;
+  b.geometry = cuda_mesh_geometry_hash(b.local, pass.call.cuda_stream);
+  b.hashed = true;
+  keep.detected = b.geometry == keep.geometry;
+  return keep.detected;
 }
 
 /// This rank's mesh bound, its device arrays staged to the host (mesh_staging.h) and checked,
@@ -79,7 +86,7 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
     return std::nullopt;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (!where.on_device()) return;
-        if (resident_on_device(pass, b.local, where, promised)) {
+        if (resident_on_device(pass, b, where, promised)) {
           b.resident = b.local.device = true;
           return;
         }
@@ -87,13 +94,12 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
         stage_mesh_to_host(b.local, where, b.staging, pass.call.cuda_stream, limit.bytes, limit.text);
       }))
     return std::nullopt;
-  // The first render of a call over host arrays hashes the geometry: the same as the kept
-  // layout's, it is reused without the promise (one pass over the geometry instead of the
-  // shapes' check and the layout's sort)
+  // The first render of a call over host arrays hashes the geometry (unless the device did):
+  // the same as the kept layout's, it is reused without the promise (one pass over the
+  // geometry instead of the shapes' check and the layout's sort)
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
-        if (b.local.domains.empty() || b.resident || keep.decided) return;
-        check_mesh_arrays(b.local);  // readable before the hash reads it
-        b.geometry = geometry_hash(b.local);
+        if (b.local.domains.empty() || b.resident || keep.decided || b.hashed) return;
+        b.geometry = mesh_geometry_hash(b.local);  // its arrays readable first (check_mesh_arrays)
         b.hashed = true;
         // (this rank's domains: the hash covers their counts, dims and shapes; the layout is
         // of every rank's, and prepare still checks that it fits the gathered mesh)
