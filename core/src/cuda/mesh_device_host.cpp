@@ -13,7 +13,6 @@
 #include <string>
 
 namespace tessera::cuda {
-namespace {}  // namespace
 
 MeshIndexFault mesh_index_fault_host(const Mesh& mesh) {
   MeshIndexFault f;
@@ -72,13 +71,7 @@ FieldSummary::Parts mesh_summary_cells_host(const Mesh& mesh, const MacroGrid& g
   return parts;
 }
 
-GeometrySums mesh_geometry_sums_host(const Mesh& mesh) {
-  GeometrySums s;
-  for (const GeometryArray& g : geometry_arrays(mesh))
-    for (std::int64_t i = 0; i < g.count; ++i)
-      add_geometry_item(s, g.tag, static_cast<std::uint64_t>(i), geometry_item(g, i));
-  return s;
-}
+GeometrySums mesh_geometry_sums_host(const Mesh& mesh) { return geometry_sums(mesh); }
 
 }  // namespace tessera::cuda
 
@@ -97,11 +90,11 @@ MeshValueTotals totals_of(const cuda::MeshValueStats& s) {
   return t;
 }
 
-/// The summary over `v`, the mesh's value totals (what MeshTables counts: mesh_summary.cpp).
+/// The summary over `v`, the mesh's value totals (what MeshTables counts: mesh_summary.cpp),
+/// for edge >= 1.
 std::shared_ptr<const FieldSummary> summary_with(const Mesh& mesh, const VolumeGeometry& grid,
                                                  const std::int64_t dims[3], int edge, const MeshValueTotals& v,
                                                  void* stream) {
-  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
   FieldSummary::Parts parts = cuda::mesh_summary_cells(mesh, macro_grid(grid, dims, edge), stream);
   parts.nan = v.nan;
   parts.elements = std::max<std::uint64_t>(1, v.values);
@@ -130,9 +123,9 @@ MeshChecked cuda_check_mesh_indices(const Mesh& mesh, void* stream) {
 std::shared_ptr<const FieldSummary> cuda_mesh_summary(const Mesh& mesh, const VolumeGeometry& grid,
                                                       const std::int64_t dims[3], int edge, void* stream,
                                                       const MeshChecked* checked) {
+  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
   if (checked && checked->values() && checked->covers(mesh, false))
     return summary_with(mesh, grid, dims, edge, *checked->values(), stream);
-  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
   return summary_with(mesh, grid, dims, edge, totals_of(cuda::mesh_value_stats(mesh, stream)), stream);
 }
 

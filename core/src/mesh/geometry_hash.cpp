@@ -44,8 +44,7 @@ MeshGeometryHash finish_geometry_hash(const Mesh& mesh, const GeometrySums& item
   return MeshGeometryHash{s.a, s.b};
 }
 
-MeshGeometryHash mesh_geometry_hash(const Mesh& mesh) {
-  check_mesh_arrays(mesh);
+GeometrySums geometry_sums(const Mesh& mesh) {
   GeometrySums total;
   for (const GeometryArray& g : geometry_arrays(mesh)) {
     const GeometrySums part = tbb::parallel_reduce(
@@ -63,7 +62,12 @@ MeshGeometryHash mesh_geometry_hash(const Mesh& mesh) {
     total.a += part.a;
     total.b += part.b;
   }
-  return finish_geometry_hash(mesh, total);
+  return total;
+}
+
+MeshGeometryHash mesh_geometry_hash(const Mesh& mesh) {
+  check_mesh_arrays(mesh);
+  return finish_geometry_hash(mesh, geometry_sums(mesh));
 }
 
 }  // namespace tessera

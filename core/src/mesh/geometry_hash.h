@@ -64,6 +64,10 @@ TESSERA_HOST_DEVICE inline void add_geometry_item(GeometrySums& s, std::uint64_t
 /// x, y, z, the connectivity (unstructured) and the ghost mask (when set).
 std::vector<GeometryArray> geometry_arrays(const Mesh& mesh);
 
+/// The item sums of every array of geometry_arrays(mesh), read as host memory, over TBB's
+/// threads (the host's hash, and the emulated device's).
+GeometrySums geometry_sums(const Mesh& mesh);
+
 /// The hash from the item sums of every array of geometry_arrays(mesh), the descriptors
 /// mixed in as items of their own tag.
 MeshGeometryHash finish_geometry_hash(const Mesh& mesh, const GeometrySums& items);

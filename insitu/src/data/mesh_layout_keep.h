@@ -16,8 +16,9 @@ namespace tessera::insitu {
 struct MeshLayoutKeep {
   std::shared_ptr<const MeshLayout> layout;  ///< the last mesh render's
   Bounds bounds;                             ///< that render's mesh bounds (every rank's vertices)
-  /// The hash of this rank's geometry that `layout` was built over (host meshes; not known
-  /// for a mesh read on the device), so that the same geometry is found without the promise
+  /// The hash of this rank's geometry that `layout` was built over (mesh_geometry_hash, or
+  /// cuda_mesh_geometry_hash of a device mesh: the same value), so that the same geometry is
+  /// found without the promise
   MeshGeometryHash geometry;
   bool geometry_known = false;
   bool marked = false;    ///< tessera_mesh_unchanged since the last mesh call
