@@ -141,9 +141,10 @@ class MeshChecked {
 };
 
 /// Checks every domain, in time and memory linear in the mesh (one pass over the elements and
-/// the values, no allocation proportional to it; the elements over TBB's threads), and throws
-/// std::invalid_argument whose message begins "mesh domain D" (and names "element E", the
-/// lowest at fault in the first faulty domain, whatever the thread count) for:
+/// the values, no allocation proportional to it; the elements over the threads of the
+/// caller's TBB arena), and throws std::invalid_argument whose message begins "mesh domain D"
+/// (and names "element E", the lowest at fault in the first faulty domain, whatever the
+/// thread count) for:
 /// no domain or no cell; negative counts or strides below the dtype size; counts x strides
 /// overflowing int64; a non-float coordinate dtype or unknown index type or shape (wedge and
 /// pyramid: not supported yet); null arrays; dims that do not match the vertex count; an index
@@ -190,9 +191,9 @@ void check_mesh_descriptors(const Mesh& mesh);
 /// for bit as an earlier one, and reuse its layout: prepare's `reuse`). The same geometry in
 /// other arrays (other pointers or strides) has the same hash. An accidental match of another
 /// geometry needs both to collide (about 2^-128); not cryptographic. check_mesh_arrays first
-/// (throws as it does), then one pass over the items over TBB's threads: the same value under
-/// any thread count. cuda_mesh_geometry_hash (cuda_render.h) gives the same value for arrays in
-/// GPU memory.
+/// (throws as it does), then one pass over the items over the caller's arena's threads: the
+/// same value under any thread count. cuda_mesh_geometry_hash (cuda_render.h) gives the same
+/// value for arrays in GPU memory.
 struct MeshGeometryHash {
   std::uint64_t a = 0, b = 0;
   bool operator==(const MeshGeometryHash&) const = default;

@@ -4,7 +4,9 @@
 /// prepare() validates the scene against the field (throws std::invalid_argument naming the
 /// fault), builds the majorant grid, light and environment sampling tables and the tile list.
 /// The PreparedScene references the field memory, which must outlive it. render_tiles() is
-/// thread-safe, allocates nothing per sample, throws nothing from inside the loop.
+/// thread-safe, allocates nothing per sample, throws nothing from inside the loop. Both run
+/// on at most options.threads threads (their own task arena when the caller's is of another
+/// width), whatever arena the caller is in.
 ///
 /// The one pass over the field's values that prepare() needs (the FieldSummary: macrocell
 /// value ranges, NaN count, finite min/max) can be carried from one prepare to the next of

@@ -62,7 +62,9 @@ struct RenderOptions {
   std::uint64_t frame = 0;  ///< timestep / frame: part of every random stream
   int tile = 8;             ///< tile edge in pixels; 0 = scanline
   TileOrder order = TileOrder::RowMajor;
-  int threads = 0;  ///< 0 = all hardware threads
+  /// Worker threads of prepare() (its passes over the field or mesh) and of render_tiles():
+  /// 0 = as many as the caller's TBB arena has (all hardware threads by default).
+  int threads = 0;
   /// Wall-clock deadline of the render (steady clock); max() = none. render_tiles checks it
   /// before each tile, before each pixel of a tile and every 64 samples of one pixel,
   /// prepare() every 64 samples of the adaptive preview (never per sample); past it

@@ -1,5 +1,5 @@
 /// prepare's adaptive preview: runs the preview kernel (tile_kernel.h) over block rows in a
-/// task arena, as the tile scheduler (render/render.cpp) runs the tile kernel over tiles.
+/// task arena of options.threads, as the tile scheduler (render/render.cpp) runs the tile kernel over tiles.
 #include "scene/adaptive_preview.h"
 
 #include <tessera/render.h>
@@ -11,7 +11,6 @@
 #include "kernels/workers.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <cstdint>
 #include <vector>
@@ -20,15 +19,13 @@ namespace tessera {
 
 double adaptive_preview_scale(const KernelScene& s, const RenderOptions& options) {
   if (!(s.target_error > 0.0)) return 0.0;
-  const int threads = render_threads(options);
   const PreviewKernel preview_row = preview_kernel(s);
   const int rows = (s.height + kAdaptiveBlock - 1) / kAdaptiveBlock;
   const int cols = (s.width + kAdaptiveBlock - 1) / kAdaptiveBlock;
   std::vector<double> sigma(rows, 0.0), lum(rows, 0.0);
   std::vector<std::uint64_t> count(rows, 0);
   StopCheck stop(options.deadline);
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
+  within_render_threads(options, [&] {
     tbb::parallel_for(0, rows, [&](int by) {
       if (stop.stop()) return;
       TileBracket bracket(s.paged.cache);

@@ -5,6 +5,7 @@
 #include <tessera/loop_bounds.h>
 #include <tessera/number_text.h>
 
+#include "kernels/workers.h"
 #include "mesh/mesh_summary.h"
 #include "scene/adaptive_preview.h"
 #include "scene/amr_tables.h"
@@ -207,6 +208,18 @@ std::string dims_text(const std::int64_t d[3]) {
   return std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" + std::to_string(d[2]);
 }
 
+/// A summary handed to prepare fits the field: its macrocell edge is the scene's `edge` and
+/// its cells cover `dims` (`what` names the field in the message).
+void require_summary_fits(const FieldSummary& summary, int edge, const std::int64_t dims[3], const char* what) {
+  require(summary.edge() == edge, std::string(what) + ": the field summary has macrocell edge " +
+                                      std::to_string(summary.edge()) + ", this scene needs " + std::to_string(edge) +
+                                      " for dims " + dims_text(dims));
+  for (int a = 0; a < 3; ++a)
+    require(summary.cells()[a] == std::max<std::int64_t>(1, (dims[a] - 1 + edge - 1) / edge),
+            std::string(what) + ": the field summary's " + dims_text(summary.cells()) + " cells do not fit dims " +
+                dims_text(dims) + " with edge " + std::to_string(edge));
+}
+
 /// A paged field's own checks: the cache's grid, the own block inside the global dims.
 void validate_paged(const PagedField& f) {
   for (int a = 0; a < 3; ++a)
@@ -340,126 +353,116 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
 }  // namespace
 
 PreparedScene prepare(const FieldView& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> reuse) {
-  validate(field, scene);
-  PreparedScene ps;
-  PreparedSceneImpl& p = *ps.m_impl;
-  // Majorants: one global cell, or macrocells of `macrocell` voxels; the field pass only
-  // when no matching summary is given
-  const int edge = majorant_edge(field, scene.integrator);
-  p.summary_reused = reuse && reuse->matches(field, edge);
-  prepare_from(p, field, scene, p.summary_reused ? std::move(reuse) : FieldSummary::build(field, edge), nullptr);
-  return ps;
+  return within_render_threads(scene.options, [&]() -> PreparedScene {
+    validate(field, scene);
+    PreparedScene ps;
+    PreparedSceneImpl& p = *ps.m_impl;
+    // Majorants: one global cell, or macrocells of `macrocell` voxels; the field pass only
+    // when no matching summary is given
+    const int edge = majorant_edge(field, scene.integrator);
+    p.summary_reused = reuse && reuse->matches(field, edge);
+    prepare_from(p, field, scene, p.summary_reused ? std::move(reuse) : FieldSummary::build(field, edge), nullptr);
+    return ps;
+  });
 }
 
 PreparedScene prepare(const MagnitudeField& field, const SceneDesc& scene,
                       std::shared_ptr<const FieldSummary> summary) {
-  field.validate();
-  // The scene is checked against component 0: dims and placement are the field's
-  const FieldView& first = field.components[0];
-  validate_scene(first, scene);
-  const int edge = majorant_edge(first, scene.integrator);
-  PreparedScene ps;
-  PreparedSceneImpl& p = *ps.m_impl;
-  if (summary) {
-    require(summary->edge() == edge, "vector field: the field summary has macrocell edge " +
-                                         std::to_string(summary->edge()) + ", this scene needs " +
-                                         std::to_string(edge));
-    for (int a = 0; a < 3; ++a)
-      require(summary->cells()[a] == std::max<std::int64_t>(1, (first.dims[a] - 1 + edge - 1) / edge),
-              "vector field: the field summary's " + dims_text(summary->cells()) + " cells do not fit dims " +
-                  dims_text(first.dims) + " with edge " + std::to_string(edge));
-    p.summary_reused = true;
-  } else {
-    summary = magnitude_summary(field, edge);
-  }
-  prepare_from(p, first, scene, std::move(summary), nullptr, nullptr, &field);
-  return ps;
+  return within_render_threads(scene.options, [&]() -> PreparedScene {
+    field.validate();
+    // The scene is checked against component 0: dims and placement are the field's
+    const FieldView& first = field.components[0];
+    validate_scene(first, scene);
+    const int edge = majorant_edge(first, scene.integrator);
+    PreparedScene ps;
+    PreparedSceneImpl& p = *ps.m_impl;
+    if (summary) {
+      require_summary_fits(*summary, edge, first.dims, "vector field");
+      p.summary_reused = true;
+    } else {
+      summary = magnitude_summary(field, edge);
+    }
+    prepare_from(p, first, scene, std::move(summary), nullptr, nullptr, &field);
+    return ps;
+  });
 }
 
 PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary) {
-  validate_paged(field);
-  const FieldView global = global_descriptor(field);
-  validate_scene(global, scene);
-  const int edge = majorant_edge(global, scene.integrator);
-  require(summary != nullptr, "paged field: no field summary (the combined partial summaries of every block)");
-  require(summary->edge() == edge, "paged field: the field summary has macrocell edge " +
-                                       std::to_string(summary->edge()) + ", this scene needs " + std::to_string(edge) +
-                                       " for dims " + dims_text(field.dims));
-  for (int a = 0; a < 3; ++a)
-    require(summary->cells()[a] == std::max<std::int64_t>(1, (field.dims[a] - 1 + edge - 1) / edge),
-            "paged field: the field summary's " + dims_text(summary->cells()) + " cells do not fit dims " +
-                dims_text(field.dims) + " with edge " + std::to_string(edge));
-  PagedFieldView view;
-  view.dtype = field.dtype;
-  view.local = field.local;
-  const BrickGrid& g = field.cache->grid();
-  view.shift = g.shift;
-  for (int a = 0; a < 3; ++a) {
-    view.dims[a] = field.dims[a];
-    view.bricks[a] = g.bricks[a];
-    view.lo[a] = field.local.data ? field.offset[a] : 0;
-    view.hi[a] = field.local.data ? field.offset[a] + field.local.dims[a] : 0;
-  }
-  view.cache = field.cache;
-  view.in_place = field.cache->in_place();  // the rank's other own blocks (BrickCache::set_in_place)
-  PreparedScene ps;
-  PreparedSceneImpl& p = *ps.m_impl;
-  p.summary_reused = true;  // never a pass over the values here
-  p.paged_local_device = field.local.data ? field.local_device : nullptr;
-  prepare_from(p, global, scene, std::move(summary), &view);
-  return ps;
+  return within_render_threads(scene.options, [&]() -> PreparedScene {
+    validate_paged(field);
+    const FieldView global = global_descriptor(field);
+    validate_scene(global, scene);
+    const int edge = majorant_edge(global, scene.integrator);
+    require(summary != nullptr, "paged field: no field summary (the combined partial summaries of every block)");
+    require_summary_fits(*summary, edge, field.dims, "paged field");
+    PagedFieldView view;
+    view.dtype = field.dtype;
+    view.local = field.local;
+    const BrickGrid& g = field.cache->grid();
+    view.shift = g.shift;
+    for (int a = 0; a < 3; ++a) {
+      view.dims[a] = field.dims[a];
+      view.bricks[a] = g.bricks[a];
+      view.lo[a] = field.local.data ? field.offset[a] : 0;
+      view.hi[a] = field.local.data ? field.offset[a] + field.local.dims[a] : 0;
+    }
+    view.cache = field.cache;
+    view.in_place = field.cache->in_place();  // the rank's other own blocks (BrickCache::set_in_place)
+    PreparedScene ps;
+    PreparedSceneImpl& p = *ps.m_impl;
+    p.summary_reused = true;  // never a pass over the values here
+    p.paged_local_device = field.local.data ? field.local_device : nullptr;
+    prepare_from(p, global, scene, std::move(summary), &view);
+    return ps;
+  });
 }
 
 PreparedScene prepare(const AmrField& field, const SceneDesc& scene, std::shared_ptr<const FieldSummary> summary) {
-  const VolumeGeometry& g = scene.geometry;
-  for (int a = 0; a < 3; ++a)
-    require(g.coords[a] == nullptr, std::string("refinement levels with a rectilinear axis (") + axis_name(a) +
-                                        ") are not supported yet: give uniform axes");
-  require(g.association == Association::Vertex || g.association == Association::Cell,
-          "volume association " + std::to_string(static_cast<int>(g.association)) + " is neither vertex nor cell");
-  check_amr(field, g.association);
-  // Level 0's descriptor: dims and dtype, no data (the values are the patches')
-  PagedField level0;
-  level0.dtype = field.dtype;
-  for (int a = 0; a < 3; ++a) level0.dims[a] = field.dims[a];
-  const FieldView global = global_descriptor(level0);
-  validate_scene(global, scene);
-  const int edge = majorant_edge(global, scene.integrator);
-  // Distributed mode: other ranks' patches through the cache over the virtual grid
-  PagedFieldView view;
-  if (field.cache) {
-    const BrickGrid& bg = field.cache->grid();
-    require(bg.dtype == field.dtype && bg.dims[0] == field.layout.dims[0] && bg.dims[1] == field.layout.dims[1] &&
-                bg.dims[2] == field.layout.dims[2],
-            "refinement levels: the brick cache is for a " + std::string(dtype_name(bg.dtype)) + " grid of " +
-                dims_text(bg.dims) + ", the levels' virtual grid is " + dtype_name(field.dtype) + " " +
-                dims_text(field.layout.dims));
-    require(summary != nullptr, "refinement levels in distributed mode: no field summary (the combined parts of "
-                                "every rank's patches, amr_summary_parts)");
-    view.dtype = field.dtype;
-    view.shift = bg.shift;
-    for (int a = 0; a < 3; ++a) {
-      view.dims[a] = bg.dims[a];
-      view.bricks[a] = bg.bricks[a];
-    }
-    view.cache = field.cache;
-  }
-  PreparedScene ps;
-  PreparedSceneImpl& p = *ps.m_impl;
-  if (summary) {
-    require(summary->edge() == edge, "refinement levels: the field summary has macrocell edge " +
-                                         std::to_string(summary->edge()) + ", this scene needs " +
-                                         std::to_string(edge));
+  return within_render_threads(scene.options, [&]() -> PreparedScene {
+    const VolumeGeometry& g = scene.geometry;
     for (int a = 0; a < 3; ++a)
-      require(summary->cells()[a] == std::max<std::int64_t>(1, (field.dims[a] - 1 + edge - 1) / edge),
-              "refinement levels: the field summary's " + dims_text(summary->cells()) + " cells do not fit dims " +
-                  dims_text(field.dims) + " with edge " + std::to_string(edge));
-    p.summary_reused = true;
-  } else {
-    summary = amr_summary(field, g.association, edge);
-  }
-  prepare_from(p, global, scene, std::move(summary), field.cache ? &view : nullptr, &field);
-  return ps;
+      require(g.coords[a] == nullptr, std::string("refinement levels with a rectilinear axis (") + axis_name(a) +
+                                          ") are not supported yet: give uniform axes");
+    require(g.association == Association::Vertex || g.association == Association::Cell,
+            "volume association " + std::to_string(static_cast<int>(g.association)) + " is neither vertex nor cell");
+    check_amr(field, g.association);
+    // Level 0's descriptor: dims and dtype, no data (the values are the patches')
+    PagedField level0;
+    level0.dtype = field.dtype;
+    for (int a = 0; a < 3; ++a) level0.dims[a] = field.dims[a];
+    const FieldView global = global_descriptor(level0);
+    validate_scene(global, scene);
+    const int edge = majorant_edge(global, scene.integrator);
+    // Distributed mode: other ranks' patches through the cache over the virtual grid
+    PagedFieldView view;
+    if (field.cache) {
+      const BrickGrid& bg = field.cache->grid();
+      require(bg.dtype == field.dtype && bg.dims[0] == field.layout.dims[0] && bg.dims[1] == field.layout.dims[1] &&
+                  bg.dims[2] == field.layout.dims[2],
+              "refinement levels: the brick cache is for a " + std::string(dtype_name(bg.dtype)) + " grid of " +
+                  dims_text(bg.dims) + ", the levels' virtual grid is " + dtype_name(field.dtype) + " " +
+                  dims_text(field.layout.dims));
+      require(summary != nullptr, "refinement levels in distributed mode: no field summary (the combined parts of "
+                                  "every rank's patches, amr_summary_parts)");
+      view.dtype = field.dtype;
+      view.shift = bg.shift;
+      for (int a = 0; a < 3; ++a) {
+        view.dims[a] = bg.dims[a];
+        view.bricks[a] = bg.bricks[a];
+      }
+      view.cache = field.cache;
+    }
+    PreparedScene ps;
+    PreparedSceneImpl& p = *ps.m_impl;
+    if (summary) {
+      require_summary_fits(*summary, edge, field.dims, "refinement levels");
+      p.summary_reused = true;
+    } else {
+      summary = amr_summary(field, g.association, edge);
+    }
+    prepare_from(p, global, scene, std::move(summary), field.cache ? &view : nullptr, &field);
+    return ps;
+  });
 }
 
 namespace {
@@ -499,20 +502,22 @@ void prepare_device_mesh(PreparedSceneImpl& p, const Mesh& mesh, const SceneDesc
 
 PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse,
                       const MeshChecked& checked) {
-  PreparedScene ps;
-  PreparedSceneImpl& p = *ps.m_impl;
-  if (mesh.device) {
-    prepare_device_mesh(p, mesh, scene, std::move(reuse), checked);
+  return within_render_threads(scene.options, [&]() -> PreparedScene {
+    PreparedScene ps;
+    PreparedSceneImpl& p = *ps.m_impl;
+    if (mesh.device) {
+      prepare_device_mesh(p, mesh, scene, std::move(reuse), checked);
+      return ps;
+    }
+    const bool fits = reuse && reuse->fits(mesh);
+    if (!checked.covers(mesh, !fits)) {  // a reused layout: the indices; a new one: the shapes too
+      if (fits) check_mesh_indices(mesh);
+      else check_mesh(mesh);
+    }
+    p.mesh.build(mesh, fits ? std::move(reuse) : nullptr);
+    prepare_mesh_scene(p, scene, [&](int edge) { return mesh_summary(p.mesh, edge); });
     return ps;
-  }
-  const bool fits = reuse && reuse->fits(mesh);
-  if (!checked.covers(mesh, !fits)) {  // a reused layout: the indices; a new one: the shapes too
-    if (fits) check_mesh_indices(mesh);
-    else check_mesh(mesh);
-  }
-  p.mesh.build(mesh, fits ? std::move(reuse) : nullptr);
-  prepare_mesh_scene(p, scene, [&](int edge) { return mesh_summary(p.mesh, edge); });
-  return ps;
+  });
 }
 
 }  // namespace tessera

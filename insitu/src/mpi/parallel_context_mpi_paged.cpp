@@ -6,6 +6,8 @@
 
 #include "data/block_ops.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <atomic>
 #include <climits>
@@ -135,9 +137,13 @@ void MpiParallelContext::end_distribution() {
 void MpiParallelContext::serve_during(const std::function<void()>& fn) {
   std::exception_ptr error;
   std::atomic<bool> done{false};
+  // fn runs on its own thread (this one serves bricks) but as wide as the pass' arena
+  // (tessera.threads, render_pass.cpp): a fresh arena of that width, not the caller's, whose
+  // only reserved slot this serving thread holds
+  tbb::task_arena arena(tbb::this_task_arena::max_concurrency());
   std::thread worker([&] {
     try {
-      fn();
+      arena.execute(fn);
     } catch (...) {
       error = std::current_exception();
     }

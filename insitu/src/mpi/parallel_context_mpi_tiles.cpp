@@ -3,6 +3,7 @@
 #include "mpi/mpi_check.h"
 #include "mpi/mpi_datatypes.h"
 #include "mpi/parallel_context_mpi.h"
+#include "parallel/rank_threads.h"
 
 #include <tbb/task_arena.h>
 
@@ -12,7 +13,6 @@
 #include <span>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 namespace tessera::insitu {
 namespace {
@@ -66,14 +66,9 @@ std::vector<int> MpiParallelContext::render_grabbed_tiles(const PreparedScene& s
   }
   check(MPI_Barrier(m_comm), "MPI_Barrier");
 
-  // Threads: `threads: 0` means all hardware threads of the node, shared by its ranks (unless
-  // the launcher already bound this rank to fewer cores than the machine has).
-  int threads = scene.desc().options.threads;
-  if (threads <= 0) {
-    threads = tbb::this_task_arena::max_concurrency();
-    if (m_node_size > 1 && threads >= static_cast<int>(std::thread::hardware_concurrency()))
-      threads = std::max(1, threads / m_node_size);
-  }
+  // Threads: `threads: 0` means all hardware threads of the node, shared by its ranks
+  // (rank_threads; the pass already runs in an arena of this width)
+  const int threads = rank_threads(scene.desc().options.threads, m_node_size);
   tbb::task_arena arena(threads);  // render_tiles uses the arena's concurrency
 
   // Grab a few tiles at a time until none is left. A chunk keeps this rank's threads busy

@@ -1,6 +1,7 @@
 // One render of one execute call, as the list of its phases (render_pass.h).
 #include "pass/render_pass.h"
 
+#include "parallel/rank_threads.h"
 #include "pass/bind_phase.h"
 #include "pass/cinema_phase.h"
 #include "pass/device_phase.h"
@@ -93,7 +94,10 @@ PassOutcome run_render(ParallelContext& ctx, const config::Config& cfg, RenderSt
   out.result.time = call.time;
   try {
     try {
-      return run(pass_context(ctx, cfg, render, call, summaries), check_when, quiet);
+      // Everything the pass runs over threads (prepare's passes, the adapter's checks, hashes
+      // and summaries, the render) keeps to tessera.threads (rank_threads)
+      return within_threads(rank_threads(cfg.global.threads, ctx.ranks_on_node()),
+                            [&] { return run(pass_context(ctx, cfg, render, call, summaries), check_when, quiet); });
     } catch (const std::exception& e) {
       out.result.name = render.spec->name;
       out.result.error = "render '" + render.spec->name + "' at step " + std::to_string(call.step) + ": " + e.what();
