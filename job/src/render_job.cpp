@@ -185,7 +185,7 @@ RenderedImage render_image(const config::Config& cfg, const config::RenderSpec& 
   Image image = film.resolve(spec.output.variance, spec.output.samples);
   if (scene.image.denoise) {
     const auto t_denoise = Clock::now();
-    denoise(image);  // the PNG shows it, the EXR gains denoised.R/G/B; RGBA stays as rendered
+    denoise(image, scene.options.threads);  // the PNG shows it, the EXR gains denoised.R/G/B; RGBA stays as rendered
     rec.denoise_seconds = std::chrono::duration<double>(Clock::now() - t_denoise).count();
   }
   return RenderedImage{std::move(rec), std::move(image), scene.tf};

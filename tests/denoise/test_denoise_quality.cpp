@@ -2,10 +2,13 @@
 // (RMSE over linear RGB) to an independent 1024-spp reference of the same scene (another
 // seed) than the raw 8-spp estimate is. Exits 77 (CTest SKIP_RETURN_CODE) when OIDN cannot be
 // found (denoiser.h: TESSERA_OIDN_LIBRARY, libOpenImageDenoise.so.2, pyoidn of python3 on
-// PATH), 0 on success, 1 on failure. Also checks that denoising leaves RGBA untouched.
+// PATH), 0 on success, 1 on failure. Also checks that denoising leaves RGBA untouched and
+// runs on the threads asked for.
 #include <tessera/denoiser.h>
 #include <tessera/film.h>
 #include <tessera/render.h>
+
+#include <tbb/task_arena.h>
 
 #include <chrono>
 #include <cmath>
@@ -90,6 +93,10 @@ int main() {
       std::printf("SKIPPED: %s\n", e.what());
       return 77;
     }
+    if (tessera::denoiser_threads() != 0) {
+      std::printf("FAILED: denoiser_threads() is %d before any denoise\n", tessera::denoiser_threads());
+      return 1;
+    }
     const std::vector<float> field = blob_field();
     const tessera::FieldView view = tessera::FieldView::contiguous(field.data(), tessera::DType::Float32, N, N, N);
     const tessera::Image ref = render(view, 1024, 7);
@@ -108,6 +115,24 @@ int main() {
     if (!(den < raw)) {
       std::printf("FAILED: the denoised image is not closer to the reference than the raw one\n");
       return 1;
+    }
+    // Threads: 0 took the caller's arena's width; a count asked for is the one OIDN runs on
+    // (the device remade for it), as closely denoised
+    const int all = tbb::this_task_arena::max_concurrency();
+    if (tessera::denoiser_threads() != all) {
+      std::printf("FAILED: threads 0 in an arena of %d: OIDN runs on %d\n", all, tessera::denoiser_threads());
+      return 1;
+    }
+    for (const int threads : {1, 2, 1}) {
+      if (threads > all) continue;
+      tessera::Image again = noisy;
+      tessera::denoise(again, threads);
+      const double d = rmse(again.denoised.data(), 3, ref);
+      std::printf("denoise on %d thread(s): OIDN reports %d, RMSE %.5f\n", threads, tessera::denoiser_threads(), d);
+      if (tessera::denoiser_threads() != threads || !(d < raw)) {
+        std::printf("FAILED: asked for %d thread(s)\n", threads);
+        return 1;
+      }
     }
     return 0;
   } catch (const std::exception& e) {

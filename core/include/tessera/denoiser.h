@@ -55,9 +55,17 @@ std::string require_denoiser();
 
 /// Denoises img's RGB (HDR, linear) with OIDN's "RT" filter, guided by img.albedo and, when
 /// any normal is non-zero, img.normal (both optional, width*height*3). Fills img.denoised
-/// (width*height*3); rgba is left untouched. Runs on OIDN's CPU device (created once per
-/// process, calls serialised by a lock). Throws DenoiserUnavailable as require_denoiser(),
-/// std::runtime_error with OIDN's message if the filter fails.
-void denoise(Image& img);
+/// (width*height*3); rgba is left untouched. Runs on OIDN's CPU device with `threads` threads
+/// (0 = as many as the caller's TBB arena has, as RenderOptions::threads; OIDN takes at most
+/// the hardware threads), never pinned to cores (an MPI launcher binds each rank to its cores:
+/// OIDN's own pinning would put every rank's threads on the same ones). The device is created
+/// once per process and again only when another thread count is asked for; calls are
+/// serialised by a lock. Throws DenoiserUnavailable as require_denoiser(), std::runtime_error
+/// with OIDN's message if the device or the filter fails.
+void denoise(Image& img, int threads = 0);
+
+/// The threads OIDN's CPU device runs on, as OIDN reports them for the device the last
+/// denoise() made; 0 before the first.
+int denoiser_threads();
 
 }  // namespace tessera

@@ -5,6 +5,8 @@
 #include <tessera/memory_estimate.h>
 #include <tessera/regular_file.h>
 
+#include <tbb/task_arena.h>
+
 #include <dlfcn.h>
 #include <glob.h>
 #include <sys/stat.h>
@@ -31,6 +33,9 @@ struct OidnApi {
   void (*commitDevice)(OIDNDevice) = nullptr;
   int (*getDeviceError)(OIDNDevice, const char** message) = nullptr;
   int (*getDeviceInt)(OIDNDevice, const char* name) = nullptr;
+  void (*setDeviceInt)(OIDNDevice, const char* name, int value) = nullptr;
+  void (*setDeviceBool)(OIDNDevice, const char* name, bool value) = nullptr;
+  void (*releaseDevice)(OIDNDevice) = nullptr;
   OIDNFilter (*newFilter)(OIDNDevice, const char* type) = nullptr;
   void (*setSharedFilterImage)(OIDNFilter, const char* name, void* ptr, int format, std::size_t width,
                                std::size_t height, std::size_t byte_offset, std::size_t pixel_stride,
@@ -187,6 +192,9 @@ std::string try_load(const std::string& path, Loaded& l) {
     sym(api.commitDevice, "oidnCommitDevice");
     sym(api.getDeviceError, "oidnGetDeviceError");
     sym(api.getDeviceInt, "oidnGetDeviceInt");
+    sym(api.setDeviceInt, "oidnSetDeviceInt");
+    sym(api.setDeviceBool, "oidnSetDeviceBool");
+    sym(api.releaseDevice, "oidnReleaseDevice");
     sym(api.newFilter, "oidnNewFilter");
     sym(api.setSharedFilterImage, "oidnSetSharedFilterImage");
     sym(api.setFilterBool, "oidnSetFilterBool");
@@ -241,6 +249,16 @@ std::string device_error(const OidnApi& api, OIDNDevice dev) {
   return msg && *msg ? msg : "unknown Open Image Denoise error";
 }
 
+/// The one CPU device of the process: made on first use, remade when another thread count is
+/// asked for; calls take turns on the mutex.
+struct DenoiserDevice {
+  std::mutex mutex;
+  OIDNDevice device = nullptr;
+  int asked = 0;    ///< the thread count it was made for
+  int threads = 0;  ///< the threads OIDN says it runs on
+};
+DenoiserDevice g_device;
+
 }  // namespace
 
 std::vector<std::string> oidn_search_paths() {
@@ -255,7 +273,12 @@ std::string require_denoiser() {
   return l.path;
 }
 
-void denoise(Image& img) {
+int denoiser_threads() {
+  const std::lock_guard<std::mutex> lock(g_device.mutex);
+  return g_device.threads;
+}
+
+void denoise(Image& img, int threads) {
   require_denoiser();
   const OidnApi& api = oidn().api;
   const std::size_t n = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
@@ -270,20 +293,37 @@ void denoise(Image& img) {
   }
   img.denoised.assign(n * 3, 0.0f);
 
-  // One CPU device per process, made on first use and kept; calls take turns
-  static std::mutex mutex;
-  static OIDNDevice device = nullptr;
-  const std::lock_guard<std::mutex> lock(mutex);
-  if (!device) {
+  // One CPU device per process, made on first use and kept while the thread count asked for
+  // stays the same; calls take turns
+  const int want = threads > 0 ? threads : tbb::this_task_arena::max_concurrency();
+  const std::lock_guard<std::mutex> lock(g_device.mutex);
+  if (g_device.device && g_device.asked != want) {
+    api.releaseDevice(g_device.device);
+    g_device.device = nullptr;
+    g_device.threads = 0;
+  }
+  if (!g_device.device) {
     OIDNDevice d = api.newDevice(kOidnDeviceTypeCpu);
     if (!d) throw std::runtime_error("Open Image Denoise: cannot create a CPU device");
+    // Its own arena of `want` threads, not pinned to cores: in situ the launcher binds each
+    // rank to its cores, and OIDN's pinning would put every rank's threads on the same ones
+    api.setDeviceInt(d, "numThreads", want);
+    api.setDeviceBool(d, "setAffinity", false);
     api.commitDevice(d);
-    if (const std::string e = device_error(api, d); !e.empty())
-      throw std::runtime_error("Open Image Denoise: CPU device: " + e);
-    if (api.getDeviceInt(d, "versionMajor") < 2)
+    std::string e = device_error(api, d);
+    if (e.empty() && api.getDeviceInt(d, "versionMajor") < 2) {
+      api.releaseDevice(d);
       throw DenoiserUnavailable(oidn().path + " is older than Open Image Denoise 2.x");
-    device = d;  // kept for the life of the process
+    }
+    if (!e.empty()) {
+      api.releaseDevice(d);
+      throw std::runtime_error("Open Image Denoise: CPU device: " + e);
+    }
+    g_device.device = d;
+    g_device.asked = want;
+    g_device.threads = api.getDeviceInt(d, "numThreads");
   }
+  const OIDNDevice device = g_device.device;
 
   // The "RT" filter on the image's own buffers: RGB read from RGBA (16-byte pixels)
   const OIDNFilter f = api.newFilter(device, "RT");

@@ -33,7 +33,7 @@ bool resolve_image(PhaseGate& gate, const PassContext& pass, const Film& film, I
     img = film.resolve(pass.spec.output.variance, pass.spec.output.samples);
     if (!pass.spec.image.denoise) return;
     const auto t0 = PassClock::now();
-    denoise(img);
+    denoise(img);  // on the pass' threads (the arena run_render made of tessera.threads)
     result.denoise_seconds += std::chrono::duration<double>(PassClock::now() - t0).count();
   });
 }
