@@ -5,7 +5,8 @@
 // the hash). Not a test: prints seconds per call (median of the steps after the first) and
 // writes a CSV.
 //
-//   mesh_insitu_bench [--cells N] [--steps S] [--csv PATH]     (defaults: 64, 6, mesh_insitu_bench.csv)
+//   mesh_insitu_bench [--cells N] [--steps S] [--csv PATH] [--threads T] [--only moved|same|promised]
+//   (defaults: 64, 6, mesh_insitu_bench.csv, 0 = all hardware threads, every mode)
 #include <tessera/adapter.h>
 
 #include "mesh_blocks.h"
@@ -42,11 +43,15 @@ int main(int argc, char** argv) {
   std::int64_t cells = 64;
   int steps = 6;
   std::string csv = "mesh_insitu_bench.csv";
+  int threads = 0;
+  std::string only;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--cells") cells = std::max<std::int64_t>(2, std::atoll(argv[i + 1]));
     else if (flag == "--steps") steps = std::max(2, std::atoi(argv[i + 1]));
     else if (flag == "--csv") csv = argv[i + 1];
+    else if (flag == "--threads") threads = std::max(0, std::atoi(argv[i + 1]));
+    else if (flag == "--only") only = argv[i + 1];
     else {
       std::fprintf(stderr, "mesh_insitu_bench: unknown flag %s\n", flag.c_str());
       return 2;
@@ -55,8 +60,8 @@ int main(int argc, char** argv) {
   const fs::path dir = fs::temp_directory_path() / ("mesh_insitu_bench_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path config = dir / "bench.yaml";
-  std::ofstream(config) << "tessera:\n  output_dir: " << (dir / "out").string()
-                        << "\n  threads: 0\nrenders:\n  - name: view\n    field: f\n"
+  std::ofstream(config) << "tessera:\n  output_dir: " << (dir / "out").string() << "\n  threads: " << threads
+                        << "\nrenders:\n  - name: view\n    field: f\n"
                            "    image: {width: 32, height: 32, spp: 1}\n"
                            "    camera: {position: {orbit: {azimuth: 30, elevation: 25, distance: 3}}, look_at: "
                            "center, up: [0, 0, 1], fov: 40}\n"
@@ -64,6 +69,7 @@ int main(int argc, char** argv) {
   const std::int64_t n[3] = {cells + 1, cells + 1, cells + 1};
   std::vector<Row> rows;
   for (const std::string mode : {"moved", "same (hash)", "promised"}) {
+    if (!only.empty() && mode.rfind(only, 0) != 0) continue;
     tessera_test::MeshBlock block(n, 0, cells);
     std::vector<tessera_mesh_domain> domains = {block.domain(tessera_test::MeshBlock::Form::Hexes)};
     tessera::insitu::Adapter ad;

@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstring>
 #include <optional>
+#include <span>
+#include <vector>
 
 using tessera::Vec3;
 using namespace tessera_mesh_test;
@@ -203,8 +205,9 @@ TEST_CASE("mesh receipt: check_mesh_copy checks the indices and takes the caller
 }
 
 TEST_CASE("mesh prepare over threads: the tables and the image do not depend on the thread count", "[mesh][reuse]") {
-  // prepare's check, gather, canonical sort, ranges and totals run over TBB's threads (in
-  // chunks of 2048 to 16384 items: a mesh of several chunks)
+  // prepare's check, gather, canonical sort, ranges, totals and the macrocells' fold run over
+  // TBB's threads (in chunks of 2048 to 16384 items: a mesh of several chunks; the fold from
+  // 32768 elements: the tets)
   const ElementList m = grid_hexes(
       28, 24, 20, Vec3(0.0), Vec3(1.0 / 28, 1.0 / 24, 1.0 / 20),
       [](const Vec3& p) { return 0.5 + 0.5 * std::sin(9.0 * p.x) * std::cos(5.0 * p.y + 2.0 * p.z); },
@@ -212,13 +215,29 @@ TEST_CASE("mesh prepare over threads: the tables and the image do not depend on 
   for (const bool tets : {false, true}) {
     const OwnedMesh om = one_domain(tets ? hexes_to_tets(m) : m);
     std::optional<tessera::Film> first;
+    std::vector<tessera::CellRange> first_ranges;
     for (const int threads : {1, 2, 5}) {
       std::optional<tessera::PreparedScene> p;
       tbb::task_arena(threads).execute([&] { p.emplace(tessera::prepare(om.mesh, scene())); });
       tessera::Film f = render_film(*p);
       INFO((tets ? "tets, " : "hexes, ") << threads << " threads");
-      if (first) CHECK(same(f, *first));
-      else first.emplace(std::move(f));
+      // The macrocells' ranges (folded over threads from 32768 elements on) bit for bit
+      const std::span<const tessera::CellRange> ranges = p->summary()->ranges();
+      if (tets) REQUIRE(static_cast<std::size_t>(p->summary()->cell_count()) <= m.element.size() * 6 / 4);
+      if (first) {
+        CHECK(same(f, *first));
+        REQUIRE(ranges.size() == first_ranges.size());
+        std::size_t differ = 0;
+        for (std::size_t c = 0; c < ranges.size(); ++c) {
+          const tessera::CellRange &a = ranges[c], &b = first_ranges[c];
+          differ += std::memcmp(&a.lo, &b.lo, sizeof a.lo) != 0 || std::memcmp(&a.hi, &b.hi, sizeof a.hi) != 0 ||
+                    a.nan != b.nan || a.pos_inf != b.pos_inf || a.neg_inf != b.neg_inf;
+        }
+        CHECK(differ == 0);
+      } else {
+        first.emplace(std::move(f));
+        first_ranges.assign(ranges.begin(), ranges.end());
+      }
     }
   }
 }
