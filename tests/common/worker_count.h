@@ -32,4 +32,15 @@ int workers_joining(F&& fn) {
   return count.entries();
 }
 
+/// The control of a test that expects no worker to join: whether any joined `fn` in one of
+/// `tries` runs. Workers join only once the OS schedules them while the work lasts, which a
+/// loaded machine (a parallel ctest) may not do in time: false is then inconclusive, never a
+/// failure of the code under test.
+template <class F>
+bool workers_can_join(F&& fn, int tries = 5) {
+  for (int t = 0; t < tries; ++t)
+    if (workers_joining(fn) > 0) return true;
+  return false;
+}
+
 }  // namespace tessera_test

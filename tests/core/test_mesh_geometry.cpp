@@ -17,6 +17,7 @@
 #include "test_mesh_support.h"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -114,6 +115,30 @@ TEST_CASE("mesh: Newton's inverse converges on warped hexes, or check_mesh repor
   INFO(accepted << " accepted, " << reported << " reported");
   CHECK(accepted > 50);
   CHECK(reported > 0);
+}
+
+TEST_CASE("mesh: a hex's corner Jacobian is the general Jacobian's determinant at the corner, bit for bit", "[mesh]") {
+  // hex_corner_jacobian takes the edge vectors at the corner; hex_jacobian sums all eight
+  // vertices with weights that are 0 or 1 there: the same numbers in every bit
+  tessera::Rng rng(23, 0, 0, 0);
+  for (int trial = 0; trial < 500; ++trial) {
+    Vec3 c[8];
+    for (int v = 0; v < 8; ++v) {
+      const Vec3 corner(tessera::kHexCornerR[v], tessera::kHexCornerS[v], tessera::kHexCornerT[v]);
+      c[v] = 3.7 * corner + 1.3 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) +
+             Vec3(1e3 * trial, -0.25, 7.0);
+    }
+    for (int v = 0; v < 8; ++v) {
+      const double r[3] = {static_cast<double>(tessera::kHexCornerR[v]), static_cast<double>(tessera::kHexCornerS[v]),
+                           static_cast<double>(tessera::kHexCornerT[v])};
+      Vec3 J[3];
+      tessera::hex_jacobian(c, r, J);
+      const double general = tessera::det3(J[0], J[1], J[2]), corner = tessera::hex_corner_jacobian(c, v);
+      INFO("trial " << trial << ", vertex " << v);
+      REQUIRE(std::memcmp(&general, &corner, sizeof general) == 0);
+      REQUIRE(tessera::hex_vertex_at(tessera::kHexCornerR[v], tessera::kHexCornerS[v], tessera::kHexCornerT[v]) == v);
+    }
+  }
 }
 
 TEST_CASE("mesh: macrocell majorants bound the extinction over random meshes", "[mesh]") {

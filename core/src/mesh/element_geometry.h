@@ -79,14 +79,17 @@ TESSERA_HOST_DEVICE inline void hex_jacobian(const Vec3* c, const double r[3], V
   }
 }
 
-/// det J at the parametric corner of vertex v.
+/// The vertex at parametric corner (i, j, k), each 0 or 1: the inverse of kHexCornerR/S/T.
+TESSERA_HOST_DEVICE inline int hex_vertex_at(int i, int j, int k) { return 4 * k + (j ? 3 - i : i); }
+
+/// det J at the parametric corner of vertex v. There the weights of hex_jacobian are 0 or 1:
+/// each column is the difference of the two vertices on the corner's edge along that axis,
+/// which is what hex_jacobian sums to (the other six terms add zeros), at an eighth of its cost.
 TESSERA_HOST_DEVICE inline double hex_corner_jacobian(const Vec3* c, int v) {
-  const double r[3] = {static_cast<double>(TESSERA_TABLE(kHexCornerR)[v]),
-                       static_cast<double>(TESSERA_TABLE(kHexCornerS)[v]),
-                       static_cast<double>(TESSERA_TABLE(kHexCornerT)[v])};
-  Vec3 J[3];
-  hex_jacobian(c, r, J);
-  return det3(J[0], J[1], J[2]);
+  const int i = TESSERA_TABLE(kHexCornerR)[v], j = TESSERA_TABLE(kHexCornerS)[v], k = TESSERA_TABLE(kHexCornerT)[v];
+  return det3(c[hex_vertex_at(1, j, k)] - c[hex_vertex_at(0, j, k)],
+              c[hex_vertex_at(i, 1, k)] - c[hex_vertex_at(i, 0, k)],
+              c[hex_vertex_at(i, j, 1)] - c[hex_vertex_at(i, j, 0)]);
 }
 
 /// Parametric r of world point x in hex c by Newton's method from the centre: true once an
