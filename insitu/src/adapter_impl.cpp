@@ -261,7 +261,6 @@ void Adapter::Impl::begin_call(std::int64_t step, double time, const Publication
   m_call.budget = m_budget ? &*m_budget : nullptr;
   m_call.ranges.clear();
   m_call.assembled_key.reset();
-  if (pub.mesh_call) m_call.mesh_layout.begin_call();
 }
 
 tessera_status Adapter::Impl::run_renders() {
@@ -340,6 +339,9 @@ tessera_status Adapter::Impl::run_call(std::int64_t step, double time, const Pub
   try {
     m_results.clear();
     m_error.clear();
+    // A mesh call counts whatever becomes of it: a mesh_unchanged mark says "as at the last
+    // call" (mesh_layout_keep.h)
+    if (pub.mesh_call) m_call.mesh_layout.begin_call();
     if (const std::optional<tessera_status> refused = refused_call()) return *refused;
     // field_unchanged marks apply to this call only, whether a render fires or not
     m_summaries.begin_call();

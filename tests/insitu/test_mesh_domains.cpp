@@ -232,3 +232,43 @@ TEST_CASE("mesh domains: after mesh_unchanged an index out of range is still ref
   entry = kept;
   CHECK(ad.execute_mesh_domains(6, 0.5, cut.domains) == TESSERA_OK);
 }
+
+TEST_CASE("mesh domains: mesh_unchanged means as at the last call even one at which no render fired",
+          "[insitu][mesh][reuse]") {
+  // Step 3 moves a vertex and renders nothing (every: 2); the promise before step 4 is true of
+  // step 3, whose geometry is not the structure's (built at step 2): step 4 must build again
+  // and render what a fresh adapter renders
+  TempDir dir;
+  Cut cut({0, 4, 9}, Form::Hexes);
+  const std::string tf = "    transfer_function: {range: [0, 1], density_scale: 20, opacity: [[0, 0], [1, 1]]}\n";
+  const std::string renders = render_yaml("a", "{every: 2}", tf, "f", 24, 2);
+  Adapter ad;
+  ad.set_quiet(true);
+  REQUIRE(ad.open(dir.write("chain.yaml", config_yaml(dir.file("chain"), renders))) == TESSERA_OK);
+  const auto reused = [&] {
+    REQUIRE(ad.last_results().size() == 1);
+    return ad.last_results()[0].mesh_layout_reused;
+  };
+  REQUIRE(ad.execute_mesh_domains(2, 0.0, cut.domains) == TESSERA_OK);
+  CHECK_FALSE(reused());
+  for (std::size_t v = 0; v < cut.blocks[1].x.size(); v += 5) cut.blocks[1].x[v] += 0.02;  // a fifth of a cell
+  REQUIRE(ad.execute_mesh_domains(3, 0.1, cut.domains) == TESSERA_OK);
+  CHECK(ad.last_results().empty());
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);  // true of step 3
+  REQUIRE(ad.execute_mesh_domains(4, 0.2, cut.domains) == TESSERA_OK);
+  CHECK_FALSE(reused());
+  const tessera::Image moved = *ad.last_image("a");
+  {
+    Adapter fresh;
+    fresh.set_quiet(true);
+    REQUIRE(fresh.open(dir.write("fresh.yaml", config_yaml(dir.file("fresh"), renders))) == TESSERA_OK);
+    REQUIRE(fresh.execute_mesh_domains(4, 0.2, cut.domains) == TESSERA_OK);
+    CHECK(same_pixels(moved, *fresh.last_image("a")));
+  }
+  // Promised at a call that renders nothing and at the next: the chain holds, reused
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  REQUIRE(ad.execute_mesh_domains(5, 0.3, cut.domains) == TESSERA_OK);
+  REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
+  REQUIRE(ad.execute_mesh_domains(6, 0.4, cut.domains) == TESSERA_OK);
+  CHECK(reused());
+}

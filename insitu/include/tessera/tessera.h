@@ -308,7 +308,11 @@ tessera_status tessera_field_unchanged(tessera_adapter* adapter, const char* fie
  * a mesh whose geometry hashes as the one the structure was built over (two independent
  * 64-bit hashes of the coordinates, connectivity and ghost flags: one pass, on the GPU for a
  * mesh in device memory on one rank) is reused the same way; the promise saves that pass.
- * Within one execute call every render after the first reuses the structure anyway.
+ * Within one execute call every render after the first reuses the structure anyway. "The
+ * last such call" is the last one whether a render fired at it or not: after a call that
+ * moved the mesh without the promise and rendered nothing, the structure is of an older
+ * geometry, so the next promise does not carry it (the hash decides instead); a promise at
+ * every call, rendering or not, carries it throughout.
  * Returns TESSERA_OK, or TESSERA_ERROR_CONFIG for a NULL or closed adapter. */
 tessera_status tessera_mesh_unchanged(tessera_adapter* adapter);
 

@@ -9,6 +9,7 @@
 #include <tessera/render.h>
 #include <tessera/scene.h>
 
+#include <cstdint>
 #include <memory>
 
 namespace tessera::insitu {
@@ -22,17 +23,28 @@ struct MeshLayoutKeep {
   MeshGeometryHash geometry;
   bool geometry_known = false;
   bool marked = false;    ///< tessera_mesh_unchanged since the last mesh call
-  bool carried = false;   ///< this call: it was marked when the call began
+  bool carried = false;   ///< this call: promised, and the last call's geometry was `layout`'s
   bool detected = false;  ///< this call: this rank's geometry hashes as `layout`'s (no promise needed)
   bool decided = false;   ///< this call: the ranks have agreed on reusing
+  /// Mesh calls so far (every execute over a mesh, whether a render fires or not), and the
+  /// last of them whose geometry is known to be `layout`'s (0: none): a promise says "as at
+  /// the last call", so it carries the layout only when that call's geometry was the layout's.
+  /// A call at which no render fires, with the mesh moved and no promise, breaks the chain.
+  std::uint64_t calls = 0, known = 0;
 
-  /// At each mesh call: the promise (if made) applies to this call, and is spent.
+  /// At each mesh call, as it begins (before its triggers): the promise (if made) applies to
+  /// this call, and is spent.
   void begin_call() {
-    carried = marked;
+    ++calls;
+    if (marked && known != 0 && known + 1 == calls) known = calls;
+    carried = known == calls;
     marked = false;
     detected = false;
     decided = false;
   }
+  /// This call's geometry is `layout`'s: the layout was built or reused over it, or its hash
+  /// matched.
+  void holds_layout() { known = calls; }
   /// This rank holds the layout's geometry: promised, or found the same by its hash.
   bool same_geometry() const { return carried || detected; }
 };

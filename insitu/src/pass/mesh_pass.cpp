@@ -264,6 +264,7 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
           prepared = prepare(whole, setup->scene, keep.layout, whole_checked);  // not checked again
           keep.layout = prepared.mesh_layout();
           keep.bounds = extent.bounds;
+          keep.holds_layout();
           if (first && !prepared.mesh_layout_reused()) {  // the geometry it was built over
             keep.geometry = bound->geometry;
             keep.geometry_known = bound->hashed;
