@@ -166,6 +166,7 @@ TEST_CASE("mesh domains: the lookup structure is reused across calls only when e
           "[mpi][mesh][reuse]") {
   SharedTempDir dir;
   const std::string cfg = write_config(dir, "reuse");
+  const std::string fresh_cfg = write_config(dir, "reuse_fresh");  // its own output directory
   Blocks five({0, 2, 5, 6, 9, 11}, true);
   const int n = std::min(world_size(), 3);
   FirstRanks sub(n);
@@ -180,18 +181,33 @@ TEST_CASE("mesh domains: the lookup structure is reused across calls only when e
     for (std::size_t d = 0; d < five.domains.size(); ++d)
       if (static_cast<int>(d % static_cast<std::size_t>(n)) == r) mine.push_back(five.domains[d]);
     const auto reused = [&] { return !ad.last_results().empty() && ad.last_results()[0].mesh_layout_reused; };
-    ok = ok && ad.execute_mesh_domains(1, 0.0, mine) == TESSERA_OK && !reused();
+    // Several ranks: only the values move while every rank holds the last exchange's geometry
+    const auto values_only = [&] { return !ad.last_results().empty() && ad.last_results()[0].mesh_values_only; };
+    ok = ok && ad.execute_mesh_domains(1, 0.0, mine) == TESSERA_OK && !reused() && !values_only();
     // Only rank 0 promises; the others' geometry hashes as the one the structure was built
     // over: reused on every rank
     if (r == 0) ad.mesh_unchanged();
-    ok = ok && ad.execute_mesh_domains(2, 0.1, mine) == TESSERA_OK && reused();
-    // Rank 0 promises, rank 1 moved a vertex: built again on every rank
+    ok = ok && ad.execute_mesh_domains(2, 0.1, mine) == TESSERA_OK && reused() && values_only() == (n > 1);
+    // Rank 0 promises, rank 1 moved a vertex: built again on every rank, everything exchanged
     if (r == 0) ad.mesh_unchanged();
     if (r == 1) five.blocks[1].x[3] += 1e-3;  // domain 1 is rank 1's
-    ok = ok && ad.execute_mesh_domains(3, 0.2, mine) == TESSERA_OK && (n == 1 ? reused() : !reused());
-    // Every rank promises: reused on every rank
+    ok = ok && ad.execute_mesh_domains(3, 0.2, mine) == TESSERA_OK && (n == 1 ? reused() : !reused()) && !values_only();
+    // Every rank promises, new values: reused on every rank, the values alone exchanged, and
+    // the image a fresh adapter's (which exchanges everything) bit for bit
+    for (MeshBlock& b : five.blocks)
+      for (double& v : b.vertex_values) v = 1.0 - v;
     ad.mesh_unchanged();
-    ok = ok && ad.execute_mesh_domains(4, 0.3, mine) == TESSERA_OK && reused();
+    ok = ok && ad.execute_mesh_domains(4, 0.3, mine) == TESSERA_OK && reused() && values_only() == (n > 1);
+    const tessera::Image* kept = ad.last_image("view");
+    tessera::insitu::Adapter fresh;
+    fresh.set_quiet(true);
+    ok = ok && fresh.open(fresh_cfg, MPI_Comm_c2f(sub.comm())) == TESSERA_OK;
+    ok = ok && fresh.execute_mesh_domains(4, 0.3, mine) == TESSERA_OK && !fresh.last_results().empty() &&
+         !fresh.last_results()[0].mesh_values_only;
+    if (r == 0) {
+      INFO("step 4: " << ad.last_error() << " / " << fresh.last_error());
+      ok = ok && kept && fresh.last_image("view") && same(*kept, *fresh.last_image("view"));
+    }
   }
   CHECK(all_ranks(ok));
 }

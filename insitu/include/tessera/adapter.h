@@ -86,6 +86,11 @@ struct RenderResult {
   /// geometry that hashes as the one it was built over) instead of building and checking
   /// every element again.
   bool mesh_layout_reused = false;
+  /// Several ranks over such a mesh: only the field's values were exchanged between the ranks,
+  /// the geometry read from the last exchange's copy (every rank held that geometry: promised,
+  /// found by its hash, or within the call that exchanged it) instead of every rank's whole
+  /// domains moving again.
+  bool mesh_values_only = false;
   RenderStats stats;  ///< summed over ranks on rank 0 (and over Cinema cameras)
   /// Where it traced: "cpu" or "cuda:N" (tessera.device, docs/gpu.md). stats.bytes_to_device and
   /// stats.bytes_to_host count the bytes copied between host and device (summed over ranks on

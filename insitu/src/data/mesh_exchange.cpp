@@ -100,47 +100,106 @@ std::string pack_mesh(const Mesh& mesh) {
   return out;
 }
 
+namespace {
+
+/// Rank r's packed domains appended to `mesh`, as views into `part`.
+void append_domains(const std::string& part, std::size_t r, Mesh& mesh) {
+  Reader in{part, 0, static_cast<int>(r)};
+  if (part.empty()) return;  // a rank that passed no domain packs nothing at all
+  const std::int64_t count = in.word();
+  if (count < 0 || static_cast<std::uint64_t>(count) > part.size() / (8 * kHeader))
+    throw std::invalid_argument("rank " + std::to_string(r) + "'s mesh bytes hold no valid domain count");
+  for (std::int64_t n = 0; n < count; ++n) {
+    std::int64_t h[kHeader];
+    for (std::int64_t& w : h) w = in.word();
+    MeshDomain d;
+    for (int a = 0; a < 3; ++a) d.dims[a] = h[a];
+    d.shape = static_cast<Shape>(h[3]);
+    d.index_type = static_cast<IndexType>(h[4]);
+    d.ncells = h[5];
+    d.coords.dtype = static_cast<DType>(h[6]);
+    d.coords.count = h[7];
+    d.field.dtype = static_cast<DType>(h[8]);
+    d.field.count = h[9];
+    d.field.association = static_cast<Association>(h[10]);
+    if (d.coords.count < 0 || d.field.count < 0 || d.ncells < 0 || h[6] < 0 || h[6] > 4 || h[8] < 0 || h[8] > 4 ||
+        h[3] < 0 || h[3] > 3 || h[4] < 0 || h[4] > 1)
+      throw std::invalid_argument("rank " + std::to_string(r) + "'s mesh bytes hold an invalid domain header");
+    const auto size = static_cast<std::int64_t>(part.size());
+    if (d.coords.count > size || d.field.count > size || d.ncells > size || h[11] > size)
+      throw std::invalid_argument("rank " + std::to_string(r) + "'s mesh bytes hold counts larger than themselves");
+    const Sizes s = sizes_of(d);
+    const std::size_t cs = dtype_size(d.coords.dtype);
+    d.coords.byte_stride = static_cast<std::int64_t>(cs);
+    d.coords.x = in.take(s.axis);
+    d.coords.y = in.take(s.axis);
+    d.coords.z = in.take(s.axis);
+    if (!d.structured()) d.connectivity = in.take(s.conn);
+    d.field.byte_stride = static_cast<std::int64_t>(dtype_size(d.field.dtype));
+    d.field.data = in.take(s.values);
+    if (h[11] >= 0) {
+      d.ghosts.count = h[11];
+      d.ghosts.byte_stride = 1;
+      d.ghosts.data = in.take(static_cast<std::uint64_t>(h[11]));
+    }
+    mesh.domains.push_back(d);
+  }
+}
+
+}  // namespace
+
 Mesh unpack_meshes(const std::vector<std::string>& parts) {
   Mesh mesh;
+  for (std::size_t r = 0; r < parts.size(); ++r) append_domains(parts[r], r, mesh);
+  return mesh;
+}
+
+std::string pack_values(const Mesh& mesh) {
+  std::uint64_t bytes = 8;
+  for (const MeshDomain& d : mesh.domains) bytes += 8 * 3 + padded(sizes_of(d).values);
+  std::string out;
+  out.reserve(static_cast<std::size_t>(bytes));
+  const std::int64_t count = static_cast<std::int64_t>(mesh.domains.size());
+  put(out, &count, 1, 8, 8);
+  for (const MeshDomain& d : mesh.domains) {
+    const std::int64_t h[3] = {static_cast<std::int64_t>(d.field.dtype), d.field.count,
+                               static_cast<std::int64_t>(d.field.association)};
+    put(out, h, 3, 8, 8);
+    put(out, d.field.data, d.field.count, dtype_size(d.field.dtype), d.field.byte_stride);
+  }
+  return out;
+}
+
+Mesh unpack_with_values(const std::vector<std::string>& parts, const std::vector<std::string>& values) {
+  if (parts.size() != values.size())
+    throw std::invalid_argument("the values of " + std::to_string(values.size()) + " ranks for a mesh of " +
+                                std::to_string(parts.size()));
+  Mesh mesh;
   for (std::size_t r = 0; r < parts.size(); ++r) {
-    Reader in{parts[r], 0, static_cast<int>(r)};
-    if (parts[r].empty()) continue;  // a rank that passed no domain packs nothing at all
-    const std::int64_t count = in.word();
-    if (count < 0 || static_cast<std::uint64_t>(count) > parts[r].size() / (8 * kHeader))
-      throw std::invalid_argument("rank " + std::to_string(r) + "'s mesh bytes hold no valid domain count");
-    for (std::int64_t n = 0; n < count; ++n) {
-      std::int64_t h[kHeader];
-      for (std::int64_t& w : h) w = in.word();
-      MeshDomain d;
-      for (int a = 0; a < 3; ++a) d.dims[a] = h[a];
-      d.shape = static_cast<Shape>(h[3]);
-      d.index_type = static_cast<IndexType>(h[4]);
-      d.ncells = h[5];
-      d.coords.dtype = static_cast<DType>(h[6]);
-      d.coords.count = h[7];
-      d.field.dtype = static_cast<DType>(h[8]);
-      d.field.count = h[9];
-      d.field.association = static_cast<Association>(h[10]);
-      if (d.coords.count < 0 || d.field.count < 0 || d.ncells < 0 || h[6] < 0 || h[6] > 4 || h[8] < 0 || h[8] > 4 ||
-          h[3] < 0 || h[3] > 3 || h[4] < 0 || h[4] > 1)
-        throw std::invalid_argument("rank " + std::to_string(r) + "'s mesh bytes hold an invalid domain header");
-      const auto size = static_cast<std::int64_t>(parts[r].size());
-      if (d.coords.count > size || d.field.count > size || d.ncells > size || h[11] > size)
-        throw std::invalid_argument("rank " + std::to_string(r) + "'s mesh bytes hold counts larger than themselves");
-      const Sizes s = sizes_of(d);
-      const std::size_t cs = dtype_size(d.coords.dtype);
-      d.coords.byte_stride = static_cast<std::int64_t>(cs);
-      d.coords.x = in.take(s.axis);
-      d.coords.y = in.take(s.axis);
-      d.coords.z = in.take(s.axis);
-      if (!d.structured()) d.connectivity = in.take(s.conn);
+    Mesh own;
+    append_domains(parts[r], r, own);
+    const std::string rank = "rank " + std::to_string(r);
+    Reader in{values[r], 0, static_cast<int>(r)};
+    const std::int64_t count = values[r].empty() ? 0 : in.word();
+    if (count != static_cast<std::int64_t>(own.domains.size()))
+      throw std::invalid_argument(rank + "'s values are for " + std::to_string(count) + " domains, its mesh has " +
+                                  std::to_string(own.domains.size()));
+    for (MeshDomain d : own.domains) {
+      const std::int64_t dtype = in.word(), n = in.word(), association = in.word();
+      if (dtype < 0 || dtype > 4 ||
+          (association != static_cast<std::int64_t>(Association::Vertex) &&
+           association != static_cast<std::int64_t>(Association::Cell)))
+        throw std::invalid_argument(rank + "'s values hold an invalid header");
+      d.field.association = static_cast<Association>(association);
+      const std::int64_t want = d.field.association == Association::Cell ? d.cell_count() : d.coords.count;
+      if (n != want)
+        throw std::invalid_argument(rank + "'s values count " + std::to_string(n) + " for a domain of " +
+                                    std::to_string(want) +
+                                    (d.field.association == Association::Cell ? " cells" : " vertices"));
+      d.field.dtype = static_cast<DType>(dtype);
+      d.field.count = n;
       d.field.byte_stride = static_cast<std::int64_t>(dtype_size(d.field.dtype));
-      d.field.data = in.take(s.values);
-      if (h[11] >= 0) {
-        d.ghosts.count = h[11];
-        d.ghosts.byte_stride = 1;
-        d.ghosts.data = in.take(static_cast<std::uint64_t>(h[11]));
-      }
+      d.field.data = in.take(static_cast<std::uint64_t>(n) * dtype_size(d.field.dtype));
       mesh.domains.push_back(d);
     }
   }

@@ -24,4 +24,16 @@ std::uint64_t packed_mesh_bytes(const Mesh& mesh);
 /// Throws std::invalid_argument naming the rank for bytes that are not a packed mesh.
 Mesh unpack_meshes(const std::vector<std::string>& parts);
 
+/// The packed bytes of `mesh`'s field values alone (per domain its dtype, count and
+/// association, then the values, dense and padded): what moves when every rank's geometry is
+/// the one the ranks exchanged last.
+std::string pack_values(const Mesh& mesh);
+
+/// The whole mesh of the geometry in `parts` (every rank's pack_mesh of an earlier exchange)
+/// with the field values of `values` (every rank's pack_values now, in the same rank order):
+/// views into both, which must outlive the result. Throws std::invalid_argument naming the
+/// rank for bytes that are not packed values or that do not fit that rank's domains (another
+/// domain count, or a count that is neither the domain's vertices nor its cells).
+Mesh unpack_with_values(const std::vector<std::string>& parts, const std::vector<std::string>& values);
+
 }  // namespace tessera::insitu

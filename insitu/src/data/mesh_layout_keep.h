@@ -11,6 +11,8 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace tessera::insitu {
 
@@ -31,6 +33,12 @@ struct MeshLayoutKeep {
   /// the last call", so it carries the layout only when that call's geometry was the layout's.
   /// A call at which no render fires, with the mesh moved and no promise, breaks the chain.
   std::uint64_t calls = 0, known = 0;
+  /// Several ranks: every rank's domains as exchanged when `layout` was built or last reused
+  /// after a full exchange (pack_mesh, mesh_exchange.h), and the call that exchanged them. While
+  /// every rank holds that geometry, a render exchanges only the values (pack_values) and
+  /// reads the geometry from here. Cleared with the layout.
+  std::vector<std::string> parts;
+  std::uint64_t parts_call = 0;
 
   /// At each mesh call, as it begins (before its triggers): the promise (if made) applies to
   /// this call, and is spent.

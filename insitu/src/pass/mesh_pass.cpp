@@ -223,9 +223,14 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   // its own domains' shapes in bind_mesh (none promised them unchanged), only the copies'
   // indices are checked again (check_mesh_copy: no read outside them, whatever came); else
   // prepare checks as it would. One rank: in place, with bind_mesh's receipt
+  // When every rank holds the geometry of the last full exchange (promised, found by its hash,
+  // or this call's), only the values move: the geometry is read from that exchange's bytes,
+  // whose shapes were checked when the structure was built over them
+  MeshLayoutKeep& keep = pass.call.mesh_layout;
   std::vector<std::string> received;
   Mesh whole;
   MeshChecked whole_checked;
+  bool values_only = false;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (pass.ctx.size() == 1) {
           whole = bound->local;
@@ -234,6 +239,16 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         }
         const bool shapes_checked =
             pass.ctx.agree(bound->local.domains.empty() || bound->checked.covers(bound->local, true));
+        const bool holds = keep.layout && !keep.parts.empty() && (keep.same_geometry() || keep.decided);
+        const auto tag = static_cast<double>(holds ? keep.parts_call : 0);
+        const std::pair<double, double> tags = pass.ctx.range(tag, tag);  // the same exchange on every rank
+        values_only = pass.ctx.agree(holds) && tags.first == tags.second;
+        if (values_only) {
+          received = pass.ctx.allgather_bytes(pack_values(bound->local), plan.limit);
+          whole = unpack_with_values(keep.parts, received);
+          whole_checked = check_mesh_copy(whole);
+          return;
+        }
         received = pass.ctx.allgather_bytes(pack_mesh(bound->local), plan.limit);
         whole = unpack_meshes(received);
         if (shapes_checked) whole_checked = check_mesh_copy(whole);
@@ -251,10 +266,12 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   set_device_options(pass, *device, setup->scene.options);
   // The layout of the last call (every rank promised the same geometry) or of this call's
   // first render over the mesh
-  MeshLayoutKeep& keep = pass.call.mesh_layout;
   const bool first = !keep.decided;
   if (first) {
-    if (!pass.ctx.agree(keep.same_geometry() && keep.layout != nullptr)) keep.layout.reset();
+    if (!pass.ctx.agree(keep.same_geometry() && keep.layout != nullptr)) {
+      keep.layout.reset();
+      if (!values_only) keep.parts.clear();  // (values only: every rank agreed it holds them; `whole` views them)
+    }
     keep.decided = true;
   }
   PreparedScene prepared;
@@ -265,6 +282,10 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
           keep.layout = prepared.mesh_layout();
           keep.bounds = extent.bounds;
           keep.holds_layout();
+          if (pass.ctx.size() > 1 && !values_only) {  // the geometry the layout is of, for the next renders
+            keep.parts = std::move(received);         // moves the buffers: `whole` still views them
+            keep.parts_call = keep.calls;
+          }
           if (first && !prepared.mesh_layout_reused()) {  // the geometry it was built over
             keep.geometry = bound->geometry;
             keep.geometry_known = bound->hashed;
@@ -275,6 +296,7 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         out.result.prepare_seconds += std::chrono::duration<double>(PassClock::now() - t0).count();
         ++out.result.field_passes;  // the values' ranges: always read
         out.result.mesh_layout_reused = prepared.mesh_layout_reused();
+        out.result.mesh_values_only = values_only;
       }))
     return;
   std::optional<Image> img = render_phase(gate, pass, prepared, out.result);
