@@ -7,10 +7,13 @@
 #include <catch2/catch.hpp>
 #include <tbb/task_arena.h>
 
+#include "mesh/mesh_layout.h"
 #include "test_mesh_support.h"
 #include "test_support.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <span>
@@ -205,17 +208,21 @@ TEST_CASE("mesh receipt: check_mesh_copy checks the indices and takes the caller
 }
 
 TEST_CASE("mesh prepare over threads: the tables and the image do not depend on the thread count", "[mesh][reuse]") {
-  // prepare's check, gather, canonical sort, ranges, totals and the macrocells' fold run over
-  // TBB's threads (in chunks of 2048 to 16384 items: a mesh of several chunks; the fold from
-  // 32768 elements: the tets)
+  // prepare's check, gather, canonical sort, ranges, totals, location lists and the macrocells'
+  // fold run over TBB's threads (in chunks of 2048 to 16384 items: a mesh of several chunks;
+  // the lists by slabs from 16384 elements, up to four slabs per thread: both meshes; the
+  // fold from 32768 elements: the tets)
   const ElementList m = grid_hexes(
-      28, 24, 20, Vec3(0.0), Vec3(1.0 / 28, 1.0 / 24, 1.0 / 20),
+      30, 26, 22, Vec3(0.0), Vec3(1.0 / 30, 1.0 / 26, 1.0 / 22),
       [](const Vec3& p) { return 0.5 + 0.5 * std::sin(9.0 * p.x) * std::cos(5.0 * p.y + 2.0 * p.z); },
       [](const Vec3& p) { return Vec3(p.x + 0.08 * p.y * p.y, p.y, p.z + 0.05 * p.x); });
   for (const bool tets : {false, true}) {
     const OwnedMesh om = one_domain(tets ? hexes_to_tets(m) : m);
     std::optional<tessera::Film> first;
     std::vector<tessera::CellRange> first_ranges;
+    std::vector<std::uint64_t> first_starts;
+    std::vector<std::uint32_t> first_lists;
+    std::vector<double> first_boxes;
     for (const int threads : {1, 2, 5}) {
       std::optional<tessera::PreparedScene> p;
       tbb::task_arena(threads).execute([&] { p.emplace(tessera::prepare(om.mesh, scene())); });
@@ -224,7 +231,49 @@ TEST_CASE("mesh prepare over threads: the tables and the image do not depend on 
       // The macrocells' ranges (folded over threads from 32768 elements on) bit for bit
       const std::span<const tessera::CellRange> ranges = p->summary()->ranges();
       if (tets) REQUIRE(static_cast<std::size_t>(p->summary()->cell_count()) <= m.element.size() * 6 / 4);
+      // The layout: the elements' boxes in canonical order and the location lists (counted and
+      // filled over threads, each list then in canonical order), bit for bit
+      const tessera::MeshLayout& layout = *p->mesh_layout();
+      const tessera::MeshFieldView v = layout.view(nullptr);
+      const std::size_t cells = static_cast<std::size_t>(v.loc_n[0] * v.loc_n[1] * v.loc_n[2]);
+      const std::vector<std::uint64_t> starts(v.first, v.first + cells + 1);
+      const std::vector<std::uint32_t> lists(v.list, v.list + starts.back());
+      const std::vector<double> boxes(v.box, v.box + 6 * layout.element_count());
+      REQUIRE(layout.element_count() == static_cast<std::size_t>(om.mesh.domains[0].cell_count()));
+      REQUIRE(starts.back() >= layout.element_count());
+      for (std::size_t c = 0; c < cells; ++c)
+        REQUIRE(std::is_sorted(lists.begin() + static_cast<std::ptrdiff_t>(starts[c]),
+                               lists.begin() + static_cast<std::ptrdiff_t>(starts[c + 1])));
+      // ... and they are what a serial fill over the boxes gives (every element in each location
+      // cell its box reaches, in canonical order)
+      std::vector<std::vector<std::uint32_t>> expect(cells);
+      for (std::size_t e = 0; e < layout.element_count(); ++e) {
+        std::int64_t c0[3], c1[3];
+        for (int a = 0; a < 3; ++a) {
+          const auto cell = [&](double x) {
+            return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor((x - v.loc_lo[a]) * v.loc_inv[a])), 0,
+                                            v.loc_n[a] - 1);
+          };
+          c0[a] = cell(v.box[6 * e + a]);
+          c1[a] = cell(v.box[6 * e + 3 + a]);
+        }
+        for (std::int64_t k = c0[2]; k <= c1[2]; ++k)
+          for (std::int64_t j = c0[1]; j <= c1[1]; ++j)
+            for (std::int64_t i = c0[0]; i <= c1[0]; ++i)
+              expect[static_cast<std::size_t>((k * v.loc_n[1] + j) * v.loc_n[0] + i)].push_back(
+                  static_cast<std::uint32_t>(e));
+      }
+      std::size_t wrong = 0;
+      for (std::size_t c = 0; c < cells; ++c)
+        wrong +=
+            !std::equal(lists.begin() + static_cast<std::ptrdiff_t>(starts[c]),
+                        lists.begin() + static_cast<std::ptrdiff_t>(starts[c + 1]), expect[c].begin(), expect[c].end());
+      CHECK(wrong == 0);
       if (first) {
+        const bool same_starts = starts == first_starts, same_lists = lists == first_lists;
+        CHECK(same_starts);
+        CHECK(same_lists);
+        CHECK(std::memcmp(boxes.data(), first_boxes.data(), boxes.size() * sizeof(double)) == 0);
         CHECK(same(f, *first));
         REQUIRE(ranges.size() == first_ranges.size());
         std::size_t differ = 0;
@@ -237,6 +286,9 @@ TEST_CASE("mesh prepare over threads: the tables and the image do not depend on 
       } else {
         first.emplace(std::move(f));
         first_ranges.assign(ranges.begin(), ranges.end());
+        first_starts = starts;
+        first_lists = lists;
+        first_boxes = boxes;
       }
     }
   }

@@ -8,7 +8,9 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -16,6 +18,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace tessera {
 namespace {
@@ -25,6 +28,11 @@ struct Item {
   Vec3 centroid;
   double box[6];
   MeshElementRef ref;
+};
+
+/// The box of a set of elements (min / max: exact, so the same in any order of folding).
+struct ElementBounds {
+  Vec3 lo{INFINITY}, hi{-INFINITY};
 };
 
 /// Element e of domain d as an Item.
@@ -85,13 +93,66 @@ void append_signature(const MeshDomain& d, std::vector<std::int64_t>& out) {
   out.insert(out.end(), s, s + kSignatureWords);
 }
 
+/// A run of elements [first, last) (canonical order) that covers every element reaching the
+/// location cells of x index [i0, i1): the unit of build_location's work over threads.
+struct SlabRun {
+  std::size_t first = 0, last = 0;
+  std::int64_t i0 = 0, i1 = 0;
+};
+
+/// Splits the location cells along x into slabs (up to four per thread) with, for each, the
+/// run of elements that may reach it; one slab of everything when the mesh is small or its
+/// elements so wide that the runs would overlap too much. `centroid_x`: per element in
+/// canonical order (so non-decreasing); `nx`: location cells along x; loc_cell(0, x) and
+/// span(e, 0, &c0, &c1): build_location's cell of a coordinate and cells of an element.
+template <class LocCell, class Span>
+std::vector<SlabRun> slab_runs(std::size_t n, const std::vector<double>& centroid_x, std::int64_t nx,
+                               const LocCell& loc_cell, const Span& span) {
+  const std::int64_t want = std::min<std::int64_t>(nx, 4 * tbb::this_task_arena::max_concurrency());
+  if (n < 16384 || want < 2) return {SlabRun{0, n, 0, nx}};
+  // Each element's centroid cell along x (non-decreasing in canonical order) and how far its
+  // cells reach below and above it (integers: exact in any order of folding)
+  std::vector<std::int64_t> cc(n);
+  const auto reach = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 8192), std::pair<std::int64_t, std::int64_t>{0, 0},
+      [&](const auto& r, std::pair<std::int64_t, std::int64_t> d) {
+        for (std::size_t e = r.begin(); e != r.end(); ++e) {
+          std::int64_t c0, c1;
+          span(e, 0, &c0, &c1);
+          cc[e] = loc_cell(0, centroid_x[e]);
+          d.first = std::max(d.first, cc[e] - c0);
+          d.second = std::max(d.second, c1 - cc[e]);
+        }
+        return d;
+      },
+      [](auto a, const auto& b) {
+        return std::pair<std::int64_t, std::int64_t>{std::max(a.first, b.first), std::max(a.second, b.second)};
+      });
+  // An element reaching slab [i0, i1) has c1 >= i0 and c0 < i1, so its centroid cell is in
+  // [i0 - below... ]: cc >= c1 - above >= i0 - above, cc <= c0 + below <= i1 - 1 + below
+  std::vector<SlabRun> slabs;
+  std::size_t visits = 0;
+  for (std::int64_t s = 0; s < want; ++s) {
+    SlabRun run;
+    run.i0 = nx * s / want;
+    run.i1 = nx * (s + 1) / want;
+    run.first = static_cast<std::size_t>(std::lower_bound(cc.begin(), cc.end(), run.i0 - reach.second) - cc.begin());
+    run.last = static_cast<std::size_t>(std::upper_bound(cc.begin(), cc.end(), run.i1 - 1 + reach.first) - cc.begin());
+    visits += run.last - run.first;
+    slabs.push_back(run);
+  }
+  // Elements so wide that most slabs would visit most of them: one slab, one pass
+  if (visits > 2 * n + 4096) return {SlabRun{0, n, 0, nx}};
+  return slabs;
+}
+
 }  // namespace
 
 MeshLayout::MeshLayout(const Mesh& mesh, const std::vector<DomainAccess>& domains) {
   for (const MeshDomain& d : mesh.domains) append_signature(d, m_signature);
-  gather(domains, mesh);
+  const std::vector<double> centroid_x = gather(domains, mesh);
   place_grid();
-  build_location();
+  build_location(centroid_x);
 }
 
 bool mesh_layout_fits(const MeshLayout& layout, const Mesh& mesh) { return layout.fits(mesh); }
@@ -103,7 +164,7 @@ bool MeshLayout::fits(const Mesh& mesh) const {
   return s == m_signature;
 }
 
-void MeshLayout::gather(const std::vector<DomainAccess>& domains, const Mesh& mesh) {
+std::vector<double> MeshLayout::gather(const std::vector<DomainAccess>& domains, const Mesh& mesh) {
   // The real cells, in input order; their items over threads; the canonical order by a
   // parallel sort (a total order: the same result as a serial sort, any thread count)
   std::vector<MeshElementRef> real;
@@ -127,23 +188,41 @@ void MeshLayout::gather(const std::vector<DomainAccess>& domains, const Mesh& me
   const std::size_t n = items.size();
   m_element.resize(n);
   m_box.resize(6 * n);
-  m_lo = Vec3(INFINITY);
-  m_hi = Vec3(-INFINITY);
-  for (std::size_t e = 0; e < n; ++e) {
-    const Item& it = items[e];
-    m_element[e] = it.ref;
-    for (int a = 0; a < 3; ++a) {
-      m_box[6 * e + a] = it.box[a];
-      m_box[6 * e + 3 + a] = it.box[3 + a];
-      m_lo[a] = std::min(m_lo[a], it.box[a]);
-      m_hi[a] = std::max(m_hi[a], it.box[3 + a]);
-    }
-  }
-  // The voxel: the mean cube root of the elements' box volumes, summed in canonical order
+  // Copied out over threads, with each box's cube root volume for the voxel below; the box of
+  // the mesh by min / max (exact in any order)
+  std::vector<double> root(n), centroid_x(n);
+  const auto bounds = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, 8192), ElementBounds{},
+      [&](const auto& r, ElementBounds b) {
+        for (std::size_t e = r.begin(); e != r.end(); ++e) {
+          const Item& it = items[e];
+          m_element[e] = it.ref;
+          centroid_x[e] = it.centroid.x;
+          for (int a = 0; a < 3; ++a) {
+            m_box[6 * e + a] = it.box[a];
+            m_box[6 * e + 3 + a] = it.box[3 + a];
+            b.lo[a] = std::min(b.lo[a], it.box[a]);
+            b.hi[a] = std::max(b.hi[a], it.box[3 + a]);
+          }
+          root[e] = std::cbrt((it.box[3] - it.box[0]) * (it.box[4] - it.box[1]) * (it.box[5] - it.box[2]));
+        }
+        return b;
+      },
+      [](ElementBounds a, const ElementBounds& b) {
+        for (int k = 0; k < 3; ++k) {
+          a.lo[k] = std::min(a.lo[k], b.lo[k]);
+          a.hi[k] = std::max(a.hi[k], b.hi[k]);
+        }
+        return a;
+      });
+  m_lo = bounds.lo;
+  m_hi = bounds.hi;
+  // The voxel: the mean cube root of the elements' box volumes, summed in canonical order (a
+  // serial sum: the same bits under any thread count)
   double h = 0.0;
-  for (const Item& it : items)
-    h += std::cbrt((it.box[3] - it.box[0]) * (it.box[4] - it.box[1]) * (it.box[5] - it.box[2]));
+  for (const double r : root) h += r;
   m_spacing = Vec3(h / static_cast<double>(n));
+  return centroid_x;
 }
 
 void MeshLayout::place_grid() {
@@ -161,17 +240,18 @@ void MeshLayout::place_grid() {
   for (int a = 0; a < 3; ++a) m_spacing[a] = (m_hi[a] - m_lo[a]) / static_cast<double>(m_dims[a] - 1);
 }
 
-void MeshLayout::build_location() {
+void MeshLayout::build_location(const std::vector<double>& centroid_x) {
   const std::size_t n = m_element.size();
   const double budget = 64.0 * static_cast<double>(n) + 4096.0;
-  // The location cells of element e along axis a, for the current cell size
+  // The location cell of coordinate x along axis a, for the current cell size (monotone in x)
+  const auto loc_cell = [&](int a, double x) {
+    const double q = std::floor((x - m_loc_lo[a]) * m_loc_inv[a]);
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::clamp(q, -1.0, 9e18)), 0, m_loc_n[a] - 1);
+  };
+  // The location cells of element e along axis a
   const auto span = [&](std::size_t e, int a, std::int64_t* c0, std::int64_t* c1) {
-    const auto cell = [&](double x) {
-      const double q = std::floor((x - m_loc_lo[a]) * m_loc_inv[a]);
-      return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::clamp(q, -1.0, 9e18)), 0, m_loc_n[a] - 1);
-    };
-    *c0 = cell(m_box[6 * e + a]);
-    *c1 = cell(m_box[6 * e + 3 + a]);
+    *c0 = loc_cell(a, m_box[6 * e + a]);
+    *c1 = loc_cell(a, m_box[6 * e + 3 + a]);
   };
   for (double scale = 1.0;; scale *= 2.0) {
     for (int a = 0; a < 3; ++a) {
@@ -199,23 +279,36 @@ void MeshLayout::build_location() {
     });
     if (static_cast<double>(pairs.load()) <= budget) break;
   }
-  // Lists: count, prefix sums, fill in canonical order
+  // Lists: counts, prefix sums, fill in canonical order. Over threads by slabs of location
+  // cells along x, each slab counting and filling only its own cells, its elements visited in
+  // canonical order: every list is in canonical order, the same bits under any thread count
+  // or slab count, with no atomics. The elements are sorted by centroid x first, so the
+  // elements that reach a slab are a contiguous run of the canonical order (slab_elements).
   const std::int64_t cells = m_loc_n[0] * m_loc_n[1] * m_loc_n[2];
   m_first.assign(static_cast<std::size_t>(cells) + 1, 0);
-  const auto each_cell = [&](std::size_t e, auto&& fn) {
+  const auto each_cell = [&](std::size_t e, std::int64_t i0, std::int64_t i1, auto&& fn) {
     std::int64_t c0[3], c1[3];
     for (int a = 0; a < 3; ++a) span(e, a, &c0[a], &c1[a]);
+    c0[0] = std::max(c0[0], i0);
+    c1[0] = std::min(c1[0], i1 - 1);
     for (std::int64_t k = c0[2]; k <= c1[2]; ++k)
       for (std::int64_t j = c0[1]; j <= c1[1]; ++j)
         for (std::int64_t i = c0[0]; i <= c1[0]; ++i)
           fn(static_cast<std::size_t>((k * m_loc_n[1] + j) * m_loc_n[0] + i));
   };
-  for (std::size_t e = 0; e < n; ++e) each_cell(e, [&](std::size_t c) { ++m_first[c + 1]; });
+  const std::vector<SlabRun> slabs = slab_runs(n, centroid_x, m_loc_n[0], loc_cell, span);
+  const auto over_slabs = [&](auto&& body) {
+    tbb::parallel_for(std::size_t{0}, slabs.size(), [&](std::size_t s) {
+      const SlabRun& run = slabs[s];
+      for (std::size_t e = run.first; e < run.last; ++e)
+        each_cell(e, run.i0, run.i1, [&](std::size_t c) { body(e, c); });
+    });
+  };
+  over_slabs([&](std::size_t, std::size_t c) { ++m_first[c + 1]; });
   for (std::size_t c = 0; c < static_cast<std::size_t>(cells); ++c) m_first[c + 1] += m_first[c];
   m_list.resize(m_first.back());
   std::vector<std::uint64_t> next(m_first.begin(), m_first.end() - 1);
-  for (std::size_t e = 0; e < n; ++e)
-    each_cell(e, [&](std::size_t c) { m_list[next[c]++] = static_cast<std::uint32_t>(e); });
+  over_slabs([&](std::size_t e, std::size_t c) { m_list[next[c]++] = static_cast<std::uint32_t>(e); });
 }
 
 MeshFieldView MeshLayout::view(const DomainAccess* domains) const {

@@ -43,9 +43,10 @@ class MeshLayout {
   std::uint64_t bytes() const;
 
  private:
-  void gather(const std::vector<DomainAccess>& domains, const Mesh& mesh);
+  /// Returns each element's centroid x (canonical order), for slab_runs.
+  std::vector<double> gather(const std::vector<DomainAccess>& domains, const Mesh& mesh);
   void place_grid();
-  void build_location();
+  void build_location(const std::vector<double>& centroid_x);
 
   std::vector<std::int64_t> m_signature;  ///< per domain, what fits() compares
   std::vector<MeshElementRef> m_element;
