@@ -326,6 +326,9 @@ class PyAdapter {
       d["device"] = text(r.device);  // "cpu" or "cuda:N"
       d["bytes_to_device"] = r.stats.bytes_to_device;
       d["bytes_to_host"] = r.stats.bytes_to_host;
+      d["mesh_layout_reused"] = r.mesh_layout_reused;
+      d["mesh_values_only"] = r.mesh_values_only;
+      d["mesh_exchange_bytes"] = r.mesh_exchange_bytes;
       // (a render the budget skipped has no image of this step)
       const Image* img = r.status == TESSERA_OK && !r.budget_skipped ? m_adapter.last_image(r.name) : nullptr;
       if (img) {

@@ -184,10 +184,15 @@ TEST_CASE("mesh domains: the lookup structure is reused across calls only when e
     // Several ranks: only the values move while every rank holds the last exchange's geometry
     const auto values_only = [&] { return !ad.last_results().empty() && ad.last_results()[0].mesh_values_only; };
     ok = ok && ad.execute_mesh_domains(1, 0.0, mine) == TESSERA_OK && !reused() && !values_only();
+    const std::uint64_t all_bytes = ad.last_results().empty() ? 0 : ad.last_results()[0].mesh_exchange_bytes;
+    ok = ok && (n == 1 ? all_bytes == 0 : all_bytes > 0);
     // Only rank 0 promises; the others' geometry hashes as the one the structure was built
     // over: reused on every rank
     if (r == 0) ad.mesh_unchanged();
     ok = ok && ad.execute_mesh_domains(2, 0.1, mine) == TESSERA_OK && reused() && values_only() == (n > 1);
+    // the values alone: for these float64 hexes and curvilinear blocks, well under a quarter
+    const std::uint64_t value_bytes = ad.last_results().empty() ? 0 : ad.last_results()[0].mesh_exchange_bytes;
+    ok = ok && (n == 1 ? value_bytes == 0 : value_bytes > 0 && 4 * value_bytes < all_bytes);
     // Rank 0 promises, rank 1 moved a vertex: built again on every rank, everything exchanged
     if (r == 0) ad.mesh_unchanged();
     if (r == 1) five.blocks[1].x[3] += 1e-3;  // domain 1 is rank 1's

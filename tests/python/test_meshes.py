@@ -66,6 +66,21 @@ def test_curvilinear_equals_hexes_bit_for_bit(tmp_path, shell):
         assert np.array_equal(render(tmp_path, domains, f"same{n}"), grid), f"variant {n}"
 
 
+def test_results_say_whether_the_lookup_structure_was_reused(tmp_path, shell):
+    xyz, f, hexes = shell
+    domains = [{"coords": xyz, "shape": "hex", "connectivity": hexes, "fields": {"f": f}}]
+    with tessera.Adapter(SMALL, output_dir=str(tmp_path / "reuse"), quiet=True) as viz:
+        seen = []
+        for step, geometry in enumerate([xyz, xyz, xyz + 1e-3]):
+            domains[0]["coords"] = geometry
+            viz.execute_mesh_domains(step, 0.1 * step, domains)
+            assert viz.last_status == 0, viz.last_error
+            (r,) = viz.results
+            assert r["mesh_values_only"] is False and r["mesh_exchange_bytes"] == 0  # one rank
+            seen.append(r["mesh_layout_reused"])
+    assert seen == [False, True, False]  # the same geometry found by its hash; a moved one rebuilt
+
+
 def test_cell_data_and_ghosts(tmp_path, shell):
     xyz, _, hexes = shell
     cells = np.linspace(0.0, 1.0, len(hexes))

@@ -91,6 +91,9 @@ struct RenderResult {
   /// found by its hash, or within the call that exchanged it) instead of every rank's whole
   /// domains moving again.
   bool mesh_values_only = false;
+  /// Several ranks over such a mesh: the bytes this rank received in the call's exchange (every
+  /// rank's packed domains, or only their values when mesh_values_only); 0 on one rank.
+  std::uint64_t mesh_exchange_bytes = 0;
   RenderStats stats;  ///< summed over ranks on rank 0 (and over Cinema cameras)
   /// Where it traced: "cpu" or "cuda:N" (tessera.device, docs/gpu.md). stats.bytes_to_device and
   /// stats.bytes_to_host count the bytes copied between host and device (summed over ranks on
