@@ -9,7 +9,7 @@
 //   (defaults: 64, 6, mesh_insitu_bench.csv, 0 = all hardware threads, every mode)
 #include <tessera/adapter.h>
 
-#include "mesh_blocks.h"
+#include "mesh_call_bench.h"
 
 #include <algorithm>
 #include <chrono>
@@ -32,44 +32,25 @@ struct Row {
   int reused = 0;
 };
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::int64_t cells = 64;
-  int steps = 6;
-  std::string csv = "mesh_insitu_bench.csv";
-  int threads = 0;
-  std::string only;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i];
-    if (flag == "--cells") cells = std::max<std::int64_t>(2, std::atoll(argv[i + 1]));
-    else if (flag == "--steps") steps = std::max(2, std::atoi(argv[i + 1]));
-    else if (flag == "--csv") csv = argv[i + 1];
-    else if (flag == "--threads") threads = std::max(0, std::atoi(argv[i + 1]));
-    else if (flag == "--only") only = argv[i + 1];
-    else {
-      std::fprintf(stderr, "mesh_insitu_bench: unknown flag %s\n", flag.c_str());
-      return 2;
-    }
+  tessera::bench::MeshCallArgs args;
+  args.csv = "mesh_insitu_bench.csv";
+  if (const std::string bad = tessera::bench::parse_mesh_call_args(argc, argv, args); !bad.empty()) {
+    std::fprintf(stderr, "mesh_insitu_bench: unknown flag %s\n", bad.c_str());
+    return 2;
   }
+  const std::int64_t cells = args.cells;
+  const int steps = args.steps;
+  const std::string csv = args.csv;
   const fs::path dir = fs::temp_directory_path() / ("mesh_insitu_bench_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path config = dir / "bench.yaml";
-  std::ofstream(config) << "tessera:\n  output_dir: " << (dir / "out").string() << "\n  threads: " << threads
-                        << "\nrenders:\n  - name: view\n    field: f\n"
-                           "    image: {width: 32, height: 32, spp: 1}\n"
-                           "    camera: {position: {orbit: {azimuth: 30, elevation: 25, distance: 3}}, look_at: "
-                           "center, up: [0, 0, 1], fov: 40}\n"
-                           "    transfer_function: {range: auto, density_scale: 40, opacity: [[0, 0], [1, 1]]}\n";
+  std::ofstream(config) << tessera::bench::mesh_call_config((dir / "out").string(), args.threads);
   const std::int64_t n[3] = {cells + 1, cells + 1, cells + 1};
   std::vector<Row> rows;
-  for (const std::string mode : {"moved", "same (hash)", "promised"}) {
-    if (!only.empty() && mode.rfind(only, 0) != 0) continue;
+  for (const std::string& mode : tessera::bench::mesh_call_modes(args)) {
     tessera_test::MeshBlock block(n, 0, cells);
     std::vector<tessera_mesh_domain> domains = {block.domain(tessera_test::MeshBlock::Form::Hexes)};
     tessera::insitu::Adapter ad;
@@ -81,10 +62,7 @@ int main(int argc, char** argv) {
     std::vector<double> call, prepare;
     Row row{mode};
     for (int s = 1; s <= steps; ++s) {
-      for (double& v : block.vertex_values) v = 0.98 * v + 0.01;  // new values every step
-      if (mode == "moved")
-        for (double& x : block.x) x += 1e-7;
-      if (mode == "promised" && s > 1) ad.mesh_unchanged();
+      tessera::bench::mesh_call_step(mode, s, block, ad);
       const auto t0 = std::chrono::steady_clock::now();
       if (ad.execute_mesh_domains(s, 0.1 * s, domains) != TESSERA_OK) {
         std::fprintf(stderr, "mesh_insitu_bench: %s\n", ad.last_error().c_str());
@@ -96,8 +74,8 @@ int main(int argc, char** argv) {
       prepare.push_back(ad.last_results().at(0).prepare_seconds);
       row.reused += ad.last_results().at(0).mesh_layout_reused ? 1 : 0;
     }
-    row.call_s = median(call);
-    row.prepare_s = median(prepare);
+    row.call_s = tessera::bench::median(call);
+    row.prepare_s = tessera::bench::median(prepare);
     rows.push_back(row);
   }
   fs::remove_all(dir);

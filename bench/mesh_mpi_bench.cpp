@@ -11,7 +11,7 @@
 //   (defaults: 48, 6, mesh_mpi_bench.csv, 1 thread per rank, every mode)
 #include <tessera/adapter.h>
 
-#include "mesh_blocks.h"
+#include "mesh_call_bench.h"
 
 #include <mpi.h>
 
@@ -38,11 +38,6 @@ struct Row {
   double exchange_mb = 0.0;
 };
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 double slowest(double t) {
   double m = 0.0;
   MPI_Allreduce(&t, &m, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
@@ -56,24 +51,19 @@ int main(int argc, char** argv) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  std::int64_t cells = 48;
-  int steps = 6;
-  std::string csv = "mesh_mpi_bench.csv";
-  int threads = 1;
-  std::string only;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i];
-    if (flag == "--cells") cells = std::clamp<std::int64_t>(std::atoll(argv[i + 1]), 2, 1024);
-    else if (flag == "--steps") steps = std::clamp(std::atoi(argv[i + 1]), 2, 1000);
-    else if (flag == "--csv") csv = argv[i + 1];
-    else if (flag == "--threads") threads = std::max(0, std::atoi(argv[i + 1]));
-    else if (flag == "--only") only = argv[i + 1];
-    else {
-      if (rank == 0) std::fprintf(stderr, "mesh_mpi_bench: unknown flag %s\n", flag.c_str());
-      MPI_Finalize();
-      return 2;
-    }
+  tessera::bench::MeshCallArgs args;
+  args.cells = 48;
+  args.csv = "mesh_mpi_bench.csv";
+  args.threads = 1;
+  if (const std::string bad = tessera::bench::parse_mesh_call_args(argc, argv, args); !bad.empty()) {
+    if (rank == 0) std::fprintf(stderr, "mesh_mpi_bench: unknown flag %s\n", bad.c_str());
+    MPI_Finalize();
+    return 2;
   }
+  const std::int64_t cells = args.cells;
+  const int steps = args.steps;
+  const std::string csv = args.csv;
+  const int threads = args.threads;
   // One directory for every rank, named by rank 0
   long id = static_cast<long>(::getpid());
   MPI_Bcast(&id, 1, MPI_LONG, 0, MPI_COMM_WORLD);
@@ -81,20 +71,14 @@ int main(int argc, char** argv) {
   const fs::path config = dir / "bench.yaml";
   if (rank == 0) {
     fs::create_directories(dir);
-    std::ofstream(config) << "tessera:\n  output_dir: " << (dir / "out").string() << "\n  threads: " << threads
-                          << "\nrenders:\n  - name: view\n    field: f\n"
-                             "    image: {width: 32, height: 32, spp: 1}\n"
-                             "    camera: {position: {orbit: {azimuth: 30, elevation: 25, distance: 3}}, look_at: "
-                             "center, up: [0, 0, 1], fov: 40}\n"
-                             "    transfer_function: {range: auto, density_scale: 40, opacity: [[0, 0], [1, 1]]}\n";
+    std::ofstream(config) << tessera::bench::mesh_call_config((dir / "out").string(), threads);
   }
   MPI_Barrier(MPI_COMM_WORLD);
   const std::int64_t n[3] = {cells + 1, cells + 1, cells + 1};
   const std::int64_t k0 = cells * rank / size, k1 = cells * (rank + 1) / size;  // this rank's slab of cells
   std::vector<Row> rows;
   int failed = 0;
-  for (const std::string mode : {"moved", "same (hash)", "promised"}) {
-    if (!only.empty() && mode.rfind(only, 0) != 0) continue;
+  for (const std::string& mode : tessera::bench::mesh_call_modes(args)) {
     tessera_test::MeshBlock block(n, k0, std::max(k1, k0 + 1));
     std::vector<tessera_mesh_domain> domains;
     if (k1 > k0) domains.push_back(block.domain(tessera_test::MeshBlock::Form::Hexes));
@@ -108,10 +92,7 @@ int main(int argc, char** argv) {
     std::vector<double> call, prepare, bytes;
     Row row{mode};
     for (int s = 1; s <= steps && !failed; ++s) {
-      for (double& v : block.vertex_values) v = 0.98 * v + 0.01;  // new values every step
-      if (mode == "moved")
-        for (double& x : block.x) x += 1e-7;
-      if (mode == "promised" && s > 1) ad.mesh_unchanged();
+      tessera::bench::mesh_call_step(mode, s, block, ad);
       MPI_Barrier(MPI_COMM_WORLD);
       const auto t0 = std::chrono::steady_clock::now();
       const tessera_status status = ad.execute_mesh_domains(s, 0.1 * s, domains);
@@ -130,9 +111,9 @@ int main(int argc, char** argv) {
       row.values_only += r.mesh_values_only ? 1 : 0;
     }
     if (failed) break;
-    row.call_s = median(call);
-    row.prepare_s = median(prepare);
-    row.exchange_mb = median(bytes) * 1e-6;
+    row.call_s = tessera::bench::median(call);
+    row.prepare_s = tessera::bench::median(prepare);
+    row.exchange_mb = tessera::bench::median(bytes) * 1e-6;
     rows.push_back(row);
   }
   MPI_Barrier(MPI_COMM_WORLD);
