@@ -132,6 +132,23 @@ TEST_CASE("mesh layout: a broken promise is refused where the kernels would read
   CHECK(render_film(q).pixels().size() == 20u * 16u);
 }
 
+TEST_CASE("mesh layout: a broken promise that turned a real cell into a ghost is refused", "[mesh][reuse]") {
+  // A ghost cell's indices are never checked, so a reused layout must not list one: the
+  // promise covers the ghost masks (the geometry hash does), and breaking it is named
+  const ElementList m = warped(0.0);
+  OwnedMesh first = one_domain(m);
+  std::vector<std::uint8_t> mask(m.element.size(), 0);
+  tessera::MeshDomain& d0 = first.mesh.domains[0];
+  d0.ghosts = {mask.data(), 1, static_cast<std::int64_t>(mask.size())};
+  const tessera::PreparedScene p = tessera::prepare(first.mesh, scene());
+  mask[9] = 1;  // cell 9 a ghost now, with an index far outside the vertices
+  first.owned[0]->conn32[8 * 9 + 2] = 1 << 30;
+  CHECK_THROWS_WITH(tessera::prepare(first.mesh, scene(), p.mesh_layout()),
+                    Catch::Contains("mesh domain 0: element 9 is a ghost now but was real"));
+  // Not reused, the same mesh is sound: cell 9 is left out
+  CHECK_NOTHROW(tessera::prepare(first.mesh, scene()));
+}
+
 TEST_CASE("mesh receipt: prepare takes a check's receipt for the same arrays instead of checking again",
           "[mesh][reuse][receipt]") {
   const ElementList m = warped(0.0);

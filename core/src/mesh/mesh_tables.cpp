@@ -6,20 +6,44 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace tessera {
 void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse) {
   bind(mesh);
   m_reused = reuse && reuse->fits(mesh);
   m_layout = m_reused ? std::move(reuse) : std::make_shared<const MeshLayout>(mesh, m_domain);
-  // Each element's value range, in the layout's order
+  // Each element's value range, in the layout's order. (Computing them in the input's order
+  // and gathering them into the layout's was tried: slower, the extra array's traffic costing
+  // more than the canonical order's jumps.) A reused layout whose element is a ghost now (a
+  // broken promise: the geometry hash covers the ghost masks) is refused: a ghost's indices
+  // are never checked, so neither this pass nor the kernels may read them
   const std::size_t n = m_layout->element_count();
   m_range.assign(n, ElementRange{});
+  std::atomic<std::size_t> ghost{n};
+  const bool masks = std::any_of(mesh.domains.begin(), mesh.domains.end(),
+                                 [](const MeshDomain& d) { return d.ghosts.data != nullptr; });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
-    for (std::size_t e = r.begin(); e != r.end(); ++e)
-      m_range[e] = element_range(m_domain.data(), m_layout->element(e));
+    for (std::size_t e = r.begin(); e != r.end(); ++e) {
+      const MeshElementRef& ref = m_layout->element(e);
+      if (!masks || !mesh.domains[static_cast<std::size_t>(ref.domain)].ghosts.is_ghost(ref.cell)) {
+        m_range[e] = element_range(m_domain.data(), ref);
+        continue;
+      }
+      std::size_t seen = ghost.load(std::memory_order_relaxed);
+      while (e < seen && !ghost.compare_exchange_weak(seen, e, std::memory_order_relaxed)) {
+      }
+    }
   });
+  if (ghost.load() < n) {
+    const MeshElementRef& ref = m_layout->element(ghost.load());
+    throw std::invalid_argument("mesh domain " + std::to_string(ref.domain) + ": element " + std::to_string(ref.cell) +
+                                " is a ghost now but was real when the mesh's lookup structure was built: the "
+                                "geometry is not the one promised unchanged");
+  }
   count_values(mesh);
 }
 
