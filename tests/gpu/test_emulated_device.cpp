@@ -14,6 +14,7 @@
 #include "cuda/device_scene.h"
 #include "cuda/emulated_device.h"
 #include "cuda/pixel_kernel.h"
+#include "mesh/mesh_layout.h"
 #include "scene/prepared_scene_impl.h"
 
 #include <tessera/amr.h>
@@ -640,4 +641,36 @@ TEST_CASE("Emulated device: a mesh's interleaved coordinates are copied once, de
   const tessera::Film c = render_on(tessera::cuda::emulated_backend(dev2), ps3, &named);
   CHECK(named.bytes_to_device == in_place.bytes_to_device);
   CHECK(same_bits(a, c));
+}
+
+TEST_CASE("Emulated device: a mesh's tables are copied once per layout and device, and go with the layout",
+          "[emulated][mesh]") {
+  // The layout (elements, boxes, location lists) is what later calls over an unchanged mesh
+  // reuse: its device copy is kept with it, so their renders copy none of it again
+  const std::vector<WarpedMeshPiece> pieces = {{12, 0, 11, MeshForm::Hexes, tessera::DType::Float64, false}};
+  const tessera::Mesh mesh = mesh_of(pieces);
+  const auto b = tessera::cuda::emulated_backend();
+  const auto other = tessera::cuda::emulated_backend();
+  {
+    const tessera::PreparedScene p1 = tessera::prepare(mesh, heat_scene(12, 3));
+    const tessera::MeshLayout& layout = *p1.mesh_layout();
+    const tessera::MeshFieldView v = layout.view(nullptr);
+    const auto loc = static_cast<std::uint64_t>(v.loc_n[0] * v.loc_n[1] * v.loc_n[2]);
+    const std::uint64_t tables = layout.element_count() * (sizeof(tessera::MeshElementRef) + 6 * sizeof(double)) +
+                                 (loc + 1) * sizeof(std::uint64_t) + v.first[loc] * sizeof(std::uint32_t);
+    tessera::CudaTransfer t1, t2, t3;
+    const tessera::Film a = render_on(b, p1, &t1);
+    const tessera::PreparedScene p2 = tessera::prepare(mesh, heat_scene(12, 3), p1.mesh_layout());
+    REQUIRE(p2.mesh_layout_reused());
+    const tessera::Film c = render_on(b, p2, &t2);
+    CHECK(t1.bytes_to_device - t2.bytes_to_device == tables);
+    CHECK(same_bits(a, c));
+    // Another device: its own copy (the same bytes as the first render's)
+    const tessera::Film d = render_on(other, p2, &t3);
+    CHECK(t3.bytes_to_device == t1.bytes_to_device);
+    CHECK(same_bits(a, d));
+  }
+  // The prepared scenes and the layout gone: nothing held on either device
+  CHECK(tessera::cuda::emulated_bytes_held(*b) == 0);
+  CHECK(tessera::cuda::emulated_bytes_held(*other) == 0);
 }

@@ -415,6 +415,10 @@ TEST_CASE("a device mesh promised unchanged is read where it is: nothing copied 
   REQUIRE(fresh.execute_mesh_domains(2, 0.1, d) == TESSERA_OK);
   CHECK(fresh.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host + staged);
   CHECK(same_pixels(*fresh.last_image("view"), resident_image));
+  // The lookup structure's tables stayed on the device with it: the resident call copied none
+  // of them (the fresh adapter, building its own, copies them), the rest alike
+  CHECK(resident.stats.bytes_to_device < first.stats.bytes_to_device);
+  CHECK(fresh.last_results().at(0).stats.bytes_to_device == first.stats.bytes_to_device);
   // A broken promise that would read outside the arrays: refused by domain and element (its
   // words as on the host), TESSERA_ERROR_DATA, the GPU still usable
   std::vector<std::int32_t> tets = upper.tets;
@@ -428,6 +432,7 @@ TEST_CASE("a device mesh promised unchanged is read where it is: nothing copied 
   REQUIRE(ad.execute_mesh_domains(4, 0.3, d) == TESSERA_OK);
   CHECK(ad.last_results().at(0).mesh_layout_reused);
   CHECK(ad.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host);
+  CHECK(ad.last_results().at(0).stats.bytes_to_device == resident.stats.bytes_to_device);
   // No promise: the geometry hashed on the device is the one the layout was built over, so the
   // mesh stays where it is all the same; new values, the staged render's bits
   for (double& v : upper.vertex_values) v = 0.5 * v;

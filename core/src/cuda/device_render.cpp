@@ -79,7 +79,7 @@ std::shared_ptr<DeviceScene> device_scene(const std::shared_ptr<DeviceBackend>& 
     dev = std::make_shared<DeviceScene>(s, backend, budget);
   }
   *device_bytes = dev->bytes() + call_bytes;
-  const std::uint64_t new_bytes = (*reused ? 0 : dev->bytes()) + call_bytes;
+  const std::uint64_t new_bytes = (*reused ? 0 : dev->new_bytes()) + call_bytes;
   if (launch.memory_limit_bytes > 0 && *device_bytes > launch.memory_limit_bytes)
     throw std::runtime_error("render_tiles_cuda: needs " + mib(*device_bytes) + " of device memory (scene copies " +
                              mib(dev->bytes()) + ", this call's pixels " + mib(call_bytes) +
@@ -88,8 +88,8 @@ std::shared_ptr<DeviceScene> device_scene(const std::shared_ptr<DeviceBackend>& 
   backend->memory_info(&free_bytes, &total_bytes);
   if (new_bytes > free_bytes)
     throw std::runtime_error("render_tiles_cuda: needs " + mib(new_bytes) + " of device memory (scene copies " +
-                             mib(*reused ? 0 : dev->bytes()) + ", this call's pixels " + mib(call_bytes) + "), but " +
-                             backend->name() + " has " + mib(free_bytes) + " free of " + mib(total_bytes));
+                             mib(*reused ? 0 : dev->new_bytes()) + ", this call's pixels " + mib(call_bytes) +
+                             "), but " + backend->name() + " has " + mib(free_bytes) + " free of " + mib(total_bytes));
   if (!*reused) {
     *to_device += dev->upload();
     s.device_cache = dev;  // the prepared scene keeps them; freed with it

@@ -4,7 +4,9 @@
 
 #include <tessera/byte_span.h>
 
+#include "cuda/device_mesh_tables.h"
 #include "cuda/pixel_kernel.h"
+#include "mesh/mesh_layout.h"
 #include "scene/prepared_scene_impl.h"
 
 #include <algorithm>
@@ -215,22 +217,15 @@ static_assert(static_cast<int>(MeshArraySlot::Field) == 4 && static_cast<int>(Me
 
 void DeviceScene::plan_mesh() {
   const MeshTables& t = m_scene.mesh;
-  const MeshFieldView& v = m_scene.kernel.mesh;
-  // The tables prepare() built: per element its reference and box, the location cells' lists
-  const std::size_t n = t.element_count();
-  const auto loc = static_cast<std::size_t>(v.loc_n[0] * v.loc_n[1] * v.loc_n[2]);
-  const std::size_t e_off = plan_copy(v.element, n * sizeof(MeshElementRef), "mesh elements");
-  const std::size_t b_off = plan_copy(v.box, n * 6 * sizeof(double), "mesh element boxes");
-  const std::size_t f_off = plan_copy(v.first, (loc + 1) * sizeof(std::uint64_t), "mesh location cells");
-  const std::size_t l_off =
-      plan_copy(v.list, static_cast<std::size_t>(v.first[loc]) * sizeof(std::uint32_t), "mesh location lists");
+  // The tables prepare() built (per element its reference and box, the location cells' lists):
+  // the layout's own device copy, kept between calls (device_mesh_tables.h), made by upload()
+  // when the layout has none on this device yet
+  m_mesh_layout = t.layout().get();
+  m_mesh_table_bytes = DeviceMeshTables::bytes_of(*m_mesh_layout);
+  m_mesh_tables_kept = DeviceMeshTables::kept(*m_mesh_layout, m_backend.get());
   m_off_domains = reserve(t.domains().size() * sizeof(DomainAccess));
   const std::size_t d_off = m_off_domains;
   m_fix.push_back([=](unsigned char* base, KernelScene& d) {
-    d.mesh.element = reinterpret_cast<const MeshElementRef*>(base + e_off);
-    d.mesh.box = reinterpret_cast<const double*>(base + b_off);
-    d.mesh.first = reinterpret_cast<const std::uint64_t*>(base + f_off);
-    d.mesh.list = reinterpret_cast<const std::uint32_t*>(base + l_off);
     d.mesh.domain = reinterpret_cast<const DomainAccess*>(base + d_off);
   });
   // Each domain's arrays (x, y, z, connectivity, values): read in place where they are device
@@ -309,6 +304,13 @@ std::uint64_t DeviceScene::upload() {
     }
     put(m_off_patches, patches.data(), patches.size() * sizeof(AmrPatchAddress), "patch addresses");
     d.amr.patch = reinterpret_cast<const AmrPatchAddress*>(base + m_off_patches);
+  }
+  if (m_mesh_layout) {
+    m_mesh_tables = DeviceMeshTables::of(*m_mesh_layout, m_backend, &copied);
+    d.mesh.element = m_mesh_tables->element;
+    d.mesh.box = m_mesh_tables->box;
+    d.mesh.first = m_mesh_tables->first;
+    d.mesh.list = m_mesh_tables->list;
   }
   if (!m_mesh_arrays.empty()) {
     // A mesh's domain readers over the copies of their arrays

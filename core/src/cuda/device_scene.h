@@ -25,8 +25,11 @@ namespace tessera {
 
 struct PreparedSceneImpl;
 struct KernelScene;
+class MeshLayout;
 
 namespace cuda {
+
+class DeviceMeshTables;
 
 class DeviceScene {
  public:
@@ -40,8 +43,12 @@ class DeviceScene {
   DeviceScene(const DeviceScene&) = delete;
   DeviceScene& operator=(const DeviceScene&) = delete;
 
-  /// Device bytes upload() allocates (one allocation).
-  std::uint64_t bytes() const { return m_size; }
+  /// Device bytes the render reads: upload()'s allocation and a mesh's tables (kept with its
+  /// layout between calls, device_mesh_tables.h).
+  std::uint64_t bytes() const { return m_size + m_mesh_table_bytes; }
+  /// Of bytes(), what upload() allocates now: the mesh's tables only when their layout keeps no
+  /// copy on this device yet (as planned; one made meanwhile by another render is taken).
+  std::uint64_t new_bytes() const { return m_size + (m_mesh_tables_kept ? 0 : m_mesh_table_bytes); }
   /// Allocates and copies; returns the bytes copied from the host. Once only.
   std::uint64_t upload();
 
@@ -96,6 +103,12 @@ class DeviceScene {
     const unsigned char* in_place[kMeshSlots] = {};
   };
   std::vector<MeshArrays> m_mesh_arrays;
+  /// A mesh's layout, its tables' device bytes, whether it kept a copy here when planned, and
+  /// the copy upload() took (held while this scene lives)
+  const MeshLayout* m_mesh_layout = nullptr;
+  std::uint64_t m_mesh_table_bytes = 0;
+  bool m_mesh_tables_kept = false;
+  std::shared_ptr<const DeviceMeshTables> m_mesh_tables;
   std::size_t m_off_domains = 0;
   /// A plain float32 field widened to float64 on the device: the copy's offset (else SIZE_MAX)
   std::size_t m_off_widened = SIZE_MAX;

@@ -16,6 +16,8 @@
 #include "mesh/mesh_field_view.h"
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 namespace tessera {
@@ -42,6 +44,16 @@ class MeshLayout {
   MeshFieldView view(const DomainAccess* domains) const;
   std::uint64_t bytes() const;
 
+  /// Where a copy of these tables in a GPU's memory is kept between calls (made by the first
+  /// GPU render over this layout, cuda/device_mesh_tables.h; released with the layout), so that
+  /// later renders over the same layout (a mesh reused across calls) read it instead of copying
+  /// the tables again. The one mutable part of a layout: guarded by its mutex.
+  struct DeviceCopySlot {
+    std::mutex mutex;
+    std::shared_ptr<const void> copy;
+  };
+  DeviceCopySlot& device_copy_slot() const { return m_device_copy; }
+
  private:
   /// Returns each element's centroid x (canonical order), for slab_runs.
   std::vector<double> gather(const std::vector<DomainAccess>& domains, const Mesh& mesh);
@@ -57,6 +69,7 @@ class MeshLayout {
   std::int64_t m_dims[3] = {2, 2, 2};
   Vec3 m_loc_lo{0.0}, m_loc_inv{1.0};
   std::int64_t m_loc_n[3] = {1, 1, 1};
+  mutable DeviceCopySlot m_device_copy;
 };
 
 }  // namespace tessera
