@@ -212,4 +212,27 @@ TEST_CASE("GPU: a mesh in device memory: faults are named as on the host, nothin
     const DeviceMesh dm(m);
     CHECK_THROWS_WITH(tessera::prepare(dm.mesh, scene, first.mesh_layout()), want);
   }
+  // A promise broken in the ghost field: a cell of the layout a ghost now, with an index that
+  // the indices' check (real cells only) never sees. Refused before the render reads it; the
+  // masks as built over are taken
+  std::vector<WarpedMeshPiece> masked = {{10, 0, 9, MeshForm::Hexes, tessera::DType::Float64, false}};
+  tessera::Mesh m = mesh_of(masked);
+  const std::int64_t cells = m.domains[0].cell_count();
+  std::vector<std::uint8_t> mask(static_cast<std::size_t>(cells), 0);
+  mask[300] = 1;  // a ghost from the start: left out of the layout
+  m.domains[0].ghosts = {mask.data(), 1, cells};
+  const tessera::PreparedScene built = tessera::prepare(m, scene);
+  {
+    const DeviceMesh dm(m);
+    CHECK_NOTHROW(tessera::prepare(dm.mesh, scene, built.mesh_layout()));
+  }
+  mask[41] = 1;
+  static_cast<std::int32_t*>(const_cast<void*>(m.domains[0].connectivity))[8 * 41 + 6] = 1 << 20;
+  {
+    const DeviceMesh dm(m);
+    CHECK_THROWS_WITH(tessera::prepare(dm.mesh, scene, built.mesh_layout()),
+                      Catch::Contains("the ghost fields are not those the layout was built over"));
+  }
+  // ... as on the host, where the element is named
+  CHECK_THROWS_WITH(tessera::prepare(m, scene, built.mesh_layout()), Catch::Contains("element 41 is a ghost now"));
 }

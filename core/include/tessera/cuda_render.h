@@ -150,6 +150,13 @@ std::shared_ptr<const FieldSummary> cuda_mesh_summary(const Mesh& mesh, const Vo
 /// same geometry. Throws as cuda_field_summary does.
 MeshGeometryHash cuda_mesh_geometry_hash(const Mesh& mesh, void* stream = nullptr);
 
+/// The item sums of a GPU mesh's ghost masks alone (the geometry hash's items, not finished
+/// with the descriptors; {0, 0} without masks), on the device after the work queued on
+/// `stream`: what prepare() compares with the masks a reused layout was built over, so that no
+/// cell of the layout is a ghost now (ghosts' indices are never checked). Throws as
+/// cuda_mesh_geometry_hash does.
+MeshGeometryHash cuda_mesh_ghost_sums(const Mesh& mesh, void* stream = nullptr);
+
 /// The finite min / max of the values of a mesh whose arrays are GPU memory (Mesh::device),
 /// ghost cells' values left out for cell data (+Inf, -Inf when none), computed on the device
 /// that holds them after the work queued on `stream`. Throws as cuda_field_summary does.

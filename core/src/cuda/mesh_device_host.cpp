@@ -134,6 +134,15 @@ MeshGeometryHash cuda_mesh_geometry_hash(const Mesh& mesh, void* stream) {
   return finish_geometry_hash(mesh, cuda::mesh_geometry_sums(mesh, stream));
 }
 
+MeshGeometryHash cuda_mesh_ghost_sums(const Mesh& mesh, void* stream) {
+  check_mesh_descriptors(mesh);
+  const bool masks =
+      std::any_of(mesh.domains.begin(), mesh.domains.end(), [](const MeshDomain& d) { return d.ghosts.data; });
+  if (!masks) return {};
+  const GeometrySums s = cuda::mesh_geometry_sums(ghost_masks_only(mesh), stream);
+  return {s.a, s.b};
+}
+
 std::pair<double, double> cuda_mesh_value_range(const Mesh& mesh, void* stream) {
   const cuda::MeshValueStats s = cuda::mesh_value_stats(mesh, stream);
   return {s.real.lo, s.real.hi};

@@ -27,6 +27,15 @@ std::vector<GeometryArray> geometry_arrays(const Mesh& mesh) {
   return out;
 }
 
+Mesh ghost_masks_only(const Mesh& mesh) {
+  Mesh m = mesh;
+  for (MeshDomain& d : m.domains) {
+    d.coords.count = 0;
+    if (!d.structured()) d.ncells = 0;  // (a ghost mask keeps its own count)
+  }
+  return m;
+}
+
 MeshGeometryHash finish_geometry_hash(const Mesh& mesh, const GeometrySums& items) {
   GeometrySums s = items;
   std::uint64_t n = 0;  // the descriptors, as items of a tag no array has

@@ -64,6 +64,12 @@ TESSERA_HOST_DEVICE inline void add_geometry_item(GeometrySums& s, std::uint64_t
 /// x, y, z, the connectivity (unstructured) and the ghost mask (when set).
 std::vector<GeometryArray> geometry_arrays(const Mesh& mesh);
 
+/// `mesh` with only its ghost masks left for geometry_arrays (the coordinates' and the
+/// connectivity's counts set to 0, the arrays' addresses kept): its item sums are those of the
+/// masks alone, tagged as in the whole mesh's. For a layout's record of the masks it was built
+/// over (MeshLayout::ghost_sums), compared on the device where a promise skips the hash.
+Mesh ghost_masks_only(const Mesh& mesh);
+
 /// The item sums of every array of geometry_arrays(mesh), read as host memory, over TBB's
 /// threads (the host's hash, and the emulated device's).
 GeometrySums geometry_sums(const Mesh& mesh);

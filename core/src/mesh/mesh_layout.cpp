@@ -150,6 +150,9 @@ std::vector<SlabRun> slab_runs(std::size_t n, const std::vector<double>& centroi
 
 MeshLayout::MeshLayout(const Mesh& mesh, const std::vector<DomainAccess>& domains) {
   for (const MeshDomain& d : mesh.domains) append_signature(d, m_signature);
+  const bool masks = std::any_of(mesh.domains.begin(), mesh.domains.end(),
+                                 [](const MeshDomain& d) { return d.ghosts.data != nullptr; });
+  if (masks) m_ghost_sums = geometry_sums(ghost_masks_only(mesh));
   const std::vector<double> centroid_x = gather(domains, mesh);
   place_grid();
   build_location(centroid_x);

@@ -13,6 +13,7 @@
 #include <tessera/scene.h>
 
 #include "mesh/domain_access.h"
+#include "mesh/geometry_hash.h"
 #include "mesh/mesh_field_view.h"
 
 #include <cstdint>
@@ -43,6 +44,10 @@ class MeshLayout {
   /// The kernels' view with `domains` (the current arrays); element null when empty.
   MeshFieldView view(const DomainAccess* domains) const;
   std::uint64_t bytes() const;
+  /// The item sums of the ghost masks the layout was built over (geometry_hash.h,
+  /// ghost_masks_only; zero without masks): what a later mesh's masks must sum to for the
+  /// layout's elements to be its real cells.
+  const GeometrySums& ghost_sums() const { return m_ghost_sums; }
 
   /// Where a copy of these tables in a GPU's memory is kept between calls (made by the first
   /// GPU render over this layout, cuda/device_mesh_tables.h; released with the layout), so that
@@ -69,6 +74,7 @@ class MeshLayout {
   std::int64_t m_dims[3] = {2, 2, 2};
   Vec3 m_loc_lo{0.0}, m_loc_inv{1.0};
   std::int64_t m_loc_n[3] = {1, 1, 1};
+  GeometrySums m_ghost_sums;
   mutable DeviceCopySlot m_device_copy;
 };
 
