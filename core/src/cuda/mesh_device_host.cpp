@@ -136,9 +136,7 @@ MeshGeometryHash cuda_mesh_geometry_hash(const Mesh& mesh, void* stream) {
 
 MeshGeometryHash cuda_mesh_ghost_sums(const Mesh& mesh, void* stream) {
   check_mesh_descriptors(mesh);
-  const bool masks =
-      std::any_of(mesh.domains.begin(), mesh.domains.end(), [](const MeshDomain& d) { return d.ghosts.data; });
-  if (!masks) return {};
+  if (!has_ghost_masks(mesh)) return {};
   const GeometrySums s = cuda::mesh_geometry_sums(ghost_masks_only(mesh), stream);
   return {s.a, s.b};
 }

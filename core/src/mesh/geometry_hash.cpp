@@ -4,6 +4,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
+
 namespace tessera {
 
 std::vector<GeometryArray> geometry_arrays(const Mesh& mesh) {
@@ -34,6 +36,11 @@ Mesh ghost_masks_only(const Mesh& mesh) {
     if (!d.structured()) d.ncells = 0;  // (a ghost mask keeps its own count)
   }
   return m;
+}
+
+bool has_ghost_masks(const Mesh& mesh) {
+  return std::any_of(mesh.domains.begin(), mesh.domains.end(),
+                     [](const MeshDomain& d) { return d.ghosts.data != nullptr; });
 }
 
 MeshGeometryHash finish_geometry_hash(const Mesh& mesh, const GeometrySums& items) {

@@ -70,6 +70,9 @@ std::vector<GeometryArray> geometry_arrays(const Mesh& mesh);
 /// over (MeshLayout::ghost_sums), compared on the device where a promise skips the hash.
 Mesh ghost_masks_only(const Mesh& mesh);
 
+/// Whether any domain of `mesh` has a ghost mask.
+bool has_ghost_masks(const Mesh& mesh);
+
 /// The item sums of every array of geometry_arrays(mesh), read as host memory, over TBB's
 /// threads (the host's hash, and the emulated device's).
 GeometrySums geometry_sums(const Mesh& mesh);

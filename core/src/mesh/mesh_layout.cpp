@@ -128,8 +128,9 @@ std::vector<SlabRun> slab_runs(std::size_t n, const std::vector<double>& centroi
       [](auto a, const auto& b) {
         return std::pair<std::int64_t, std::int64_t>{std::max(a.first, b.first), std::max(a.second, b.second)};
       });
-  // An element reaching slab [i0, i1) has c1 >= i0 and c0 < i1, so its centroid cell is in
-  // [i0 - below... ]: cc >= c1 - above >= i0 - above, cc <= c0 + below <= i1 - 1 + below
+  // An element reaching slab [i0, i1) has c1 >= i0 and c0 < i1, so its centroid cell cc is in
+  // [i0 - above, i1 - 1 + below] (cc >= c1 - above >= i0 - above, cc <= c0 + below <= i1 - 1
+  // + below; below = reach.first, above = reach.second)
   std::vector<SlabRun> slabs;
   std::size_t visits = 0;
   for (std::int64_t s = 0; s < want; ++s) {
@@ -150,9 +151,7 @@ std::vector<SlabRun> slab_runs(std::size_t n, const std::vector<double>& centroi
 
 MeshLayout::MeshLayout(const Mesh& mesh, const std::vector<DomainAccess>& domains) {
   for (const MeshDomain& d : mesh.domains) append_signature(d, m_signature);
-  const bool masks = std::any_of(mesh.domains.begin(), mesh.domains.end(),
-                                 [](const MeshDomain& d) { return d.ghosts.data != nullptr; });
-  if (masks) m_ghost_sums = geometry_sums(ghost_masks_only(mesh));
+  if (has_ghost_masks(mesh)) m_ghost_sums = geometry_sums(ghost_masks_only(mesh));
   const std::vector<double> centroid_x = gather(domains, mesh);
   place_grid();
   build_location(centroid_x);
@@ -286,7 +285,7 @@ void MeshLayout::build_location(const std::vector<double>& centroid_x) {
   // cells along x, each slab counting and filling only its own cells, its elements visited in
   // canonical order: every list is in canonical order, the same bits under any thread count
   // or slab count, with no atomics. The elements are sorted by centroid x first, so the
-  // elements that reach a slab are a contiguous run of the canonical order (slab_elements).
+  // elements that reach a slab are a contiguous run of the canonical order (slab_runs).
   const std::int64_t cells = m_loc_n[0] * m_loc_n[1] * m_loc_n[2];
   m_first.assign(static_cast<std::size_t>(cells) + 1, 0);
   const auto each_cell = [&](std::size_t e, std::int64_t i0, std::int64_t i1, auto&& fn) {

@@ -1,6 +1,8 @@
 /// MeshTables::build (mesh_tables.h): the layout (built, or reused), then the values' ranges.
 #include "mesh/mesh_tables.h"
 
+#include "mesh/geometry_hash.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -24,8 +26,7 @@ void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse
   const std::size_t n = m_layout->element_count();
   m_range.assign(n, ElementRange{});
   std::atomic<std::size_t> ghost{n};
-  const bool masks = std::any_of(mesh.domains.begin(), mesh.domains.end(),
-                                 [](const MeshDomain& d) { return d.ghosts.data != nullptr; });
+  const bool masks = has_ghost_masks(mesh);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
     for (std::size_t e = r.begin(); e != r.end(); ++e) {
       const MeshElementRef& ref = m_layout->element(e);

@@ -231,12 +231,6 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   Mesh whole;
   MeshChecked whole_checked;
   bool values_only = false;
-  std::uint64_t exchanged = 0;  // bytes received from the ranks (this rank's own included)
-  const auto received_bytes = [](const std::vector<std::string>& parts) {
-    std::uint64_t b = 0;
-    for (const std::string& p : parts) b += p.size();
-    return b;
-  };
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (pass.ctx.size() == 1) {
           whole = bound->local;
@@ -251,17 +245,17 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         values_only = pass.ctx.agree(holds) && tags.first == tags.second;
         if (values_only) {
           received = pass.ctx.allgather_bytes(pack_values(bound->local), plan.limit);
-          exchanged = received_bytes(received);
           whole = unpack_with_values(keep.parts, received);
           whole_checked = check_mesh_copy(whole);
           return;
         }
         received = pass.ctx.allgather_bytes(pack_mesh(bound->local), plan.limit);
-        exchanged = received_bytes(received);
         whole = unpack_meshes(received);
         if (shapes_checked) whole_checked = check_mesh_copy(whole);
       }))
     return;
+  std::uint64_t exchanged = 0;  // bytes received from the ranks (this rank's own included)
+  for (const std::string& part : received) exchanged += part.size();
   const std::optional<config::DeviceSelection> device = mesh_device_phase(gate, pass, bound->gpu_readable);
   if (!device) return;
   out.result.device = config::device_text(*device);
