@@ -643,27 +643,53 @@ TEST_CASE("Emulated device: a mesh's interleaved coordinates are copied once, de
   CHECK(same_bits(a, c));
 }
 
-TEST_CASE("Emulated device: a mesh's tables are copied once per layout and device, and go with the layout",
+namespace {
+
+/// Bytes a device render copies of a mesh layout's tables (elements, boxes, location lists).
+std::uint64_t table_bytes(const tessera::MeshLayout& layout) {
+  const tessera::MeshFieldView v = layout.view(nullptr);
+  const auto loc = static_cast<std::uint64_t>(v.loc_n[0] * v.loc_n[1] * v.loc_n[2]);
+  return layout.element_count() * (sizeof(tessera::MeshElementRef) + 6 * sizeof(double)) +
+         (loc + 1) * sizeof(std::uint64_t) + v.first[loc] * sizeof(std::uint32_t);
+}
+
+/// Bytes of a mesh's geometry arrays (x, y, z, connectivity), each domain's overlapping ones
+/// (interleaved x, y, z) counted once.
+std::uint64_t geometry_bytes(const tessera::Mesh& mesh) {
+  std::uint64_t total = 0;
+  for (const tessera::MeshDomain& d : mesh.domains) {
+    std::vector<tessera::AddressSpan> spans;
+    for (int s = 0; s < 4; ++s) {
+      const tessera::MeshArraySpan a = tessera::mesh_array(d, static_cast<tessera::MeshArraySlot>(s));
+      const auto* p = static_cast<const unsigned char*>(a.data);
+      if (p) spans.push_back({p, p + a.bytes, s});
+    }
+    for (const tessera::SpanRun& r : tessera::merge_spans(spans)) total += static_cast<std::uint64_t>(r.hi - r.lo);
+  }
+  return total;
+}
+
+}  // namespace
+
+TEST_CASE("Emulated device: a mesh's tables and geometry are copied once per layout and device, and go with the "
+          "layout",
           "[emulated][mesh]") {
   // The layout (elements, boxes, location lists) is what later calls over an unchanged mesh
-  // reuse: its device copy is kept with it, so their renders copy none of it again
+  // reuse: its device copy is kept with it, and the geometry's (coordinates, connectivity)
+  // beside it, so their renders copy only the values
   const std::vector<WarpedMeshPiece> pieces = {{12, 0, 11, MeshForm::Hexes, tessera::DType::Float64, false}};
   const tessera::Mesh mesh = mesh_of(pieces);
   const auto b = tessera::cuda::emulated_backend();
   const auto other = tessera::cuda::emulated_backend();
   {
     const tessera::PreparedScene p1 = tessera::prepare(mesh, heat_scene(12, 3));
-    const tessera::MeshLayout& layout = *p1.mesh_layout();
-    const tessera::MeshFieldView v = layout.view(nullptr);
-    const auto loc = static_cast<std::uint64_t>(v.loc_n[0] * v.loc_n[1] * v.loc_n[2]);
-    const std::uint64_t tables = layout.element_count() * (sizeof(tessera::MeshElementRef) + 6 * sizeof(double)) +
-                                 (loc + 1) * sizeof(std::uint64_t) + v.first[loc] * sizeof(std::uint32_t);
+    const std::uint64_t kept = table_bytes(*p1.mesh_layout()) + geometry_bytes(mesh);
     tessera::CudaTransfer t1, t2, t3;
     const tessera::Film a = render_on(b, p1, &t1);
     const tessera::PreparedScene p2 = tessera::prepare(mesh, heat_scene(12, 3), p1.mesh_layout());
     REQUIRE(p2.mesh_layout_reused());
     const tessera::Film c = render_on(b, p2, &t2);
-    CHECK(t1.bytes_to_device - t2.bytes_to_device == tables);
+    CHECK(t1.bytes_to_device - t2.bytes_to_device == kept);
     CHECK(same_bits(a, c));
     // Another device: its own copy (the same bytes as the first render's)
     const tessera::Film d = render_on(other, p2, &t3);
@@ -673,4 +699,56 @@ TEST_CASE("Emulated device: a mesh's tables are copied once per layout and devic
   // The prepared scenes and the layout gone: nothing held on either device
   CHECK(tessera::cuda::emulated_bytes_held(*b) == 0);
   CHECK(tessera::cuda::emulated_bytes_held(*other) == 0);
+}
+
+TEST_CASE("Emulated device: a kept geometry copy serves arrays laid out alike, wherever they are, and no other",
+          "[emulated][mesh]") {
+  const auto b = tessera::cuda::emulated_backend();
+  const std::vector<WarpedMeshPiece> pieces = {{12, 0, 7, MeshForm::Hexes, tessera::DType::Float64, false},
+                                               {12, 7, 11, MeshForm::Curvilinear, tessera::DType::Float64, false}};
+  const tessera::Mesh mesh = mesh_of(pieces);
+  const tessera::PreparedScene p1 = tessera::prepare(mesh, heat_scene(12, 3));
+  const std::uint64_t tables = table_bytes(*p1.mesh_layout());
+  tessera::CudaTransfer t1;
+  const tessera::Film a = render_on(b, p1, &t1);
+  // The same geometry in other host arrays (the simulation's next buffers, or the arrays a
+  // values-only exchange unpacks): the kept copy serves, and the render reads none of the
+  // host geometry (overwritten after prepare): only the values are copied
+  std::vector<WarpedMeshPiece> twin = pieces;
+  const tessera::Mesh twin_mesh = mesh_of(twin);
+  const tessera::PreparedScene p2 = tessera::prepare(twin_mesh, heat_scene(12, 3), p1.mesh_layout());
+  REQUIRE(p2.mesh_layout_reused());
+  for (WarpedMeshPiece& p : twin) p.scribble_geometry();
+  tessera::CudaTransfer t2;
+  const tessera::Film c = render_on(b, p2, &t2);
+  CHECK(t1.bytes_to_device - t2.bytes_to_device == tables + geometry_bytes(mesh));
+  CHECK(same_bits(a, c));
+  // The same geometry laid out otherwise (the hexes' x, y, z interleaved: other spans, read
+  // at another stride): the copy does not serve; the geometry is copied again (the tables
+  // with it) and kept instead
+  tessera::Mesh wide_mesh = mesh;
+  tessera::MeshDomain& hexes = wide_mesh.domains[0];
+  std::vector<double> xyz;
+  for (std::int64_t v = 0; v < hexes.coords.count; ++v)
+    for (const void* axis : {hexes.coords.x, hexes.coords.y, hexes.coords.z})
+      xyz.push_back(static_cast<const double*>(axis)[v]);
+  hexes.coords.x = xyz.data();
+  hexes.coords.y = xyz.data() + 1;
+  hexes.coords.z = xyz.data() + 2;
+  hexes.coords.byte_stride = 3 * sizeof(double);
+  const tessera::PreparedScene p3 = tessera::prepare(wide_mesh, heat_scene(12, 3), p1.mesh_layout());
+  REQUIRE(p3.mesh_layout_reused());
+  tessera::CudaTransfer t3, t4, t5;
+  const tessera::Film d = render_on(b, p3, &t3);
+  CHECK(t3.bytes_to_device == t2.bytes_to_device + tables + geometry_bytes(wide_mesh));
+  CHECK(same_bits(a, d));
+  // (each render below of a scene prepared anew, as each call's is)
+  const tessera::PreparedScene p4 = tessera::prepare(wide_mesh, heat_scene(12, 3), p1.mesh_layout());
+  const tessera::Film e = render_on(b, p4, &t4);  // now kept
+  CHECK(t4.bytes_to_device == t2.bytes_to_device);
+  CHECK(same_bits(a, e));
+  const tessera::PreparedScene p5 = tessera::prepare(mesh, heat_scene(12, 3), p1.mesh_layout());
+  const tessera::Film f = render_on(b, p5, &t5);  // the first arrays' layout again: copied again
+  CHECK(t5.bytes_to_device == t1.bytes_to_device);
+  CHECK(same_bits(a, f));
 }

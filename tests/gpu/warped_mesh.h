@@ -93,12 +93,16 @@ class WarpedMeshPiece {
 
   /// Overwrites every array the domain points to (coordinates, connectivity, values).
   void scribble() {
+    scribble_geometry();
+    for (unsigned char& b : m_values) b = 0x7F;
+  }
+  /// Overwrites the geometry's arrays only (coordinates, connectivity).
+  void scribble_geometry() {
     for (float& c : m_xyz32) c = 1.0e30f;
     for (std::vector<double>* c : {&m_x, &m_y, &m_z})
       for (double& v : *c) v = -1.0e300;
     for (std::int64_t& c : m_conn) c = -5;
     for (std::int32_t& c : m_conn32) c = 1 << 30;
-    for (unsigned char& b : m_values) b = 0x7F;
   }
 
  private:

@@ -155,6 +155,71 @@ TEST_CASE("device: auto with mesh arrays in device memory on rank 0", "[mpi][gpu
   }
 }
 
+TEST_CASE("device: cuda over an unchanged mesh on the ranks' GPUs copies only its values again", "[mpi][gpu][mesh]") {
+  // Calls 2 and 3 pass new values over the same geometry (found the same by its hash, then
+  // promised): every rank's GPU keeps the whole mesh's geometry and lookup tables from call 1
+  // (on several ranks the geometry is the kept bytes of call 1's full exchange, and only the
+  // values move), so those calls copy at least the whole geometry's bytes fewer, and the image
+  // is a fresh adapter's bit for bit
+  SharedTempDir dir("tessera_device_");
+  const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
+  const std::int64_t n[3] = {9, 8, 13};
+  const std::int64_t cuts[5] = {0, 3, 6, 9, 12};
+  std::deque<tessera_test::MeshBlock> blocks;
+  std::vector<tessera_mesh_domain> mine;
+  std::uint64_t geometry = 0;  // of the whole mesh: x, y, z and connectivity of every block
+  for (int b = 0; b < 4; ++b) {
+    tessera_test::MeshBlock& m = blocks.emplace_back(n, cuts[b], cuts[b + 1]);
+    const bool tets = b % 2 == 1;
+    geometry += 3 * m.x.size() * sizeof(double) + (tets ? m.tets.size() : m.hexes.size()) * sizeof(std::int32_t);
+    if (b % world_size() == world_rank())
+      mine.push_back(m.domain(tets ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
+  }
+  const auto open = [&](Adapter& a, const std::string& tag) {
+    std::string cfg = config(dir.file(tag), "cuda");
+    cfg.replace(cfg.find("field: density"), 14, "field: f");
+    cfg.replace(cfg.find("range: [0, 250]"), 15, "range: [0, 1]");
+    a.set_quiet(true);
+    REQUIRE(all_ranks(a.open(dir.write(tag + ".yaml", cfg), MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
+  };
+  const auto rescale = [&](double f) {
+    for (tessera_test::MeshBlock& m : blocks)
+      for (double& v : m.vertex_values) v *= f;
+  };
+  Adapter a;
+  open(a, "kept");
+  REQUIRE(all_ranks(a.execute_mesh_domains(1, 0.0, {mine.data(), mine.size()}) == TESSERA_OK));
+  const tessera::insitu::RenderResult first = a.last_results().at(0);
+  rescale(0.8);
+  REQUIRE(all_ranks(a.execute_mesh_domains(2, 0.1, {mine.data(), mine.size()}) == TESSERA_OK));
+  const tessera::insitu::RenderResult found = a.last_results().at(0);
+  std::optional<tessera::Image> image;
+  if (const tessera::Image* im = a.last_image("view")) image = *im;
+  REQUIRE(all_ranks(a.mesh_unchanged() == TESSERA_OK));
+  REQUIRE(all_ranks(a.execute_mesh_domains(3, 0.2, {mine.data(), mine.size()}) == TESSERA_OK));
+  const tessera::insitu::RenderResult promised = a.last_results().at(0);
+  CHECK(all_ranks(first.device == "cuda:0"));
+  CHECK(all_ranks(!first.mesh_layout_reused && found.mesh_layout_reused && promised.mesh_layout_reused));
+  CHECK(all_ranks(found.mesh_values_only == (world_size() > 1)));
+  INFO("bytes to the device: " << first.stats.bytes_to_device << ", " << found.stats.bytes_to_device << ", "
+                               << promised.stats.bytes_to_device << "; the geometry " << geometry);
+  // (on several ranks each rank's share of the tiles, and so of the film's bytes, varies)
+  CHECK(all_ranks(found.stats.bytes_to_device + geometry < first.stats.bytes_to_device));
+  CHECK(all_ranks(promised.stats.bytes_to_device + geometry < first.stats.bytes_to_device));
+  if (world_size() == 1) CHECK(promised.stats.bytes_to_device == found.stats.bytes_to_device);
+  // Call 2's values (call 3's too), a fresh adapter (everything copied): the same bits
+  Adapter fresh;
+  open(fresh, "fresh");
+  REQUIRE(all_ranks(fresh.execute_mesh_domains(2, 0.1, {mine.data(), mine.size()}) == TESSERA_OK));
+  CHECK(all_ranks(fresh.last_results().at(0).stats.bytes_to_device > found.stats.bytes_to_device + geometry));
+  if (world_size() == 1) CHECK(fresh.last_results().at(0).stats.bytes_to_device == first.stats.bytes_to_device);
+  if (world_rank() == 0) {
+    REQUIRE(image);
+    REQUIRE(fresh.last_image("view"));
+    CHECK(fresh.last_image("view")->rgba == image->rgba);
+  }
+}
+
 TEST_CASE("device: cuda on every rank's GPU renders the CPU's image", "[mpi][gpu]") {
   SharedTempDir dir("tessera_device_");
   const Run cpu = run(dir, "cpu", "cpu");

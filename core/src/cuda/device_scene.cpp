@@ -217,25 +217,25 @@ static_assert(static_cast<int>(MeshArraySlot::Field) == 4 && static_cast<int>(Me
 
 void DeviceScene::plan_mesh() {
   const MeshTables& t = m_scene.mesh;
-  // The tables prepare() built (per element its reference and box, the location cells' lists):
-  // the layout's own device copy, kept between calls (device_mesh_tables.h), made by upload()
-  // when the layout has none on this device yet
   m_mesh_layout = t.layout().get();
-  m_mesh_table_bytes = DeviceMeshTables::bytes_of(*m_mesh_layout);
-  m_mesh_tables_kept = DeviceMeshTables::kept(*m_mesh_layout, m_backend.get());
   m_off_domains = reserve(t.domains().size() * sizeof(DomainAccess));
   const std::size_t d_off = m_off_domains;
   m_fix.push_back([=](unsigned char* base, KernelScene& d) {
     d.mesh.domain = reinterpret_cast<const DomainAccess*>(base + d_off);
   });
   // Each domain's arrays (x, y, z, connectivity, values): read in place where they are device
-  // or managed memory, or where the caller names a device copy of them; the others copied,
-  // those whose spans overlap or touch (interleaved x, y, z) in one copy
+  // or managed memory, or where the caller names a device copy of them. The others are copied:
+  // the geometry's (x, y, z, connectivity) into the copy kept with the layout (with its
+  // tables: device_mesh_tables.h), which later renders over the same layout and arrays read
+  // where it is; the values into this scene's allocation. Spans that overlap or touch
+  // (interleaved x, y, z) make one copy
   const auto host = [&](const void* p) { return m_backend->memory_kind(p) == MemoryKind::Host; };
   m_field_in_place = true;
-  for (const MeshTables::DomainArrays& arrays : t.arrays()) {
+  const std::span<const DomainAccess> readers = t.domains();
+  for (std::size_t i = 0; i < readers.size(); ++i) {
+    const MeshTables::DomainArrays& arrays = t.arrays()[i];
     MeshArrays m;
-    std::vector<AddressSpan> copies;
+    std::vector<AddressSpan> geometry;
     for (int k = 0; k < kMeshSlots; ++k) {
       const MeshArraySpan& a = arrays.span[static_cast<std::size_t>(k)];
       const void* named = arrays.device_copy[static_cast<std::size_t>(k)];
@@ -246,20 +246,21 @@ void DeviceScene::plan_mesh() {
       }
       if (!host(a.data)) continue;  // device or managed memory: read where it is
       const auto* p = static_cast<const unsigned char*>(a.data);
-      copies.push_back({p, p + a.bytes, k});
-    }
-    for (const SpanRun& r : merge_spans(copies)) {
-      static constexpr const char* kWhat[kMeshSlots] = {"mesh coordinates", "mesh coordinates", "mesh coordinates",
-                                                        "mesh connectivity", "mesh values"};
-      const std::size_t off = plan_copy(r.lo, static_cast<std::size_t>(r.hi - r.lo), kWhat[copies[r.first].tag]);
-      for (std::size_t c = r.first; c < r.last; ++c) {
-        m.off[copies[c].tag] = off;
-        m.lo[copies[c].tag] = r.lo;
+      if (k < MeshGeometryCopies::kSlots) {
+        geometry.push_back({p, p + a.bytes, k});
+        continue;
       }
-      m_field_in_place = false;
+      m.off[k] = plan_copy(p, static_cast<std::size_t>(a.bytes), "mesh values");
+      m.lo[k] = p;
     }
+    if (!geometry.empty() || m.off[kMeshSlots - 1] != SIZE_MAX) m_field_in_place = false;
+    m_mesh_geometry.add_domain(readers[i], geometry);
     m_mesh_arrays.push_back(m);
   }
+  // Its size, and whether the layout keeps one on this device for these arrays (as planned:
+  // one made meanwhile by another render is taken)
+  m_mesh_table_bytes = DeviceMeshTables::bytes_of(*m_mesh_layout, m_mesh_geometry);
+  m_mesh_tables_kept = DeviceMeshTables::kept(*m_mesh_layout, m_mesh_geometry, m_backend.get());
 }
 
 DeviceScene::~DeviceScene() { m_backend->release(m_base); }
@@ -306,7 +307,7 @@ std::uint64_t DeviceScene::upload() {
     d.amr.patch = reinterpret_cast<const AmrPatchAddress*>(base + m_off_patches);
   }
   if (m_mesh_layout) {
-    m_mesh_tables = DeviceMeshTables::of(*m_mesh_layout, m_backend, &copied);
+    m_mesh_tables = DeviceMeshTables::of(*m_mesh_layout, m_mesh_geometry, m_backend, &copied);
     d.mesh.element = m_mesh_tables->element;
     d.mesh.box = m_mesh_tables->box;
     d.mesh.first = m_mesh_tables->first;
@@ -319,10 +320,13 @@ std::uint64_t DeviceScene::upload() {
     for (std::size_t i = 0; i < domains.size(); ++i) {
       DomainAccess& a = domains[i];
       const MeshArrays& m = m_mesh_arrays[i];
+      const std::array<MeshGeometryCopies::Slot, MeshGeometryCopies::kSlots>& kept = m_mesh_geometry.slots()[i];
       const unsigned char** ptr[kMeshSlots] = {&a.x, &a.y, &a.z, &a.conn, &a.values};
       for (int k = 0; k < kMeshSlots; ++k) {
         if (m.in_place[k]) *ptr[k] = m.in_place[k];
         else if (m.off[k] != SIZE_MAX) *ptr[k] = base + m.off[k] + (*ptr[k] - m.lo[k]);
+        else if (k < MeshGeometryCopies::kSlots && kept[k].run >= 0)
+          *ptr[k] = m_mesh_tables->run(static_cast<std::size_t>(kept[k].run)) + kept[k].offset;
       }
     }
     put(m_off_domains, domains.data(), domains.size() * sizeof(DomainAccess), "mesh domains");

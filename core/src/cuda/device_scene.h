@@ -13,6 +13,7 @@
 /// read-only once uploaded, so concurrent renders may share it.
 #include "cuda/device_backend.h"
 #include "cuda/device_bricks.h"
+#include "cuda/device_mesh_tables.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -29,8 +30,6 @@ class MeshLayout;
 
 namespace cuda {
 
-class DeviceMeshTables;
-
 class DeviceScene {
  public:
   /// Plans the copies of `s` for `backend`'s device: what is host memory is to be copied,
@@ -43,11 +42,12 @@ class DeviceScene {
   DeviceScene(const DeviceScene&) = delete;
   DeviceScene& operator=(const DeviceScene&) = delete;
 
-  /// Device bytes the render reads: upload()'s allocation and a mesh's tables (kept with its
-  /// layout between calls, device_mesh_tables.h).
+  /// Device bytes the render reads: upload()'s allocation and a mesh's tables and geometry
+  /// (kept with its layout between calls, device_mesh_tables.h).
   std::uint64_t bytes() const { return m_size + m_mesh_table_bytes; }
-  /// Of bytes(), what upload() allocates now: the mesh's tables only when their layout keeps no
-  /// copy on this device yet (as planned; one made meanwhile by another render is taken).
+  /// Of bytes(), what upload() allocates now: the mesh's tables and geometry only when their
+  /// layout keeps no copy of them on this device yet (as planned; one made meanwhile by another
+  /// render is taken).
   std::uint64_t new_bytes() const { return m_size + (m_mesh_tables_kept ? 0 : m_mesh_table_bytes); }
   /// Allocates and copies; returns the bytes copied from the host. Once only.
   std::uint64_t upload();
@@ -77,8 +77,9 @@ class DeviceScene {
   };
   std::size_t reserve(std::size_t bytes);
   std::size_t plan_copy(const void* src, std::size_t bytes, const char* what);
-  /// A mesh: its elements, boxes and location lists, and each domain's coordinates,
-  /// connectivity and values (each read in place where it is device or managed memory)
+  /// A mesh: its elements, boxes and location lists and each domain's coordinates and
+  /// connectivity (in the copy kept with the layout), and its values (in this allocation);
+  /// each array read in place where it is device or managed memory
   void plan_mesh();
 
   const PreparedSceneImpl& m_scene;
@@ -94,8 +95,9 @@ class DeviceScene {
   std::vector<std::pair<std::size_t, std::ptrdiff_t>> m_patch_data;  ///< per patch: offset, lowest byte offset
   void* m_base = nullptr;
   /// A mesh's domain readers (DomainAccess) on the device: per domain and array (x, y, z,
-  /// connectivity, values; the MeshArraySlot order), the copy's offset and the host address it
-  /// starts at (offset SIZE_MAX: not copied), or the device copy the caller named
+  /// connectivity, values; the MeshArraySlot order), the copy's offset in this allocation and
+  /// the host address it starts at (offset SIZE_MAX: not copied here; the geometry's copies are
+  /// in the kept copy, m_mesh_geometry), or the device copy the caller named
   static constexpr int kMeshSlots = 5;
   struct MeshArrays {
     std::size_t off[kMeshSlots] = {SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX, SIZE_MAX};
@@ -103,9 +105,11 @@ class DeviceScene {
     const unsigned char* in_place[kMeshSlots] = {};
   };
   std::vector<MeshArrays> m_mesh_arrays;
-  /// A mesh's layout, its tables' device bytes, whether it kept a copy here when planned, and
-  /// the copy upload() took (held while this scene lives)
+  /// A mesh's layout, the host arrays of its geometry to copy, the device bytes of both,
+  /// whether the layout kept a copy of both here when planned, and the copy upload() took
+  /// (held while this scene lives)
   const MeshLayout* m_mesh_layout = nullptr;
+  MeshGeometryCopies m_mesh_geometry;
   std::uint64_t m_mesh_table_bytes = 0;
   bool m_mesh_tables_kept = false;
   std::shared_ptr<const DeviceMeshTables> m_mesh_tables;
