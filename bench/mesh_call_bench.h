@@ -18,12 +18,14 @@ struct MeshCallArgs {
   std::int64_t cells = 64;  ///< cells per axis of the hex mesh
   int steps = 6;
   std::string csv;
-  int threads = 0;   ///< tessera.threads
-  std::string only;  ///< a mode's prefix, or every mode
+  int threads = 0;              ///< tessera.threads
+  std::string only;             ///< a mode's prefix, or every mode
+  std::string device = "auto";  ///< tessera.device: auto, cpu or cuda
 };
 
-/// Parses `--cells N --steps S --csv PATH --threads T --only MODE` into `a` (its defaults kept
-/// for flags not given; values clamped to sane ranges). Returns the unknown flag, or "".
+/// Parses `--cells N --steps S --csv PATH --threads T --only MODE --device auto|cpu|cuda` into
+/// `a` (its defaults kept for flags not given; values clamped to sane ranges). Returns the
+/// unknown flag (or the device flag with a value it does not take), or "".
 inline std::string parse_mesh_call_args(int argc, char** argv, MeshCallArgs& a) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
@@ -32,7 +34,10 @@ inline std::string parse_mesh_call_args(int argc, char** argv, MeshCallArgs& a) 
     else if (flag == "--csv") a.csv = argv[i + 1];
     else if (flag == "--threads") a.threads = std::max(0, std::atoi(argv[i + 1]));
     else if (flag == "--only") a.only = argv[i + 1];
-    else return flag;
+    else if (flag == "--device") {
+      a.device = argv[i + 1];
+      if (a.device != "auto" && a.device != "cpu" && a.device != "cuda") return flag + " " + a.device;
+    } else return flag;
   }
   return "";
 }
@@ -45,9 +50,10 @@ inline std::vector<std::string> mesh_call_modes(const MeshCallArgs& a) {
   return modes;
 }
 
-/// The benchmarks' config: one small render (32x32, 1 spp, so that the mesh's cost shows).
-inline std::string mesh_call_config(const std::string& output_dir, int threads) {
-  return "tessera:\n  output_dir: " + output_dir + "\n  threads: " + std::to_string(threads) +
+/// The benchmarks' config: one small render (32x32, 1 spp, so that the mesh's cost shows) on
+/// `device` (tessera.device).
+inline std::string mesh_call_config(const std::string& output_dir, int threads, const std::string& device) {
+  return "tessera:\n  output_dir: " + output_dir + "\n  threads: " + std::to_string(threads) + "\n  device: " + device +
          "\nrenders:\n  - name: view\n    field: f\n"
          "    image: {width: 32, height: 32, spp: 1}\n"
          "    camera: {position: {orbit: {azimuth: 30, elevation: 25, distance: 3}}, look_at: "

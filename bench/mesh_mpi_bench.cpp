@@ -4,11 +4,12 @@
 // (tessera_mesh_unchanged), or moved a little every step. With several ranks every rank
 // receives every rank's domains; while the geometry holds only the values move. Not a test:
 // rank 0 prints the slowest rank's seconds per call (median of the steps after the first), the
-// bytes a rank received in the exchange, and writes a CSV.
+// bytes a rank received in the exchange, the most bytes a rank copied to its GPU (with
+// --device cuda), and writes a CSV.
 //
 //   mpirun -n P mesh_mpi_bench [--cells N] [--steps S] [--csv PATH] [--threads T]
-//                              [--only moved|same|promised]
-//   (defaults: 48, 6, mesh_mpi_bench.csv, 1 thread per rank, every mode)
+//                              [--only moved|same|promised] [--device auto|cpu|cuda]
+//   (defaults: 48, 6, mesh_mpi_bench.csv, 1 thread per rank, every mode, auto)
 #include <tessera/adapter.h>
 
 #include "mesh_call_bench.h"
@@ -35,7 +36,7 @@ struct Row {
   std::string mode;
   double call_s = 0.0, prepare_s = 0.0;
   int reused = 0, values_only = 0;
-  double exchange_mb = 0.0;
+  double exchange_mb = 0.0, to_device_mb = 0.0;
 };
 
 double slowest(double t) {
@@ -71,7 +72,7 @@ int main(int argc, char** argv) {
   const fs::path config = dir / "bench.yaml";
   if (rank == 0) {
     fs::create_directories(dir);
-    std::ofstream(config) << tessera::bench::mesh_call_config((dir / "out").string(), threads);
+    std::ofstream(config) << tessera::bench::mesh_call_config((dir / "out").string(), threads, args.device);
   }
   MPI_Barrier(MPI_COMM_WORLD);
   const std::int64_t n[3] = {cells + 1, cells + 1, cells + 1};
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
       failed = 1;
       break;
     }
-    std::vector<double> call, prepare, bytes;
+    std::vector<double> call, prepare, bytes, to_device;
     Row row{mode};
     for (int s = 1; s <= steps && !failed; ++s) {
       tessera::bench::mesh_call_step(mode, s, block, ad);
@@ -107,6 +108,7 @@ int main(int argc, char** argv) {
       call.push_back(t);
       prepare.push_back(slowest(r.prepare_seconds));
       bytes.push_back(static_cast<double>(r.mesh_exchange_bytes));
+      to_device.push_back(slowest(static_cast<double>(r.stats.bytes_to_device)));
       row.reused += r.mesh_layout_reused ? 1 : 0;
       row.values_only += r.mesh_values_only ? 1 : 0;
     }
@@ -114,6 +116,7 @@ int main(int argc, char** argv) {
     row.call_s = tessera::bench::median(call);
     row.prepare_s = tessera::bench::median(prepare);
     row.exchange_mb = tessera::bench::median(bytes) * 1e-6;
+    row.to_device_mb = tessera::bench::median(to_device) * 1e-6;
     rows.push_back(row);
   }
   MPI_Barrier(MPI_COMM_WORLD);
@@ -122,17 +125,17 @@ int main(int argc, char** argv) {
     if (!failed) {
       std::printf("%lld^3 hexes in %d slabs (ranks), %d thread(s) per rank, 32x32, 1 spp, steps 2..%d\n",
                   static_cast<long long>(cells), size, threads, steps);
-      std::printf("%-12s %10s %12s %8s %12s %14s\n", "geometry", "call_s", "prepare_s", "reused", "values_only",
-                  "exchange_MB");
+      std::printf("%-12s %10s %12s %8s %12s %14s %14s\n", "geometry", "call_s", "prepare_s", "reused", "values_only",
+                  "exchange_MB", "to_device_MB");
       std::ofstream out(csv);
       out << "geometry,cells,ranks,threads,steps,call_s,prepare_s,layout_reused_calls,values_only_calls,"
-             "exchange_mb_per_rank\n";
+             "exchange_mb_per_rank,to_device_mb_most\n";
       for (const Row& r : rows) {
-        std::printf("%-12s %10.4f %12.4f %5d/%d %9d/%d %14.3f\n", r.mode.c_str(), r.call_s, r.prepare_s, r.reused,
-                    steps - 1, r.values_only, steps - 1, r.exchange_mb);
+        std::printf("%-12s %10.4f %12.4f %5d/%d %9d/%d %14.3f %14.3f\n", r.mode.c_str(), r.call_s, r.prepare_s,
+                    r.reused, steps - 1, r.values_only, steps - 1, r.exchange_mb, r.to_device_mb);
         out << '"' << r.mode << "\"," << cells * cells * cells << ',' << size << ',' << threads << ',' << steps << ','
-            << r.call_s << ',' << r.prepare_s << ',' << r.reused << ',' << r.values_only << ',' << r.exchange_mb
-            << '\n';
+            << r.call_s << ',' << r.prepare_s << ',' << r.reused << ',' << r.values_only << ',' << r.exchange_mb << ','
+            << r.to_device_mb << '\n';
       }
       std::printf("wrote %s\n", csv.c_str());
     }

@@ -13,6 +13,7 @@
 #   $PACK (default build-gpu-deps/data), from scripts/gpu_bench_data.sh: the compressed
 #       volumes, MANIFEST, the CPU run's references ref/<case>/ and its ete_cpu.csv
 # Writes into OUT_DIR: gpu.txt (nvidia-smi), lookup_cuda.{txt,csv}, mesh_bench.{txt,csv},
+# mesh_insitu_bench.{txt,csv} (the device's) and mesh_insitu_bench_cpu.{txt,csv},
 # paged_field_bench.{txt,csv},
 # ete_gpu_spp<N>/ete.{csv,md}
 # and stats/, the GPU's run0.exr per case, ete_compare.md (against the CPU's CSV), resources.txt
@@ -31,6 +32,9 @@
 #                      once it takes them
 #   MESH_LIMIT=30      seconds for bench/mesh_bench on the device (0: skipped), before the cases
 #   PAGED_LIMIT=30     seconds for bench/paged_field_bench on the device (0: skipped), likewise
+#   MESH_CALL_LIMIT=40 seconds for each of bench/mesh_insitu_bench's two runs (the adapter's call
+#                      over a 96^3 hex mesh: moved, same, promised; on the device, then on the
+#                      CPU with THREADS; 0: skipped)
 #   CASE_LIMIT=60 LOOKUP_LIMIT=60 TOTAL_LIMIT=200 (seconds: a case, the lookup ceiling, and
 #                      the whole script: the cases left when it runs out are skipped), WORK=/tmp/tessera-gpu-bench (the unpacked data,
 #                      the float32 copies, all images: not under OUT_DIR, which travels back)
@@ -54,6 +58,7 @@ case_limit=${CASE_LIMIT:-60}
 lookup_limit=${LOOKUP_LIMIT:-60}
 mesh_limit=${MESH_LIMIT:-30}
 paged_limit=${PAGED_LIMIT:-30}
+mesh_call_limit=${MESH_CALL_LIMIT:-40}
 total_limit=${TOTAL_LIMIT:-200}
 cases=${ONLY:-ct_single,mri_single,heat_single,ct_multiple,mri_multiple,heat_multiple}
 export PYTHONUNBUFFERED=1
@@ -120,6 +125,19 @@ device_bench() {
 # mesh; the CPU's figures are docs/BENCHMARKS.md's)
 device_bench mesh_bench "$mesh_limit"
 mark mesh
+# The adapter's call over a mesh whose values change (seconds per call and the bytes copied to
+# the device: an unchanged mesh's geometry and tables stay there), on the device and the CPU
+mesh_call() {
+  local tag=$1 dev=$2 bin=$build/bench/mesh_insitu_bench
+  [[ -x $bin ]] && ((mesh_call_limit > 0)) || return 0
+  say "mesh_insitu_bench --device $dev (limit ${mesh_call_limit} s)"
+  timeout "$mesh_call_limit" "$bin" --device "$dev" --threads "$threads" --cells 96 --steps 6 \
+    --csv "$out/$tag.csv" 2>&1 | tee "$out/$tag.txt"
+  say "$tag: exit ${PIPESTATUS[0]}"
+}
+mesh_call mesh_insitu_bench "$device"
+mesh_call mesh_insitu_bench_cpu cpu
+mark mesh_call
 
 # 3c. A distributed (paged) field on the GPU (bench/paged_field_bench: whole field, every brick
 # resident, a pool of 1/8 of the bricks with replayed launches; docs/gpu.md, "Distributed
