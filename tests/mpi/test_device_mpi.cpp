@@ -220,6 +220,83 @@ TEST_CASE("device: cuda over an unchanged mesh on the ranks' GPUs copies only it
   }
 }
 
+TEST_CASE("ranks whose mesh is device memory and unchanged stage only its values to the host", "[mpi][gpu][mesh]") {
+  // Every rank's arrays in (emulated) device memory, rendered on the CPU so that bytes_to_host
+  // is the staging alone. Call 1 stages everything and exchanges the geometry; calls 2
+  // (found the same by its hash on the device) and 3 (promised) stage only the values, the
+  // geometry read from call 1's exchange. At call 4 rank 0's mesh moves: no rank holds the
+  // exchange's geometry any more, so every rank stages its geometry too. Each image is a
+  // fresh adapter's bit for bit (everything staged)
+  SharedTempDir dir("tessera_device_");
+  const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
+  const std::int64_t n[3] = {9, 8, 13};
+  const std::int64_t cuts[5] = {0, 3, 6, 9, 12};
+  std::deque<tessera_test::MeshBlock> blocks;
+  std::vector<tessera_mesh_domain> mine;
+  std::uint64_t geometry = 0;  // this rank's: x, y, z and connectivity
+  for (int b = 0; b < 4; ++b) {
+    tessera_test::MeshBlock& m = blocks.emplace_back(n, cuts[b], cuts[b + 1]);
+    if (b % world_size() != world_rank()) continue;
+    const bool tets = b % 2 == 1;
+    mine.push_back(m.domain(tets ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
+    geometry += 3 * m.x.size() * sizeof(double) + (tets ? m.tets.size() : m.hexes.size()) * sizeof(std::int32_t);
+    const auto declare = [](const auto& v) {
+      tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), v.data(), v.size() * sizeof(v[0]));
+    };
+    declare(m.x), declare(m.y), declare(m.z), declare(m.vertex_values), declare(m.hexes), declare(m.tets);
+  }
+  const auto open = [&](Adapter& a, const std::string& tag) {
+    std::string cfg = config(dir.file(tag), "cpu");
+    cfg.replace(cfg.find("field: density"), 14, "field: f");
+    cfg.replace(cfg.find("range: [0, 250]"), 15, "range: [0, 1]");
+    a.set_quiet(true);
+    REQUIRE(all_ranks(a.open(dir.write(tag + ".yaml", cfg), MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
+  };
+  Adapter a;
+  open(a, "kept");
+  // Call s of `a`, and the same state through a fresh adapter: the results, and whether rank
+  // 0's images are the same bits
+  const auto call = [&](int s) {
+    REQUIRE(all_ranks(a.execute_mesh_domains(s, 0.1 * s, {mine.data(), mine.size()}) == TESSERA_OK));
+    Adapter fresh;
+    open(fresh, "fresh" + std::to_string(s));
+    REQUIRE(all_ranks(fresh.execute_mesh_domains(s, 0.1 * s, {mine.data(), mine.size()}) == TESSERA_OK));
+    bool same = true;
+    if (world_rank() == 0) {
+      REQUIRE(a.last_image("view"));
+      REQUIRE(fresh.last_image("view"));
+      same = a.last_image("view")->rgba == fresh.last_image("view")->rgba;
+    }
+    CHECK(all_ranks(fresh.last_results().at(0).stats.bytes_to_host ==
+                    a.last_results().at(0).stats.bytes_to_host +
+                        (a.last_results().at(0).mesh_layout_reused && world_size() > 1 ? geometry : 0)));
+    CHECK(same);
+    return a.last_results().at(0);
+  };
+  const auto rescale = [&](double f) {
+    for (tessera_test::MeshBlock& m : blocks)
+      for (double& v : m.vertex_values) v *= f;
+  };
+  const tessera::insitu::RenderResult first = call(1);
+  rescale(0.8);
+  const tessera::insitu::RenderResult found = call(2);
+  rescale(0.9);
+  REQUIRE(all_ranks(a.mesh_unchanged() == TESSERA_OK));
+  const tessera::insitu::RenderResult promised = call(3);
+  CHECK(all_ranks(first.device == "cpu"));
+  CHECK(all_ranks(!first.mesh_layout_reused && found.mesh_layout_reused && promised.mesh_layout_reused));
+  CHECK(all_ranks(found.mesh_values_only == (world_size() > 1) && promised.mesh_values_only == (world_size() > 1)));
+  const std::uint64_t saved = world_size() > 1 ? geometry : 0;  // one rank: staged whole, always
+  CHECK(all_ranks(found.stats.bytes_to_host + saved == first.stats.bytes_to_host));
+  CHECK(all_ranks(promised.stats.bytes_to_host == found.stats.bytes_to_host));
+  // Rank 0's first block moves: every rank exchanges and stages its geometry again
+  blocks.front().x[5] += 1e-3;
+  rescale(1.1);
+  const tessera::insitu::RenderResult moved = call(4);
+  CHECK(all_ranks(!moved.mesh_values_only && !moved.mesh_layout_reused));
+  CHECK(all_ranks(moved.stats.bytes_to_host == first.stats.bytes_to_host));
+}
+
 TEST_CASE("device: cuda on every rank's GPU renders the CPU's image", "[mpi][gpu]") {
   SharedTempDir dir("tessera_device_");
   const Run cpu = run(dir, "cpu", "cpu");

@@ -26,7 +26,12 @@ struct MeshBinding {
   std::int64_t vertices = 0;                      ///< this rank's vertices
   bool gpu_readable = false;                      ///< some array was device or managed memory
   HostStaging staging;                            ///< host copies of its device arrays (mesh_staging.h)
-  bool resident = false;      ///< read on the device where it is, nothing staged (mesh_pass.cpp; local.device)
+  bool resident = false;  ///< read on the device where it is, nothing staged (mesh_pass.cpp; local.device)
+  /// Several ranks, every array device memory, the geometry that of the last full exchange
+  /// (promised, or found the same by its hash on the device): only the values and ghost masks
+  /// were staged; `local`'s coordinates and connectivity still point at device memory, which
+  /// the host must not read (mesh_pass.cpp stages them too if the ranks exchange the geometry)
+  bool geometry_on_device = false;
   MeshChecked checked;        ///< the receipt of the pass's check of `local` (for prepare: not checked twice)
   MeshGeometryHash geometry;  ///< the hash of `local`'s geometry, where `hashed` (mesh_pass.cpp)
   bool hashed = false;

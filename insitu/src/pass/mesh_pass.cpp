@@ -19,6 +19,7 @@
 #include <tessera/render.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -55,9 +56,33 @@ bool resident_on_device(const PassContext& pass, MeshBinding& b, const MeshMemor
   return keep.detected;
 }
 
+/// Whether, on several ranks, b.local's geometry may stay in device memory (only its values
+/// and ghost masks staged): every array device memory, and this rank holds the geometry of
+/// the last full exchange (keep.parts) by the promise or by its hash, computed on the device
+/// (keep.detected; b.geometry). The render then reads the geometry from that exchange if
+/// every rank agrees (exchange_values_only), else the rest is staged (stage_geometry).
+bool geometry_stays_on_device(const PassContext& pass, MeshBinding& b, const MeshMemory& where, bool promised) {
+  MeshLayoutKeep& keep = pass.call.mesh_layout;
+  if (pass.ctx.size() == 1 || !keep.layout || keep.parts.empty() || !where.all_device(b.local)) return false;
+  if (promised) return true;
+  if (!keep.geometry_known || keep.decided) return false;
+  b.geometry = cuda_mesh_geometry_hash(b.local, pass.call.cuda_stream);
+  b.hashed = true;
+  keep.detected = b.geometry == keep.geometry;
+  return keep.detected;
+}
+
+/// Of the device arrays `where` names, all but the geometry's (x, y, z, connectivity).
+MeshMemory stage_only_values(MeshMemory where) {
+  for (std::array<char, kMeshArraySlots>& d : where.device)
+    for (const MeshArraySlot s : {MeshArraySlot::X, MeshArraySlot::Y, MeshArraySlot::Z, MeshArraySlot::Connectivity})
+      d[static_cast<std::size_t>(s)] = 0;
+  return where;
+}
+
 /// This rank's mesh bound, its device arrays staged to the host (mesh_staging.h) and checked,
-/// or left where they are (resident_on_device); the ranks agree on the field's dtype and
-/// association.
+/// or left where they are (resident_on_device, or the geometry alone:
+/// geometry_stays_on_device); the ranks agree on the field's dtype and association.
 std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
   const Publication& pub = pass.call.pub;
   // A geometry whose layout is kept (promised unchanged by tessera_mesh_unchanged, found the
@@ -91,14 +116,16 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
           return;
         }
         const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
-        stage_mesh_to_host(b.local, where, b.staging, pass.call.cuda_stream, limit.bytes, limit.text);
+        b.geometry_on_device = geometry_stays_on_device(pass, b, where, promised);
+        stage_mesh_to_host(b.local, b.geometry_on_device ? stage_only_values(where) : where, b.staging,
+                           pass.call.cuda_stream, limit.bytes, limit.text);
       }))
     return std::nullopt;
   // The first render of a call over host arrays hashes the geometry (unless the device did):
   // the same as the kept layout's, it is reused without the promise (one pass over the
   // geometry instead of the shapes' check and the layout's sort)
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
-        if (b.local.domains.empty() || b.resident || keep.decided || b.hashed) return;
+        if (b.local.domains.empty() || b.resident || b.geometry_on_device || keep.decided || b.hashed) return;
         b.geometry = mesh_geometry_hash(b.local);  // its arrays readable first (check_mesh_arrays)
         b.hashed = true;
         // (this rank's domains: the hash covers their counts, dims and shapes; the layout is
@@ -107,7 +134,9 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
       }))
     return std::nullopt;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
-        if (b.local.domains.empty()) return;
+        // (geometry on the device: not read here; the exchange's geometry was checked when the
+        // structure was built over it, and a full exchange's is checked by prepare)
+        if (b.local.domains.empty() || b.geometry_on_device) return;
         if (b.resident) b.checked = cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
         else if (promised || keep.detected) b.checked = check_mesh_indices(b.local);
         else b.checked = check_mesh(b.local);
@@ -133,6 +162,25 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
   return b;
 }
 
+/// Several ranks: whether only the values move this render (every rank holds the geometry of
+/// the same last full exchange: promised, found by its hash, or this call's). Collective.
+bool exchange_values_only(const PassContext& pass) {
+  const MeshLayoutKeep& keep = pass.call.mesh_layout;
+  const bool holds = keep.layout && !keep.parts.empty() && (keep.same_geometry() || keep.decided);
+  const auto tag = static_cast<double>(holds ? keep.parts_call : 0);
+  const std::pair<double, double> tags = pass.ctx.range(tag, tag);  // the same exchange on every rank
+  return pass.ctx.agree(holds) && tags.first == tags.second;
+}
+
+/// The rest of b.local's device arrays (its geometry, left there by bind_mesh) staged too,
+/// within what the memory limit leaves beside the values' copies.
+void stage_geometry(const PassContext& pass, MeshBinding& b) {
+  const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
+  const std::uint64_t left = limit.bytes > b.staging.bytes ? limit.bytes - b.staging.bytes : 0;
+  stage_mesh_to_host(b.local, mesh_memory(b.local), b.staging, pass.call.cuda_stream, left, limit.text);
+  b.geometry_on_device = false;
+}
+
 /// The mesh's bounds over every rank's vertices, and every rank's cells.
 struct Extent {
   Bounds bounds;
@@ -140,10 +188,13 @@ struct Extent {
   std::uint64_t others_bytes = 0;  ///< the packed bytes of the other ranks' domains
 };
 
-Extent extent_of(const PassContext& pass, const MeshBinding& b) {
+/// `values_only`: every rank holds the last full exchange's geometry, whose bounds the kept
+/// ones are (no coordinate read).
+Extent extent_of(const PassContext& pass, const MeshBinding& b, bool values_only) {
+  const Bounds& kept = pass.call.mesh_layout.bounds;
   if (b.resident) {  // one rank, the kept layout's geometry: its bounds
     Extent e;
-    e.bounds = pass.call.mesh_layout.bounds;
+    e.bounds = kept;
     for (const MeshDomain& d : b.local.domains) e.cells += static_cast<std::uint64_t>(d.cell_count());
     return e;
   }
@@ -151,7 +202,7 @@ Extent extent_of(const PassContext& pass, const MeshBinding& b) {
   std::uint64_t cells = 0;
   for (const MeshDomain& d : b.local.domains) {
     const void* xyz[3] = {d.coords.x, d.coords.y, d.coords.z};
-    for (int a = 0; a < 3; ++a)
+    for (int a = 0; a < 3 && !values_only; ++a)
       for (std::int64_t v = 0; v < d.coords.count; ++v) {
         const double x = at(xyz[a], d.coords.dtype, d.coords.byte_stride, v);
         lo[a] = std::min(lo[a], x);
@@ -159,6 +210,8 @@ Extent extent_of(const PassContext& pass, const MeshBinding& b) {
       }
     cells += static_cast<std::uint64_t>(d.cell_count());
   }
+  if (values_only)
+    for (int a = 0; a < 3; ++a) lo[a] = kept.lo[a], hi[a] = kept.hi[a];
   Extent e;
   for (int a = 0; a < 3; ++a) {
     const auto [l, h] = pass.ctx.range(lo[a], hi[a]);
@@ -197,8 +250,17 @@ std::pair<double, double> value_range(const PassContext& pass, const MeshBinding
 void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool check_when, bool quiet) {
   std::optional<MeshBinding> bound = bind_mesh(gate, pass);
   if (!bound) return;
+  // Several ranks: whether only the values move (every rank holds the geometry of the last
+  // full exchange); if not, a rank whose geometry stayed on the device stages it now
+  bool values_only = false;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] {
+        if (pass.ctx.size() == 1) return;
+        values_only = exchange_values_only(pass);
+        if (!values_only && bound->geometry_on_device) stage_geometry(pass, *bound);
+      }))
+    return;
   Extent extent;
-  if (!gate.run(TESSERA_ERROR_RENDER, [&] { extent = extent_of(pass, *bound); })) return;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] { extent = extent_of(pass, *bound, values_only); })) return;
   std::pair<double, double> range{0.0, 0.0};
   if (check_when || pass.spec.transfer_function.range.automatic) {
     std::pair<double, double> r{kInf, -kInf};
@@ -230,7 +292,6 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   std::vector<std::string> received;
   Mesh whole;
   MeshChecked whole_checked;
-  bool values_only = false;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (pass.ctx.size() == 1) {
           whole = bound->local;
@@ -239,10 +300,6 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         }
         const bool shapes_checked =
             pass.ctx.agree(bound->local.domains.empty() || bound->checked.covers(bound->local, true));
-        const bool holds = keep.layout && !keep.parts.empty() && (keep.same_geometry() || keep.decided);
-        const auto tag = static_cast<double>(holds ? keep.parts_call : 0);
-        const std::pair<double, double> tags = pass.ctx.range(tag, tag);  // the same exchange on every rank
-        values_only = pass.ctx.agree(holds) && tags.first == tags.second;
         if (values_only) {
           received = pass.ctx.allgather_bytes(pack_values(bound->local), plan.limit);
           whole = unpack_with_values(keep.parts, received);
