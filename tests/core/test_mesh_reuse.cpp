@@ -224,6 +224,42 @@ TEST_CASE("mesh receipt: check_mesh_copy checks the indices and takes the caller
              render_film(tessera::prepare(sound.mesh, scene()))));
 }
 
+TEST_CASE("mesh receipt: carried to new values over the same geometry arrays, and to nothing else",
+          "[mesh][reuse][receipt]") {
+  // What a values-only exchange does (several ranks, the geometry from the kept exchange): the
+  // receipt of a mesh carried to the same mesh with other field data, same dtype and count
+  const ElementList m = warped(0.0);
+  const OwnedMesh a = one_domain(m);
+  const tessera::MeshChecked full = tessera::check_mesh(a.mesh);
+  const OwnedMesh later = one_domain(warped(1.3));  // other values (and other geometry arrays)
+  tessera::Mesh next = a.mesh;
+  next.domains[0].field.data = later.mesh.domains[0].field.data;
+  CHECK_FALSE(full.covers(next, false));
+  const tessera::MeshChecked carried = full.with_new_values(next);
+  CHECK(carried.covers(next, true));  // the shapes' word carried too
+  CHECK_FALSE(carried.covers(a.mesh, false));
+  CHECK(tessera::check_mesh_indices(a.mesh).with_new_values(next).covers(next, false));
+  CHECK_FALSE(tessera::check_mesh_indices(a.mesh).with_new_values(next).covers(next, true));
+  CHECK_FALSE(tessera::MeshChecked{}.with_new_values(next).covers(next, false));
+  // Anything else that differs (geometry arrays, the field's dtype, stride or count, a mask,
+  // the memory, the domains) carries nothing
+  CHECK_FALSE(full.with_new_values(later.mesh).covers(later.mesh, false));
+  for (int change = 0; change < 6; ++change) {
+    tessera::Mesh other = next;
+    tessera::MeshDomain& d = other.domains[0];
+    if (change == 0) d.field.count -= 1;
+    if (change == 1) d.field.byte_stride += 8;
+    if (change == 2) d.field.dtype = tessera::DType::Float32;
+    if (change == 3) d.ghosts = {reinterpret_cast<const std::uint8_t*>(d.field.data), 1, d.ncells};
+    if (change == 4) other.device = true;
+    if (change == 5) other.domains.push_back(d);
+    CHECK_FALSE(full.with_new_values(other).covers(other, false));
+  }
+  // Taken by prepare as the check's word: the image of a prepare that checks, bit for bit
+  CHECK(same(render_film(tessera::prepare(next, scene(), nullptr, carried)),
+             render_film(tessera::prepare(next, scene()))));
+}
+
 TEST_CASE("mesh prepare over threads: the tables and the image do not depend on the thread count", "[mesh][reuse]") {
   // prepare's check, gather, canonical sort, ranges, totals, location lists and the macrocells'
   // fold run over TBB's threads (in chunks of 2048 to 16384 items: a mesh of several chunks;

@@ -130,6 +130,13 @@ class MeshChecked {
   bool covers(const Mesh& mesh, bool shapes) const;
   /// The values' totals, when the check measured them (cuda_check_mesh_indices); else null.
   const MeshValueTotals* values() const { return m_has_values ? &m_values : nullptr; }
+  /// This receipt carried over to `mesh`, whose domains differ from those it covers in their
+  /// fields' data pointers only (the same geometry arrays, ghost masks and device copies, the
+  /// fields' dtypes, strides, counts and associations): what the check read is unchanged, and
+  /// each new field is as long as the old one. Covers nothing otherwise. The values' totals
+  /// are not carried (they were the old values'). The caller vouches that each new field's
+  /// `count` elements at its stride are readable memory (the check probed the old ones).
+  MeshChecked with_new_values(const Mesh& mesh) const;
 
  private:
   friend struct MeshCheckedIssuer;  // core/src/mesh/mesh_checked_issuer.h: the check functions'

@@ -6,6 +6,7 @@
 /// geometry it was built over, which finds the same geometry unpromised. The ranks agree on
 /// reusing it once per call, at its first render over the mesh (mesh_pass.cpp); within a call
 /// every later render reuses the first one's layout (the same domains, so no promise needed).
+#include <tessera/mesh.h>
 #include <tessera/render.h>
 #include <tessera/scene.h>
 
@@ -39,6 +40,11 @@ struct MeshLayoutKeep {
   /// reads the geometry from here. Cleared with the layout.
   std::vector<std::string> parts;
   std::uint64_t parts_call = 0;
+  /// The receipt of the last check of a mesh read from `parts` (the full exchange's copy, or
+  /// a values-only render's), carried to each later values-only render's mesh
+  /// (MeshChecked::with_new_values: the geometry is the same bytes) instead of checking those
+  /// bytes again. Empty when the full exchange's mesh was checked by prepare itself.
+  MeshChecked parts_checked;
 
   /// At each mesh call, as it begins (before its triggers): the promise (if made) applies to
   /// this call, and is spent.

@@ -72,6 +72,22 @@ bool geometry_stays_on_device(const PassContext& pass, MeshBinding& b, const Mes
   return keep.detected;
 }
 
+/// Whether the geometry of this call's mesh is promised to be the kept layout's (promised
+/// unchanged by tessera_mesh_unchanged, or this call's first render's, whose layout is kept).
+bool promised_unchanged(const MeshLayoutKeep& keep) { return keep.layout != nullptr && (keep.carried || keep.decided); }
+
+/// The check of b.local: on the device when resident; its indices (and finite vertices) only
+/// when its geometry is promised or found to be the kept layout's, whose shapes were checked
+/// when it was built; else everything (check_mesh). b.checked: the receipt.
+void check_local(const PassContext& pass, MeshBinding& b, bool promised) {
+  // (geometry on the device: not read here; it is staged and checked by prepare if the ranks
+  // exchange the geometry)
+  if (b.local.domains.empty() || b.geometry_on_device) return;
+  if (b.resident) b.checked = cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
+  else if (promised || pass.call.mesh_layout.detected) b.checked = check_mesh_indices(b.local);
+  else b.checked = check_mesh(b.local);
+}
+
 /// Of the device arrays `where` names, all but the geometry's (x, y, z, connectivity).
 MeshMemory stage_only_values(MeshMemory where) {
   for (std::array<char, kMeshArraySlots>& d : where.device)
@@ -92,7 +108,7 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
   // prepare checks the whole mesh's shapes before building a layout (the receipt, b.checked,
   // covers only the indices)
   MeshLayoutKeep& keep = pass.call.mesh_layout;
-  const bool promised = keep.layout != nullptr && (keep.carried || keep.decided);
+  const bool promised = promised_unchanged(keep);
   MeshBinding b;
   MeshMemory where;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
@@ -133,14 +149,9 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
         keep.detected = !promised && keep.layout && keep.geometry_known && keep.geometry == b.geometry;
       }))
     return std::nullopt;
-  if (!gate.run(TESSERA_ERROR_DATA, [&] {
-        // (geometry on the device: not read here; the exchange's geometry was checked when the
-        // structure was built over it, and a full exchange's is checked by prepare)
-        if (b.local.domains.empty() || b.geometry_on_device) return;
-        if (b.resident) b.checked = cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
-        else if (promised || keep.detected) b.checked = check_mesh_indices(b.local);
-        else b.checked = check_mesh(b.local);
-      }))
+  // One rank: checked now. Several: once the ranks know whether the geometry is exchanged
+  // (run_mesh; not when only the values move: the geometry read is then the kept exchange's)
+  if (pass.ctx.size() == 1 && !gate.run(TESSERA_ERROR_DATA, [&] { check_local(pass, b, promised); }))
     return std::nullopt;
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
         constexpr int kNone = std::numeric_limits<int>::max();
@@ -251,13 +262,17 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   std::optional<MeshBinding> bound = bind_mesh(gate, pass);
   if (!bound) return;
   // Several ranks: whether only the values move (every rank holds the geometry of the last
-  // full exchange); if not, a rank whose geometry stayed on the device stages it now
+  // full exchange); if not, a rank whose geometry stayed on the device stages it now, and each
+  // rank checks its domains (bind_mesh's check on one rank)
   bool values_only = false;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         if (pass.ctx.size() == 1) return;
         values_only = exchange_values_only(pass);
         if (!values_only && bound->geometry_on_device) stage_geometry(pass, *bound);
       }))
+    return;
+  if (pass.ctx.size() > 1 && !values_only &&
+      !gate.run(TESSERA_ERROR_DATA, [&] { check_local(pass, *bound, promised_unchanged(pass.call.mesh_layout)); }))
     return;
   Extent extent;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] { extent = extent_of(pass, *bound, values_only); })) return;
@@ -282,12 +297,13 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
       }))
     return;
   // Several ranks: every rank's domains here (a copy of the others'). When every rank checked
-  // its own domains' shapes in bind_mesh (none promised them unchanged), only the copies'
+  // its own domains' shapes (check_local: none promised them unchanged), only the copies'
   // indices are checked again (check_mesh_copy: no read outside them, whatever came); else
   // prepare checks as it would. One rank: in place, with bind_mesh's receipt
   // When every rank holds the geometry of the last full exchange (promised, found by its hash,
   // or this call's), only the values move: the geometry is read from that exchange's bytes,
-  // whose shapes were checked when the structure was built over them
+  // whose shapes were checked when the structure was built over them and whose indices were
+  // checked once since (keep.parts_checked, carried to the new values)
   MeshLayoutKeep& keep = pass.call.mesh_layout;
   std::vector<std::string> received;
   Mesh whole;
@@ -303,7 +319,9 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         if (values_only) {
           received = pass.ctx.allgather_bytes(pack_values(bound->local), plan.limit);
           whole = unpack_with_values(keep.parts, received);
-          whole_checked = check_mesh_copy(whole);
+          // The kept bytes' receipt (checked once after the exchange): only the values are new
+          whole_checked = keep.parts_checked.with_new_values(whole);
+          if (!whole_checked.covers(whole, false)) keep.parts_checked = whole_checked = check_mesh_copy(whole);
           return;
         }
         received = pass.ctx.allgather_bytes(pack_mesh(bound->local), plan.limit);
@@ -329,7 +347,10 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
   if (first) {
     if (!pass.ctx.agree(keep.same_geometry() && keep.layout != nullptr)) {
       keep.layout.reset();
-      if (!values_only) keep.parts.clear();  // (values only: every rank agreed it holds them; `whole` views them)
+      if (!values_only) {  // (values only: every rank agreed it holds them; `whole` views them)
+        keep.parts.clear();
+        keep.parts_checked = {};
+      }
     }
     keep.decided = true;
   }
@@ -344,6 +365,7 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
           if (pass.ctx.size() > 1 && !values_only) {  // the geometry the layout is of, for the next renders
             keep.parts = std::move(received);         // moves the buffers: `whole` still views them
             keep.parts_call = keep.calls;
+            keep.parts_checked = whole_checked;  // (empty when prepare checked `whole` itself)
           }
           if (first && !prepared.mesh_layout_reused()) {  // the geometry it was built over
             keep.geometry = bound->geometry;
