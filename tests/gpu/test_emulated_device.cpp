@@ -653,22 +653,6 @@ std::uint64_t table_bytes(const tessera::MeshLayout& layout) {
          (loc + 1) * sizeof(std::uint64_t) + v.first[loc] * sizeof(std::uint32_t);
 }
 
-/// Bytes of a mesh's geometry arrays (x, y, z, connectivity), each domain's overlapping ones
-/// (interleaved x, y, z) counted once.
-std::uint64_t geometry_bytes(const tessera::Mesh& mesh) {
-  std::uint64_t total = 0;
-  for (const tessera::MeshDomain& d : mesh.domains) {
-    std::vector<tessera::AddressSpan> spans;
-    for (int s = 0; s < 4; ++s) {
-      const tessera::MeshArraySpan a = tessera::mesh_array(d, static_cast<tessera::MeshArraySlot>(s));
-      const auto* p = static_cast<const unsigned char*>(a.data);
-      if (p) spans.push_back({p, p + a.bytes, s});
-    }
-    for (const tessera::SpanRun& r : tessera::merge_spans(spans)) total += static_cast<std::uint64_t>(r.hi - r.lo);
-  }
-  return total;
-}
-
 }  // namespace
 
 TEST_CASE("Emulated device: a mesh's tables and geometry are copied once per layout and device, and go with the "

@@ -236,3 +236,26 @@ TEST_CASE("GPU: a mesh in device memory: faults are named as on the host, nothin
   // ... as on the host, where the element is named
   CHECK_THROWS_WITH(tessera::prepare(m, scene, built.mesh_layout()), Catch::Contains("element 41 is a ghost now"));
 }
+
+TEST_CASE("GPU: an unchanged host mesh's geometry stays on the device, only its values are copied again",
+          "[gpu][mesh]") {
+  // A reused layout keeps its tables and the host geometry's copy on the device: a later
+  // prepare of the same geometry in other host arrays (a simulation's next buffers) renders
+  // the same bits without reading them (overwritten after prepare), copying at least the
+  // geometry's bytes fewer
+  const std::vector<WarpedMeshPiece> pieces = {{14, 0, 7, MeshForm::Hexes, tessera::DType::Float64, false},
+                                               {14, 7, 13, MeshForm::Tets, tessera::DType::Float32, false}};
+  const tessera::Mesh mesh = mesh_of(pieces);
+  const tessera::PreparedScene p1 = tessera::prepare(mesh, heat_scene(14, 5));
+  tessera::CudaTransfer t1, t2;
+  const tessera::Film a = render_gpu(p1, {}, &t1);
+  std::vector<WarpedMeshPiece> twin = pieces;
+  const tessera::Mesh twin_mesh = mesh_of(twin);
+  const tessera::PreparedScene p2 = tessera::prepare(twin_mesh, heat_scene(14, 5), p1.mesh_layout());
+  REQUIRE(p2.mesh_layout_reused());
+  for (WarpedMeshPiece& p : twin) p.scribble_geometry();
+  const tessera::Film b = render_gpu(p2, {}, &t2);
+  CHECK(same_bits(a, b));
+  INFO("bytes to the device: " << t1.bytes_to_device << ", then " << t2.bytes_to_device);
+  CHECK(t2.bytes_to_device + geometry_bytes(mesh) < t1.bytes_to_device);
+}

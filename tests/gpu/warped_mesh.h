@@ -6,6 +6,7 @@
 // separate float64 coordinate arrays and int32 or int64 connectivity; values per vertex or
 // per cell in any dtype the heat field's range fits (float32, float64, int16, uint16), at a
 // stride of two elements. Every kind of array a device copy of a mesh relocates.
+#include <tessera/byte_span.h>
 #include <tessera/mesh.h>
 
 #include <cmath>
@@ -142,6 +143,22 @@ class WarpedMeshPiece {
   std::vector<std::int32_t> m_conn32;
   std::vector<unsigned char> m_values;
 };
+
+/// Bytes of a mesh's geometry arrays (x, y, z, connectivity), each domain's overlapping ones
+/// (interleaved x, y, z) counted once: what a device render copies of them.
+inline std::uint64_t geometry_bytes(const tessera::Mesh& mesh) {
+  std::uint64_t total = 0;
+  for (const tessera::MeshDomain& d : mesh.domains) {
+    std::vector<tessera::AddressSpan> spans;
+    for (int s = 0; s < 4; ++s) {
+      const tessera::MeshArraySpan a = tessera::mesh_array(d, static_cast<tessera::MeshArraySlot>(s));
+      const auto* p = static_cast<const unsigned char*>(a.data);
+      if (p) spans.push_back({p, p + a.bytes, s});
+    }
+    for (const tessera::SpanRun& r : tessera::merge_spans(spans)) total += static_cast<std::uint64_t>(r.hi - r.lo);
+  }
+  return total;
+}
 
 /// A mesh of the given pieces (views of their arrays).
 inline tessera::Mesh mesh_of(const std::vector<WarpedMeshPiece>& pieces) {
