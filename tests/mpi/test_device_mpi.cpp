@@ -289,12 +289,20 @@ TEST_CASE("ranks whose mesh is device memory and unchanged stage only its values
   const std::uint64_t saved = world_size() > 1 ? geometry : 0;  // one rank: staged whole, always
   CHECK(all_ranks(found.stats.bytes_to_host + saved == first.stats.bytes_to_host));
   CHECK(all_ranks(promised.stats.bytes_to_host == found.stats.bytes_to_host));
-  // Rank 0's first block moves: every rank exchanges and stages its geometry again
+  // Rank 0's first block moves (no promise there; the other ranks promise theirs unchanged):
+  // no rank holds the exchange's geometry any more, so every rank stages its geometry too
   blocks.front().x[5] += 1e-3;
   rescale(1.1);
+  if (world_rank() != 0) REQUIRE(a.mesh_unchanged() == TESSERA_OK);
   const tessera::insitu::RenderResult moved = call(4);
   CHECK(all_ranks(!moved.mesh_values_only && !moved.mesh_layout_reused));
   CHECK(all_ranks(moved.stats.bytes_to_host == first.stats.bytes_to_host));
+  // Nothing promised, nothing moved: every rank finds its geometry by its hash (the promising
+  // ranks' too, hashed when they staged it at call 4), so only the values move again
+  rescale(0.9);
+  const tessera::insitu::RenderResult again = call(5);
+  CHECK(all_ranks(again.mesh_layout_reused && again.mesh_values_only == (world_size() > 1)));
+  CHECK(all_ranks(again.stats.bytes_to_host + saved == first.stats.bytes_to_host));
 }
 
 TEST_CASE("device: cuda on every rank's GPU renders the CPU's image", "[mpi][gpu]") {

@@ -184,12 +184,17 @@ bool exchange_values_only(const PassContext& pass) {
 }
 
 /// The rest of b.local's device arrays (its geometry, left there by bind_mesh) staged too,
-/// within what the memory limit leaves beside the values' copies.
+/// within what the memory limit leaves beside the values' copies, and hashed as bind_mesh
+/// hashes a staged mesh (so that a layout built over it is found again without the promise).
 void stage_geometry(const PassContext& pass, MeshBinding& b) {
   const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
   const std::uint64_t left = limit.bytes > b.staging.bytes ? limit.bytes - b.staging.bytes : 0;
   stage_mesh_to_host(b.local, mesh_memory(b.local), b.staging, pass.call.cuda_stream, left, limit.text);
   b.geometry_on_device = false;
+  if (!b.hashed && !pass.call.mesh_layout.decided) {
+    b.geometry = mesh_geometry_hash(b.local);
+    b.hashed = true;
+  }
 }
 
 /// The mesh's bounds over every rank's vertices, and every rank's cells.
