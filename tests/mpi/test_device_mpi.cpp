@@ -22,6 +22,7 @@
 #include <deque>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -79,36 +80,66 @@ double max_difference(const tessera::Image& a, const tessera::Image& b) {
   return d;
 }
 
-/// One mesh call on `device`: a warped box of 4 blocks of cells (hexes and tets alternating),
-/// block b on rank b % ranks (a rank may hold none). `rank0_on_device`: rank 0's arrays are
-/// declared device memory to the emulated GPU (which must be installed).
-Run run_mesh(const SharedTempDir& dir, const std::string& tag, const std::string& device,
-             bool rank0_on_device = false) {
-  const std::int64_t n[3] = {9, 8, 13};
-  const std::int64_t cuts[5] = {0, 3, 6, 9, 12};
+/// A warped box of 4 blocks of cells (hexes and tets alternating), block b on rank b % ranks
+/// (a rank may hold none): every block (each rank builds all), this rank's domains, and the
+/// geometry's bytes (x, y, z, int32 connectivity) of the whole mesh and of this rank's.
+struct SpreadMesh {
   std::deque<tessera_test::MeshBlock> blocks;
   std::vector<tessera_mesh_domain> mine;
-  for (int b = 0; b < 4; ++b) {
-    blocks.emplace_back(n, cuts[b], cuts[b + 1]);
-    if (b % world_size() != world_rank()) continue;
-    tessera_test::MeshBlock& m = blocks.back();
-    mine.push_back(m.domain(b % 2 ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
-    if (rank0_on_device && world_rank() == 0) {
-      const auto declare = [](const auto& v) {
-        tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), v.data(),
-                                                      v.size() * sizeof(v[0]));
-      };
-      declare(m.x), declare(m.y), declare(m.z), declare(m.vertex_values), declare(m.hexes), declare(m.tets);
+  std::vector<const tessera_test::MeshBlock*> own;  ///< the blocks of `mine`
+  std::uint64_t geometry = 0, my_geometry = 0;
+  SpreadMesh() {
+    const std::int64_t n[3] = {9, 8, 13};
+    const std::int64_t cuts[5] = {0, 3, 6, 9, 12};
+    for (int b = 0; b < 4; ++b) {
+      tessera_test::MeshBlock& m = blocks.emplace_back(n, cuts[b], cuts[b + 1]);
+      const bool tets = b % 2 == 1;
+      const std::uint64_t bytes =
+          3 * m.x.size() * sizeof(double) + (tets ? m.tets.size() : m.hexes.size()) * sizeof(std::int32_t);
+      geometry += bytes;
+      if (b % world_size() != world_rank()) continue;
+      mine.push_back(m.domain(tets ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
+      own.push_back(&m);
+      my_geometry += bytes;
     }
   }
+  SpreadMesh(const SpreadMesh&) = delete;
+  SpreadMesh& operator=(const SpreadMesh&) = delete;
+  /// This rank's arrays declared device memory to the emulated GPU (which must be installed).
+  void declare_mine_device() const {
+    const auto declare = [](const auto& v) {
+      tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), v.data(), v.size() * sizeof(v[0]));
+    };
+    for (const tessera_test::MeshBlock* m : own)
+      declare(m->x), declare(m->y), declare(m->z), declare(m->vertex_values), declare(m->hexes), declare(m->tets);
+  }
+  /// Every vertex value times f.
+  void rescale(double f) {
+    for (tessera_test::MeshBlock& m : blocks)
+      for (double& v : m.vertex_values) v *= f;
+  }
+  std::span<const tessera_mesh_domain> domains() const { return {mine.data(), mine.size()}; }
+};
+
+/// `a` opened on every rank with the mesh render's config (field f over [0, 1]) on `device`.
+void open_mesh(Adapter& a, const SharedTempDir& dir, const std::string& tag, const std::string& device) {
   std::string cfg = config(dir.file(tag), device);
   cfg.replace(cfg.find("field: density"), 14, "field: f");
   cfg.replace(cfg.find("range: [0, 250]"), 15, "range: [0, 1]");
-  Adapter a;
   a.set_quiet(true);
   REQUIRE(all_ranks(a.open(dir.write(tag + ".yaml", cfg), MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
+}
+
+/// One call over the SpreadMesh on `device`. `rank0_on_device`: rank 0's arrays are declared
+/// device memory to the emulated GPU (which must be installed).
+Run run_mesh(const SharedTempDir& dir, const std::string& tag, const std::string& device,
+             bool rank0_on_device = false) {
+  const SpreadMesh mesh;
+  if (rank0_on_device && world_rank() == 0) mesh.declare_mine_device();
+  Adapter a;
+  open_mesh(a, dir, tag, device);
   Run r;
-  r.status = a.execute_mesh_domains(1, 0.0, {mine.data(), mine.size()});
+  r.status = a.execute_mesh_domains(1, 0.0, mesh.domains());
   r.error = a.last_error();
   if (!a.last_results().empty()) r.device = a.last_results()[0].device;
   if (const tessera::Image* im = a.last_image("view")) r.image = *im;
@@ -163,40 +194,20 @@ TEST_CASE("device: cuda over an unchanged mesh on the ranks' GPUs copies only it
   // is a fresh adapter's bit for bit
   SharedTempDir dir("tessera_device_");
   const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
-  const std::int64_t n[3] = {9, 8, 13};
-  const std::int64_t cuts[5] = {0, 3, 6, 9, 12};
-  std::deque<tessera_test::MeshBlock> blocks;
-  std::vector<tessera_mesh_domain> mine;
-  std::uint64_t geometry = 0;  // of the whole mesh: x, y, z and connectivity of every block
-  for (int b = 0; b < 4; ++b) {
-    tessera_test::MeshBlock& m = blocks.emplace_back(n, cuts[b], cuts[b + 1]);
-    const bool tets = b % 2 == 1;
-    geometry += 3 * m.x.size() * sizeof(double) + (tets ? m.tets.size() : m.hexes.size()) * sizeof(std::int32_t);
-    if (b % world_size() == world_rank())
-      mine.push_back(m.domain(tets ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
-  }
-  const auto open = [&](Adapter& a, const std::string& tag) {
-    std::string cfg = config(dir.file(tag), "cuda");
-    cfg.replace(cfg.find("field: density"), 14, "field: f");
-    cfg.replace(cfg.find("range: [0, 250]"), 15, "range: [0, 1]");
-    a.set_quiet(true);
-    REQUIRE(all_ranks(a.open(dir.write(tag + ".yaml", cfg), MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
-  };
-  const auto rescale = [&](double f) {
-    for (tessera_test::MeshBlock& m : blocks)
-      for (double& v : m.vertex_values) v *= f;
-  };
+  SpreadMesh mesh;
+  const std::uint64_t geometry = mesh.geometry;  // of the whole mesh
+  const auto open = [&](Adapter& a, const std::string& tag) { open_mesh(a, dir, tag, "cuda"); };
   Adapter a;
   open(a, "kept");
-  REQUIRE(all_ranks(a.execute_mesh_domains(1, 0.0, {mine.data(), mine.size()}) == TESSERA_OK));
+  REQUIRE(all_ranks(a.execute_mesh_domains(1, 0.0, mesh.domains()) == TESSERA_OK));
   const tessera::insitu::RenderResult first = a.last_results().at(0);
-  rescale(0.8);
-  REQUIRE(all_ranks(a.execute_mesh_domains(2, 0.1, {mine.data(), mine.size()}) == TESSERA_OK));
+  mesh.rescale(0.8);
+  REQUIRE(all_ranks(a.execute_mesh_domains(2, 0.1, mesh.domains()) == TESSERA_OK));
   const tessera::insitu::RenderResult found = a.last_results().at(0);
   std::optional<tessera::Image> image;
   if (const tessera::Image* im = a.last_image("view")) image = *im;
   REQUIRE(all_ranks(a.mesh_unchanged() == TESSERA_OK));
-  REQUIRE(all_ranks(a.execute_mesh_domains(3, 0.2, {mine.data(), mine.size()}) == TESSERA_OK));
+  REQUIRE(all_ranks(a.execute_mesh_domains(3, 0.2, mesh.domains()) == TESSERA_OK));
   const tessera::insitu::RenderResult promised = a.last_results().at(0);
   CHECK(all_ranks(first.device == "cuda:0"));
   CHECK(all_ranks(!first.mesh_layout_reused && found.mesh_layout_reused && promised.mesh_layout_reused));
@@ -210,7 +221,7 @@ TEST_CASE("device: cuda over an unchanged mesh on the ranks' GPUs copies only it
   // Call 2's values (call 3's too), a fresh adapter (everything copied): the same bits
   Adapter fresh;
   open(fresh, "fresh");
-  REQUIRE(all_ranks(fresh.execute_mesh_domains(2, 0.1, {mine.data(), mine.size()}) == TESSERA_OK));
+  REQUIRE(all_ranks(fresh.execute_mesh_domains(2, 0.1, mesh.domains()) == TESSERA_OK));
   CHECK(all_ranks(fresh.last_results().at(0).stats.bytes_to_device > found.stats.bytes_to_device + geometry));
   if (world_size() == 1) CHECK(fresh.last_results().at(0).stats.bytes_to_device == first.stats.bytes_to_device);
   if (world_rank() == 0) {
@@ -229,38 +240,19 @@ TEST_CASE("ranks whose mesh is device memory and unchanged stage only its values
   // fresh adapter's bit for bit (everything staged)
   SharedTempDir dir("tessera_device_");
   const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
-  const std::int64_t n[3] = {9, 8, 13};
-  const std::int64_t cuts[5] = {0, 3, 6, 9, 12};
-  std::deque<tessera_test::MeshBlock> blocks;
-  std::vector<tessera_mesh_domain> mine;
-  std::uint64_t geometry = 0;  // this rank's: x, y, z and connectivity
-  for (int b = 0; b < 4; ++b) {
-    tessera_test::MeshBlock& m = blocks.emplace_back(n, cuts[b], cuts[b + 1]);
-    if (b % world_size() != world_rank()) continue;
-    const bool tets = b % 2 == 1;
-    mine.push_back(m.domain(tets ? tessera_test::MeshBlock::Form::Tets : tessera_test::MeshBlock::Form::Hexes));
-    geometry += 3 * m.x.size() * sizeof(double) + (tets ? m.tets.size() : m.hexes.size()) * sizeof(std::int32_t);
-    const auto declare = [](const auto& v) {
-      tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), v.data(), v.size() * sizeof(v[0]));
-    };
-    declare(m.x), declare(m.y), declare(m.z), declare(m.vertex_values), declare(m.hexes), declare(m.tets);
-  }
-  const auto open = [&](Adapter& a, const std::string& tag) {
-    std::string cfg = config(dir.file(tag), "cpu");
-    cfg.replace(cfg.find("field: density"), 14, "field: f");
-    cfg.replace(cfg.find("range: [0, 250]"), 15, "range: [0, 1]");
-    a.set_quiet(true);
-    REQUIRE(all_ranks(a.open(dir.write(tag + ".yaml", cfg), MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
-  };
+  SpreadMesh mesh;
+  mesh.declare_mine_device();
+  const std::uint64_t geometry = mesh.my_geometry;  // this rank's
+  const auto open = [&](Adapter& a, const std::string& tag) { open_mesh(a, dir, tag, "cpu"); };
   Adapter a;
   open(a, "kept");
   // Call s of `a`, and the same state through a fresh adapter: the results, and whether rank
   // 0's images are the same bits
   const auto call = [&](int s) {
-    REQUIRE(all_ranks(a.execute_mesh_domains(s, 0.1 * s, {mine.data(), mine.size()}) == TESSERA_OK));
+    REQUIRE(all_ranks(a.execute_mesh_domains(s, 0.1 * s, mesh.domains()) == TESSERA_OK));
     Adapter fresh;
     open(fresh, "fresh" + std::to_string(s));
-    REQUIRE(all_ranks(fresh.execute_mesh_domains(s, 0.1 * s, {mine.data(), mine.size()}) == TESSERA_OK));
+    REQUIRE(all_ranks(fresh.execute_mesh_domains(s, 0.1 * s, mesh.domains()) == TESSERA_OK));
     bool same = true;
     if (world_rank() == 0) {
       REQUIRE(a.last_image("view"));
@@ -273,14 +265,10 @@ TEST_CASE("ranks whose mesh is device memory and unchanged stage only its values
     CHECK(same);
     return a.last_results().at(0);
   };
-  const auto rescale = [&](double f) {
-    for (tessera_test::MeshBlock& m : blocks)
-      for (double& v : m.vertex_values) v *= f;
-  };
   const tessera::insitu::RenderResult first = call(1);
-  rescale(0.8);
+  mesh.rescale(0.8);
   const tessera::insitu::RenderResult found = call(2);
-  rescale(0.9);
+  mesh.rescale(0.9);
   REQUIRE(all_ranks(a.mesh_unchanged() == TESSERA_OK));
   const tessera::insitu::RenderResult promised = call(3);
   CHECK(all_ranks(first.device == "cpu"));
@@ -291,15 +279,15 @@ TEST_CASE("ranks whose mesh is device memory and unchanged stage only its values
   CHECK(all_ranks(promised.stats.bytes_to_host == found.stats.bytes_to_host));
   // Rank 0's first block moves (no promise there; the other ranks promise theirs unchanged):
   // no rank holds the exchange's geometry any more, so every rank stages its geometry too
-  blocks.front().x[5] += 1e-3;
-  rescale(1.1);
+  mesh.blocks.front().x[5] += 1e-3;
+  mesh.rescale(1.1);
   if (world_rank() != 0) REQUIRE(a.mesh_unchanged() == TESSERA_OK);
   const tessera::insitu::RenderResult moved = call(4);
   CHECK(all_ranks(!moved.mesh_values_only && !moved.mesh_layout_reused));
   CHECK(all_ranks(moved.stats.bytes_to_host == first.stats.bytes_to_host));
   // Nothing promised, nothing moved: every rank finds its geometry by its hash (the promising
   // ranks' too, hashed when they staged it at call 4), so only the values move again
-  rescale(0.9);
+  mesh.rescale(0.9);
   const tessera::insitu::RenderResult again = call(5);
   CHECK(all_ranks(again.mesh_layout_reused && again.mesh_values_only == (world_size() > 1)));
   CHECK(all_ranks(again.stats.bytes_to_host + saved == first.stats.bytes_to_host));

@@ -37,6 +37,22 @@ double at(const void* base, DType t, std::int64_t stride, std::int64_t e) {
   return detail::load_as_double(t, static_cast<const unsigned char*>(base) + e * stride);
 }
 
+/// Whether b.local's geometry, its arrays device memory, hashes on the device as the kept
+/// layout's (keep.detected; b.geometry).
+bool same_on_device(const PassContext& pass, MeshBinding& b) {
+  MeshLayoutKeep& keep = pass.call.mesh_layout;
+  b.geometry = cuda_mesh_geometry_hash(b.local, pass.call.cuda_stream);
+  b.hashed = true;
+  keep.detected = b.geometry == keep.geometry;
+  return keep.detected;
+}
+
+/// The memory limit a rank's staged copies of device arrays fit in (memory_limit_mb shared by
+/// the node's ranks).
+config::MemoryLimit staging_limit(const PassContext& pass) {
+  return config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
+}
+
 /// Whether b.local is read where it is, on the device, with nothing copied to the host: one
 /// rank, every array device memory, the GPU chosen, and the geometry of a kept layout that
 /// fits it: `promised` (promised unchanged by tessera_mesh_unchanged, or this call's), or
@@ -50,10 +66,7 @@ bool resident_on_device(const PassContext& pass, MeshBinding& b, const MeshMemor
     return false;
   if (promised) return true;
   if (!keep.geometry_known) return false;
-  b.geometry = cuda_mesh_geometry_hash(b.local, pass.call.cuda_stream);
-  b.hashed = true;
-  keep.detected = b.geometry == keep.geometry;
-  return keep.detected;
+  return same_on_device(pass, b);
 }
 
 /// Whether, on several ranks, b.local's geometry may stay in device memory (only its values
@@ -66,10 +79,7 @@ bool geometry_stays_on_device(const PassContext& pass, MeshBinding& b, const Mes
   if (pass.ctx.size() == 1 || !keep.layout || keep.parts.empty() || !where.all_device(b.local)) return false;
   if (promised) return true;
   if (!keep.geometry_known || keep.decided) return false;
-  b.geometry = cuda_mesh_geometry_hash(b.local, pass.call.cuda_stream);
-  b.hashed = true;
-  keep.detected = b.geometry == keep.geometry;
-  return keep.detected;
+  return same_on_device(pass, b);
 }
 
 /// Whether the geometry of this call's mesh is promised to be the kept layout's (promised
@@ -131,7 +141,7 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
           b.resident = b.local.device = true;
           return;
         }
-        const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
+        const config::MemoryLimit limit = staging_limit(pass);
         b.geometry_on_device = geometry_stays_on_device(pass, b, where, promised);
         stage_mesh_to_host(b.local, b.geometry_on_device ? stage_only_values(where) : where, b.staging,
                            pass.call.cuda_stream, limit.bytes, limit.text);
@@ -187,7 +197,7 @@ bool exchange_values_only(const PassContext& pass) {
 /// within what the memory limit leaves beside the values' copies, and hashed as bind_mesh
 /// hashes a staged mesh (so that a layout built over it is found again without the promise).
 void stage_geometry(const PassContext& pass, MeshBinding& b) {
-  const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
+  const config::MemoryLimit limit = staging_limit(pass);
   const std::uint64_t left = limit.bytes > b.staging.bytes ? limit.bytes - b.staging.bytes : 0;
   stage_mesh_to_host(b.local, mesh_memory(b.local), b.staging, pass.call.cuda_stream, left, limit.text);
   b.geometry_on_device = false;
