@@ -338,8 +338,28 @@ VolumeGeometry MeshLayout::geometry() const {
 }
 
 std::uint64_t MeshLayout::bytes() const {
+  std::uint64_t spans = 0;
+  {
+    const std::lock_guard<std::mutex> lock(m_spans_mutex);
+    if (m_spans) spans = m_spans->bytes();
+  }
   return m_signature.size() * sizeof(std::int64_t) + m_element.size() * sizeof(MeshElementRef) +
-         m_box.size() * sizeof(double) + m_first.size() * sizeof(std::uint64_t) + m_list.size() * sizeof(std::uint32_t);
+         m_box.size() * sizeof(double) + m_first.size() * sizeof(std::uint64_t) +
+         m_list.size() * sizeof(std::uint32_t) + spans;
+}
+
+std::size_t MeshLayout::domain_count() const { return m_signature.size() / kSignatureWords; }
+
+std::int64_t MeshLayout::domain_cells(std::size_t d) const { return m_signature[d * kSignatureWords + 5]; }
+
+std::shared_ptr<const MacroSpans> MeshLayout::macro_spans(const MacroGrid& grid) const {
+  // Made under the lock: two prepares over one layout at once wait for one build, not two
+  const std::lock_guard<std::mutex> lock(m_spans_mutex);
+  if (!m_spans || !m_spans->over(grid)) {
+    m_spans.reset();  // the old spans freed before the new are made
+    m_spans = std::make_shared<const MacroSpans>(*this, grid);
+  }
+  return m_spans;
 }
 
 }  // namespace tessera

@@ -14,6 +14,7 @@
 
 #include "mesh/domain_access.h"
 #include "mesh/geometry_hash.h"
+#include "mesh/macro_spans.h"
 #include "mesh/mesh_field_view.h"
 
 #include <cstdint>
@@ -39,6 +40,9 @@ class MeshLayout {
   const MeshElementRef& element(std::size_t e) const { return m_element[e]; }
   const double* box(std::size_t e) const { return &m_box[6 * e]; }
   const std::int64_t* dims() const { return m_dims; }
+  /// The input's domains and each one's cells (ghosts included), as the layout was built over.
+  std::size_t domain_count() const;
+  std::int64_t domain_cells(std::size_t d) const;
   /// The grid over the mesh's box: vertex-centred, uniform, dims() vertices per axis.
   VolumeGeometry geometry() const;
   /// The kernels' view with `domains` (the current arrays); element null when empty.
@@ -59,6 +63,11 @@ class MeshLayout {
   };
   DeviceCopySlot& device_copy_slot() const { return m_device_copy; }
 
+  /// The elements' macrocell spans over `grid` (macro_spans.h), made by the first call for that
+  /// grid and kept (one grid at a time: another grid replaces them) for the summaries of later
+  /// prepares that reuse this layout. Counted in bytes() once made. Thread-safe.
+  std::shared_ptr<const MacroSpans> macro_spans(const MacroGrid& grid) const;
+
  private:
   /// Returns each element's centroid x (canonical order), for slab_runs.
   std::vector<double> gather(const std::vector<DomainAccess>& domains, const Mesh& mesh);
@@ -76,6 +85,8 @@ class MeshLayout {
   std::int64_t m_loc_n[3] = {1, 1, 1};
   GeometrySums m_ghost_sums;
   mutable DeviceCopySlot m_device_copy;
+  mutable std::mutex m_spans_mutex;
+  mutable std::shared_ptr<const MacroSpans> m_spans;
 };
 
 }  // namespace tessera

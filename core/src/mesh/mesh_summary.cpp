@@ -1,6 +1,8 @@
 /// mesh_summary (mesh_summary.h): each element's range scattered over the macrocells its box meets.
 #include "mesh/mesh_summary.h"
 
+#include "mesh/macro_spans.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -48,25 +50,59 @@ void fold_into_cells(FieldSummary::Parts& parts, const MacroGrid& g, const doubl
 
 namespace {
 
-/// Elements below which the fold stays on one thread.
+/// Cells of the input below which the fold stays on one thread.
 constexpr std::size_t kParallelFold = 32768;
 
-/// Every element of `tables` folded into `parts`. Over the threads of the caller's arena when
-/// there are many elements per macrocell: each thread folds a share into cells of its own, then
-/// the cells are merged. Min, max and or of values without NaN or -0.0 (add_value) give the same
-/// bits in any order, so the result is the serial fold's. With fewer elements than cells (a small
-/// macrocell edge) the copies would cost more than the fold: one thread.
+/// Folds range `r` into the macrocells of span `s` (MacroSpan: n[0] >= 1).
+void fold_span(FieldSummary::Parts& parts, const MacroGrid& g, const MacroSpan& s, const ElementRange& r) {
+  const auto nx = static_cast<std::size_t>(g.cells[0]), layer = nx * static_cast<std::size_t>(g.cells[1]);
+  const auto first = static_cast<std::size_t>(s.first);
+  for (std::uint32_t k = 0; k < s.n[2]; ++k)
+    for (std::uint32_t j = 0; j < s.n[1]; ++j) {
+      const std::size_t row = first + k * layer + j * nx;
+      for (std::uint32_t i = 0; i < s.n[0]; ++i) {
+        const std::size_t c = row + i;
+        parts.lo[c] = std::min(parts.lo[c], r.lo);
+        parts.hi[c] = std::max(parts.hi[c], r.hi);
+        parts.flags[c] |= r.flags;
+      }
+    }
+}
+
+/// The input's cells [begin, end) (over all domains, MacroSpans::all's numbering) folded into
+/// `parts`: each element of the layout's range from the current arrays, in input order.
+void fold_cells(FieldSummary::Parts& parts, const MacroGrid& m, const MacroSpans& spans, const DomainAccess* domains,
+                std::size_t begin, std::size_t end) {
+  const std::span<const MacroSpan> all = spans.all();
+  std::size_t d = 0;
+  while (d + 1 < spans.domain_count() && static_cast<std::size_t>(spans.offset(d + 1)) <= begin) ++d;
+  for (std::size_t c = begin; c != end; ++c) {
+    while (static_cast<std::size_t>(spans.offset(d + 1)) <= c) ++d;
+    const MacroSpan& s = all[c];
+    if (s.n[0] == 0) continue;  // not an element of the layout
+    const MeshElementRef ref{static_cast<std::int64_t>(c) - spans.offset(d), static_cast<std::int32_t>(d)};
+    fold_span(parts, m, s, element_range(domains, ref));
+  }
+}
+
+/// Every element of `tables` folded into `parts`, in the input's order (MacroSpans). Over the
+/// threads of the caller's arena when there are many elements per macrocell: each thread folds
+/// a share into cells of its own, then the cells are merged. Min, max and or of values without
+/// NaN or -0.0 (add_value) give the same bits in any order, so the result is the serial fold's
+/// (and the canonical order's). With fewer elements than cells (a small macrocell edge) the
+/// copies would cost more than the fold: one thread.
 void fold_elements(FieldSummary::Parts& parts, const MacroGrid& m, const MeshTables& tables) {
-  const std::size_t n = tables.element_count();
+  const std::shared_ptr<const MacroSpans> spans = tables.layout()->macro_spans(m);
+  const std::size_t n = spans->all().size();
   const std::size_t cells = parts.lo.size();
-  if (n < kParallelFold || cells > n / 4) {
-    for (std::size_t e = 0; e < n; ++e) fold_into_cells(parts, m, tables.box(e), tables.range(e));
+  const DomainAccess* domains = tables.domains().data();
+  if (n < kParallelFold || cells > tables.element_count() / 4) {
+    fold_cells(parts, m, *spans, domains, 0, n);
     return;
   }
   tbb::combinable<FieldSummary::Parts> mine([&] { return empty_cells(m); });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
-    FieldSummary::Parts& p = mine.local();
-    for (std::size_t e = r.begin(); e != r.end(); ++e) fold_into_cells(p, m, tables.box(e), tables.range(e));
+    fold_cells(mine.local(), m, *spans, domains, r.begin(), r.end());
   });
   mine.combine_each([&](const FieldSummary::Parts& p) {
     for (std::size_t c = 0; c < cells; ++c) {

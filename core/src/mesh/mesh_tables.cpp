@@ -1,4 +1,4 @@
-/// MeshTables::build (mesh_tables.h): the layout (built, or reused), then the values' ranges.
+/// MeshTables::build (mesh_tables.h): the layout (built, or reused), then the values' totals.
 #include "mesh/mesh_tables.h"
 
 #include "mesh/geometry_hash.h"
@@ -18,34 +18,31 @@ void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse
   bind(mesh);
   m_reused = reuse && reuse->fits(mesh);
   m_layout = m_reused ? std::move(reuse) : std::make_shared<const MeshLayout>(mesh, m_domain);
-  // Each element's value range, in the layout's order. (Computing them in the input's order
-  // and gathering them into the layout's was tried: slower, the extra array's traffic costing
-  // more than the canonical order's jumps.) A reused layout whose element is a ghost now (a
-  // broken promise: the geometry hash covers the ghost masks) is refused: a ghost's indices
-  // are never checked, so neither this pass nor the kernels may read them
+  // The elements' value ranges are mesh_summary's (in the input's order, over the layout's
+  // kept macrocell spans). A reused layout whose element is a ghost now (a broken promise: the
+  // geometry hash covers the ghost masks) is refused: a ghost's indices are never checked, so
+  // neither the summary nor the kernels may read them. A new layout has no ghost by its build
+  if (m_reused && has_ghost_masks(mesh)) refuse_new_ghosts(mesh);
+  count_values(mesh);
+}
+
+void MeshTables::refuse_new_ghosts(const Mesh& mesh) const {
   const std::size_t n = m_layout->element_count();
-  m_range.assign(n, ElementRange{});
   std::atomic<std::size_t> ghost{n};
-  const bool masks = has_ghost_masks(mesh);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const auto& r) {
     for (std::size_t e = r.begin(); e != r.end(); ++e) {
       const MeshElementRef& ref = m_layout->element(e);
-      if (!masks || !mesh.domains[static_cast<std::size_t>(ref.domain)].ghosts.is_ghost(ref.cell)) {
-        m_range[e] = element_range(m_domain.data(), ref);
-        continue;
-      }
+      if (!mesh.domains[static_cast<std::size_t>(ref.domain)].ghosts.is_ghost(ref.cell)) continue;
       std::size_t seen = ghost.load(std::memory_order_relaxed);
       while (e < seen && !ghost.compare_exchange_weak(seen, e, std::memory_order_relaxed)) {
       }
     }
   });
-  if (ghost.load() < n) {
-    const MeshElementRef& ref = m_layout->element(ghost.load());
-    throw std::invalid_argument("mesh domain " + std::to_string(ref.domain) + ": element " + std::to_string(ref.cell) +
-                                " is a ghost now but was real when the mesh's lookup structure was built: the "
-                                "geometry is not the one promised unchanged");
-  }
-  count_values(mesh);
+  if (ghost.load() == n) return;
+  const MeshElementRef& ref = m_layout->element(ghost.load());
+  throw std::invalid_argument("mesh domain " + std::to_string(ref.domain) + ": element " + std::to_string(ref.cell) +
+                              " is a ghost now but was real when the mesh's lookup structure was built: the "
+                              "geometry is not the one promised unchanged");
 }
 
 void MeshTables::build_on_device(const Mesh& mesh, std::shared_ptr<const MeshLayout> layout) {
@@ -53,7 +50,6 @@ void MeshTables::build_on_device(const Mesh& mesh, std::shared_ptr<const MeshLay
   m_layout = std::move(layout);
   m_reused = true;
   m_on_device = true;
-  m_range.clear();
   m_nan = m_values = 0;
   m_vmin = INFINITY;
   m_vmax = -INFINITY;
@@ -119,8 +115,7 @@ void MeshTables::count_values(const Mesh& mesh) {
 MeshFieldView MeshTables::view() const { return m_layout ? m_layout->view(m_domain.data()) : MeshFieldView{}; }
 
 std::uint64_t MeshTables::bytes() const {
-  return m_domain.size() * (sizeof(DomainAccess) + sizeof(DomainArrays)) + m_range.size() * sizeof(ElementRange) +
-         (m_layout ? m_layout->bytes() : 0);
+  return m_domain.size() * (sizeof(DomainAccess) + sizeof(DomainArrays)) + (m_layout ? m_layout->bytes() : 0);
 }
 
 }  // namespace tessera

@@ -7,8 +7,9 @@
 /// grid over the mesh's box and the location cells; O(n log n), single-threaded so that it is
 /// the same for any thread count, independent of how the cells are cut into domains or
 /// ordered, and of the values), built or shared with an earlier build of the same mesh; then
-/// every element's value range (min / max of its vertex values, or its cell value) from the
-/// current arrays, O(n).
+/// the values' totals from the current arrays, O(values). The elements' value ranges (min /
+/// max of the vertex values, or the cell value) are folded straight into the macrocells by
+/// mesh_summary, in the input's order.
 /// - The grid: its box is the union of the elements' boxes; its voxel is the mean over the
 ///   elements of the cube root of their box's volume (a uniform grid's cells give back its
 ///   spacing), rounded to whole voxels per axis, at most 4 n + 64 voxels in all.
@@ -35,12 +36,13 @@ class MeshTables {
  public:
   /// Builds the tables of `mesh`, which check_mesh has accepted: its layout (`reuse` when it
   /// fits the mesh: the caller's promise that the geometry is that layout's; else built), then
-  /// every element's value range from the mesh's current arrays.
+  /// the values' totals from the mesh's current arrays. A reused layout with an element that
+  /// is a ghost now is refused by name (std::invalid_argument).
   void build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse = nullptr);
   /// The tables of a mesh in device memory (Mesh::device), whose values a device summarises
   /// (cuda_mesh_summary, cuda_render.h): `layout` (which fits it) and the readers of its
-  /// arrays; no element's range nor value totals (range() and the totals must not be used:
-  /// the device folds them into the summary).
+  /// arrays; no value totals (the totals must not be used: the device folds them into the
+  /// summary).
   void build_on_device(const Mesh& mesh, std::shared_ptr<const MeshLayout> layout);
   /// Built by build_on_device: the arrays are device memory, read on the device only.
   bool on_device() const { return m_on_device; }
@@ -62,9 +64,8 @@ class MeshTables {
     std::array<const void*, kMeshArraySlots> device_copy;
   };
   std::span<const DomainArrays> arrays() const { return m_arrays; }
-  /// Element e's world box (lo x, y, z, hi x, y, z) and value range, in canonical order.
+  /// Element e's world box (lo x, y, z, hi x, y, z), in canonical order.
   const double* box(std::size_t e) const { return m_layout->box(e); }
-  const ElementRange& range(std::size_t e) const { return m_range[e]; }
   /// NaN values, finite min / max and the count of all values of the mesh (ghosts' too).
   std::uint64_t nan_values() const { return m_nan; }
   std::uint64_t value_count() const { return m_values; }
@@ -78,6 +79,7 @@ class MeshTables {
 
  private:
   void count_values(const Mesh& mesh);
+  void refuse_new_ghosts(const Mesh& mesh) const;
   void bind(const Mesh& mesh);
 
   std::shared_ptr<const MeshLayout> m_layout;
@@ -85,7 +87,6 @@ class MeshTables {
   bool m_on_device = false;
   std::vector<DomainAccess> m_domain;  ///< the current arrays
   std::vector<DomainArrays> m_arrays;
-  std::vector<ElementRange> m_range;  ///< per element, in the layout's order
   std::uint64_t m_nan = 0, m_values = 0;
   double m_vmin = INFINITY, m_vmax = -INFINITY;
 };

@@ -1,0 +1,169 @@
+// A mesh's macrocell summary folded in the input's order over the layout's kept macrocell
+// spans (mesh/macro_spans.h): bit for bit the fold of every element in the layout's canonical
+// order (what a device does: cuda/mesh_device.h), on one thread or several, for any macrocell
+// edge, with ghosts, NaN, infinities and -0.0 among the values; the spans made once per grid
+// and kept with the layout.
+#include <tessera/render.h>
+
+#include <catch2/catch.hpp>
+#include <tbb/task_arena.h>
+
+#include "mesh/macro_spans.h"
+#include "mesh/mesh_layout.h"
+#include "mesh/mesh_summary.h"
+#include "mesh/mesh_tables.h"
+#include "test_mesh_support.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+using namespace tessera_mesh_test;
+
+namespace {
+
+/// A warped 40 x 36 x 30 hex grid (43,200 cells: enough for the fold's threads) cut into
+/// three domains listed out of order, one with int64 indices and its cells reversed, a tenth
+/// of one domain's cells ghosts; values with NaN, +-Inf and -0.0 among them.
+struct CutGrid {
+  OwnedMesh owned;
+  std::vector<std::uint8_t> mask;
+
+  explicit CutGrid(tessera::Association association) {
+    ElementList m = grid_hexes(
+        40, 36, 30, Vec3(0.0), Vec3(1.0 / 40, 1.0 / 36, 1.0 / 30),
+        [](const Vec3& p) { return std::sin(7.0 * p.x) * std::cos(5.0 * p.y + 3.0 * p.z); },
+        [](const Vec3& p) { return Vec3(p.x + 0.1 * p.y * p.z, p.y + 0.05 * p.x, p.z); });
+    if (association == tessera::Association::Cell) {
+      m.association = association;
+      m.value.assign(m.element.size(), 0.0);
+      for (std::size_t e = 0; e < m.value.size(); ++e) m.value[e] = std::cos(0.013 * static_cast<double>(e));
+    }
+    m.value[17] = NAN;
+    m.value[901] = INFINITY;
+    m.value[2500] = -INFINITY;
+    m.value[40] = -0.0;
+    std::vector<int> part(m.element.size());
+    for (std::size_t e = 0; e < part.size(); ++e) part[e] = e < 15000 ? 0 : (e < 30000 ? 1 : 2);
+    owned = cut(m, part, {2, 0, 1}, true, true);
+    tessera::MeshDomain& d = owned.mesh.domains[1];
+    mask.assign(static_cast<std::size_t>(d.cell_count()), 0);
+    for (std::size_t c = 0; c < mask.size(); c += 10) mask[c] = 1;
+    d.ghosts = {mask.data(), 1, static_cast<std::int64_t>(mask.size())};
+  }
+};
+
+/// The macrocells of `t` folded element by element in the layout's canonical order.
+tessera::FieldSummary::Parts canonical_fold(const tessera::MeshTables& t, const tessera::MacroGrid& g) {
+  tessera::FieldSummary::Parts parts = tessera::empty_cells(g);
+  for (std::size_t e = 0; e < t.element_count(); ++e)
+    tessera::fold_into_cells(parts, g, t.box(e), tessera::element_range(t.domains().data(), t.layout()->element(e)));
+  return parts;
+}
+
+/// Whether summary `s`'s cells are `p`'s, bit for bit.
+bool same_cells(const tessera::FieldSummary& s, const tessera::FieldSummary::Parts& p) {
+  const auto r = s.ranges();
+  if (r.size() != p.lo.size()) return false;
+  for (std::size_t c = 0; c < r.size(); ++c) {
+    const std::uint8_t flags =
+        static_cast<std::uint8_t>((r[c].nan ? 1 : 0) | (r[c].pos_inf ? 2 : 0) | (r[c].neg_inf ? 4 : 0));
+    if (std::memcmp(&r[c].lo, &p.lo[c], sizeof(double)) != 0 || std::memcmp(&r[c].hi, &p.hi[c], sizeof(double)) != 0 ||
+        flags != p.flags[c])
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("mesh summary: folded in the input's order, the macrocells are the canonical order's, bit for bit",
+          "[mesh][summary]") {
+  for (const tessera::Association association : {tessera::Association::Vertex, tessera::Association::Cell}) {
+    const CutGrid grid(association);
+    tessera::MeshTables t;
+    t.build(grid.owned.mesh);
+    REQUIRE(t.element_count() == 43200u - 1500u);  // the ghosts left out
+    const std::int64_t max_dim = std::max({t.dims()[0], t.dims()[1], t.dims()[2]});
+    for (const int edge : {1, 3, 8, static_cast<int>(max_dim)}) {
+      INFO("association " << static_cast<int>(association) << ", edge " << edge);
+      const tessera::MacroGrid g = tessera::macro_grid(t.geometry(), t.dims(), edge);
+      const tessera::FieldSummary::Parts want = canonical_fold(t, g);
+      for (const int threads : {1, 2}) {
+        tbb::task_arena arena(threads);
+        const auto s = arena.execute([&] { return tessera::mesh_summary(t, edge); });
+        CHECK(same_cells(*s, want));
+      }
+    }
+  }
+}
+
+TEST_CASE("mesh layout: the macrocell spans are made once per grid, kept and counted", "[mesh][summary]") {
+  const CutGrid grid(tessera::Association::Vertex);
+  tessera::MeshTables t;
+  t.build(grid.owned.mesh);
+  const auto& layout = t.layout();
+  const std::uint64_t bare = layout->bytes();
+  const tessera::MacroGrid g8 = tessera::macro_grid(t.geometry(), t.dims(), 8);
+  const auto spans = layout->macro_spans(g8);
+  CHECK(layout->bytes() == bare + spans->bytes());
+  CHECK(layout->macro_spans(g8) == spans);  // kept
+  REQUIRE(spans->domain_count() == 3u);
+  REQUIRE(spans->all().size() == 43200u);
+  // Every element's span is where its input cell lies, and is its box's macrocells
+  std::vector<bool> element(spans->all().size(), false);
+  for (std::size_t e = 0; e < layout->element_count(); ++e) {
+    const tessera::MeshElementRef& ref = layout->element(e);
+    const auto i = static_cast<std::size_t>(spans->offset(static_cast<std::size_t>(ref.domain)) + ref.cell);
+    element[i] = true;
+    std::int64_t c0[3], c1[3];
+    g8.span(layout->box(e), c0, c1);
+    const tessera::MacroSpan& s = spans->all()[i];
+    CHECK(s.first == (c0[2] * g8.cells[1] + c0[1]) * g8.cells[0] + c0[0]);
+    for (int a = 0; a < 3; ++a) CHECK(s.n[a] == static_cast<std::uint32_t>(c1[a] - c0[a] + 1));
+  }
+  // Every other cell (the ghosts of domain 1, listed second) has none
+  std::size_t none = 0;
+  for (std::size_t i = 0; i < element.size(); ++i)
+    if (!element[i]) {
+      ++none;
+      CHECK(spans->all()[i].n[0] == 0u);
+      CHECK(i >= static_cast<std::size_t>(spans->offset(1)));
+      CHECK(i < static_cast<std::size_t>(spans->offset(2)));
+    }
+  CHECK(none == 1500u);
+  // Another grid replaces them; the first grid again is made again
+  const tessera::MacroGrid g4 = tessera::macro_grid(t.geometry(), t.dims(), 4);
+  const auto other = layout->macro_spans(g4);
+  CHECK(other != spans);
+  CHECK(layout->bytes() == bare + other->bytes());
+  CHECK(layout->macro_spans(g8) != other);
+  CHECK(layout->macro_spans(g8)->over(g8));
+}
+
+TEST_CASE("mesh layout: a prepare that reuses the layout reads the spans an earlier prepare made", "[mesh][summary]") {
+  CutGrid grid(tessera::Association::Vertex);
+  tessera::SceneDesc s;
+  s.tf.lo = -1.0;
+  s.tf.hi = 1.0;
+  s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0});
+  s.camera.position = Vec3(0.5, 0.5, -2.0);
+  s.camera.look_at = Vec3(0.5);
+  s.image = {8, 8, 1, 0.0};
+  s.integrator.macrocell = 6;
+  for (auto& od : grid.owned.owned)  // finite values: the scene's range check passes
+    for (double& v : od->values)
+      if (!std::isfinite(v)) v = 0.25;
+  const tessera::PreparedScene first = tessera::prepare(grid.owned.mesh, s);
+  const auto& layout = first.mesh_layout();
+  const tessera::MacroGrid g = tessera::macro_grid(layout->geometry(), layout->dims(), 6);
+  const std::uint64_t with_spans = layout->bytes();
+  const auto made = layout->macro_spans(g);
+  CHECK(layout->bytes() == with_spans);  // made by the prepare, not by this call
+  for (auto& od : grid.owned.owned)
+    for (double& v : od->values) v = -v;
+  const tessera::PreparedScene second = tessera::prepare(grid.owned.mesh, s, layout);
+  CHECK(second.mesh_layout_reused());
+  CHECK(layout->macro_spans(g) == made);
+}
