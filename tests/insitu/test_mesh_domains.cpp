@@ -179,6 +179,19 @@ TEST_CASE("mesh domains: the lookup structure is reused within a call, and acros
     REQUIRE(fresh.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_OK);
     CHECK(same_pixels(built, *fresh.last_image("a")));
   }
+  // Found by its hash, an index out of range (no promise) hashes otherwise: checked again and
+  // refused by domain and element, nothing kept of it; put back, found again
+  {
+    auto& entry = cut.blocks[1].hexes[8 * 5 + 3];
+    const auto kept = entry;
+    entry = 100000;
+    CHECK(ad.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_ERROR_DATA);
+    CHECK_THAT(ad.last_error(), Contains("mesh domain 1: element 5"));
+    entry = kept;
+    REQUIRE(ad.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_OK);
+    CHECK(reused("a"));
+    CHECK(same_pixels(built, *ad.last_image("a")));
+  }
   // With the promise, reused; the image as a build gives it
   REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
   REQUIRE(ad.execute_mesh_domains(2, 0.1, cut.domains) == TESSERA_OK);
@@ -201,6 +214,17 @@ TEST_CASE("mesh domains: the lookup structure is reused within a call, and acros
   REQUIRE(ad.mesh_unchanged() == TESSERA_OK);
   REQUIRE(ad.execute_mesh_domains(4, 0.3, other.domains) == TESSERA_OK);
   CHECK_FALSE(reused("a"));
+  // Built under a promise (not hashed before), it is hashed after the build: the next call
+  // finds it without the promise, and renders a fresh adapter's bits
+  REQUIRE(ad.execute_mesh_domains(5, 0.35, other.domains) == TESSERA_OK);
+  CHECK(reused("a"));
+  {
+    Adapter fresh;
+    fresh.set_quiet(true);
+    REQUIRE(fresh.open(dir.write("fresh2.yaml", config_yaml(dir.file("fresh2"), renders))) == TESSERA_OK);
+    REQUIRE(fresh.execute_mesh_domains(5, 0.35, other.domains) == TESSERA_OK);
+    CHECK(same_pixels(*ad.last_image("a"), *fresh.last_image("a")));
+  }
 }
 
 TEST_CASE("mesh domains: after mesh_unchanged an index out of range is still refused, the shapes are the promise",

@@ -45,6 +45,13 @@ struct MeshLayoutKeep {
   /// (MeshChecked::with_new_values: the geometry is the same bytes) instead of checking those
   /// bytes again. Empty when the full exchange's mesh was checked by prepare itself.
   MeshChecked parts_checked;
+  /// The receipt of this rank's last check of its own host arrays (check_local) and the hash
+  /// of the geometry it checked: a later call whose geometry hashes the same, in the same arrays,
+  /// carries it to its new values (MeshChecked::with_new_values) instead of reading every
+  /// index again (the bytes the check read are those bytes, but for a collision of both 64-bit
+  /// sums). Kept across layouts; empty until a hashed call's check.
+  MeshChecked local_checked;
+  MeshGeometryHash local_checked_geometry;
 
   /// At each mesh call, as it begins (before its triggers): the promise (if made) applies to
   /// this call, and is spent.

@@ -88,14 +88,31 @@ bool promised_unchanged(const MeshLayoutKeep& keep) { return keep.layout != null
 
 /// The check of b.local: on the device when resident; its indices (and finite vertices) only
 /// when its geometry is promised or found to be the kept layout's, whose shapes were checked
-/// when it was built; else everything (check_mesh). b.checked: the receipt.
+/// when it was built; not at all when found by its hash to be the geometry of the last check,
+/// in the same arrays (that receipt carried to the new values: keep.local_checked); else
+/// everything (check_mesh). b.checked: the receipt.
 void check_local(const PassContext& pass, MeshBinding& b, bool promised) {
   // (geometry on the device: not read here; it is staged and checked by prepare if the ranks
   // exchange the geometry)
   if (b.local.domains.empty() || b.geometry_on_device) return;
-  if (b.resident) b.checked = cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
-  else if (promised || pass.call.mesh_layout.detected) b.checked = check_mesh_indices(b.local);
+  MeshLayoutKeep& keep = pass.call.mesh_layout;
+  if (b.resident) {
+    b.checked = cuda_check_mesh_indices(b.local, pass.call.cuda_stream);  // on the device
+    return;
+  }
+  if (b.hashed && keep.local_checked_geometry == b.geometry) {  // (the hash probed every array)
+    MeshChecked carried = keep.local_checked.with_new_values(b.local);
+    if (carried.covers(b.local, false) && (promised || keep.detected || carried.covers(b.local, true))) {
+      b.checked = std::move(carried);
+      return;
+    }
+  }
+  if (promised || keep.detected) b.checked = check_mesh_indices(b.local);
   else b.checked = check_mesh(b.local);
+  if (b.hashed) {
+    keep.local_checked = b.checked;
+    keep.local_checked_geometry = b.geometry;
+  }
 }
 
 /// Of the device arrays `where` names, all but the geometry's (x, y, z, connectivity).
@@ -149,9 +166,11 @@ std::optional<MeshBinding> bind_mesh(PhaseGate& gate, const PassContext& pass) {
     return std::nullopt;
   // The first render of a call over host arrays hashes the geometry (unless the device did):
   // the same as the kept layout's, it is reused without the promise (one pass over the
-  // geometry instead of the shapes' check and the layout's sort)
+  // geometry instead of the shapes' check and the layout's sort). Under the promise it is not
+  // needed unless the layout is built again (its shapes changed): hashed then, after prepare
   if (!gate.run(TESSERA_ERROR_DATA, [&] {
-        if (b.local.domains.empty() || b.resident || b.geometry_on_device || keep.decided || b.hashed) return;
+        if (b.local.domains.empty() || b.resident || b.geometry_on_device || keep.decided || promised || b.hashed)
+          return;
         b.geometry = mesh_geometry_hash(b.local);  // its arrays readable first (check_mesh_arrays)
         b.hashed = true;
         // (this rank's domains: the hash covers their counts, dims and shapes; the layout is
@@ -207,6 +226,24 @@ void stage_geometry(const PassContext& pass, MeshBinding& b) {
   }
 }
 
+/// A geometry that bind_mesh did not hash (it was promised unchanged), hashed once a layout
+/// has been built over it after all (the promise broken in its shapes, or not made on every
+/// rank), so that the next call finds it without the promise: host arrays (the simulation's,
+/// or staged) only.
+void hash_late(MeshBinding& b) {
+  if (b.hashed || b.resident || b.geometry_on_device || b.local.domains.empty()) return;
+  b.geometry = mesh_geometry_hash(b.local);
+  b.hashed = true;
+}
+
+/// One rank: whether this render reuses the kept layout (promised, found by the hash, or this
+/// call's), so that the mesh's bounds are the kept ones: those of the geometry the layout draws.
+bool kept_bounds(const PassContext& pass, const MeshBinding& b) {
+  const MeshLayoutKeep& keep = pass.call.mesh_layout;
+  return pass.ctx.size() == 1 && keep.layout && (keep.same_geometry() || keep.decided) &&
+         mesh_layout_fits(*keep.layout, b.local);
+}
+
 /// The mesh's bounds over every rank's vertices, and every rank's cells.
 struct Extent {
   Bounds bounds;
@@ -214,8 +251,9 @@ struct Extent {
   std::uint64_t others_bytes = 0;  ///< the packed bytes of the other ranks' domains
 };
 
-/// `values_only`: every rank holds the last full exchange's geometry, whose bounds the kept
-/// ones are (no coordinate read).
+/// `values_only`: the geometry's bounds are the kept ones (no coordinate read): every rank
+/// holds the last full exchange's geometry, or the one rank's reuses the kept layout
+/// (kept_bounds).
 Extent extent_of(const PassContext& pass, const MeshBinding& b, bool values_only) {
   const Bounds& kept = pass.call.mesh_layout.bounds;
   if (b.resident) {  // one rank, the kept layout's geometry: its bounds
@@ -290,7 +328,9 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
       !gate.run(TESSERA_ERROR_DATA, [&] { check_local(pass, *bound, promised_unchanged(pass.call.mesh_layout)); }))
     return;
   Extent extent;
-  if (!gate.run(TESSERA_ERROR_RENDER, [&] { extent = extent_of(pass, *bound, values_only); })) return;
+  if (!gate.run(TESSERA_ERROR_RENDER,
+                [&] { extent = extent_of(pass, *bound, values_only || kept_bounds(pass, *bound)); }))
+    return;
   std::pair<double, double> range{0.0, 0.0};
   if (check_when || pass.spec.transfer_function.range.automatic) {
     std::pair<double, double> r{kInf, -kInf};
@@ -383,6 +423,8 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
             keep.parts_checked = whole_checked;  // (empty when prepare checked `whole` itself)
           }
           if (first && !prepared.mesh_layout_reused()) {  // the geometry it was built over
+            keep.geometry_known = false;                  // (not the last layout's, if the hash throws)
+            hash_late(*bound);
             keep.geometry = bound->geometry;
             keep.geometry_known = bound->hashed;
           }
