@@ -1,8 +1,8 @@
 // A mesh's macrocell summary folded in the input's order over the layout's kept macrocell
 // spans (mesh/macro_spans.h): bit for bit the fold of every element in the layout's canonical
-// order (what a device does: cuda/mesh_device.h), on one thread or several, for any macrocell
-// edge, with ghosts, NaN, infinities and -0.0 among the values; the spans made once per grid
-// and kept with the layout.
+// order (what a device does: cuda/mesh_device.h) with each element's range taken value by
+// value, on one thread or several, for any macrocell edge, with ghosts, NaN, infinities and
+// -0.0 among the values; the spans made once per grid and kept with the layout.
 #include <tessera/render.h>
 
 #include <catch2/catch.hpp>
@@ -54,11 +54,25 @@ struct CutGrid {
   }
 };
 
+/// Element `ref`'s range value by value (add_value), not by element_range's fast path.
+tessera::ElementRange range_by_value(const tessera::DomainAccess* domains, const tessera::MeshElementRef& ref) {
+  const tessera::DomainAccess& d = domains[ref.domain];
+  tessera::ElementRange r;
+  if (d.cell_data) {
+    tessera::add_value(r, d.value(ref.cell));
+    return r;
+  }
+  std::int64_t idx[8];
+  d.cell_vertices(ref.cell, idx);
+  for (int k = 0; k < d.nv; ++k) tessera::add_value(r, d.value(idx[k]));
+  return r;
+}
+
 /// The macrocells of `t` folded element by element in the layout's canonical order.
 tessera::FieldSummary::Parts canonical_fold(const tessera::MeshTables& t, const tessera::MacroGrid& g) {
   tessera::FieldSummary::Parts parts = tessera::empty_cells(g);
   for (std::size_t e = 0; e < t.element_count(); ++e)
-    tessera::fold_into_cells(parts, g, t.box(e), tessera::element_range(t.domains().data(), t.layout()->element(e)));
+    tessera::fold_into_cells(parts, g, t.box(e), range_by_value(t.domains().data(), t.layout()->element(e)));
   return parts;
 }
 

@@ -53,7 +53,26 @@ TESSERA_HOST_DEVICE inline ElementRange element_range(const DomainAccess* domain
   }
   std::int64_t idx[8];
   d.cell_vertices(ref.cell, idx);
-  for (int k = 0; k < d.nv; ++k) add_value(r, d.value(idx[k]));
+  double v[8];
+  bool finite = true;
+  for (int k = 0; k < d.nv; ++k) {
+    v[k] = d.value(idx[k]);
+    finite &= (v[k] - v[k]) == 0.0;  // false for NaN and +-Inf
+  }
+  if (!finite) {
+    for (int k = 0; k < d.nv; ++k) add_value(r, v[k]);
+    return r;
+  }
+  // Every value finite (the common case): add_value's min / max without its branches, the
+  // same bits (zeros as +0.0, so that equal values are one bit pattern in any order)
+  double lo = v[0] + 0.0, hi = lo;
+  for (int k = 1; k < d.nv; ++k) {
+    const double x = v[k] + 0.0;
+    lo = lo < x ? lo : x;
+    hi = x < hi ? hi : x;
+  }
+  r.lo = lo;
+  r.hi = hi;
   return r;
 }
 
