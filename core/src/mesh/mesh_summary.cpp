@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -89,14 +90,17 @@ void fold_cells(FieldSummary::Parts& parts, const MacroGrid& m, const MacroSpans
 /// threads of the caller's arena when there are many elements per macrocell: each thread folds
 /// a share into cells of its own, then the cells are merged. Min, max and or of values without
 /// NaN or -0.0 (add_value) give the same bits in any order, so the result is the serial fold's
-/// (and the canonical order's). With fewer elements than cells (a small macrocell edge) the
-/// copies would cost more than the fold: one thread.
+/// (and the canonical order's). The threads' copies together hold at most a quarter as many
+/// cells as there are elements (about 4 bytes per element, whatever the thread count); a grid
+/// of more cells (a small macrocell edge, many threads) would cost more in copies than the
+/// fold: one thread.
 void fold_elements(FieldSummary::Parts& parts, const MacroGrid& m, const MeshTables& tables) {
   const std::shared_ptr<const MacroSpans> spans = tables.layout()->macro_spans(m);
   const std::size_t n = spans->all().size();
   const std::size_t cells = parts.lo.size();
+  const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
   const DomainAccess* domains = tables.domains().data();
-  if (n < kParallelFold || cells > tables.element_count() / 4) {
+  if (n < kParallelFold || cells > tables.element_count() / 4 / threads) {
     fold_cells(parts, m, *spans, domains, 0, n);
     return;
   }

@@ -13,7 +13,8 @@
 namespace tessera::insitu {
 
 /// The bound on the core's tables per cell at their peak (mesh/mesh_tables.cpp): its box (48
-/// bytes), reference (16) and value range (24), with either the sort's scratch (112) or the
+/// bytes), reference (16) and macrocell span (24, mesh/macro_spans.h), with either the sort's
+/// scratch (112) or the
 /// location lists (at most 64 entries of 4 bytes, and two heads of 8 bytes for each of at most
 /// 4 location cells per cell): 88 + max(112, 320) = 408, rounded up.
 inline constexpr std::uint64_t kMeshTableBytesPerCell = 480;
