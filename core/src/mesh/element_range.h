@@ -53,7 +53,7 @@ TESSERA_HOST_DEVICE inline ElementRange element_range(const DomainAccess* domain
   }
   std::int64_t idx[8];
   d.cell_vertices(ref.cell, idx);
-  double v[8];
+  double v[8] = {};  // (nv >= 1: the fast path's v[0] is a value)
   bool finite = true;
   for (int k = 0; k < d.nv; ++k) {
     v[k] = d.value(idx[k]);
