@@ -30,7 +30,8 @@ struct CutGrid {
   OwnedMesh owned;
   std::vector<std::uint8_t> mask;
 
-  explicit CutGrid(tessera::Association association) {
+  /// `domains` > 3: the cells dealt round-robin over that many domains (no ghosts).
+  explicit CutGrid(tessera::Association association, int domains = 3) {
     ElementList m = grid_hexes(
         40, 36, 30, Vec3(0.0), Vec3(1.0 / 40, 1.0 / 36, 1.0 / 30),
         [](const Vec3& p) { return std::sin(7.0 * p.x) * std::cos(5.0 * p.y + 3.0 * p.z); },
@@ -45,6 +46,14 @@ struct CutGrid {
     m.value[2500] = -INFINITY;
     m.value[40] = -0.0;
     std::vector<int> part(m.element.size());
+    if (domains > 3) {
+      for (std::size_t e = 0; e < part.size(); ++e)
+        part[e] = static_cast<int>((e * 7) % static_cast<std::size_t>(domains));
+      std::vector<int> order(static_cast<std::size_t>(domains));
+      for (int d = 0; d < domains; ++d) order[static_cast<std::size_t>(d)] = domains - 1 - d;
+      owned = cut(m, part, order);
+      return;
+    }
     for (std::size_t e = 0; e < part.size(); ++e) part[e] = e < 15000 ? 0 : (e < 30000 ? 1 : 2);
     owned = cut(m, part, {2, 0, 1}, true, true);
     tessera::MeshDomain& d = owned.mesh.domains[1];
@@ -110,6 +119,26 @@ TEST_CASE("mesh summary: folded in the input's order, the macrocells are the can
         CHECK(same_cells(*s, want));
       }
     }
+  }
+}
+
+TEST_CASE("mesh summary: over hundreds of domains, each thread's share found by its first cell's domain",
+          "[mesh][summary]") {
+  const CutGrid grid(tessera::Association::Vertex, 401);
+  tessera::MeshTables t;
+  t.build(grid.owned.mesh);
+  REQUIRE(t.element_count() == 43200u);
+  const tessera::MacroGrid g = tessera::macro_grid(t.geometry(), t.dims(), 4);
+  const auto spans = t.layout()->macro_spans(g);
+  REQUIRE(spans->domain_count() == 401u);
+  for (std::size_t d = 0; d < 401; ++d) {
+    CHECK(spans->domain_of(static_cast<std::size_t>(spans->offset(d))) == d);
+    CHECK(spans->domain_of(static_cast<std::size_t>(spans->offset(d + 1)) - 1) == d);
+  }
+  const tessera::FieldSummary::Parts want = canonical_fold(t, g);
+  for (const int threads : {1, 2}) {
+    tbb::task_arena arena(threads);
+    CHECK(same_cells(*arena.execute([&] { return tessera::mesh_summary(t, 4); }), want));
   }
 }
 

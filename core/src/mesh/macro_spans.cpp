@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -32,6 +33,12 @@ MacroSpans::MacroSpans(const MeshLayout& layout, const MacroGrid& grid) : m_grid
       for (int a = 0; a < 3; ++a) s.n[a] = static_cast<std::uint32_t>(c1[a] - c0[a] + 1);
     }
   });
+}
+
+std::size_t MacroSpans::domain_of(std::size_t c) const {
+  // The last domain starting at or before c (empty domains start where the next one does)
+  const auto it = std::upper_bound(m_offset.begin(), m_offset.end(), static_cast<std::int64_t>(c));
+  return static_cast<std::size_t>(it - m_offset.begin()) - 1;
 }
 
 bool MacroSpans::over(const MacroGrid& g) const {

@@ -42,6 +42,8 @@ class MacroSpans {
   /// Every cell's span, the domains one after the other (domain d from offset(d)).
   std::span<const MacroSpan> all() const { return m_span; }
   std::int64_t offset(std::size_t d) const { return m_offset[d]; }
+  /// The domain of cell `c` (< all().size()) in all()'s numbering: O(log domains).
+  std::size_t domain_of(std::size_t c) const;
   std::uint64_t bytes() const { return m_span.size() * sizeof(MacroSpan) + m_offset.size() * sizeof(std::int64_t); }
 
  private:

@@ -75,8 +75,8 @@ void fold_span(FieldSummary::Parts& parts, const MacroGrid& g, const MacroSpan& 
 void fold_cells(FieldSummary::Parts& parts, const MacroGrid& m, const MacroSpans& spans, const DomainAccess* domains,
                 std::size_t begin, std::size_t end) {
   const std::span<const MacroSpan> all = spans.all();
-  std::size_t d = 0;
-  while (d + 1 < spans.domain_count() && static_cast<std::size_t>(spans.offset(d + 1)) <= begin) ++d;
+  if (begin == end) return;
+  std::size_t d = spans.domain_of(begin);
   for (std::size_t c = begin; c != end; ++c) {
     while (static_cast<std::size_t>(spans.offset(d + 1)) <= c) ++d;
     const MacroSpan& s = all[c];
