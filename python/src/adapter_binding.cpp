@@ -328,6 +328,7 @@ class PyAdapter {
       d["bytes_to_host"] = r.stats.bytes_to_host;
       d["mesh_layout_reused"] = r.mesh_layout_reused;
       d["mesh_values_only"] = r.mesh_values_only;
+      d["mesh_summary_shared"] = r.mesh_summary_shared;
       d["mesh_exchange_bytes"] = r.mesh_exchange_bytes;
       // (a render the budget skipped has no image of this step)
       const Image* img = r.status == TESSERA_OK && !r.budget_skipped ? m_adapter.last_image(r.name) : nullptr;

@@ -13,6 +13,7 @@
 #include "mesh/mesh_summary.h"
 #include "mesh/mesh_tables.h"
 #include "test_mesh_support.h"
+#include "test_support.h"
 
 #include <cmath>
 #include <cstdint>
@@ -209,4 +210,87 @@ TEST_CASE("mesh layout: a prepare that reuses the layout reads the spans an earl
   const tessera::PreparedScene second = tessera::prepare(grid.owned.mesh, s, layout);
   CHECK(second.mesh_layout_reused());
   CHECK(layout->macro_spans(g) == made);
+}
+
+namespace {
+
+/// Parts b folded into a as ranks combine them (min, max, or, sums).
+void combine(tessera::FieldSummary::Parts& a, const tessera::FieldSummary::Parts& b) {
+  for (std::size_t c = 0; c < a.lo.size(); ++c) {
+    a.lo[c] = std::min(a.lo[c], b.lo[c]);
+    a.hi[c] = std::max(a.hi[c], b.hi[c]);
+    a.flags[c] |= b.flags[c];
+  }
+  a.nan += b.nan;
+  a.elements += b.elements;
+  a.vmin = std::min(a.vmin, b.vmin);
+  a.vmax = std::max(a.vmax, b.vmax);
+}
+
+tessera::SceneDesc share_scene() {
+  tessera::SceneDesc s;
+  s.tf.lo = -1.0;
+  s.tf.hi = 1.0;
+  s.tf.density_scale = 6.0;
+  s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0});
+  s.camera.position = Vec3(0.5, 0.5, -2.0);
+  s.camera.look_at = Vec3(0.5);
+  s.image = {16, 12, 2, 0.0};
+  s.integrator.macrocell = 5;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("mesh summary: shares over 1 to 7 ranks combine into the whole summary and render the same bits",
+          "[mesh][summary]") {
+  CutGrid grid(tessera::Association::Vertex);
+  const tessera::Mesh& mesh = grid.owned.mesh;
+  const tessera::SceneDesc s = share_scene();
+  const tessera::PreparedScene built = tessera::prepare(mesh, s);
+  const auto& layout = built.mesh_layout();
+  const tessera::Film want = tessera_test::render_film(tessera::prepare(mesh, s, layout));
+  tessera::MeshTables t;
+  t.build(mesh, layout);
+  const auto whole = tessera::mesh_summary(t, 5);
+  const tessera::MeshChecked checked = tessera::check_mesh_indices(mesh);
+  for (const int n : {1, 2, 3, 7}) {
+    INFO(n << " shares");
+    tessera::FieldSummary::Parts parts = tessera::mesh_summary_parts(mesh, s, layout, checked, 0, n);
+    for (int r = 1; r < n; ++r) combine(parts, tessera::mesh_summary_parts(mesh, s, layout, checked, r, n));
+    const auto summary = tessera::mesh_summary_of_parts(std::move(parts), mesh, s, layout);
+    REQUIRE(summary->ranges().size() == whole->ranges().size());
+    for (std::size_t c = 0; c < whole->ranges().size(); ++c) {
+      const tessera::CellRange &a = summary->ranges()[c], &b = whole->ranges()[c];
+      CHECK(std::memcmp(&a.lo, &b.lo, sizeof(double)) == 0);
+      CHECK(std::memcmp(&a.hi, &b.hi, sizeof(double)) == 0);
+      CHECK((a.nan == b.nan && a.pos_inf == b.pos_inf && a.neg_inf == b.neg_inf));
+    }
+    CHECK(summary->nan_vertices() == whole->nan_vertices());
+    CHECK(summary->element_count() == whole->element_count());
+    const double lo[2] = {summary->value_min(), whole->value_min()}, hi[2] = {summary->value_max(), whole->value_max()};
+    CHECK(std::memcmp(&lo[0], &lo[1], sizeof(double)) == 0);
+    CHECK(std::memcmp(&hi[0], &hi[1], sizeof(double)) == 0);
+    const tessera::Film got = tessera_test::render_film(tessera::prepare(mesh, s, layout, checked, summary));
+    CHECK(std::memcmp(got.pixels().data(), want.pixels().data(), want.pixels().size() * sizeof(tessera::PixelSums)) ==
+          0);
+  }
+  // Refused by name: a share out of range, no layout, a summary of another macrocell edge
+  CHECK_THROWS_WITH(tessera::mesh_summary_parts(mesh, s, layout, checked, 3, 3), Catch::Contains("share 3 of 3"));
+  CHECK_THROWS_WITH(tessera::mesh_summary_parts(mesh, s, nullptr, checked, 0, 1), Catch::Contains("layout"));
+  tessera::SceneDesc other = s;
+  other.integrator.macrocell = 3;
+  const auto s5 =
+      tessera::mesh_summary_of_parts(tessera::mesh_summary_parts(mesh, s, layout, checked, 0, 1), mesh, s, layout);
+  CHECK_THROWS_WITH(tessera::prepare(mesh, other, layout, checked, s5), Catch::Contains("macrocell edge"));
+  CHECK_THROWS_WITH(tessera::prepare(mesh, s, nullptr, checked, s5), Catch::Contains("layout"));
+}
+
+TEST_CASE("mesh summary: a share checks the indices it reads unless a receipt covers them", "[mesh][summary][errors]") {
+  CutGrid grid(tessera::Association::Vertex);
+  const tessera::SceneDesc s = share_scene();
+  const auto layout = tessera::prepare(grid.owned.mesh, s).mesh_layout();
+  grid.owned.owned[0]->conn64[8 * 3 + 5] = 1 << 30;  // domain 0 (listed first): an index far outside
+  CHECK_THROWS_WITH(tessera::mesh_summary_parts(grid.owned.mesh, s, layout, {}, 0, 2),
+                    Catch::Contains("vertex index 1073741824"));
 }

@@ -183,32 +183,37 @@ TEST_CASE("mesh domains: the lookup structure is reused across calls only when e
     const auto reused = [&] { return !ad.last_results().empty() && ad.last_results()[0].mesh_layout_reused; };
     // Several ranks: only the values move while every rank holds the last exchange's geometry
     const auto values_only = [&] { return !ad.last_results().empty() && ad.last_results()[0].mesh_values_only; };
-    ok = ok && ad.execute_mesh_domains(1, 0.0, mine) == TESSERA_OK && !reused() && !values_only();
+    // and over the kept structure each rank summarises a share of the values
+    const auto shared = [&] { return !ad.last_results().empty() && ad.last_results()[0].mesh_summary_shared; };
+    ok = ok && ad.execute_mesh_domains(1, 0.0, mine) == TESSERA_OK && !reused() && !values_only() && !shared();
     const std::uint64_t all_bytes = ad.last_results().empty() ? 0 : ad.last_results()[0].mesh_exchange_bytes;
     ok = ok && (n == 1 ? all_bytes == 0 : all_bytes > 0);
     // Only rank 0 promises; the others' geometry hashes as the one the structure was built
     // over: reused on every rank
     if (r == 0) ad.mesh_unchanged();
-    ok = ok && ad.execute_mesh_domains(2, 0.1, mine) == TESSERA_OK && reused() && values_only() == (n > 1);
+    ok = ok && ad.execute_mesh_domains(2, 0.1, mine) == TESSERA_OK && reused() && values_only() == (n > 1) &&
+         shared() == (n > 1);
     // the values alone: for these float64 hexes and curvilinear blocks, well under a quarter
     const std::uint64_t value_bytes = ad.last_results().empty() ? 0 : ad.last_results()[0].mesh_exchange_bytes;
     ok = ok && (n == 1 ? value_bytes == 0 : value_bytes > 0 && 4 * value_bytes < all_bytes);
     // Rank 0 promises, rank 1 moved a vertex: built again on every rank, everything exchanged
     if (r == 0) ad.mesh_unchanged();
     if (r == 1) five.blocks[1].x[3] += 1e-3;  // domain 1 is rank 1's
-    ok = ok && ad.execute_mesh_domains(3, 0.2, mine) == TESSERA_OK && (n == 1 ? reused() : !reused()) && !values_only();
+    ok = ok && ad.execute_mesh_domains(3, 0.2, mine) == TESSERA_OK && (n == 1 ? reused() : !reused()) &&
+         !values_only() && !shared();
     // Every rank promises, new values: reused on every rank, the values alone exchanged, and
     // the image a fresh adapter's (which exchanges everything) bit for bit
     for (MeshBlock& b : five.blocks)
       for (double& v : b.vertex_values) v = 1.0 - v;
     ad.mesh_unchanged();
-    ok = ok && ad.execute_mesh_domains(4, 0.3, mine) == TESSERA_OK && reused() && values_only() == (n > 1);
+    ok = ok && ad.execute_mesh_domains(4, 0.3, mine) == TESSERA_OK && reused() && values_only() == (n > 1) &&
+         shared() == (n > 1);
     const tessera::Image* kept = ad.last_image("view");
     tessera::insitu::Adapter fresh;
     fresh.set_quiet(true);
     ok = ok && fresh.open(fresh_cfg, MPI_Comm_c2f(sub.comm())) == TESSERA_OK;
     ok = ok && fresh.execute_mesh_domains(4, 0.3, mine) == TESSERA_OK && !fresh.last_results().empty() &&
-         !fresh.last_results()[0].mesh_values_only;
+         !fresh.last_results()[0].mesh_values_only && !fresh.last_results()[0].mesh_summary_shared;
     if (r == 0) {
       INFO("step 4: " << ad.last_error() << " / " << fresh.last_error());
       ok = ok && kept && fresh.last_image("view") && same(*kept, *fresh.last_image("view"));

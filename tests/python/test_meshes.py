@@ -77,6 +77,7 @@ def test_results_say_whether_the_lookup_structure_was_reused(tmp_path, shell):
             assert viz.last_status == 0, viz.last_error
             (r,) = viz.results
             assert r["mesh_values_only"] is False and r["mesh_exchange_bytes"] == 0  # one rank
+            assert r["mesh_summary_shared"] is False
             seen.append(r["mesh_layout_reused"])
     assert seen == [False, True, False]  # the same geometry found by its hash; a moved one rebuilt
 

@@ -58,6 +58,8 @@ class PreparedScene {
   friend PreparedScene prepare(const PagedField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const AmrField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const Mesh&, const SceneDesc&, std::shared_ptr<const MeshLayout>, const MeshChecked&);
+  friend PreparedScene prepare(const Mesh&, const SceneDesc&, std::shared_ptr<const MeshLayout>, const MeshChecked&,
+                               std::shared_ptr<const FieldSummary>);
   friend PreparedScene prepare(const MagnitudeField&, const SceneDesc&, std::shared_ptr<const FieldSummary>);
   /// The prepared data, for core's own sources (core/src/scene/prepared_scene_impl.h).
   friend const PreparedSceneImpl& prepared_scene_impl(const PreparedScene& scene);
@@ -162,6 +164,32 @@ PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<
 /// True when `layout` (a mesh_layout()) fits `mesh`: the same domains with the same counts and
 /// shapes, so that prepare(mesh, scene, layout) reuses it. Reads no array.
 bool mesh_layout_fits(const MeshLayout& layout, const Mesh& mesh);
+
+/// Ranks that each hold the same mesh (every rank the whole mesh) can share the pass over its
+/// values that prepare(mesh, scene, layout) makes: rank r of n summarises share r of n (the
+/// elements among a 1/n run of the input's cells, and a 1/n run of the values), the ranks
+/// combine the parts (FieldSummary::Parts' reductions: MPI_MIN, MPI_MAX, MPI_BOR, MPI_SUM),
+/// mesh_summary_of_parts makes the summary, and prepare(mesh, scene, layout, checked, summary)
+/// uses it: the same image bit for bit, whatever n. `layout` must fit `mesh` (the caller's
+/// promise that it is the geometry's, as for prepare's reuse) and `checked` must cover its
+/// indices (a receipt of check_mesh_indices or more of these arrays: the share reads the
+/// values through the connectivity); a layout element that is a ghost now is refused as
+/// prepare refuses it. Host memory only (not Mesh::device). Throws std::invalid_argument.
+FieldSummary::Parts mesh_summary_parts(const Mesh& mesh, const SceneDesc& scene,
+                                       const std::shared_ptr<const MeshLayout>& layout, const MeshChecked& checked,
+                                       int share, int shares);
+/// The macrocells a share's parts hold for `scene` over `layout` (what combining them moves:
+/// 17 bytes each), to weigh against the share's savings (a pass over 1/n of the mesh).
+std::uint64_t mesh_summary_cells(const MeshLayout& layout, const SceneDesc& scene);
+/// The summary of every share's parts combined, for prepare(mesh, scene, layout, checked, it).
+std::shared_ptr<const FieldSummary> mesh_summary_of_parts(FieldSummary::Parts&& parts, const Mesh& mesh,
+                                                          const SceneDesc& scene,
+                                                          const std::shared_ptr<const MeshLayout>& layout);
+/// prepare(mesh, scene, reuse, checked) with `summary` (mesh_summary_of_parts over `reuse`)
+/// instead of the pass over the values: `reuse` must fit `mesh`, and the summary be of this
+/// scene's macrocell edge and grid (else std::invalid_argument, by name).
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse,
+                      const MeshChecked& checked, std::shared_ptr<const FieldSummary> summary);
 
 /// A vector's magnitude (magnitude_field.h), read in place: each lookup reads the three
 /// components and takes magnitude() of them, so the image is bit-identical to prepare() of a

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace tessera {
 
@@ -86,26 +87,27 @@ void fold_cells(FieldSummary::Parts& parts, const MacroGrid& m, const MacroSpans
   }
 }
 
-/// Every element of `tables` folded into `parts`, in the input's order (MacroSpans). Over the
-/// threads of the caller's arena when there are many elements per macrocell: each thread folds
-/// a share into cells of its own, then the cells are merged. Min, max and or of values without
-/// NaN or -0.0 (add_value) give the same bits in any order, so the result is the serial fold's
-/// (and the canonical order's). The threads' copies together hold at most a quarter as many
-/// cells as there are elements (about 4 bytes per element, whatever the thread count); a grid
-/// of more cells (a small macrocell edge, many threads) would cost more in copies than the
-/// fold: one thread.
-void fold_elements(FieldSummary::Parts& parts, const MacroGrid& m, const MeshTables& tables) {
+/// The elements among the input's cells [begin, end) of `tables` folded into `parts`, in the
+/// input's order (MacroSpans). Over the threads of the caller's arena when there are many
+/// elements per macrocell: each thread folds a share into cells of its own, then the cells are
+/// merged. Min, max and or of values without NaN or -0.0 (add_value) give the same bits in any
+/// order, so the result is the serial fold's (and the canonical order's). The threads' copies
+/// together hold at most a quarter as many cells as the range has input cells (about 4 bytes
+/// per cell, whatever the thread count); a grid of more cells (a small macrocell edge, many
+/// threads) would cost more in copies than the fold: one thread.
+void fold_elements(FieldSummary::Parts& parts, const MacroGrid& m, const MeshTables& tables, std::size_t begin,
+                   std::size_t end) {
   const std::shared_ptr<const MacroSpans> spans = tables.layout()->macro_spans(m);
-  const std::size_t n = spans->all().size();
+  const std::size_t n = end - begin;
   const std::size_t cells = parts.lo.size();
   const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
   const DomainAccess* domains = tables.domains().data();
-  if (n < kParallelFold || cells > tables.element_count() / 4 / threads) {
-    fold_cells(parts, m, *spans, domains, 0, n);
+  if (n < kParallelFold || cells > n / 4 / threads) {
+    fold_cells(parts, m, *spans, domains, begin, end);
     return;
   }
   tbb::combinable<FieldSummary::Parts> mine([&] { return empty_cells(m); });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
     fold_cells(mine.local(), m, *spans, domains, r.begin(), r.end());
   });
   mine.combine_each([&](const FieldSummary::Parts& p) {
@@ -117,21 +119,52 @@ void fold_elements(FieldSummary::Parts& parts, const MacroGrid& m, const MeshTab
   });
 }
 
+/// Share `share` of `shares` of n things: [n share / shares, n (share + 1) / shares).
+std::pair<std::uint64_t, std::uint64_t> share_of(std::uint64_t n, int share, int shares) {
+  const auto s = static_cast<unsigned __int128>(share), k = static_cast<unsigned __int128>(shares);
+  return {static_cast<std::uint64_t>(n * s / k), static_cast<std::uint64_t>(n * (s + 1) / k)};
+}
+
 }  // namespace
 
-std::shared_ptr<const FieldSummary> mesh_summary(const MeshTables& tables, int edge) {
+FieldSummary::Parts mesh_summary_share(const MeshTables& tables, int edge, int share, int shares) {
   if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
+  if (shares < 1 || share < 0 || share >= shares)
+    throw std::invalid_argument("mesh summary: share " + std::to_string(share) + " of " + std::to_string(shares) +
+                                " (0 <= share < shares)");
   const MacroGrid m = macro_grid(tables.geometry(), tables.dims(), edge);
   FieldSummary::Parts parts = empty_cells(m);
-  fold_elements(parts, m, tables);
-  parts.nan = tables.nan_values();
-  parts.elements = std::max<std::uint64_t>(1, tables.value_count());
-  parts.vmin = tables.value_min();
-  parts.vmax = tables.value_max();
-  FieldLayout layout;
-  layout.dtype = DType::Float64;
-  for (int a = 0; a < 3; ++a) layout.dims[a] = tables.dims()[a];
-  return FieldSummary::from_parts(std::move(parts), layout, edge);
+  std::uint64_t input_cells = 0;
+  for (int d = 0; d < static_cast<int>(tables.layout()->domain_count()); ++d)
+    input_cells += static_cast<std::uint64_t>(tables.layout()->domain_cells(static_cast<std::size_t>(d)));
+  const auto [c0, c1] = share_of(input_cells, share, shares);
+  fold_elements(parts, m, tables, c0, c1);
+  const auto [v0, v1] = share_of(tables.value_count(), share, shares);
+  const MeshTables::ValueTotals t = tables.value_totals(v0, v1);
+  parts.nan = t.nan;
+  parts.elements = t.count;
+  parts.vmin = t.lo;
+  parts.vmax = t.hi;
+  return parts;
+}
+
+std::shared_ptr<const FieldSummary> mesh_summary_of(FieldSummary::Parts&& parts, const MeshLayout& layout, int edge) {
+  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
+  const MacroGrid m = macro_grid(layout.geometry(), layout.dims(), edge);
+  if (parts.lo.size() != static_cast<std::size_t>(m.cells[0] * m.cells[1] * m.cells[2]) ||
+      parts.hi.size() != parts.lo.size() || parts.flags.size() != parts.lo.size())
+    throw std::invalid_argument("mesh summary: the parts have " + std::to_string(parts.lo.size()) +
+                                " macrocells, this mesh's grid with edge " + std::to_string(edge) + " has " +
+                                std::to_string(m.cells[0] * m.cells[1] * m.cells[2]));
+  parts.elements = std::max<std::uint64_t>(1, parts.elements);
+  FieldLayout field;
+  field.dtype = DType::Float64;
+  for (int a = 0; a < 3; ++a) field.dims[a] = layout.dims()[a];
+  return FieldSummary::from_parts(std::move(parts), field, edge);
+}
+
+std::shared_ptr<const FieldSummary> mesh_summary(const MeshTables& tables, int edge) {
+  return mesh_summary_of(mesh_summary_share(tables, edge, 0, 1), *tables.layout(), edge);
 }
 
 }  // namespace tessera

@@ -19,6 +19,17 @@ namespace tessera {
 
 std::shared_ptr<const FieldSummary> mesh_summary(const MeshTables& tables, int edge);
 
+/// Share `share` of `shares` (0 <= share < shares) of mesh_summary's parts: the elements among
+/// the input's cells [C share / shares, C (share + 1) / shares) (C: every domain's cells, in
+/// order) and the value totals of the values [V share / shares, ...) (V: every domain's field
+/// count), the cells not met left empty. The shares combined (element-wise min of lo, max of
+/// hi, or of flags, sums of nan and elements, min of vmin, max of vmax: in any order) are
+/// mesh_summary's parts bit for bit: ranks holding the same mesh each summarise a share.
+FieldSummary::Parts mesh_summary_share(const MeshTables& tables, int edge, int share, int shares);
+/// The summary of combined shares (mesh_summary_share) of tables over `layout` for `edge`;
+/// parts of another cell count are refused by name.
+std::shared_ptr<const FieldSummary> mesh_summary_of(FieldSummary::Parts&& parts, const MeshLayout& layout, int edge);
+
 /// The macrocells with edge `edge` (>= 1) over the grid of `geometry` with `dims` vertices per
 /// axis (MeshTables' grid) that mesh_summary fills.
 MacroGrid macro_grid(const VolumeGeometry& geometry, const std::int64_t* dims, int edge);

@@ -1,4 +1,4 @@
-/// MeshTables::build (mesh_tables.h): the layout (built, or reused), then the values' totals.
+/// MeshTables::build (mesh_tables.h): the layout (built, or reused); the values' totals.
 #include "mesh/mesh_tables.h"
 
 #include "mesh/geometry_hash.h"
@@ -23,7 +23,6 @@ void MeshTables::build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse
   // geometry hash covers the ghost masks) is refused: a ghost's indices are never checked, so
   // neither the summary nor the kernels may read them. A new layout has no ghost by its build
   if (m_reused && has_ghost_masks(mesh)) refuse_new_ghosts(mesh);
-  count_values(mesh);
 }
 
 void MeshTables::refuse_new_ghosts(const Mesh& mesh) const {
@@ -50,17 +49,16 @@ void MeshTables::build_on_device(const Mesh& mesh, std::shared_ptr<const MeshLay
   m_layout = std::move(layout);
   m_reused = true;
   m_on_device = true;
-  m_nan = m_values = 0;
-  m_vmin = INFINITY;
-  m_vmax = -INFINITY;
 }
 
 void MeshTables::bind(const Mesh& mesh) {
   m_on_device = false;
   m_domain.clear();
   m_arrays.clear();
+  m_value_offset.assign(1, 0);
   for (const MeshDomain& d : mesh.domains) {
     m_domain.push_back(DomainAccess::of(d));
+    m_value_offset.push_back(m_value_offset.back() + d.field.count);
     DomainArrays& a = m_arrays.emplace_back();
     for (int s = 0; s < kMeshArraySlots; ++s) {
       a.span[static_cast<std::size_t>(s)] = mesh_array(d, static_cast<MeshArraySlot>(s));
@@ -86,14 +84,18 @@ struct ValueTally {
 
 }  // namespace
 
-void MeshTables::count_values(const Mesh& mesh) {
-  m_nan = m_values = 0;
+MeshTables::ValueTotals MeshTables::value_totals(std::uint64_t v0, std::uint64_t v1) const {
   ValueTally total;
-  for (std::size_t i = 0; i < mesh.domains.size(); ++i) {
+  for (std::size_t i = 0; i < m_domain.size(); ++i) {
+    const auto first = static_cast<std::uint64_t>(m_value_offset[i]),
+               last = static_cast<std::uint64_t>(m_value_offset[i + 1]);
+    const std::uint64_t lo = std::max(v0, first), hi = std::min(v1, last);
+    if (lo >= hi) continue;
     const DomainAccess& d = m_domain[i];
-    const std::int64_t count = mesh.domains[i].field.count;
     total.merge(tbb::parallel_reduce(
-        tbb::blocked_range<std::int64_t>(0, count, 16384), ValueTally{},
+        tbb::blocked_range<std::int64_t>(static_cast<std::int64_t>(lo - first), static_cast<std::int64_t>(hi - first),
+                                         16384),
+        ValueTally{},
         [&](const auto& r, ValueTally t) {
           for (std::int64_t v = r.begin(); v != r.end(); ++v) {
             const double x = d.value(v);
@@ -106,10 +108,13 @@ void MeshTables::count_values(const Mesh& mesh) {
           a.merge(b);
           return a;
         }));
-    m_values += static_cast<std::uint64_t>(count);
   }
-  m_vmin = total.all.lo;
-  m_vmax = total.all.hi;
+  ValueTotals out;
+  out.nan = total.nan;
+  out.count = v1 > v0 ? v1 - v0 : 0;
+  out.lo = total.all.lo;
+  out.hi = total.all.hi;
+  return out;
 }
 
 MeshFieldView MeshTables::view() const { return m_layout ? m_layout->view(m_domain.data()) : MeshFieldView{}; }

@@ -7,9 +7,9 @@
 /// grid over the mesh's box and the location cells; O(n log n), single-threaded so that it is
 /// the same for any thread count, independent of how the cells are cut into domains or
 /// ordered, and of the values), built or shared with an earlier build of the same mesh; then
-/// the values' totals from the current arrays, O(values). The elements' value ranges (min /
-/// max of the vertex values, or the cell value) are folded straight into the macrocells by
-/// mesh_summary, in the input's order.
+/// the readers of the current arrays. The values' totals (value_totals) and the elements'
+/// value ranges (min / max of the vertex values, or the cell value, folded straight into the
+/// macrocells in the input's order) are mesh_summary's, over all of them or one share.
 /// - The grid: its box is the union of the elements' boxes; its voxel is the mean over the
 ///   elements of the cube root of their box's volume (a uniform grid's cells give back its
 ///   spacing), rounded to whole voxels per axis, at most 4 n + 64 voxels in all.
@@ -36,13 +36,12 @@ class MeshTables {
  public:
   /// Builds the tables of `mesh`, which check_mesh has accepted: its layout (`reuse` when it
   /// fits the mesh: the caller's promise that the geometry is that layout's; else built), then
-  /// the values' totals from the mesh's current arrays. A reused layout with an element that
-  /// is a ghost now is refused by name (std::invalid_argument).
+  /// binds the mesh's current arrays. A reused layout with an element that is a ghost now is
+  /// refused by name (std::invalid_argument).
   void build(const Mesh& mesh, std::shared_ptr<const MeshLayout> reuse = nullptr);
   /// The tables of a mesh in device memory (Mesh::device), whose values a device summarises
   /// (cuda_mesh_summary, cuda_render.h): `layout` (which fits it) and the readers of its
-  /// arrays; no value totals (the totals must not be used: the device folds them into the
-  /// summary).
+  /// arrays (value_totals must not be used: the device folds the totals into the summary).
   void build_on_device(const Mesh& mesh, std::shared_ptr<const MeshLayout> layout);
   /// Built by build_on_device: the arrays are device memory, read on the device only.
   bool on_device() const { return m_on_device; }
@@ -66,11 +65,15 @@ class MeshTables {
   std::span<const DomainArrays> arrays() const { return m_arrays; }
   /// Element e's world box (lo x, y, z, hi x, y, z), in canonical order.
   const double* box(std::size_t e) const { return m_layout->box(e); }
-  /// NaN values, finite min / max and the count of all values of the mesh (ghosts' too).
-  std::uint64_t nan_values() const { return m_nan; }
-  std::uint64_t value_count() const { return m_values; }
-  double value_min() const { return m_vmin; }
-  double value_max() const { return m_vmax; }
+  /// The NaN values, finite min / max (zeros as +0.0: the same bits in any split) and count of
+  /// the values [v0, v1) of every domain's field in order (ghosts' too), over threads.
+  struct ValueTotals {
+    std::uint64_t nan = 0, count = 0;
+    double lo = INFINITY, hi = -INFINITY;
+  };
+  ValueTotals value_totals(std::uint64_t v0, std::uint64_t v1) const;
+  /// Every domain's field count, summed.
+  std::uint64_t value_count() const { return static_cast<std::uint64_t>(m_value_offset.back()); }
   /// The layout, to share with the next build of the same mesh; whether this one was reused.
   const std::shared_ptr<const MeshLayout>& layout() const { return m_layout; }
   bool layout_reused() const { return m_reused; }
@@ -78,7 +81,6 @@ class MeshTables {
   std::uint64_t bytes() const;
 
  private:
-  void count_values(const Mesh& mesh);
   void refuse_new_ghosts(const Mesh& mesh) const;
   void bind(const Mesh& mesh);
 
@@ -87,8 +89,7 @@ class MeshTables {
   bool m_on_device = false;
   std::vector<DomainAccess> m_domain;  ///< the current arrays
   std::vector<DomainArrays> m_arrays;
-  std::uint64_t m_nan = 0, m_values = 0;
-  double m_vmin = INFINITY, m_vmax = -INFINITY;
+  std::vector<std::int64_t> m_value_offset{0};  ///< per domain its first value, then the total
 };
 
 }  // namespace tessera

@@ -527,4 +527,72 @@ PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<
   });
 }
 
+namespace {
+
+/// The tables a share of a host mesh's summary is taken over: `layout` fitting `mesh`, whose
+/// indices `checked` covers (else check_mesh_indices); the scene's macrocell edge in *edge.
+MeshTables shared_tables(const Mesh& mesh, const SceneDesc& scene, const std::shared_ptr<const MeshLayout>& layout,
+                         const MeshChecked& checked, int* edge) {
+  require(!mesh.device, "a mesh summary's share: the mesh must be host memory (not Mesh::device)");
+  require(layout && layout->fits(mesh), "a mesh summary's share needs the layout of an earlier prepare of the same "
+                                        "geometry (mesh_layout_fits)");
+  if (!checked.covers(mesh, false)) check_mesh_indices(mesh);
+  MeshTables t;
+  t.build(mesh, layout);
+  FieldView grid;
+  grid.dtype = DType::Float64;
+  for (int a = 0; a < 3; ++a) grid.dims[a] = t.dims()[a];
+  *edge = majorant_edge(grid, scene.integrator);
+  return t;
+}
+
+}  // namespace
+
+FieldSummary::Parts mesh_summary_parts(const Mesh& mesh, const SceneDesc& scene,
+                                       const std::shared_ptr<const MeshLayout>& layout, const MeshChecked& checked,
+                                       int share, int shares) {
+  return within_render_threads(scene.options, [&] {
+    int edge = 1;
+    const MeshTables t = shared_tables(mesh, scene, layout, checked, &edge);
+    return mesh_summary_share(t, edge, share, shares);
+  });
+}
+
+std::uint64_t mesh_summary_cells(const MeshLayout& layout, const SceneDesc& scene) {
+  FieldView grid;
+  grid.dtype = DType::Float64;
+  for (int a = 0; a < 3; ++a) grid.dims[a] = layout.dims()[a];
+  const MacroGrid m = macro_grid(layout.geometry(), layout.dims(), majorant_edge(grid, scene.integrator));
+  return static_cast<std::uint64_t>(m.cells[0] * m.cells[1] * m.cells[2]);
+}
+
+std::shared_ptr<const FieldSummary> mesh_summary_of_parts(FieldSummary::Parts&& parts, const Mesh& mesh,
+                                                          const SceneDesc& scene,
+                                                          const std::shared_ptr<const MeshLayout>& layout) {
+  require(layout && layout->fits(mesh), "a mesh summary's parts need the layout they were taken over");
+  FieldView grid;
+  grid.dtype = DType::Float64;
+  for (int a = 0; a < 3; ++a) grid.dims[a] = layout->dims()[a];
+  return mesh_summary_of(std::move(parts), *layout, majorant_edge(grid, scene.integrator));
+}
+
+PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse,
+                      const MeshChecked& checked, std::shared_ptr<const FieldSummary> summary) {
+  require(summary != nullptr, "mesh: a null summary (prepare without one summarises the values itself)");
+  require(!mesh.device, "mesh: a summary made of shares is for host memory (not Mesh::device)");
+  require(reuse && reuse->fits(mesh), "mesh: a summary made of shares needs the layout it was taken over (reuse "
+                                      "must fit the mesh)");
+  return within_render_threads(scene.options, [&]() -> PreparedScene {
+    PreparedScene ps;
+    PreparedSceneImpl& p = *ps.m_impl;
+    if (!checked.covers(mesh, false)) check_mesh_indices(mesh);
+    p.mesh.build(mesh, std::move(reuse));
+    prepare_mesh_scene(p, scene, [&](int edge) {
+      require_summary_fits(*summary, edge, p.mesh.dims(), "mesh");
+      return summary;
+    });
+    return ps;
+  });
+}
+
 }  // namespace tessera

@@ -91,6 +91,10 @@ struct RenderResult {
   /// found by its hash, or within the call that exchanged it) instead of every rank's whole
   /// domains moving again.
   bool mesh_values_only = false;
+  /// Several ranks over the kept structure: each rank summarised a share of the mesh's values
+  /// (the majorants' value ranges) and the ranks combined the shares, instead of every rank
+  /// summarising the whole mesh (the same summary bit for bit).
+  bool mesh_summary_shared = false;
   /// Several ranks over such a mesh: the bytes this rank received in the call's exchange (every
   /// rank's packed domains, or only their values when mesh_values_only); 0 on one rank.
   std::uint64_t mesh_exchange_bytes = 0;

@@ -309,6 +309,32 @@ std::pair<double, double> value_range(const PassContext& pass, const MeshBinding
   return pass.ctx.range(lo, hi);
 }
 
+/// Several ranks over the kept layout, the whole mesh's indices checked: each rank summarises
+/// a share of the mesh's values and the ranks combine the parts (reduce_parts: the same
+/// summary bit for bit) into `shared`, instead of each summarising all of it. Not when the
+/// parts would move more bytes than the values' exchange (a fine macrocell grid). Collective;
+/// false when a rank failed (the outcome set).
+bool share_summary(const PassContext& pass, PhaseGate& gate, const Mesh& whole, const MeshChecked& whole_checked,
+                   const SceneDesc& scene, std::shared_ptr<const FieldSummary>& shared) {
+  const MeshLayoutKeep& keep = pass.call.mesh_layout;
+  bool mine = false;
+  FieldSummary::Parts parts;
+  if (!gate.run(TESSERA_ERROR_RENDER, [&] {
+        std::uint64_t cells = 0;
+        for (const MeshDomain& d : whole.domains) cells += static_cast<std::uint64_t>(d.cell_count());
+        mine = keep.layout && mesh_layout_fits(*keep.layout, whole) && whole_checked.covers(whole, false) &&
+               mesh_summary_cells(*keep.layout, scene) * 17 <= cells * 8 / 2;
+        if (mine)
+          parts = mesh_summary_parts(whole, scene, keep.layout, whole_checked, pass.ctx.rank(), pass.ctx.size());
+      }))
+    return false;
+  return gate.run(TESSERA_ERROR_RENDER, [&] {
+    if (!pass.ctx.agree(mine)) return;
+    pass.ctx.reduce_parts(parts);
+    shared = mesh_summary_of_parts(std::move(parts), whole, scene, keep.layout);
+  });
+}
+
 }  // namespace
 
 void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool check_when, bool quiet) {
@@ -409,11 +435,16 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
     }
     keep.decided = true;
   }
+  std::shared_ptr<const FieldSummary> shared;
+  const auto shared_t0 = PassClock::now();  // (part of the prepare: counted in its seconds)
+  if (pass.ctx.size() > 1 && !share_summary(pass, gate, whole, whole_checked, setup->scene, shared)) return;
+  out.result.prepare_seconds += std::chrono::duration<double>(PassClock::now() - shared_t0).count();
   PreparedScene prepared;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] {
         const auto t0 = PassClock::now();
         try {
-          prepared = prepare(whole, setup->scene, keep.layout, whole_checked);  // not checked again
+          prepared = shared ? prepare(whole, setup->scene, keep.layout, whole_checked, shared)
+                            : prepare(whole, setup->scene, keep.layout, whole_checked);  // not checked again
           keep.layout = prepared.mesh_layout();
           keep.bounds = extent.bounds;
           keep.holds_layout();
@@ -435,6 +466,7 @@ void run_mesh(const PassContext& pass, PhaseGate& gate, PassOutcome& out, bool c
         ++out.result.field_passes;  // the values' ranges: always read
         out.result.mesh_layout_reused = prepared.mesh_layout_reused();
         out.result.mesh_values_only = values_only;
+        out.result.mesh_summary_shared = shared != nullptr;
         out.result.mesh_exchange_bytes = exchanged;
       }))
     return;
