@@ -329,7 +329,11 @@ bool share_summary(const PassContext& pass, PhaseGate& gate, const Mesh& whole, 
       }))
     return false;
   return gate.run(TESSERA_ERROR_RENDER, [&] {
-    if (!pass.ctx.agree(mine)) return;
+    // (every rank's parts of the same size before the reductions: the same mesh, layout and
+    // config give the same grid; anything else keeps every rank on its own summary)
+    const auto size = static_cast<double>(mine ? parts.lo.size() : 0);
+    const std::pair<double, double> sizes = pass.ctx.range(size, size);
+    if (!pass.ctx.agree(mine) || sizes.first != sizes.second) return;
     pass.ctx.reduce_parts(parts);
     shared = mesh_summary_of_parts(std::move(parts), whole, scene, keep.layout);
   });
