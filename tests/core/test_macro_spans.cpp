@@ -100,6 +100,20 @@ bool same_cells(const tessera::FieldSummary& s, const tessera::FieldSummary::Par
   return true;
 }
 
+/// A small scene over the test meshes (macrocell edge 5).
+tessera::SceneDesc share_scene() {
+  tessera::SceneDesc s;
+  s.tf.lo = -1.0;
+  s.tf.hi = 1.0;
+  s.tf.density_scale = 6.0;
+  s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0});
+  s.camera.position = Vec3(0.5, 0.5, -2.0);
+  s.camera.look_at = Vec3(0.5);
+  s.image = {16, 12, 2, 0.0};
+  s.integrator.macrocell = 5;
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("mesh summary: folded in the input's order, the macrocells are the canonical order's, bit for bit",
@@ -188,13 +202,7 @@ TEST_CASE("mesh layout: the macrocell spans are made once per grid, kept and cou
 
 TEST_CASE("mesh layout: a prepare that reuses the layout reads the spans an earlier prepare made", "[mesh][summary]") {
   CutGrid grid(tessera::Association::Vertex);
-  tessera::SceneDesc s;
-  s.tf.lo = -1.0;
-  s.tf.hi = 1.0;
-  s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0});
-  s.camera.position = Vec3(0.5, 0.5, -2.0);
-  s.camera.look_at = Vec3(0.5);
-  s.image = {8, 8, 1, 0.0};
+  tessera::SceneDesc s = share_scene();
   s.integrator.macrocell = 6;
   for (auto& od : grid.owned.owned)  // finite values: the scene's range check passes
     for (double& v : od->values)
@@ -212,36 +220,6 @@ TEST_CASE("mesh layout: a prepare that reuses the layout reads the spans an earl
   CHECK(layout->macro_spans(g) == made);
 }
 
-namespace {
-
-/// Parts b folded into a as ranks combine them (min, max, or, sums).
-void combine(tessera::FieldSummary::Parts& a, const tessera::FieldSummary::Parts& b) {
-  for (std::size_t c = 0; c < a.lo.size(); ++c) {
-    a.lo[c] = std::min(a.lo[c], b.lo[c]);
-    a.hi[c] = std::max(a.hi[c], b.hi[c]);
-    a.flags[c] |= b.flags[c];
-  }
-  a.nan += b.nan;
-  a.elements += b.elements;
-  a.vmin = std::min(a.vmin, b.vmin);
-  a.vmax = std::max(a.vmax, b.vmax);
-}
-
-tessera::SceneDesc share_scene() {
-  tessera::SceneDesc s;
-  s.tf.lo = -1.0;
-  s.tf.hi = 1.0;
-  s.tf.density_scale = 6.0;
-  s.tf.opacity = tessera::ScalarTF({0.0, 1.0}, {0.0, 1.0});
-  s.camera.position = Vec3(0.5, 0.5, -2.0);
-  s.camera.look_at = Vec3(0.5);
-  s.image = {16, 12, 2, 0.0};
-  s.integrator.macrocell = 5;
-  return s;
-}
-
-}  // namespace
-
 TEST_CASE("mesh summary: shares over 1 to 7 ranks combine into the whole summary and render the same bits",
           "[mesh][summary]") {
   CutGrid grid(tessera::Association::Vertex);
@@ -257,7 +235,8 @@ TEST_CASE("mesh summary: shares over 1 to 7 ranks combine into the whole summary
   for (const int n : {1, 2, 3, 7}) {
     INFO(n << " shares");
     tessera::FieldSummary::Parts parts = tessera::mesh_summary_parts(mesh, s, layout, checked, 0, n);
-    for (int r = 1; r < n; ++r) combine(parts, tessera::mesh_summary_parts(mesh, s, layout, checked, r, n));
+    for (int r = 1; r < n; ++r)
+      tessera::FieldSummary::combine(parts, tessera::mesh_summary_parts(mesh, s, layout, checked, r, n));
     const auto summary = tessera::mesh_summary_of_parts(std::move(parts), mesh, s, layout);
     REQUIRE(summary->ranges().size() == whole->ranges().size());
     for (std::size_t c = 0; c < whole->ranges().size(); ++c) {

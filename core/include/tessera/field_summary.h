@@ -72,6 +72,9 @@ class FieldSummary {
     /// A hierarchy of refinement levels counts the samples of every level (amr_summary_parts).
     std::uint64_t elements = 0;
   };
+  /// Folds `b` into `a` as the ranks' reductions above combine them (parts of the same cells;
+  /// other cell counts are refused by name, std::invalid_argument): exact in any order.
+  static void combine(Parts& a, const Parts& b);
   /// The parts of one block: `block` holds the global vertices [offset, offset + block.dims)
   /// of a field of `global_dims`; cells are the global field's (as majorant_edge of the global
   /// field gives `edge`); cells the block does not touch are left empty.

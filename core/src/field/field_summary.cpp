@@ -229,6 +229,22 @@ void FieldSummary::accumulate(Parts& parts, const FieldView& block, const std::i
   });
 }
 
+void FieldSummary::combine(Parts& a, const Parts& b) {
+  if (b.lo.size() != a.lo.size() || b.hi.size() != a.lo.size() || b.flags.size() != a.lo.size() ||
+      a.hi.size() != a.lo.size() || a.flags.size() != a.lo.size())
+    throw std::invalid_argument("field summary: parts of " + std::to_string(b.lo.size()) +
+                                " cells combined into parts of " + std::to_string(a.lo.size()));
+  for (std::size_t n = 0; n < a.lo.size(); ++n) {
+    a.lo[n] = std::min(a.lo[n], b.lo[n]);
+    a.hi[n] = std::max(a.hi[n], b.hi[n]);
+    a.flags[n] |= b.flags[n];
+  }
+  a.nan += b.nan;
+  a.elements += b.elements;
+  a.vmin = std::min(a.vmin, b.vmin);
+  a.vmax = std::max(a.vmax, b.vmax);
+}
+
 std::shared_ptr<const FieldSummary> FieldSummary::from_parts(Parts&& parts, const FieldLayout& layout, int edge) {
   if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
   const std::int64_t n = parts.cells[0] * parts.cells[1] * parts.cells[2];

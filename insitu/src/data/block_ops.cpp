@@ -40,18 +40,6 @@ void copy_block(const FieldView& v, void* dst, const std::int64_t dims[3], const
   }
 }
 
-void combine_parts(FieldSummary::Parts& a, const FieldSummary::Parts& b) {
-  for (std::size_t n = 0; n < a.lo.size(); ++n) {
-    a.lo[n] = std::min(a.lo[n], b.lo[n]);
-    a.hi[n] = std::max(a.hi[n], b.hi[n]);
-    a.flags[n] |= b.flags[n];
-  }
-  a.nan += b.nan;
-  a.elements += b.elements;
-  a.vmin = std::min(a.vmin, b.vmin);
-  a.vmax = std::max(a.vmax, b.vmax);
-}
-
 FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3], int edge) {
   // One set of global parts, each block merged in at the cost of its own vertices and cells
   // (not a full-size partial per block: 10^4 small domains stay cheap)

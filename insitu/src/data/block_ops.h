@@ -24,9 +24,6 @@ void copy_block(const FieldView& v, void* dst, const std::int64_t dims[3], const
 /// elements: empty parts (of the right cell count) for no block. Exact in any order.
 FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3], int edge);
 
-/// Adds `b` into `a` (min of lo, max of hi, or of flags, sum of nan, min/max of vmin/vmax).
-void combine_parts(FieldSummary::Parts& a, const FieldSummary::Parts& b);
-
 /// Finite min/max over the blocks' values (field_range of each); nullopt when none is finite.
 std::optional<std::pair<double, double>> blocks_range(std::span<const FieldBlock> blocks);
 
