@@ -34,10 +34,6 @@ class MacroSpans {
 
   /// Whether these spans are over `grid` (the same origin, spacing, cells and edge).
   bool over(const MacroGrid& grid) const;
-  /// The spans of domain d's cells, in its cell order.
-  std::span<const MacroSpan> domain(std::size_t d) const {
-    return {m_span.data() + m_offset[d], static_cast<std::size_t>(m_offset[d + 1] - m_offset[d])};
-  }
   std::size_t domain_count() const { return m_offset.size() - 1; }
   /// Every cell's span, the domains one after the other (domain d from offset(d)).
   std::span<const MacroSpan> all() const { return m_span; }

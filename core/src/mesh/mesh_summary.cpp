@@ -95,20 +95,19 @@ void fold_cells(FieldSummary::Parts& parts, const MacroGrid& m, const MacroSpans
 /// together hold at most a quarter as many cells as the range has input cells (about 4 bytes
 /// per cell, whatever the thread count); a grid of more cells (a small macrocell edge, many
 /// threads) would cost more in copies than the fold: one thread.
-void fold_elements(FieldSummary::Parts& parts, const MacroGrid& m, const MeshTables& tables, std::size_t begin,
-                   std::size_t end) {
-  const std::shared_ptr<const MacroSpans> spans = tables.layout()->macro_spans(m);
+void fold_elements(FieldSummary::Parts& parts, const MacroGrid& m, const MeshTables& tables, const MacroSpans& spans,
+                   std::size_t begin, std::size_t end) {
   const std::size_t n = end - begin;
   const std::size_t cells = parts.lo.size();
   const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
   const DomainAccess* domains = tables.domains().data();
   if (n < kParallelFold || cells > n / 4 / threads) {
-    fold_cells(parts, m, *spans, domains, begin, end);
+    fold_cells(parts, m, spans, domains, begin, end);
     return;
   }
   tbb::combinable<FieldSummary::Parts> mine([&] { return empty_cells(m); });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
-    fold_cells(mine.local(), m, *spans, domains, r.begin(), r.end());
+    fold_cells(mine.local(), m, spans, domains, r.begin(), r.end());
   });
   mine.combine_each([&](const FieldSummary::Parts& p) {
     for (std::size_t c = 0; c < cells; ++c) {
@@ -134,11 +133,9 @@ FieldSummary::Parts mesh_summary_share(const MeshTables& tables, int edge, int s
                                 " (0 <= share < shares)");
   const MacroGrid m = macro_grid(tables.geometry(), tables.dims(), edge);
   FieldSummary::Parts parts = empty_cells(m);
-  std::uint64_t input_cells = 0;
-  for (int d = 0; d < static_cast<int>(tables.layout()->domain_count()); ++d)
-    input_cells += static_cast<std::uint64_t>(tables.layout()->domain_cells(static_cast<std::size_t>(d)));
-  const auto [c0, c1] = share_of(input_cells, share, shares);
-  fold_elements(parts, m, tables, c0, c1);
+  const std::shared_ptr<const MacroSpans> spans = tables.layout()->macro_spans(m);
+  const auto [c0, c1] = share_of(spans->all().size(), share, shares);
+  fold_elements(parts, m, tables, *spans, c0, c1);
   const auto [v0, v1] = share_of(tables.value_count(), share, shares);
   const MeshTables::ValueTotals t = tables.value_totals(v0, v1);
   parts.nan = t.nan;

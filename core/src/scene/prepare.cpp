@@ -529,6 +529,14 @@ PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<
 
 namespace {
 
+/// The macrocell edge prepare_mesh_scene takes for `scene` over the grid of `layout`.
+int mesh_edge(const MeshLayout& layout, const SceneDesc& scene) {
+  FieldView grid;
+  grid.dtype = DType::Float64;
+  for (int a = 0; a < 3; ++a) grid.dims[a] = layout.dims()[a];
+  return majorant_edge(grid, scene.integrator);
+}
+
 /// The tables a share of a host mesh's summary is taken over: `layout` fitting `mesh`, whose
 /// indices `checked` covers (else check_mesh_indices); the scene's macrocell edge in *edge.
 MeshTables shared_tables(const Mesh& mesh, const SceneDesc& scene, const std::shared_ptr<const MeshLayout>& layout,
@@ -539,10 +547,7 @@ MeshTables shared_tables(const Mesh& mesh, const SceneDesc& scene, const std::sh
   if (!checked.covers(mesh, false)) check_mesh_indices(mesh);
   MeshTables t;
   t.build(mesh, layout);
-  FieldView grid;
-  grid.dtype = DType::Float64;
-  for (int a = 0; a < 3; ++a) grid.dims[a] = t.dims()[a];
-  *edge = majorant_edge(grid, scene.integrator);
+  *edge = mesh_edge(*layout, scene);
   return t;
 }
 
@@ -559,10 +564,7 @@ FieldSummary::Parts mesh_summary_parts(const Mesh& mesh, const SceneDesc& scene,
 }
 
 std::uint64_t mesh_summary_cells(const MeshLayout& layout, const SceneDesc& scene) {
-  FieldView grid;
-  grid.dtype = DType::Float64;
-  for (int a = 0; a < 3; ++a) grid.dims[a] = layout.dims()[a];
-  const MacroGrid m = macro_grid(layout.geometry(), layout.dims(), majorant_edge(grid, scene.integrator));
+  const MacroGrid m = macro_grid(layout.geometry(), layout.dims(), mesh_edge(layout, scene));
   return static_cast<std::uint64_t>(m.cells[0] * m.cells[1] * m.cells[2]);
 }
 
@@ -570,10 +572,7 @@ std::shared_ptr<const FieldSummary> mesh_summary_of_parts(FieldSummary::Parts&& 
                                                           const SceneDesc& scene,
                                                           const std::shared_ptr<const MeshLayout>& layout) {
   require(layout && layout->fits(mesh), "a mesh summary's parts need the layout they were taken over");
-  FieldView grid;
-  grid.dtype = DType::Float64;
-  for (int a = 0; a < 3; ++a) grid.dims[a] = layout->dims()[a];
-  return mesh_summary_of(std::move(parts), *layout, majorant_edge(grid, scene.integrator));
+  return mesh_summary_of(std::move(parts), *layout, mesh_edge(*layout, scene));
 }
 
 PreparedScene prepare(const Mesh& mesh, const SceneDesc& scene, std::shared_ptr<const MeshLayout> reuse,
