@@ -5,6 +5,7 @@
 // that disables the GPU for the process (in a child process: the context is lost after it).
 #include "gpu_test_util.h"
 
+#include <tessera/cuda_memory.h>
 #include <tessera/cuda_render.h>
 #include <tessera/field_summary.h>
 #include <tessera/render.h>
@@ -356,4 +357,55 @@ TEST_CASE("GPU child: an illegal address in the kernel", "[.sticky_child]") {
   CHECK_THROWS_WITH(tessera::cuda_memory_kind(dev), Catch::Contains("disabled for the process"));
   CHECK_THROWS_WITH(tessera::cuda_field_summary(v, edge), Catch::Contains("disabled for the process"));
   CHECK(tessera::cuda_device_count() == 0);
+}
+
+TEST_CASE("GPU: a device block's summary at an offset and a box copied from it are the host's bit for bit",
+          "[gpu][memory][summary][paged]") {
+  // A 13x11x9 float64 block at offset (5, 3, 7) of a 40x30x20 field, its y axis stored
+  // backwards, with NaN, +-Inf and -0.0 among its values: cuda_field_summary_accumulate folds
+  // it into the global parts (over the block's window of macrocells only) as
+  // FieldSummary::accumulate does, for edges 1, 4 and 8; cuda_copy_box_to_host packs a
+  // sub-box (the strides kept) as the host reads it
+  const std::int64_t global[3] = {40, 30, 20}, offset[3] = {5, 3, 7}, n[3] = {13, 11, 9};
+  std::vector<double> host(static_cast<std::size_t>(n[0] * n[1] * n[2]));
+  for (std::size_t q = 0; q < host.size(); ++q) host[q] = std::sin(0.37 * static_cast<double>(q)) * 100.0;
+  host[5] = std::nan("");
+  host[77] = INFINITY;
+  host[300] = -INFINITY;
+  host[301] = -0.0;
+  const DeviceArray dev(host.data(), host.size() * sizeof(double));
+  FieldView hv;
+  hv.dtype = DType::Float64;
+  for (int a = 0; a < 3; ++a) hv.dims[a] = n[a];
+  hv.byte_strides[0] = sizeof(double);
+  hv.byte_strides[1] = -static_cast<std::int64_t>(sizeof(double)) * n[0];  // y backwards
+  hv.byte_strides[2] = static_cast<std::int64_t>(sizeof(double)) * n[0] * n[1];
+  hv.data = host.data() + (n[1] - 1) * n[0];
+  const FieldView dv = rebased(hv, host.data(), dev.p);
+  for (const int edge : {1, 4, 8}) {
+    const std::int64_t origin[3] = {0, 0, 0};
+    tessera::FieldSummary::Parts h = tessera::FieldSummary::partial(FieldView{}, origin, global, edge);
+    tessera::FieldSummary::Parts d = h;
+    tessera::FieldSummary::accumulate(h, hv, offset, global, edge);
+    tessera::cuda_field_summary_accumulate(d, dv, offset, global, edge);
+    CHECK(d.nan == h.nan);
+    CHECK(d.vmin == h.vmin);
+    CHECK(d.vmax == h.vmax);
+    CHECK(std::memcmp(d.lo.data(), h.lo.data(), h.lo.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(d.hi.data(), h.hi.data(), h.hi.size() * sizeof(double)) == 0);
+    CHECK(d.flags == h.flags);
+  }
+  FieldView hs = hv, ds = dv;
+  for (FieldView* v : {&hs, &ds}) {
+    v->data = static_cast<const unsigned char*>(v->data) + 2 * v->byte_strides[0] + 3 * v->byte_strides[1] +
+              v->byte_strides[2];
+    v->dims[0] = 7;
+    v->dims[1] = 5;
+    v->dims[2] = 4;
+  }
+  std::vector<double> from_device(140), from_host(140);
+  tessera::cuda_copy_box_to_host(from_device.data(), ds);
+  tessera::cuda_copy_box_to_host(from_host.data(), hs);
+  CHECK(std::memcmp(from_device.data(), from_host.data(), from_host.size() * sizeof(double)) == 0);
+  CHECK(std::memcmp(&from_host[0], static_cast<const double*>(hs.data), sizeof(double)) == 0);
 }

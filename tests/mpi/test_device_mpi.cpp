@@ -49,6 +49,7 @@ struct Run {
   tessera_status status = TESSERA_OK;
   std::string error, device;
   std::optional<tessera::Image> image;  // rank 0
+  std::uint64_t to_host = 0;            // stats.bytes_to_host
 };
 
 /// One call of an adapter opened on `device` over this rank's slab (`data`: the slab's values
@@ -67,6 +68,7 @@ Run run(const SharedTempDir& dir, const std::string& tag, const std::string& dev
   r.status = a.execute(1, 0.0, slab.grid, {&slab.field, 1});
   r.error = a.last_error();
   if (!a.last_results().empty()) r.device = a.last_results()[0].device;
+  if (!a.last_results().empty()) r.to_host = a.last_results()[0].stats.bytes_to_host;
   if (const tessera::Image* im = a.last_image("view")) r.image = *im;
   return r;
 }
@@ -403,6 +405,19 @@ TEST_CASE("device: cuda in distributed mode renders the replicated GPU image bit
   if (world_rank() == 0) {
     REQUIRE(from_device.image);
     CHECK(replicated.image->rgba == from_device.image->rgba);
+  }
+  // Replicated with the slabs in device memory on several ranks: staged once the plan is
+  // known (the whole slab, counted), the same bits; on one rank read in place
+  const Run staged = run(dir, "staged", "cuda", on_device.data(), "replicated");
+  INFO(staged.error);
+  CHECK(all_ranks(staged.status == TESSERA_OK));
+  if (world_rank() == 0) {
+    // rank 0's count: every rank's render copies (the same as the host slabs' render) and its
+    // own staging
+    INFO("to host " << staged.to_host << ", from host slabs " << replicated.to_host);
+    CHECK(staged.to_host - replicated.to_host == (world_size() > 1 ? on_device.size() * sizeof(float) : 0));
+    REQUIRE(staged.image);
+    CHECK(replicated.image->rgba == staged.image->rgba);
   }
   tessera::cuda::emulated_forget_device_memory(*tessera::cuda::gpu_emulation(), on_device.data());
 }

@@ -244,6 +244,42 @@ std::vector<Box> three_slabs(const Box& box) {
   return slabs;
 }
 
+/// The one-rank core render of the whole field (what every distributed render must equal).
+struct WholeRender {
+  tessera::Film film;
+  tessera::RenderStats stats;
+  WholeRender(const std::vector<unsigned char>& global, const tessera::SceneDesc& scene)
+      : film(scene.image.width, scene.image.height) {
+    tessera::render(tessera::prepare(whole_view(global), scene), film, stats);
+  }
+};
+
+/// The blobs as float32 under a multiple-scattering scene and its one-rank render.
+struct BlobCase {
+  decltype(blobs(kGlobal)) value = blobs(kGlobal);
+  std::vector<unsigned char> global = global_bytes(kGlobal, DType::Float32, value);
+  tessera::SceneDesc scene = scene_for(tessera::Scattering::Multiple, 2);
+  WholeRender whole{global, scene};
+};
+
+/// A rank's box as three slabs (three_slabs), each its own array in `layouts`' layout, and
+/// their blocks in domain order.
+struct SlabBlocks {
+  std::vector<LocalArray> arrays;
+  std::vector<tessera::insitu::FieldBlock> blocks;
+  template <class Values>
+  SlabBlocks(const Box& box, const Layout (&layouts)[3], const Values& value) {
+    const std::vector<Box> slabs = three_slabs(box);
+    for (std::size_t s = 0; s < slabs.size(); ++s) arrays.emplace_back(slabs[s], DType::Float32, layouts[s], value);
+    for (std::size_t s = 0; s < slabs.size(); ++s) {
+      tessera::insitu::FieldBlock& b = blocks.emplace_back();
+      b.view = arrays[s].view();
+      for (int a = 0; a < 3; ++a) b.offset[a] = slabs[s].offset[a];
+      b.domain = static_cast<int>(s);
+    }
+  }
+};
+
 }  // namespace
 
 TEST_CASE("several own domains per rank are read in place in distributed mode, bit for bit",
@@ -252,13 +288,11 @@ TEST_CASE("several own domains per rank are read in place in distributed mode, b
   // equals the replicated one and a one-rank render of the whole field, and no brick that lies
   // wholly in this rank's slabs ever becomes resident in its cache (the own slabs are read in
   // place, not copied into slots), with a cache large enough never to evict
-  const auto value = blobs(kGlobal);
-  const std::vector<unsigned char> global = global_bytes(kGlobal, DType::Float32, value);
-  const tessera::SceneDesc scene = scene_for(tessera::Scattering::Multiple, 2);
-  const tessera::PreparedScene ref_prepared = tessera::prepare(whole_view(global), scene);
-  tessera::Film ref(scene.image.width, scene.image.height);
-  tessera::RenderStats ref_stats;
-  tessera::render(ref_prepared, ref, ref_stats);
+  const BlobCase blob;
+  const auto& value = blob.value;
+  const tessera::SceneDesc& scene = blob.scene;
+  const tessera::Film& ref = blob.whole.film;
+  const tessera::RenderStats& ref_stats = blob.whole.stats;
   constexpr int kShift = 2;
   const Layout layouts[3] = {Layout::StructMember, Layout::MirroredJ, Layout::FortranPadded};
   for (int n : sizes_up_to_world()) {
@@ -268,16 +302,8 @@ TEST_CASE("several own domains per rank are read in place in distributed mode, b
     std::string what;
     if (sub.member()) {
       MpiParallelContext ctx(sub.comm(), 0);
-      const std::vector<Box> slabs = three_slabs(block(n, ctx.rank()));
-      std::vector<LocalArray> arrays;
-      std::vector<tessera::insitu::FieldBlock> blocks;
-      for (std::size_t s = 0; s < slabs.size(); ++s) arrays.emplace_back(slabs[s], DType::Float32, layouts[s], value);
-      for (std::size_t s = 0; s < slabs.size(); ++s) {
-        tessera::insitu::FieldBlock& b = blocks.emplace_back();
-        b.view = arrays[s].view();
-        for (int a = 0; a < 3; ++a) b.offset[a] = slabs[s].offset[a];
-        b.domain = static_cast<int>(s);
-      }
+      const SlabBlocks slab_blocks(block(n, ctx.rank()), layouts, value);
+      const std::vector<tessera::insitu::FieldBlock>& blocks = slab_blocks.blocks;
       tessera::FieldView dims_only;
       for (int a = 0; a < 3; ++a) dims_only.dims[a] = kGlobal[a];
       const int edge = tessera::majorant_edge(dims_only, scene.integrator);
@@ -320,5 +346,68 @@ TEST_CASE("several own domains per rank are read in place in distributed mode, b
     }
     INFO("ranks " << n << ":" << what);
     REQUIRE(all_ranks(ok));
+  }
+}
+
+TEST_CASE("own domains in device memory are read through copies of their bricks in distributed mode, bit for bit",
+          "[mpi][distributed][domains][device]") {
+  // Each rank's box as three slabs, the first and the last marked device memory
+  // (FieldBlock::on_device: what the adapter leaves on a GPU). The host reads them only
+  // through cuda_copy_box_to_host and cuda_field_summary_accumulate (here, without a GPU,
+  // gathers on the host): the summary, a CPU render whose own vertices come through the cache
+  // and the other ranks' requests give the one-rank render's bits; the device blocks are not
+  // in the in-place table, the first block is the device view's own block only, and the
+  // bytes copied from them are counted.
+  const BlobCase blob;
+  const auto& value = blob.value;
+  const tessera::SceneDesc& scene = blob.scene;
+  const tessera::Film& ref = blob.whole.film;
+  const tessera::RenderStats& ref_stats = blob.whole.stats;
+  const Layout layouts[3] = {Layout::MirroredJ, Layout::StructMember, Layout::FortranPadded};
+  for (int n : sizes_up_to_world()) {
+    if (n < 2) continue;
+    for (const int shift : {1, 2}) {
+      FirstRanks sub(n);
+      bool ok = true;
+      std::string what;
+      if (sub.member()) {
+        MpiParallelContext ctx(sub.comm(), 0);
+        SlabBlocks slab_blocks(block(n, ctx.rank()), layouts, value);
+        std::vector<tessera::insitu::FieldBlock>& blocks = slab_blocks.blocks;
+        blocks[0].on_device = blocks[2].on_device = true;
+        tessera::FieldView dims_only;
+        for (int a = 0; a < 3; ++a) dims_only.dims[a] = kGlobal[a];
+        const int edge = tessera::majorant_edge(dims_only, scene.integrator);
+        const tessera::BrickGrid g = tessera::BrickGrid::make(kGlobal.data(), DType::Float32, shift);
+        // A cache of a quarter of the bricks: evictions refetch own device bricks too
+        const auto capacity = static_cast<std::size_t>(std::max<std::int64_t>(8, g.brick_count() / 4));
+        const tessera::PagedField paged =
+            ctx.distribute_blocks(blocks, kGlobal.data(), DType::Float32, shift, capacity);
+        const auto summary = ctx.summarize_blocks(blocks, kGlobal.data(), DType::Float32, edge);
+        if (!paged.local_device_only || paged.local_device != blocks[0].view.data)
+          ok = false, what += " first block not device-only";
+        if (paged.cache->in_place_count() != 1) ok = false, what += " in-place blocks";
+        // The summary equals the host blocks' one
+        std::vector<tessera::insitu::FieldBlock> host_blocks = blocks;
+        for (auto& b : host_blocks) b.on_device = false;
+        const auto host_summary = ctx.summarize_blocks(host_blocks, kGlobal.data(), DType::Float32, edge);
+        for (std::size_t c = 0; c < summary->ranges().size(); ++c) {
+          const tessera::CellRange a = summary->ranges()[c], b = host_summary->ranges()[c];
+          if (std::memcmp(&a.lo, &b.lo, sizeof a.lo) != 0 || std::memcmp(&a.hi, &b.hi, sizeof a.hi) != 0)
+            ok = false, what += " summary cell " + std::to_string(c);
+        }
+        tessera::PreparedScene prepared;
+        ctx.serve_while([&] { prepared = tessera::prepare(paged, scene, summary); });
+        tessera::Film film(scene.image.width, scene.image.height);
+        tessera::RenderStats stats;
+        ctx.render(prepared, film, stats);
+        if (ctx.rank() == 0 && !same_pixels(film, ref)) ok = false, what += " pixels";
+        if (ctx.rank() == 0 && !same_counters(stats, ref_stats)) ok = false, what += " counters";
+        if (ctx.report().bricks.bytes_from_device == 0) ok = false, what += " nothing copied from the device";
+        if (ctx.paged_bytes_from_device() != ctx.report().bricks.bytes_from_device) ok = false, what += " bytes";
+      }
+      INFO("ranks " << n << ", shift " << shift << ":" << what);
+      REQUIRE(all_ranks(ok));
+    }
   }
 }

@@ -359,6 +359,12 @@ struct PagedField {
   /// dims, dtype and byte strides as `local`. A GPU render reads the own block there; without
   /// it, it copies `local` to the device once per prepared scene. Never read on the CPU.
   const void* local_device = nullptr;
+  /// The own block is device memory only (the adapter's distributed render of a simulation's
+  /// device array on the GPU): `local` describes it and its data is `local_device`. The host
+  /// then reads none of it: a CPU view (prepare's preview, the GPU's brick refills) takes its
+  /// vertices through `cache` (whose filler copies them from the device, cuda_copy_box_to_host),
+  /// while a GPU render reads it in place.
+  bool local_device_only = false;
 };
 
 }  // namespace tessera

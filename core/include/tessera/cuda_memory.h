@@ -2,6 +2,8 @@
 /// Copies out of device memory for the callers that must read a simulation's device array on
 /// the host (the in situ adapter's staging when a render cannot read it in place, docs/gpu.md).
 /// Declared in every build; without CUDA cuda_copy_to_host throws.
+#include <tessera/field_view.h>
+
 #include <cstddef>
 
 namespace tessera {
@@ -12,5 +14,13 @@ namespace tessera {
 /// call on a CUDA failure (a sticky one disables the GPU, cuda_disabled), std::runtime_error
 /// in a build without CUDA or once the GPU is disabled.
 void cuda_copy_to_host(void* dst, const void* src, std::size_t bytes, void* stream = nullptr);
+
+/// Copies the elements of `box` (a validated view into device, managed or host memory; any
+/// byte strides, negative ones included) to `dst` (host memory) densely, x fastest, each
+/// element's bytes as they are: box.vertex_count() * dtype_size(box.dtype) bytes. Only those
+/// bytes leave the device (packed there first), after the work queued on `stream` (null: the
+/// whole device is synchronised first). What a distributed render copies of a device block
+/// for the host side (other ranks' bricks, the brick cache). Throws as cuda_copy_to_host.
+void cuda_copy_box_to_host(void* dst, const FieldView& box, void* stream = nullptr);
 
 }  // namespace tessera

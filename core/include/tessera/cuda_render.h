@@ -123,6 +123,15 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
 /// without CUDA for a pointer that is not host memory.
 std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, int edge, void* stream = nullptr);
 
+/// FieldSummary::accumulate (field_summary.h) for a block that may be in device or managed
+/// memory: the block's vertices folded into `parts` (the global field's macrocells), bit for
+/// bit what accumulate gives, computed on the device that holds the block over the window of
+/// macrocells it touches (only that window comes back to the host), after the work queued on
+/// `stream`. A host block is accumulated on the host. Throws as accumulate does for parts,
+/// block or offset that do not fit, and as cuda_field_summary does otherwise.
+void cuda_field_summary_accumulate(FieldSummary::Parts& parts, const FieldView& block, const std::int64_t offset[3],
+                                   const std::int64_t global_dims[3], int edge, void* stream = nullptr);
+
 /// check_mesh_indices (mesh.h) for a mesh whose arrays are GPU memory (Mesh::device): the
 /// descriptors on the host, then every real cell's indices and vertices on the device that
 /// holds them, after the work queued on `stream`; throws check_mesh_indices'

@@ -1,7 +1,8 @@
-/// cuda_copy_to_host (cuda_memory.h) in a build without CUDA: there is no device memory (but
+/// cuda_copy_to_host and cuda_copy_box_to_host (cuda_memory.h) in a build without CUDA: there is no device memory (but
 /// for an emulated GPU's, gpu_emulation.h).
 #include <tessera/cuda_memory.h>
 
+#include "cuda/box_gather.h"
 #include "cuda/gpu_emulation.h"
 
 #include <cstring>
@@ -15,6 +16,12 @@ void cuda_copy_to_host(void* dst, const void* src, std::size_t bytes, void*) {
     return;
   }
   throw std::runtime_error("cuda_copy_to_host: Tessera was built without CUDA");
+}
+
+void cuda_copy_box_to_host(void* dst, const FieldView& box, void*) {
+  // Without CUDA every pointer the process can read is host memory (an emulated GPU's too)
+  box.validate("box");
+  cuda::gather_box(dst, box);
 }
 
 }  // namespace tessera

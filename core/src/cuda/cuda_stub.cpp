@@ -42,6 +42,11 @@ std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, i
   return FieldSummary::build(field, edge);
 }
 
+void cuda_field_summary_accumulate(FieldSummary::Parts& parts, const FieldView& block, const std::int64_t offset[3],
+                                   const std::int64_t global_dims[3], int edge, void*) {
+  FieldSummary::accumulate(parts, block, offset, global_dims, edge);  // host memory, as above
+}
+
 namespace cuda {
 
 // A mesh in device memory: only an emulated GPU's "device memory" can be read here

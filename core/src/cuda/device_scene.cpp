@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 
 namespace tessera::cuda {
@@ -67,6 +68,8 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
         strided(
             ks.paged.local.data, ks.paged.local.dims, ks.paged.local.byte_strides, dtype_size(ks.paged.dtype),
             "own block copy", [](KernelScene& d, int, const unsigned char* p) { d.paged.local.data = p; }, 0);
+    } else if (s.paged_device_own.data && m_backend->memory_kind(s.paged_device_own.data) == MemoryKind::Host) {
+      throw std::invalid_argument("paged field: the own block declared device memory only is host memory");
     }
   } else if (ks.amr.nlevels == 0 && !ks.magnitude.active()) {
     m_field_in_place = strided(
@@ -285,6 +288,14 @@ std::uint64_t DeviceScene::upload() {
         std::make_unique<DeviceBricks>(*m_backend, ks.paged, m_brick_capacity, m_brick_threads, base + m_off_bricks);
     copied += m_bricks->reset();
     d.paged = m_bricks->device_view(d.paged.local.data);
+    if (const PreparedSceneImpl& s = m_scene;
+        s.paged_device_own.data) {  // device memory only: read in place, never through the bricks
+      d.paged.local = s.paged_device_own;
+      for (int a = 0; a < 3; ++a) {
+        d.paged.lo[a] = s.paged_device_lo[a];
+        d.paged.hi[a] = s.paged_device_lo[a] + s.paged_device_own.dims[a];
+      }
+    }
   }
   if (m_off_widened != SIZE_MAX) {
     // The float32 values (copied above, or the caller's device memory) widened to float64

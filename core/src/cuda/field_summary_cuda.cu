@@ -12,6 +12,7 @@
 #include "cuda/cuda_check.h"
 #include "cuda/gpu_emulation.h"
 #include "cuda/order_key.h"
+#include "field/summary_accumulate.h"
 
 #include <cuda_runtime.h>
 
@@ -34,7 +35,10 @@ struct SummaryArgs {
   const unsigned char* base;
   std::int64_t s[3];
   std::int64_t n[3];
-  std::int64_t nc[3];
+  std::int64_t off[3];  ///< global vertex of the block's (0, 0, 0)
+  std::int64_t gc[3];   ///< macrocells of the global field per axis
+  std::int64_t c0[3];   ///< the first global macrocell of the window below
+  std::int64_t nc[3];   ///< the window of macrocells the block touches (lo, hi, flags are over it)
   std::int64_t edge;
   DType dtype;
   unsigned long long* lo;  ///< per cell, keys
@@ -59,11 +63,15 @@ __global__ void summarise_vertices(SummaryArgs a) {
     const std::int64_t g[3] = {v % a.n[0], (v / a.n[0]) % a.n[1], v / (a.n[0] * a.n[1])};
     double x = detail::load_as_double(a.dtype, a.base + g[0] * a.s[0] + g[1] * a.s[1] + g[2] * a.s[2]);
     x = x == 0.0 ? 0.0 : x;  // zeros as +0.0 (summary_accumulate.h, canonical)
-    // The cells holding the vertex per axis: its own, and the previous one on an inner boundary
+    // The global cells holding the vertex per axis: its own, and the previous one on an inner
+    // boundary (summary_accumulate.h's rule), then as indices into the window
     std::int64_t own[3], prev[3];
     for (int ax = 0; ax < 3; ++ax) {
-      own[ax] = min(g[ax] / a.edge, a.nc[ax] - 1);
-      prev[ax] = g[ax] % a.edge == 0 && g[ax] > 0 && g[ax] / a.edge <= a.nc[ax] - 1 ? g[ax] / a.edge - 1 : own[ax];
+      const std::int64_t G = g[ax] + a.off[ax];
+      own[ax] = min(G / a.edge, a.gc[ax] - 1);
+      prev[ax] = G % a.edge == 0 && G > 0 && G / a.edge <= a.gc[ax] - 1 ? G / a.edge - 1 : own[ax];
+      own[ax] -= a.c0[ax];
+      prev[ax] -= a.c0[ax];
     }
     const bool finite = x - x == 0.0;
     const unsigned int flag = finite ? 0u : (x != x ? 1u : (x > 0.0 ? 2u : 4u));
@@ -91,14 +99,25 @@ __global__ void summarise_vertices(SummaryArgs a) {
 
 namespace tessera {
 
-std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, int edge, void* stream) {
-  using cuda::cuda_check;
-  if (cuda::gpu_emulation()) return FieldSummary::build(field, edge);  // its device memory is host memory
-  cuda::throw_if_disabled();
-  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
-  field.validate("field");
-  if (cuda_memory_kind(field.data) == MemoryKind::Host) return FieldSummary::build(field, edge);
+namespace {
 
+/// The macrocells a block of `dims` at `offset` touches along one axis of `global` vertices:
+/// [first, last] (summary_accumulate.h's rule: its first vertex's previous cell on an inner
+/// boundary, its last vertex's own cell).
+void window(std::int64_t offset, std::int64_t dims, std::int64_t global, int edge, std::int64_t& first,
+            std::int64_t& last) {
+  const std::int64_t cells = summary_detail::cells_along(global, edge);
+  const std::int64_t own = std::min(offset / edge, cells - 1);
+  first = offset % edge == 0 && offset > 0 && offset / edge <= cells - 1 ? offset / edge - 1 : own;
+  last = std::min((offset + dims - 1) / edge, cells - 1);
+}
+
+/// The summary of the device block `field` at `offset` in a field of `global` vertices, folded
+/// into `parts` (the global field's cells): a reduction on the device over the window of
+/// macrocells the block touches, merged on the host.
+void summarise_on_device(FieldSummary::Parts& parts, const FieldView& field, const std::int64_t offset[3],
+                         const std::int64_t global[3], int edge, void* stream) {
+  using cuda::cuda_check;
   // The device that holds the field, after the simulation's queued work
   cudaPointerAttributes attr{};
   cuda_check(cudaPointerGetAttributes(&attr, field.data), "cudaPointerGetAttributes(field)");
@@ -113,12 +132,14 @@ std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, i
   a.base = static_cast<const unsigned char*>(field.data);
   a.edge = edge;
   a.dtype = field.dtype;
-  FieldSummary::Parts parts;
   for (int ax = 0; ax < 3; ++ax) {
     a.s[ax] = field.byte_strides[ax];
     a.n[ax] = field.dims[ax];
-    a.nc[ax] = std::max<std::int64_t>(1, (field.dims[ax] - 1 + edge - 1) / edge);  // summary_accumulate.h cells_along
-    parts.cells[ax] = a.nc[ax];
+    a.off[ax] = offset[ax];
+    a.gc[ax] = parts.cells[ax];
+    std::int64_t last = 0;
+    window(offset[ax], field.dims[ax], global[ax], edge, a.c0[ax], last);
+    a.nc[ax] = last - a.c0[ax] + 1;
   }
   const std::int64_t cells = a.nc[0] * a.nc[1] * a.nc[2];
   const auto ncells = static_cast<std::size_t>(cells);
@@ -144,28 +165,59 @@ std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, i
   cuda_check(cudaDeviceSynchronize(),
              "summarise_vertices (field summary of " + std::to_string(field.vertex_count()) + " vertices)");
 
-  // The parts on the host: keys back to doubles, the finite min / max over the cells
+  // The window on the host: keys back to doubles, merged into the global cells
   std::vector<unsigned long long> lo(ncells), hi(ncells);
   std::vector<unsigned int> flags(ncells);
+  std::uint64_t nan = 0;
   cuda_check(cudaMemcpy(lo.data(), a.lo, ncells * sizeof(unsigned long long), cudaMemcpyDeviceToHost),
              "cudaMemcpy(field summary to the host)");
   cuda_check(cudaMemcpy(hi.data(), a.hi, ncells * sizeof(unsigned long long), cudaMemcpyDeviceToHost),
              "cudaMemcpy(field summary to the host)");
   cuda_check(cudaMemcpy(flags.data(), a.flags, ncells * sizeof(unsigned int), cudaMemcpyDeviceToHost),
              "cudaMemcpy(field summary to the host)");
-  cuda_check(cudaMemcpy(&parts.nan, a.nan, sizeof(unsigned long long), cudaMemcpyDeviceToHost),
+  cuda_check(cudaMemcpy(&nan, a.nan, sizeof(unsigned long long), cudaMemcpyDeviceToHost),
              "cudaMemcpy(field summary to the host)");
-  parts.lo.resize(ncells);
-  parts.hi.resize(ncells);
-  parts.flags.resize(ncells);
-  for (std::size_t c = 0; c < ncells; ++c) {
-    parts.lo[c] = cuda::from_key(lo[c]);
-    parts.hi[c] = cuda::from_key(hi[c]);
-    parts.flags[c] = static_cast<std::uint8_t>(flags[c]);
-    parts.vmin = parts.lo[c] < parts.vmin ? parts.lo[c] : parts.vmin;
-    parts.vmax = parts.vmax < parts.hi[c] ? parts.hi[c] : parts.vmax;
-  }
+  parts.nan += nan;
+  std::size_t w = 0;
+  for (std::int64_t k = 0; k < a.nc[2]; ++k)
+    for (std::int64_t j = 0; j < a.nc[1]; ++j)
+      for (std::int64_t i = 0; i < a.nc[0]; ++i, ++w) {
+        const auto c = static_cast<std::size_t>(((k + a.c0[2]) * parts.cells[1] + j + a.c0[1]) * parts.cells[0] +
+                                                i + a.c0[0]);
+        const double l = cuda::from_key(lo[w]), h = cuda::from_key(hi[w]);
+        parts.lo[c] = l < parts.lo[c] ? l : parts.lo[c];
+        parts.hi[c] = parts.hi[c] < h ? h : parts.hi[c];
+        parts.flags[c] |= static_cast<std::uint8_t>(flags[w]);
+        parts.vmin = l < parts.vmin ? l : parts.vmin;
+        parts.vmax = parts.vmax < h ? h : parts.vmax;
+      }
+}
+
+}  // namespace
+
+std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, int edge, void* stream) {
+  if (cuda::gpu_emulation()) return FieldSummary::build(field, edge);  // its device memory is host memory
+  cuda::throw_if_disabled();
+  if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
+  field.validate("field");
+  if (cuda_memory_kind(field.data) == MemoryKind::Host) return FieldSummary::build(field, edge);
+  const std::int64_t origin[3] = {0, 0, 0};
+  FieldSummary::Parts parts = FieldSummary::partial(FieldView{}, origin, field.dims, edge);  // empty parts
+  summarise_on_device(parts, field, origin, field.dims, edge, stream);
   return FieldSummary::from_parts(std::move(parts), FieldLayout::of(field), edge);
+}
+
+void cuda_field_summary_accumulate(FieldSummary::Parts& parts, const FieldView& block, const std::int64_t offset[3],
+                                   const std::int64_t global_dims[3], int edge, void* stream) {
+  if (cuda::gpu_emulation() || block.data == nullptr)  // an emulated GPU's device memory is host memory
+    return FieldSummary::accumulate(parts, block, offset, global_dims, edge);
+  cuda::throw_if_disabled();
+  summary_detail::check_parts(parts, global_dims, edge);
+  block.validate("block");
+  summary_detail::check_block_inside(block.dims, offset, global_dims);
+  if (cuda_memory_kind(block.data) == MemoryKind::Host)
+    return FieldSummary::accumulate(parts, block, offset, global_dims, edge);
+  summarise_on_device(parts, block, offset, global_dims, edge, stream);
 }
 
 }  // namespace tessera

@@ -229,6 +229,8 @@ void validate_paged(const PagedField& f) {
   require(g.dtype == f.dtype && g.dims[0] == f.dims[0] && g.dims[1] == f.dims[1] && g.dims[2] == f.dims[2],
           "paged field: the brick cache is for a " + std::string(dtype_name(g.dtype)) + " field of " +
               dims_text(g.dims) + ", the field is " + dtype_name(f.dtype) + " " + dims_text(f.dims));
+  require(!f.local_device_only || (f.local_device != nullptr && f.local.data == f.local_device),
+          "paged field: an own block in device memory only needs local.data == local_device");
   if (f.local.data == nullptr) return;  // no own block: every vertex through the cache
   f.local.validate("paged field: own block");
   require(f.local.dtype == f.dtype,
@@ -395,16 +397,23 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shar
     const int edge = majorant_edge(global, scene.integrator);
     require(summary != nullptr, "paged field: no field summary (the combined partial summaries of every block)");
     require_summary_fits(*summary, edge, field.dims, "paged field");
+    // The host's view: the own block read in place, unless it is device memory only (then
+    // its vertices come through the cache like the others)
+    const bool own_on_host = field.local.data != nullptr && !field.local_device_only;
     PagedFieldView view;
     view.dtype = field.dtype;
     view.local = field.local;
+    if (!own_on_host) {
+      view.local = FieldView{};
+      view.local.dtype = field.dtype;
+    }
     const BrickGrid& g = field.cache->grid();
     view.shift = g.shift;
     for (int a = 0; a < 3; ++a) {
       view.dims[a] = field.dims[a];
       view.bricks[a] = g.bricks[a];
-      view.lo[a] = field.local.data ? field.offset[a] : 0;
-      view.hi[a] = field.local.data ? field.offset[a] + field.local.dims[a] : 0;
+      view.lo[a] = own_on_host ? field.offset[a] : 0;
+      view.hi[a] = own_on_host ? field.offset[a] + field.local.dims[a] : 0;
     }
     view.cache = field.cache;
     view.in_place = field.cache->in_place();  // the rank's other own blocks (BrickCache::set_in_place)
@@ -412,6 +421,10 @@ PreparedScene prepare(const PagedField& field, const SceneDesc& scene, std::shar
     PreparedSceneImpl& p = *ps.m_impl;
     p.summary_reused = true;  // never a pass over the values here
     p.paged_local_device = field.local.data ? field.local_device : nullptr;
+    if (field.local.data && field.local_device_only) {
+      p.paged_device_own = field.local;
+      for (int a = 0; a < 3; ++a) p.paged_device_lo[a] = field.offset[a];
+    }
     prepare_from(p, global, scene, std::move(summary), &view);
     return ps;
   });

@@ -44,6 +44,11 @@ struct PreparedSceneImpl {
   KernelScene kernel;
   /// A paged field's own block in GPU memory (PagedField::local_device), or null.
   const void* paged_local_device = nullptr;
+  /// A paged field whose own block is device memory only (PagedField::local_device_only): the
+  /// block as the device reads it (data: its device address) and its global vertex range; the
+  /// host view (`kernel`) has no own block then. dims 0: none.
+  FieldView paged_device_own;
+  std::int64_t paged_device_lo[3] = {0, 0, 0};
   /// The CUDA backend's device copies of what `kernel` points to (cuda/device_scene.h), made
   /// by the first render_tiles_cuda and freed (cudaFree) with this object; null until then and
   /// in a CPU build. Guarded by render_cuda.cpp's lock.

@@ -3,11 +3,16 @@
 
 #include "data/block_layout.h"
 
+#include <tessera/cuda_render.h>
 #include <tessera/render.h>
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
+#include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 
 namespace tessera::insitu {
 namespace {
@@ -28,6 +33,16 @@ void copy_typed(const FieldView& v, unsigned char* dst0, const std::int64_t dims
     }
 }
 
+/// field_range of a block in device memory, computed on its device (a summary of one
+/// macrocell: only its range comes back).
+std::optional<std::pair<double, double>> device_block_range(const FieldBlock& b) {
+  const std::int64_t longest = std::max({b.view.dims[0], b.view.dims[1], b.view.dims[2], std::int64_t{2}});
+  const int edge = static_cast<int>(std::min<std::int64_t>(longest, std::numeric_limits<int>::max()));
+  const std::shared_ptr<const FieldSummary> s = cuda_field_summary(b.view, edge, b.cuda_stream);
+  if (!s->has_finite()) return std::nullopt;
+  return std::pair{s->value_min(), s->value_max()};
+}
+
 }  // namespace
 
 void copy_block(const FieldView& v, void* dst, const std::int64_t dims[3], const std::int64_t offset[3]) {
@@ -44,14 +59,17 @@ FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const 
   // One set of global parts, each block merged in at the cost of its own vertices and cells
   // (not a full-size partial per block: 10^4 small domains stay cheap)
   FieldSummary::Parts parts = FieldSummary::partial(FieldView{}, global, global, edge);  // data null: empty parts
-  for (const FieldBlock& b : blocks) FieldSummary::accumulate(parts, b.view, b.offset, global, edge);
+  for (const FieldBlock& b : blocks) {
+    if (b.on_device) cuda_field_summary_accumulate(parts, b.view, b.offset, global, edge, b.cuda_stream);
+    else FieldSummary::accumulate(parts, b.view, b.offset, global, edge);
+  }
   return parts;
 }
 
 std::optional<std::pair<double, double>> blocks_range(std::span<const FieldBlock> blocks) {
   std::optional<std::pair<double, double>> r;
   for (const FieldBlock& b : blocks)
-    if (const auto br = field_range(b.view)) {
+    if (const auto br = b.on_device ? device_block_range(b) : field_range(b.view)) {
       if (!r) r = br;
       else r = std::pair{std::min(r->first, br->first), std::max(r->second, br->second)};
     }

@@ -25,6 +25,12 @@ struct FieldBlock {
   /// Refinement level (amr.h); offset and view.dims count elements of this level. 0 for a
   /// single-level mesh.
   int level = 0;
+  /// view.data is device memory left where the simulation keeps it (a distributed render on
+  /// the GPU, device_phase.h): the host reads none of it in place, only through the copies
+  /// that name it (cuda_field_summary_accumulate, cuda_copy_box_to_host) after the work queued
+  /// on `cuda_stream` (the simulation's; null: the whole device).
+  bool on_device = false;
+  void* cuda_stream = nullptr;
 };
 
 /// The ranks' fields do not fit together: boxes of real vertices that overlap, leave a gap,

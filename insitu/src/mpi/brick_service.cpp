@@ -6,6 +6,8 @@
 #include "mpi/mpi_check.h"
 #include "mpi/mpi_datatypes.h"
 
+#include <tessera/cuda_memory.h>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -123,9 +125,20 @@ void BrickService::serve(int source, const std::int64_t message[2]) {
     const FieldBlock& mine = m_own[n - m_first_own];
     const FieldView part = sub_view(mine.view, m_boxes[n].offset, lo, hi);
     MPI_Request r = MPI_REQUEST_NULL;
-    check(MPI_Isend(part.data, 1, detail::strided_view_type(part, keep), source, kTagReply + static_cast<int>(id),
-                    m_comm, &r),
-          "MPI_Isend");
+    if (mine.on_device) {
+      // Device memory: the part packed on its device, sent from a host copy (same elements in
+      // the same order as the strided type would send, so the receive's type matches)
+      std::vector<unsigned char>& copy = m_send_copies.emplace_back(box_bytes(lo, hi, mine.view.dtype));
+      cuda_copy_box_to_host(copy.data(), part, mine.cuda_stream);
+      m_traffic.bytes_from_device += copy.size();
+      check(MPI_Isend(copy.data(), static_cast<int>(part.vertex_count()), detail::element_type(mine.view.dtype), source,
+                      kTagReply + static_cast<int>(id), m_comm, &r),
+            "MPI_Isend");
+    } else {
+      check(MPI_Isend(part.data, 1, detail::strided_view_type(part, keep), source, kTagReply + static_cast<int>(id),
+                      m_comm, &r),
+            "MPI_Isend");
+    }
     m_sends.push_back(r);
     m_traffic.bytes_sent += box_bytes(lo, hi, mine.view.dtype);
     ++parts;
@@ -172,8 +185,24 @@ bool BrickService::start_fetch(std::int64_t brick) {
     }
     if (box.owner == m_rank) {
       // The first own block is never read from a slot (PagedFieldView::load reads it in
-      // place); the others are copied here, no message
-      if (n != m_first_own) copy_block(sub_view(m_own[n - m_first_own].view, box.offset, lo, hi), slot, slot_dims, at);
+      // place) unless it is device memory; the others are copied here, no message (a device
+      // block's part packed on its device first)
+      const FieldBlock& mine = m_own[n - m_first_own];
+      if (n == m_first_own && !mine.on_device) continue;
+      const FieldView part = sub_view(mine.view, box.offset, lo, hi);
+      if (!mine.on_device) {
+        copy_block(part, slot, slot_dims, at);
+        continue;
+      }
+      m_part.resize(static_cast<std::size_t>(box_bytes(lo, hi, g.dtype)));
+      cuda_copy_box_to_host(m_part.data(), part, mine.cuda_stream);
+      m_traffic.bytes_from_device += m_part.size();
+      FieldView dense = part;
+      dense.data = m_part.data();
+      dense.byte_strides[0] = static_cast<std::int64_t>(dtype_size(g.dtype));
+      dense.byte_strides[1] = dense.byte_strides[0] * part.dims[0];
+      dense.byte_strides[2] = dense.byte_strides[1] * part.dims[1];
+      copy_block(dense, slot, slot_dims, at);
       continue;
     }
     // The receive is posted before the request leaves, so the reply always has a match
@@ -217,7 +246,10 @@ void BrickService::complete_sends() {
   if (m_sends.empty()) return;
   int done = 0;
   check(MPI_Testall(static_cast<int>(m_sends.size()), m_sends.data(), &done, MPI_STATUSES_IGNORE), "MPI_Testall");
-  if (done) m_sends.clear();
+  if (done) {
+    m_sends.clear();
+    m_send_copies.clear();
+  }
 }
 
 void BrickService::drain() {
@@ -238,6 +270,7 @@ void BrickService::drain() {
   if (!m_sends.empty())
     check(MPI_Waitall(static_cast<int>(m_sends.size()), m_sends.data(), MPI_STATUSES_IGNORE), "MPI_Waitall");
   m_sends.clear();
+  m_send_copies.clear();
 }
 
 }  // namespace tessera::insitu

@@ -4,10 +4,13 @@
 ///
 /// - it serves: another rank's request for brick b is answered with this rank's part of b,
 ///   sent straight from the simulation's array (a derived datatype over its byte strides, no
-///   staging copy);
+///   staging copy); a block in device memory (FieldBlock::on_device) has the part packed on
+///   its device and copied to a host buffer first (cuda_copy_box_to_host), kept until the
+///   send completes;
 /// - it fetches: bricks this rank's workers wanted (BrickCache::take_wanted) get a slot; the
 ///   parts that other ranks own are received straight into the slot (a subarray datatype),
-///   then the brick is published (the part this rank owns is read in place, never from a slot);
+///   then the brick is published (the part in this rank's first block is read in place, never
+///   from a slot, unless that block is device memory: then it is copied from the device too);
 /// - when the cache is full it evicts the older half of it at the next quiescent moment
 ///   (BrickCache::try_flush).
 ///
@@ -42,10 +45,11 @@ struct BlockBox {
 
 /// Traffic of one BrickService (this rank), for reports and benchmarks.
 struct BrickTraffic {
-  std::uint64_t requests_sent = 0;    ///< request messages to owners
-  std::uint64_t requests_served = 0;  ///< requests answered
-  std::uint64_t bytes_received = 0;   ///< field bytes received into slots
-  std::uint64_t bytes_sent = 0;       ///< field bytes sent to other ranks
+  std::uint64_t requests_sent = 0;      ///< request messages to owners
+  std::uint64_t requests_served = 0;    ///< requests answered
+  std::uint64_t bytes_received = 0;     ///< field bytes received into slots
+  std::uint64_t bytes_sent = 0;         ///< field bytes sent to other ranks
+  std::uint64_t bytes_from_device = 0;  ///< bytes of own device blocks copied to the host (sent or slotted)
 };
 
 class BrickService {
@@ -104,6 +108,9 @@ class BrickService {
   std::deque<std::int64_t> m_pending;  ///< taken from the cache, not yet started
   std::vector<std::int64_t> m_taken;   ///< scratch for take_wanted
   std::vector<MPI_Request> m_sends;    ///< replies in flight
+  /// The host copies of device parts that replies in flight send (freed with m_sends)
+  std::vector<std::vector<unsigned char>> m_send_copies;
+  std::vector<unsigned char> m_part;  ///< scratch: a device part copied for a slot
   BrickTraffic m_traffic;
 };
 

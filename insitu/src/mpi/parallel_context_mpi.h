@@ -130,6 +130,7 @@ class MpiParallelContext final : public ParallelContext {
                             const std::int64_t vdims[3], DType dtype, int shift, std::size_t capacity) override;
   void reduce_parts(FieldSummary::Parts& parts) override;
   void serve_while(const std::function<void()>& fn) override;
+  std::uint64_t paged_bytes_from_device() const override { return m_report.bricks.bytes_from_device; }
   void render(const PreparedScene& scene, Film& film, RenderStats& stats) override;
   /// This rank's bytes moved by the last assemble() + render() (see MpiRenderReport; sum
   /// over ranks for the total). Not collective.

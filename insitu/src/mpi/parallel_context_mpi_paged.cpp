@@ -107,6 +107,7 @@ PagedField MpiParallelContext::distribute_records(std::span<const FieldBlock> bl
   std::vector<InPlaceBlock> others;
   others.reserve(m_paged_blocks.empty() ? 0 : m_paged_blocks.size() - 1);
   for (std::size_t d = 1; d < m_paged_blocks.size(); ++d) {
+    if (m_paged_blocks[d].on_device) continue;  // device memory: its bricks through slots
     InPlaceBlock& b = others.emplace_back();
     b.view = m_paged_blocks[d].view;
     for (int a = 0; a < 3; ++a) b.offset[a] = m_paged_blocks[d].offset[a];
@@ -124,6 +125,10 @@ PagedField MpiParallelContext::distribute_records(std::span<const FieldBlock> bl
   if (!m_paged_blocks.empty()) {
     f.local = m_paged_blocks[0].view;
     for (int a = 0; a < 3; ++a) f.offset[a] = m_paged_blocks[0].offset[a];
+    if (m_paged_blocks[0].on_device) {  // a GPU reads it in place, the host through the cache
+      f.local_device = f.local.data;
+      f.local_device_only = true;
+    }
   }
   f.cache = m_cache.get();
   return f;

@@ -191,6 +191,9 @@ class ParallelContext {
   /// returned on every rank. Collective. Rethrows fn's exception after that. With no
   /// distribute() in effect (replicated mode) it just calls fn.
   virtual void serve_while(const std::function<void()>& fn) = 0;
+  /// The bytes of this rank's device blocks (FieldBlock::on_device) copied to the host by the
+  /// distribution in effect so far (other ranks' bricks, the cache's slots); 0 without one.
+  virtual std::uint64_t paged_bytes_from_device() const { return 0; }
 
   /// Render every tile of `scene` across the ranks (tiles handed out dynamically) into `film`;
   /// afterwards rank 0's film holds the complete image, others hold only their tiles. `stats`

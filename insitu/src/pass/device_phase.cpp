@@ -63,9 +63,39 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
     field.device.in_place = sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
                             !field.magnitude && field.staged.empty() && where.gpu_readable;
     if (field.device.in_place || !where.on_device()) return;
+    // Several ranks on the GPU over a plain field: a distributed render reads the device
+    // blocks where they are (summaries, other ranks' bricks and the cache's fills copied from
+    // the device as they are asked for), so the staging waits for the plan
+    field.device.deferred =
+        sel.device == Device::Cuda && pass.ctx.size() > 1 && !field.amr && !field.magnitude && field.staged.empty();
+    if (field.device.deferred) {
+      field.device.where = where;
+      for (std::size_t i = 0; i < b.blocks.size(); ++i) {
+        b.blocks[i].on_device = where.device[i] != 0;
+        b.blocks[i].cuda_stream = pass.call.cuda_stream;
+      }
+      return;
+    }
     const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
     stage_blocks_to_host(b, where, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
   });
+}
+
+bool stage_deferred(PhaseGate& gate, const PassContext& pass, BoundField& field, RenderResult& result) {
+  // Only ranks on the GPU defer, and the ranks agreed on one device kind: every rank of such
+  // a render takes part in the gate, whether it deferred or not
+  if (field.device.selection.device != Device::Cuda || pass.ctx.size() == 1) return true;
+  const std::uint64_t before = field.device.staging.bytes;
+  const bool staged = gate.run(TESSERA_ERROR_RENDER, [&] {
+    if (!field.device.deferred) return;
+    field.device.deferred = false;
+    FieldBinding& b = field.binding;
+    for (FieldBlock& blk : b.blocks) blk.on_device = false;
+    const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, std::max(1, pass.ctx.ranks_on_node()));
+    stage_blocks_to_host(b, field.device.where, field.device.staging, pass.call.cuda_stream, limit.bytes, limit.text);
+  });
+  result.stats.bytes_to_host += field.device.staging.bytes - before;
+  return staged;
 }
 
 std::optional<config::DeviceSelection> mesh_device_phase(PhaseGate& gate, const PassContext& pass, bool gpu_readable) {

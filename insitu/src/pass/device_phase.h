@@ -20,6 +20,13 @@ namespace tessera::insitu {
 /// ranks agreed on a failure (the gate's outcome holds it).
 bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field);
 
+/// The staging device_phase deferred (FieldDevice::deferred) for a render that is not
+/// distributed after all: the device blocks copied to the host as device_phase would have,
+/// their bytes added to `result`. Collective (a gate) for a render on the GPU on several
+/// ranks (whether this rank deferred or not), nothing otherwise; false when the ranks agreed
+/// on a failure.
+bool stage_deferred(PhaseGate& gate, const PassContext& pass, BoundField& field, RenderResult& result);
+
 /// The device of a render over curvilinear or unstructured domains, `gpu_readable` when some
 /// of this rank's arrays were device or managed memory: `auto` renders on the GPU then, `cuda`
 /// always. The mesh's elements are checked and its tables built on the host (device arrays

@@ -11,6 +11,11 @@ struct FieldDevice {
   config::DeviceSelection selection;  ///< the render's device
   bool in_place = false;              ///< the GPU reads the simulation's device memory itself
   HostStaging staging;                ///< device blocks copied to the host for this render
+  /// Several ranks on the GPU over a plain field with device blocks: the staging waits for the
+  /// plan (stage_deferred): a distributed render reads those blocks where they are
+  /// (FieldBlock::on_device), a replicated one stages them then.
+  bool deferred = false;
+  BlocksMemory where;  ///< the blocks' memory, asked in the device phase (deferred: for the staging)
 };
 
 }  // namespace tessera::insitu

@@ -61,9 +61,11 @@ std::optional<PlacedField> assemble_phase(PhaseGate& gate, const PassContext& pa
           call.assembled_key.reset();  // distribute() frees the replica
           placed.paged = ctx.distribute_blocks(b.blocks, b.placement.global_dims, b.local.dtype, placed.plan.shift,
                                                placed.plan.capacity);
-          // A GPU render reads the own block where the simulation keeps it (a staged copy
-          // serves the host side: checks, other ranks' requests)
-          placed.paged.local_device = field.device.staging.device_original(placed.paged.local.data);
+          // A GPU render reads the own block where the simulation keeps it (left there on
+          // several ranks' GPUs, FieldBlock::on_device; else a staged copy serves the host
+          // side: checks, other ranks' requests)
+          if (!placed.paged.local_device_only)
+            placed.paged.local_device = field.device.staging.device_original(placed.paged.local.data);
         } else if (field.amr) {
           if (call.assembled_key != key) {
             call.assembled_key.reset();

@@ -68,6 +68,7 @@ PassOutcome run(const PassContext& pass, bool check_when, bool quiet) {
 
   std::optional<FieldPlan> plan = plan_phase(gate, pass, *field, quiet);
   if (!plan) return out;
+  if (!plan->distributed && !stage_deferred(gate, pass, *field, out.result)) return out;
   std::optional<PlacedField> placed = assemble_phase(gate, pass, *field, std::move(*plan));
   if (!placed) return out;
   const std::optional<SceneSetup> setup = scene_phase(gate, pass, *field, range);
@@ -77,6 +78,7 @@ PassOutcome run(const PassContext& pass, bool check_when, bool quiet) {
   std::optional<Image> img = render_phase(gate, pass, *prepared, out.result);
   if (!img || !write_phase(gate, pass, setup->scene, std::move(*img), out.result)) return out;
   if (pass.spec.output.cinema && !cinema_phase(gate, pass, *field, *placed, *setup, out.result)) return out;
+  if (placed->plan.distributed) out.result.stats.bytes_to_host += pass.ctx.paged_bytes_from_device();
   finish(pass, *prepared, placed->plan, setup->views.size(), quiet, out);
   return out;
 }

@@ -1,0 +1,64 @@
+/// cuda_copy_box_to_host (cuda_memory.h) in a CUDA build: a device box is packed on the device
+/// that holds it (one thread per element, any byte strides) and only its elements are copied.
+#include <tessera/cuda_memory.h>
+#include <tessera/cuda_render.h>
+
+#include "cuda/box_gather.h"
+#include "cuda/cuda_backend.h"
+#include "cuda/cuda_check.h"
+#include "cuda/gpu_emulation.h"
+
+#include <cuda_runtime.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+
+namespace tessera::cuda {
+namespace {
+
+__global__ void pack_box(const unsigned char* src, std::int64_t nx, std::int64_t ny, std::int64_t n, std::int64_t sx,
+                         std::int64_t sy, std::int64_t sz, std::int64_t e, unsigned char* dst) {
+  for (std::int64_t q = blockIdx.x * static_cast<std::int64_t>(blockDim.x) + threadIdx.x; q < n;
+       q += static_cast<std::int64_t>(gridDim.x) * blockDim.x) {
+    const std::int64_t i = q % nx, j = (q / nx) % ny, k = q / (nx * ny);
+    const unsigned char* from = src + i * sx + j * sy + k * sz;
+    for (std::int64_t b = 0; b < e; ++b) dst[q * e + b] = from[b];
+  }
+}
+
+}  // namespace
+}  // namespace tessera::cuda
+
+namespace tessera {
+
+void cuda_copy_box_to_host(void* dst, const FieldView& box, void* stream) {
+  using cuda::cuda_check;
+  box.validate("box");
+  if (cuda::gpu_emulation()) return cuda::gather_box(dst, box);  // its device memory is host memory
+  cuda::throw_if_disabled();
+  const auto s = static_cast<cudaStream_t>(stream);
+  const MemoryKind kind = cuda_memory_kind(box.data);
+  if (kind == MemoryKind::Host) return cuda::gather_box(dst, box);
+  cudaPointerAttributes attr{};
+  cuda_check(cudaPointerGetAttributes(&attr, box.data), "cudaPointerGetAttributes(box)");
+  const cuda::DeviceGuard guard(attr.device >= 0 ? attr.device : 0);
+  if (s) cuda_check(cudaStreamSynchronize(s), "cudaStreamSynchronize(the simulation's stream)");
+  else cuda_check(cudaDeviceSynchronize(), "cudaDeviceSynchronize");
+  if (kind == MemoryKind::Managed) return cuda::gather_box(dst, box);  // readable on the host now
+  const std::int64_t n = box.vertex_count();
+  const auto e = static_cast<std::int64_t>(dtype_size(box.dtype));
+  const auto bytes = static_cast<std::size_t>(n * e);
+  cuda::BackendBuffer packed(*cuda::cuda_backend(attr.device >= 0 ? attr.device : 0));
+  packed.allocate(bytes, "a device box packed for the host");
+  const auto blocks = static_cast<unsigned>(std::clamp<std::int64_t>((n + 255) / 256, 1, 65535));
+  cuda::pack_box<<<blocks, 256>>>(static_cast<const unsigned char*>(box.data), box.dims[0], box.dims[1], n,
+                                  box.byte_strides[0], box.byte_strides[1], box.byte_strides[2], e,
+                                  packed.as<unsigned char>());
+  cuda_check(cudaGetLastError(), "launch of pack_box (" + std::to_string(n) + " elements)");
+  cuda_check(cudaDeviceSynchronize(), "pack_box (a device box packed for the host)");
+  cuda_check(cudaMemcpy(dst, packed.get(), bytes, cudaMemcpyDeviceToHost),
+             "cudaMemcpy(" + std::to_string(bytes) + " bytes of a device box to the host)");
+}
+
+}  // namespace tessera
