@@ -421,3 +421,45 @@ TEST_CASE("device: cuda in distributed mode renders the replicated GPU image bit
   }
   tessera::cuda::emulated_forget_device_memory(*tessera::cuda::gpu_emulation(), on_device.data());
 }
+
+TEST_CASE("device: cuda in distributed mode: a device slab that cannot be copied fails every rank, none hangs",
+          "[mpi][gpu][paged]") {
+  // The last rank's slab stays in (emulated) device memory; its copies out fail (as from an
+  // array freed under the render) first in the summary's reduction, then in the bricks the
+  // other ranks and its own cache ask for: every rank fails the call (the failing rank
+  // names the copy), no rank waits for a reply or a collective that never comes, and the
+  // next call, with the copies working, renders the replicated image bit for bit
+  if (world_size() < 2) return;
+  SharedTempDir dir("tessera_device_");
+  std::vector<float> on_device = BlobSlab().values;
+  const void* slab = on_device.data();
+  const std::size_t bytes = on_device.size() * sizeof(float);
+  const bool faulty_rank = world_rank() == world_size() - 1;
+  std::string failing;  // the copy that fails: "" none
+  tessera::cuda::EmulatedDevice d;
+  d.copy_out_fault = [&](const void* src, const std::string& what) {
+    const auto* p = static_cast<const unsigned char*>(src);
+    const auto* b = static_cast<const unsigned char*>(slab);
+    return faulty_rank && what == failing && p >= b && p < b + bytes;
+  };
+  const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend(d));
+  tessera::cuda::emulated_declare_device_memory(*tessera::cuda::gpu_emulation(), slab, bytes);
+  const Run replicated = run(dir, "replicated", "cuda", nullptr, "replicated");
+  for (const char* what : {"cuda_field_summary_accumulate", "cuda_copy_box_to_host"}) {
+    failing = what;
+    const Run broken = run(dir, std::string("broken_") + what, "cuda", slab, "distributed");
+    INFO(what << ": " << broken.error);
+    CHECK(all_ranks(broken.status != TESSERA_OK));
+    if (faulty_rank) CHECK(broken.error.find(what) != std::string::npos);
+  }
+  failing.clear();
+  const Run fixed = run(dir, "fixed", "cuda", slab, "distributed");
+  INFO(fixed.error);
+  CHECK(all_ranks(fixed.status == TESSERA_OK));
+  if (world_rank() == 0) {
+    REQUIRE(replicated.image);
+    REQUIRE(fixed.image);
+    CHECK(replicated.image->rgba == fixed.image->rgba);
+  }
+  tessera::cuda::emulated_forget_device_memory(*tessera::cuda::gpu_emulation(), slab);
+}

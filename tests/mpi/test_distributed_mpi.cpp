@@ -13,6 +13,7 @@
 #include "mpi_render_support.h"
 #include "mpi_test_support.h"
 
+#include <tessera/byte_span.h>
 #include <tessera/render.h>
 
 #include <catch2/catch.hpp>
@@ -366,7 +367,7 @@ TEST_CASE("own domains in device memory are read through copies of their bricks 
   const Layout layouts[3] = {Layout::MirroredJ, Layout::StructMember, Layout::FortranPadded};
   for (int n : sizes_up_to_world()) {
     if (n < 2) continue;
-    for (const int shift : {1, 2}) {
+    for (const int shift : {1, 2, 3}) {
       FirstRanks sub(n);
       bool ok = true;
       std::string what;
@@ -379,8 +380,14 @@ TEST_CASE("own domains in device memory are read through copies of their bricks 
         for (int a = 0; a < 3; ++a) dims_only.dims[a] = kGlobal[a];
         const int edge = tessera::majorant_edge(dims_only, scene.integrator);
         const tessera::BrickGrid g = tessera::BrickGrid::make(kGlobal.data(), DType::Float32, shift);
-        // A cache of a quarter of the bricks: evictions refetch own device bricks too
-        const auto capacity = static_cast<std::size_t>(std::max<std::int64_t>(8, g.brick_count() / 4));
+        // A cache of a quarter of the bricks (evictions refetch own device bricks too), or with
+        // the largest bricks of every brick: then each device part is copied once at most, and
+        // the bytes copied stay within the device blocks'
+        const bool all = shift == 3;
+        const auto capacity =
+            static_cast<std::size_t>(all ? g.brick_count() : std::max<std::int64_t>(8, g.brick_count() / 4));
+        const std::uint64_t device_bytes =
+            tessera::byte_span(blocks[0].view).bytes() + tessera::byte_span(blocks[2].view).bytes();
         const tessera::PagedField paged =
             ctx.distribute_blocks(blocks, kGlobal.data(), DType::Float32, shift, capacity);
         const auto summary = ctx.summarize_blocks(blocks, kGlobal.data(), DType::Float32, edge);
@@ -405,6 +412,11 @@ TEST_CASE("own domains in device memory are read through copies of their bricks 
         if (ctx.rank() == 0 && !same_counters(stats, ref_stats)) ok = false, what += " counters";
         if (ctx.report().bricks.bytes_from_device == 0) ok = false, what += " nothing copied from the device";
         if (ctx.paged_bytes_from_device() != ctx.report().bricks.bytes_from_device) ok = false, what += " bytes";
+        if (all && ctx.report().bricks.bytes_from_device > device_bytes)
+          ok = false, what += " " + std::to_string(ctx.report().bricks.bytes_from_device) +
+                              " bytes copied, the device "
+                              "blocks hold " +
+                              std::to_string(device_bytes);
       }
       INFO("ranks " << n << ", shift " << shift << ":" << what);
       REQUIRE(all_ranks(ok));

@@ -6,6 +6,7 @@
 #include "cuda/box_gather.h"
 #include "cuda/cuda_backend.h"
 #include "cuda/cuda_check.h"
+#include "cuda/emulated_device.h"
 #include "cuda/gpu_emulation.h"
 
 #include <cuda_runtime.h>
@@ -35,7 +36,10 @@ namespace tessera {
 void cuda_copy_box_to_host(void* dst, const FieldView& box, void* stream) {
   using cuda::cuda_check;
   box.validate("box");
-  if (cuda::gpu_emulation()) return cuda::gather_box(dst, box);  // its device memory is host memory
+  if (const auto e = cuda::gpu_emulation()) {  // its device memory is host memory
+    cuda::emulated_copy_out(*e, box.data, "cuda_copy_box_to_host");
+    return cuda::gather_box(dst, box);
+  }
   cuda::throw_if_disabled();
   const auto s = static_cast<cudaStream_t>(stream);
   const MemoryKind kind = cuda_memory_kind(box.data);

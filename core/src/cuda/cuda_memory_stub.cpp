@@ -3,6 +3,7 @@
 #include <tessera/cuda_memory.h>
 
 #include "cuda/box_gather.h"
+#include "cuda/emulated_device.h"
 #include "cuda/gpu_emulation.h"
 
 #include <cstring>
@@ -21,6 +22,7 @@ void cuda_copy_to_host(void* dst, const void* src, std::size_t bytes, void*) {
 void cuda_copy_box_to_host(void* dst, const FieldView& box, void*) {
   // Without CUDA every pointer the process can read is host memory (an emulated GPU's too)
   box.validate("box");
+  if (const auto e = cuda::gpu_emulation()) cuda::emulated_copy_out(*e, box.data, "cuda_copy_box_to_host");
   cuda::gather_box(dst, box);
 }
 

@@ -4,6 +4,8 @@
 /// a GPU is installed (tests: gpu_emulation.h) the entries use it instead.
 #include <tessera/cuda_render.h>
 
+#include "cuda/emulated_device.h"
+
 #include "cuda/gpu_emulation.h"
 #include "cuda/mesh_device.h"
 
@@ -39,11 +41,13 @@ void render_tiles_cuda(const PreparedScene& scene, std::span<const int> tile_ind
 
 std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, int edge, void*) {
   // Without CUDA every pointer the process can read is host memory (an emulated GPU's too)
+  if (const auto e = cuda::gpu_emulation()) cuda::emulated_copy_out(*e, field.data, "cuda_field_summary");
   return FieldSummary::build(field, edge);
 }
 
 void cuda_field_summary_accumulate(FieldSummary::Parts& parts, const FieldView& block, const std::int64_t offset[3],
                                    const std::int64_t global_dims[3], int edge, void*) {
+  if (const auto e = cuda::gpu_emulation()) cuda::emulated_copy_out(*e, block.data, "cuda_field_summary_accumulate");
   FieldSummary::accumulate(parts, block, offset, global_dims, edge);  // host memory, as above
 }
 

@@ -137,6 +137,10 @@ class EmulatedBackend final : public DeviceBackend {
     const std::lock_guard lock(m_mutex);
     m_d.device_ranges.emplace_back(p, bytes);
   }
+  void copy_out(const void* src, const char* what) const {
+    if (m_d.copy_out_fault && m_d.copy_out_fault(src, what))
+      throw std::runtime_error(std::string(what) + ": an illegal memory access (emulated copy fault)");
+  }
   void forget(const void* p) {
     const std::lock_guard lock(m_mutex);
     std::erase_if(m_d.device_ranges, [&](const auto& r) { return r.first == p; });
@@ -180,6 +184,10 @@ void emulated_declare_device_memory(DeviceBackend& b, const void* p, std::size_t
 
 void emulated_forget_device_memory(DeviceBackend& b, const void* p) {
   emulated(b, "emulated_forget_device_memory").forget(p);
+}
+
+void emulated_copy_out(const DeviceBackend& b, const void* src, const char* what) {
+  emulated(b, "emulated_copy_out").copy_out(src, what);
 }
 
 }  // namespace tessera::cuda

@@ -35,6 +35,11 @@ struct EmulatedDevice {
   /// Called after each slice the backend runs, with the count of slices so far (a test's hook:
   /// e.g. to wait out a deadline at a chosen point of a render). Null: nothing.
   std::function<void(std::int64_t slices)> after_slice;
+  /// Called before a copy out of device memory reads `src` (`what`: cuda_copy_box_to_host,
+  /// or the device summaries' cuda_field_summary and cuda_field_summary_accumulate); true: the
+  /// copy fails with a std::runtime_error, as a CUDA copy from a freed array would (a test's
+  /// hook). Null: nothing fails.
+  std::function<bool(const void* src, const std::string& what)> copy_out_fault;
 };
 
 /// A backend emulating `d`. A prepared scene's device copies are kept per backend object, so
@@ -48,5 +53,9 @@ std::size_t emulated_bytes_held(const DeviceBackend& b);
 /// cudaMalloc'd array would be, until forgotten (by its start p). Thread-safe.
 void emulated_declare_device_memory(DeviceBackend& b, const void* p, std::size_t bytes);
 void emulated_forget_device_memory(DeviceBackend& b, const void* p);
+
+/// Throws std::runtime_error naming `what` when emulated backend `b`'s copy_out_fault says a
+/// copy out of device memory from `src` fails.
+void emulated_copy_out(const DeviceBackend& b, const void* src, const char* what);
 
 }  // namespace tessera::cuda

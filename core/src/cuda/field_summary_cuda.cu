@@ -10,6 +10,7 @@
 
 #include "cuda/cuda_backend.h"
 #include "cuda/cuda_check.h"
+#include "cuda/emulated_device.h"
 #include "cuda/gpu_emulation.h"
 #include "cuda/order_key.h"
 #include "field/summary_accumulate.h"
@@ -196,7 +197,10 @@ void summarise_on_device(FieldSummary::Parts& parts, const FieldView& field, con
 }  // namespace
 
 std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, int edge, void* stream) {
-  if (cuda::gpu_emulation()) return FieldSummary::build(field, edge);  // its device memory is host memory
+  if (const auto e = cuda::gpu_emulation()) {  // its device memory is host memory
+    cuda::emulated_copy_out(*e, field.data, "cuda_field_summary");
+    return FieldSummary::build(field, edge);
+  }
   cuda::throw_if_disabled();
   if (edge < 1) throw std::invalid_argument("macrocell edge must be >= 1, got " + std::to_string(edge));
   field.validate("field");
@@ -209,8 +213,10 @@ std::shared_ptr<const FieldSummary> cuda_field_summary(const FieldView& field, i
 
 void cuda_field_summary_accumulate(FieldSummary::Parts& parts, const FieldView& block, const std::int64_t offset[3],
                                    const std::int64_t global_dims[3], int edge, void* stream) {
-  if (cuda::gpu_emulation() || block.data == nullptr)  // an emulated GPU's device memory is host memory
+  if (const auto e = cuda::gpu_emulation(); e || block.data == nullptr) {  // an emulated GPU's: host memory
+    if (e) cuda::emulated_copy_out(*e, block.data, "cuda_field_summary_accumulate");
     return FieldSummary::accumulate(parts, block, offset, global_dims, edge);
+  }
   cuda::throw_if_disabled();
   summary_detail::check_parts(parts, global_dims, edge);
   block.validate("block");

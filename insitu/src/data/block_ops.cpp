@@ -59,11 +59,16 @@ FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const 
   // One set of global parts, each block merged in at the cost of its own vertices and cells
   // (not a full-size partial per block: 10^4 small domains stay cheap)
   FieldSummary::Parts parts = FieldSummary::partial(FieldView{}, global, global, edge);  // data null: empty parts
+  accumulate_blocks(parts, blocks, global, edge);
+  return parts;
+}
+
+void accumulate_blocks(FieldSummary::Parts& parts, std::span<const FieldBlock> blocks, const std::int64_t global[3],
+                       int edge) {
   for (const FieldBlock& b : blocks) {
     if (b.on_device) cuda_field_summary_accumulate(parts, b.view, b.offset, global, edge, b.cuda_stream);
     else FieldSummary::accumulate(parts, b.view, b.offset, global, edge);
   }
-  return parts;
 }
 
 std::optional<std::pair<double, double>> blocks_range(std::span<const FieldBlock> blocks) {

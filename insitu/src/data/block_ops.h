@@ -23,6 +23,10 @@ void copy_block(const FieldView& v, void* dst, const std::int64_t dims[3], const
 /// The combined partial summaries (FieldSummary::partial) of `blocks` in a field of `global`
 /// elements: empty parts (of the right cell count) for no block. Exact in any order.
 FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3], int edge);
+/// Merges `blocks` into `parts` (of a field of `global` elements with `edge`), device blocks
+/// (FieldBlock::on_device) summarised on their device.
+void accumulate_blocks(FieldSummary::Parts& parts, std::span<const FieldBlock> blocks, const std::int64_t global[3],
+                       int edge);
 
 /// Finite min/max over the blocks' values (field_range of each); nullopt when none is finite.
 std::optional<std::pair<double, double>> blocks_range(std::span<const FieldBlock> blocks);

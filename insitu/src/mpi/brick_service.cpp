@@ -9,9 +9,12 @@
 #include <tessera/cuda_memory.h>
 
 #include <algorithm>
+#include <cstring>
+#include <exception>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace tessera::insitu {
 namespace {
@@ -50,7 +53,13 @@ std::uint64_t box_bytes(const std::int64_t lo[3], const std::int64_t hi[3], DTyp
 
 BrickService::BrickService(MPI_Comm comm, int rank, const std::vector<BlockBox>& boxes,
                            const std::vector<FieldBlock>& own, BrickCache& cache)
-    : m_comm(comm), m_rank(rank), m_boxes(boxes), m_own(own), m_cache(cache), m_fetches(kMaxInFlight) {
+    : m_comm(comm),
+      m_rank(rank),
+      m_boxes(boxes),
+      m_own(own),
+      m_cache(cache),
+      m_fetches(kMaxInFlight),
+      m_parts_cap(cache.allocated_bytes()) {
   while (m_first_own < m_boxes.size() && m_boxes[m_first_own].owner < m_rank) ++m_first_own;
   // The blocks each brick touches: counted, then filled (CSR), in block order
   const BrickGrid& g = m_cache.grid();
@@ -128,10 +137,8 @@ void BrickService::serve(int source, const std::int64_t message[2]) {
     if (mine.on_device) {
       // Device memory: the part packed on its device, sent from a host copy (same elements in
       // the same order as the strided type would send, so the receive's type matches)
-      std::vector<unsigned char>& copy = m_send_copies.emplace_back(box_bytes(lo, hi, mine.view.dtype));
-      cuda_copy_box_to_host(copy.data(), part, mine.cuda_stream);
-      m_traffic.bytes_from_device += copy.size();
-      check(MPI_Isend(copy.data(), static_cast<int>(part.vertex_count()), detail::element_type(mine.view.dtype), source,
+      const unsigned char* copy = device_part(brick, n, part, m_send_copies.emplace_back());
+      check(MPI_Isend(copy, static_cast<int>(part.vertex_count()), detail::element_type(mine.view.dtype), source,
                       kTagReply + static_cast<int>(id), m_comm, &r),
             "MPI_Isend");
     } else {
@@ -194,11 +201,8 @@ bool BrickService::start_fetch(std::int64_t brick) {
         copy_block(part, slot, slot_dims, at);
         continue;
       }
-      m_part.resize(static_cast<std::size_t>(box_bytes(lo, hi, g.dtype)));
-      cuda_copy_box_to_host(m_part.data(), part, mine.cuda_stream);
-      m_traffic.bytes_from_device += m_part.size();
       FieldView dense = part;
-      dense.data = m_part.data();
+      dense.data = device_part(brick, n, part, m_part);
       dense.byte_strides[0] = static_cast<std::int64_t>(dtype_size(g.dtype));
       dense.byte_strides[1] = dense.byte_strides[0] * part.dims[0];
       dense.byte_strides[2] = dense.byte_strides[1] * part.dims[1];
@@ -239,6 +243,33 @@ void BrickService::complete_fetches() {
     m_cache.publish(f.brick);
     f.brick = -1;
     --m_in_flight;
+  }
+}
+
+const unsigned char* BrickService::device_part(std::int64_t brick, std::size_t n, const FieldView& part,
+                                               std::vector<unsigned char>& spare) {
+  const std::pair<std::int64_t, std::size_t> key{brick, n};
+  if (const auto it = m_parts.find(key); it != m_parts.end()) return it->second.data();
+  const std::size_t bytes = static_cast<std::size_t>(part.vertex_count()) * dtype_size(part.dtype);
+  std::vector<unsigned char>* into = &spare;
+  if (m_parts_bytes + bytes <= m_parts_cap) {
+    into = &m_parts[key];
+    m_parts_bytes += bytes;
+  }
+  into->resize(bytes);
+  copy_device_part(into->data(), bytes, m_own[n - m_first_own], part);
+  return into->data();
+}
+
+void BrickService::copy_device_part(unsigned char* dst, std::size_t bytes, const FieldBlock& block,
+                                    const FieldView& part) {
+  try {
+    cuda_copy_box_to_host(dst, part, block.cuda_stream);
+    m_traffic.bytes_from_device += bytes;
+  } catch (const std::exception& e) {
+    std::memset(dst, 0, bytes);
+    const std::string where = block.domain >= 0 ? "domain " + std::to_string(block.domain) : "the field";
+    m_cache.fail("copying a brick of this rank's " + where + " from device memory failed: " + e.what());
   }
 }
 

@@ -32,6 +32,8 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <map>
+#include <utility>
 #include <vector>
 
 namespace tessera::insitu {
@@ -94,6 +96,17 @@ class BrickService {
   bool start_fetch(std::int64_t brick);
   void complete_fetches();
   void complete_sends();
+  /// cuda_copy_box_to_host of `part` (of `block`, device memory) into `dst` (`bytes`), counted.
+  /// A failure (a CUDA error: the array freed, the GPU disabled) leaves zeros and fails this
+  /// rank's cache naming it: the replies and fills still flow as the other ranks expect, and
+  /// this rank's render fails once every rank is done (no rank waits for a reply that never
+  /// comes).
+  void copy_device_part(unsigned char* dst, std::size_t bytes, const FieldBlock& block, const FieldView& part);
+  /// The elements of `part` (brick `brick`'s part in m_boxes[n], one of this rank's device
+  /// blocks) on the host, densely: copied once per service (this call's values) and kept while
+  /// the kept parts stay within m_parts_cap, else copied into `spare` each time.
+  const unsigned char* device_part(std::int64_t brick, std::size_t n, const FieldView& part,
+                                   std::vector<unsigned char>& spare);
 
   MPI_Comm m_comm;
   int m_rank;
@@ -111,6 +124,13 @@ class BrickService {
   /// The host copies of device parts that replies in flight send (freed with m_sends)
   std::vector<std::vector<unsigned char>> m_send_copies;
   std::vector<unsigned char> m_part;  ///< scratch: a device part copied for a slot
+  /// Device parts copied to the host, by (brick, block), kept for the call: a part asked for
+  /// again (by another rank, or after an eviction) is not copied again. At most m_parts_cap
+  /// bytes (the brick cache's own size, which the plan fitted in memory_limit_mb; never more
+  /// than the device blocks themselves, which the staging copied whole).
+  std::map<std::pair<std::int64_t, std::size_t>, std::vector<unsigned char>> m_parts;
+  std::uint64_t m_parts_bytes = 0;
+  std::uint64_t m_parts_cap = 0;
   BrickTraffic m_traffic;
 };
 

@@ -45,8 +45,18 @@ std::shared_ptr<const FieldSummary> MpiParallelContext::summarize_blocks(std::sp
   if (!blocks.empty()) primary = blocks[0].view;
   if (m_size == 1) return summarize_one_rank(blocks, global, dtype, edge);  // no MPI call
   check_boxes(blocks, global, dtype);
-  FieldSummary::Parts parts = partial_of_blocks(blocks, global, edge);
+  // A rank whose blocks cannot be read (a device block's summary failing) still takes part in
+  // the reduction, then fails (its caller's gate agrees on the failure): no rank is left
+  // waiting in the collective
+  FieldSummary::Parts parts = partial_of_blocks({}, global, edge);  // empty parts
+  std::exception_ptr error;
+  try {
+    accumulate_blocks(parts, blocks, global, edge);
+  } catch (...) {
+    error = std::current_exception();
+  }
   reduce_parts(parts);  // exact in any order: min / max / or / sum (field_summary.h)
+  if (error) std::rethrow_exception(error);
   return FieldSummary::from_parts(std::move(parts), FieldLayout::of(primary), edge);
 }
 

@@ -13,6 +13,7 @@
 #include <tessera/amr.h>
 #include <tessera/brick_cache.h>
 
+#include <memory>
 #include <optional>
 
 namespace tessera::insitu {
@@ -22,6 +23,9 @@ struct PlacedField {
   FieldPlan plan;                   ///< replicated or distributed, and the cache's size
   PagedField paged;                 ///< distributed mode: this rank's blocks and the brick cache
   AmrVirtualLayout virtual_layout;  ///< distributed mode with levels: the virtual grid of the patches
+  /// Distributed mode, one level: the global summary (kept, or reduced from every rank's
+  /// blocks in a phase of its own, before the prepare that serves bricks)
+  std::shared_ptr<const FieldSummary> summary;
 };
 
 /// The plan phase (rank 0 logs the mode when it changes, unless `quiet`). Nothing when the

@@ -58,15 +58,9 @@ PreparedScene prepare_scene(const PassContext& pass, const BoundField& field, Pl
       }
       ctx.serve_while([&] { prepared = prepare(amr, scene, summary); });
     } else if (placed.plan.distributed) {
-      // The global summary from every rank's block (collective), unless one was kept; the
-      // adaptive preview in prepare reads the field, so it runs while the ranks serve bricks
-      const FieldBinding& b = field.binding;
-      FieldView global = b.local;
-      for (int a = 0; a < 3; ++a) global.dims[a] = b.placement.global_dims[a];
-      const int edge = majorant_edge(global, scene.integrator);
-      std::shared_ptr<const FieldSummary> summary = entry.find(edge);
-      if (!summary) summary = ctx.summarize_blocks(b.blocks, b.placement.global_dims, b.local.dtype, edge);
-      ctx.serve_while([&] { prepared = prepare(placed.paged, scene, summary); });
+      // The global summary (distributed_summary_phase); the adaptive preview in prepare reads
+      // the field, so it runs while the ranks serve bricks
+      ctx.serve_while([&] { prepared = prepare(placed.paged, scene, placed.summary); });
     } else if (field.amr) {
       // Refinement levels: the hierarchy, its summary (amr_summary) at level 0's edge
       AmrField amr = field.amr->meta;
@@ -105,6 +99,21 @@ PreparedScene prepare_scene(const PassContext& pass, const BoundField& field, Pl
 
 std::optional<PreparedScene> prepare_phase(PhaseGate& gate, const PassContext& pass, const BoundField& field,
                                            PlacedField& placed, const SceneDesc& scene, RenderResult& result) {
+  if (placed.plan.distributed && !field.amr) {
+    // The global summary from every rank's blocks (collective), unless one was kept, in a
+    // gate of its own: a rank whose blocks cannot be summarised (a device block's copy
+    // failing) fails every rank here, before the prepare whose serving all ranks must join
+    if (!gate.run(TESSERA_ERROR_RENDER, [&] {
+          const FieldBinding& b = field.binding;
+          FieldView global = b.local;
+          for (int a = 0; a < 3; ++a) global.dims[a] = b.placement.global_dims[a];
+          const int edge = majorant_edge(global, scene.integrator);
+          placed.summary = pass.summaries.entry(field.name).find(edge);
+          if (!placed.summary)
+            placed.summary = pass.ctx.summarize_blocks(b.blocks, b.placement.global_dims, b.local.dtype, edge);
+        }))
+      return std::nullopt;
+  }
   PreparedScene prepared;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] { prepared = prepare_scene(pass, field, placed, scene, result); }))
     return std::nullopt;

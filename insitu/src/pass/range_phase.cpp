@@ -6,6 +6,7 @@
 #include <tessera/cuda_render.h>
 #include <tessera/field_summary.h>
 
+#include <exception>
 #include <limits>
 #include <memory>
 
@@ -17,8 +18,19 @@ namespace {
 /// anywhere, lo > hi.
 std::pair<double, double> global_range(ParallelContext& ctx, std::span<const FieldBlock> blocks) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  const auto [lo, hi] = blocks_range(blocks).value_or(std::pair{kInf, -kInf});
-  return ctx.range(lo, hi);
+  // A rank whose blocks cannot be read (a device block's copy failing) still takes part in
+  // the reduction, then fails: the phase's gate agrees on the failure, no rank is left
+  // waiting in the collective
+  std::pair<double, double> local{kInf, -kInf};
+  std::exception_ptr error;
+  try {
+    local = blocks_range(blocks).value_or(local);
+  } catch (...) {
+    error = std::current_exception();
+  }
+  const std::pair<double, double> global = ctx.range(local.first, local.second);
+  if (error) std::rethrow_exception(error);
+  return global;
 }
 
 std::pair<double, double> cached_range(const PassContext& pass, const BoundField& field, RenderResult& result) {
