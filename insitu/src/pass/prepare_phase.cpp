@@ -7,6 +7,7 @@
 #include <tessera/cuda_render.h>
 #include <tessera/field_summary.h>
 
+#include <chrono>
 #include <memory>
 
 namespace tessera::insitu {
@@ -58,8 +59,8 @@ PreparedScene prepare_scene(const PassContext& pass, const BoundField& field, Pl
       }
       ctx.serve_while([&] { prepared = prepare(amr, scene, summary); });
     } else if (placed.plan.distributed) {
-      // The global summary (distributed_summary_phase); the adaptive preview in prepare reads
-      // the field, so it runs while the ranks serve bricks
+      // The global summary (made by prepare_phase, in a gate of its own); the adaptive
+      // preview in prepare reads the field, so it runs while the ranks serve bricks
       ctx.serve_while([&] { prepared = prepare(placed.paged, scene, placed.summary); });
     } else if (field.amr) {
       // Refinement levels: the hierarchy, its summary (amr_summary) at level 0's edge
@@ -103,6 +104,7 @@ std::optional<PreparedScene> prepare_phase(PhaseGate& gate, const PassContext& p
     // The global summary from every rank's blocks (collective), unless one was kept, in a
     // gate of its own: a rank whose blocks cannot be summarised (a device block's copy
     // failing) fails every rank here, before the prepare whose serving all ranks must join
+    const auto t0 = PassClock::now();  // counted in prepare_seconds, as prepare's own summaries are
     if (!gate.run(TESSERA_ERROR_RENDER, [&] {
           const FieldBinding& b = field.binding;
           FieldView global = b.local;
@@ -113,6 +115,7 @@ std::optional<PreparedScene> prepare_phase(PhaseGate& gate, const PassContext& p
             placed.summary = pass.ctx.summarize_blocks(b.blocks, b.placement.global_dims, b.local.dtype, edge);
         }))
       return std::nullopt;
+    result.prepare_seconds += std::chrono::duration<double>(PassClock::now() - t0).count();
   }
   PreparedScene prepared;
   if (!gate.run(TESSERA_ERROR_RENDER, [&] { prepared = prepare_scene(pass, field, placed, scene, result); }))
