@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "field/summary_accumulate.h"
 #include "sampling/rng.h"
 #include "test_support.h"
 
@@ -404,4 +405,39 @@ TEST_CASE("prepare rebuilds a summary of another edge or layout", "[field_summar
     CHECK_FALSE(p.summary_reused());
     CHECK(p.summary()->matches(view, 4));
   }
+}
+
+TEST_CASE("a block's window of macrocells is exactly the cells its vertices are folded into", "[summary]") {
+  // cell_window is what the device summary of a block at an offset reduces over (only that
+  // window comes back): for every axis length, edge, offset and block length it must hold
+  // every cell vertex_cells folds a vertex of the block into, and no other
+  using tessera::summary_detail::cell_window;
+  using tessera::summary_detail::cells_along;
+  using tessera::summary_detail::vertex_cells;
+  int checked = 0;
+  for (std::int64_t global = 1; global <= 21; ++global)
+    for (int edge = 1; edge <= 7; ++edge) {
+      const std::int64_t cells = cells_along(global, edge);
+      for (std::int64_t offset = 0; offset < global; ++offset)
+        for (std::int64_t dims = 1; offset + dims <= global; ++dims) {
+          std::int64_t lo = cells, hi = -1;
+          for (std::int64_t g = offset; g < offset + dims; ++g) {
+            std::int64_t own = 0, prev = 0;
+            vertex_cells(g, cells, edge, own, prev);
+            REQUIRE(own >= 0);
+            REQUIRE(own < cells);
+            REQUIRE(prev >= 0);
+            REQUIRE(prev <= own);
+            lo = std::min({lo, own, prev});
+            hi = std::max({hi, own, prev});
+          }
+          std::int64_t first = -1, last = -1;
+          cell_window(offset, dims, global, edge, first, last);
+          INFO("global " << global << ", edge " << edge << ", offset " << offset << ", dims " << dims);
+          REQUIRE(first == lo);
+          REQUIRE(last == hi);
+          ++checked;
+        }
+    }
+  CHECK(checked > 10000);
 }

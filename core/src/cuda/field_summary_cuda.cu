@@ -102,17 +102,6 @@ namespace tessera {
 
 namespace {
 
-/// The macrocells a block of `dims` at `offset` touches along one axis of `global` vertices:
-/// [first, last] (summary_accumulate.h's rule: its first vertex's previous cell on an inner
-/// boundary, its last vertex's own cell).
-void window(std::int64_t offset, std::int64_t dims, std::int64_t global, int edge, std::int64_t& first,
-            std::int64_t& last) {
-  const std::int64_t cells = summary_detail::cells_along(global, edge);
-  const std::int64_t own = std::min(offset / edge, cells - 1);
-  first = offset % edge == 0 && offset > 0 && offset / edge <= cells - 1 ? offset / edge - 1 : own;
-  last = std::min((offset + dims - 1) / edge, cells - 1);
-}
-
 /// The summary of the device block `field` at `offset` in a field of `global` vertices, folded
 /// into `parts` (the global field's cells): a reduction on the device over the window of
 /// macrocells the block touches, merged on the host.
@@ -139,7 +128,7 @@ void summarise_on_device(FieldSummary::Parts& parts, const FieldView& field, con
     a.off[ax] = offset[ax];
     a.gc[ax] = parts.cells[ax];
     std::int64_t last = 0;
-    window(offset[ax], field.dims[ax], global[ax], edge, a.c0[ax], last);
+    summary_detail::cell_window(offset[ax], field.dims[ax], global[ax], edge, a.c0[ax], last);
     a.nc[ax] = last - a.c0[ax] + 1;
   }
   const std::int64_t cells = a.nc[0] * a.nc[1] * a.nc[2];

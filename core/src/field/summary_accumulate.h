@@ -37,6 +37,25 @@ inline void merge_value(CellRange& a, double v) {
   }
 }
 
+/// The cells of one axis of `global` vertices that vertex g (0 <= g < global) is folded into:
+/// the cell that owns it and, on an inner cell boundary, the cell whose +1 overlap holds it
+/// (`prev`, else equal to `own`). The rule accumulate_values and the device summary share.
+inline void vertex_cells(std::int64_t g, std::int64_t cells, int edge, std::int64_t& own, std::int64_t& prev) {
+  own = std::min(g / edge, cells - 1);
+  prev = g % edge == 0 && g > 0 && g / edge <= cells - 1 ? g / edge - 1 : own;
+}
+
+/// The cells [first, last] of one axis that a block of `dims` vertices at `offset` touches in
+/// a field of `global` vertices with edge `edge` (vertex_cells over its vertices).
+inline void cell_window(std::int64_t offset, std::int64_t dims, std::int64_t global, int edge, std::int64_t& first,
+                        std::int64_t& last) {
+  const std::int64_t cells = cells_along(global, edge);
+  std::int64_t own = 0;
+  vertex_cells(offset, cells, edge, own, first);
+  std::int64_t prev = 0;
+  vertex_cells(offset + dims - 1, cells, edge, last, prev);
+}
+
 /// Throws std::invalid_argument unless `parts` has the cells of a field of `global_dims`
 /// with edge `edge` (and edge >= 1).
 inline void check_parts(const FieldSummary::Parts& parts, const std::int64_t global_dims[3], int edge) {
@@ -72,12 +91,9 @@ void accumulate_values(FieldSummary::Parts& parts, const std::int64_t dims[3], c
   for (int a = 0; a < 3; ++a) {
     own[a].resize(static_cast<std::size_t>(dims[a]));
     prev[a].resize(static_cast<std::size_t>(dims[a]));
-    for (std::int64_t v = 0; v < dims[a]; ++v) {
-      const std::int64_t g = offset[a] + v;
-      const std::int64_t c = std::min(g / edge, parts.cells[a] - 1);
-      own[a][v] = c;
-      prev[a][v] = g % edge == 0 && g > 0 && g / edge <= parts.cells[a] - 1 ? g / edge - 1 : c;
-    }
+    for (std::int64_t v = 0; v < dims[a]; ++v)
+      vertex_cells(offset[a] + v, parts.cells[a], edge, own[a][static_cast<std::size_t>(v)],
+                   prev[a][static_cast<std::size_t>(v)]);
   }
   CellRange total = kEmpty;
   for (std::int64_t k = 0; k < dims[2]; ++k)
