@@ -16,6 +16,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -452,4 +453,67 @@ TEST_CASE("a device mesh promised unchanged is read where it is: nothing copied 
   REQUIRE(ad.execute_mesh_domains(6, 0.5, d) == TESSERA_OK);
   CHECK_FALSE(ad.last_results().at(0).mesh_layout_reused);
   CHECK(ad.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host + staged);
+}
+
+TEST_CASE("one rank's domains all in device memory are assembled on the device: nothing staged, the host's bits",
+          "[gpu][insitu][domains]") {
+  // The field cut into four slabs along k, each its own device array: with device auto the
+  // adapter assembles them on the GPU (cuda_assemble_on_device) instead of staging them, so
+  // the call copies to the host no more than the same domains on the host do (the film), and
+  // the image is those domains' GPU image bit for bit (the same replica, built on the host
+  // there); the range (range: auto) comes from the device blocks' summaries. A second call
+  // assembles again (a new replica), with the same bits.
+  const std::vector<float> host = to_float(blob_values(kN));
+  const std::int64_t cuts[5] = {0, 5, 11, 18, kN};
+  std::vector<std::vector<float>> slabs(4);
+  std::vector<std::unique_ptr<DeviceArray<float>>> dev;
+  std::vector<tessera_field> host_fields(4), dev_fields(4);
+  std::vector<tessera_domain> host_domains(4), dev_domains(4);
+  for (int d = 0; d < 4; ++d) {
+    const std::int64_t nz = cuts[d + 1] - cuts[d];
+    slabs[d].assign(host.begin() + cuts[d] * kN * kN, host.begin() + cuts[d + 1] * kN * kN);
+    dev.push_back(std::make_unique<DeviceArray<float>>(slabs[d]));
+    for (int on_device = 0; on_device < 2; ++on_device) {
+      tessera_field& f = on_device ? dev_fields[d] : host_fields[d];
+      f = dense_field("density", on_device ? dev[d]->ptr : slabs[d].data(), kN);
+      f.dims[2] = nz;
+      tessera_domain& dom = on_device ? dev_domains[d] : host_domains[d];
+      dom = tessera_domain{};
+      dom.offset[2] = cuts[d];
+      dom.fields = &f;
+      dom.nfields = 1;
+    }
+  }
+  const tessera_grid g = unit_grid(kN);
+  tessera_mesh mesh{};
+  for (int a = 0; a < 3; ++a) {
+    mesh.origin[a] = g.origin[a];
+    mesh.spacing[a] = g.spacing[a];
+    mesh.global_dims[a] = g.global_dims[a];
+  }
+  mesh.nlevels = 1;
+  const auto run = [&](const std::vector<tessera_domain>& domains, const std::string& device) {
+    TempDir dir;
+    Adapter adapter;
+    const std::string r = renders(16);  // range: auto
+    adapter.set_quiet(true);
+    REQUIRE(adapter.open(dir.write("a.yaml", config_yaml(dir.file("out"), r, "  device: " + device + "\n"))) ==
+            TESSERA_OK);
+    std::vector<Rendered> out;
+    for (int step = 1; step <= 2; ++step) {
+      const tessera_status s = adapter.execute_domains(step, 0.0, mesh, domains);
+      INFO(adapter.last_error());
+      REQUIRE(s == TESSERA_OK);
+      out.push_back({*adapter.last_image("main"), adapter.last_results().at(0)});
+    }
+    return out;
+  };
+  const std::vector<Rendered> on_host = run(host_domains, "cuda");
+  const std::vector<Rendered> on_device = run(dev_domains, "auto");
+  for (int c = 0; c < 2; ++c) {
+    CHECK_THAT(on_device[c].result.device, Contains("cuda:0"));
+    CHECK(on_device[c].result.stats.bytes_to_host == on_host[c].result.stats.bytes_to_host);
+    CHECK(on_device[c].result.stats.bytes_to_device < on_host[c].result.stats.bytes_to_device);
+    CHECK(same_pixels(on_host[c].image, on_device[c].image));
+  }
 }

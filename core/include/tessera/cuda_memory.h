@@ -4,7 +4,12 @@
 /// Declared in every build; without CUDA cuda_copy_to_host throws.
 #include <tessera/field_view.h>
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
 
 namespace tessera {
 
@@ -22,5 +27,25 @@ void cuda_copy_to_host(void* dst, const void* src, std::size_t bytes, void* stre
 /// whole device is synchronised first). What a distributed render copies of a device block
 /// for the host side (other ranks' bricks, the brick cache). Throws as cuda_copy_to_host.
 void cuda_copy_box_to_host(void* dst, const FieldView& box, void* stream = nullptr);
+
+/// A field assembled in device memory (cuda_assemble_on_device): `view` is the dense global
+/// field (x fastest) on the device, alive while `memory` (its owner) is.
+struct DeviceReplica {
+  std::shared_ptr<const void> memory;
+  FieldView view;
+};
+
+/// Assembles blocks that are all device memory of one device (`blocks[n]` placed at global
+/// element `offsets[n]` of a field of `global` elements of `dtype`; the caller has checked
+/// that they tile it) into one dense array on that device, device to device (each block
+/// packed into place by a kernel, any byte strides), after the work queued on `stream`: what a
+/// render on the GPU reads in place, with nothing copied to the host. The array's bytes are
+/// checked against `limit_bytes` first (over it: std::runtime_error naming the bytes and
+/// `limit_text`). Throws std::invalid_argument for a block that is not device memory or on
+/// another device, CudaError on a CUDA failure, std::runtime_error without CUDA.
+DeviceReplica cuda_assemble_on_device(std::span<const FieldView> blocks,
+                                      std::span<const std::array<std::int64_t, 3>> offsets,
+                                      const std::int64_t global[3], DType dtype, void* stream,
+                                      std::uint64_t limit_bytes, const std::string& limit_text);
 
 }  // namespace tessera

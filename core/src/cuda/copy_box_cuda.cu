@@ -1,5 +1,6 @@
-/// cuda_copy_box_to_host (cuda_memory.h) in a CUDA build: a device box is packed on the device
-/// that holds it (one thread per element, any byte strides) and only its elements are copied.
+/// cuda_copy_box_to_host and cuda_assemble_on_device (cuda_memory.h) in a CUDA build: a device
+/// box is packed on the device that holds it (one thread per element, any byte strides) and
+/// only its elements are copied; blocks are placed into a device replica the same way.
 #include <tessera/cuda_memory.h>
 #include <tessera/cuda_render.h>
 
@@ -8,10 +9,12 @@
 #include "cuda/cuda_check.h"
 #include "cuda/emulated_device.h"
 #include "cuda/gpu_emulation.h"
+#include "cuda/replica_host.h"
 
 #include <cuda_runtime.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <cstdint>
 #include <string>
 
@@ -25,6 +28,20 @@ __global__ void pack_box(const unsigned char* src, std::int64_t nx, std::int64_t
     const std::int64_t i = q % nx, j = (q / nx) % ny, k = q / (nx * ny);
     const unsigned char* from = src + i * sx + j * sy + k * sz;
     for (std::int64_t b = 0; b < e; ++b) dst[q * e + b] = from[b];
+  }
+}
+
+/// Element q of a box of nx x ny x (n / nx / ny) elements at src (strides sx, sy, sz) to the
+/// same element of the box at dst (strides dx, dy, dz), e bytes each.
+__global__ void place_box(const unsigned char* src, std::int64_t nx, std::int64_t ny, std::int64_t n, std::int64_t sx,
+                          std::int64_t sy, std::int64_t sz, std::int64_t e, unsigned char* dst, std::int64_t dx,
+                          std::int64_t dy, std::int64_t dz) {
+  for (std::int64_t q = blockIdx.x * static_cast<std::int64_t>(blockDim.x) + threadIdx.x; q < n;
+       q += static_cast<std::int64_t>(gridDim.x) * blockDim.x) {
+    const std::int64_t i = q % nx, j = (q / nx) % ny, k = q / (nx * ny);
+    const unsigned char* from = src + i * sx + j * sy + k * sz;
+    unsigned char* to = dst + i * dx + j * dy + k * dz;
+    for (std::int64_t b = 0; b < e; ++b) to[b] = from[b];
   }
 }
 
@@ -63,6 +80,53 @@ void cuda_copy_box_to_host(void* dst, const FieldView& box, void* stream) {
   cuda_check(cudaDeviceSynchronize(), "pack_box (a device box packed for the host)");
   cuda_check(cudaMemcpy(dst, packed.get(), bytes, cudaMemcpyDeviceToHost),
              "cudaMemcpy(" + std::to_string(bytes) + " bytes of a device box to the host)");
+}
+
+DeviceReplica cuda_assemble_on_device(std::span<const FieldView> blocks,
+                                      std::span<const std::array<std::int64_t, 3>> offsets,
+                                      const std::int64_t global[3], DType dtype, void* stream,
+                                      std::uint64_t limit_bytes, const std::string& limit_text) {
+  using cuda::cuda_check;
+  if (const auto e = cuda::gpu_emulation())
+    return cuda::assemble_emulated(e, blocks, offsets, global, dtype, limit_bytes, limit_text);
+  cuda::throw_if_disabled();
+  const std::size_t bytes = cuda::replica_bytes(blocks.size(), offsets.size(), global, dtype, limit_bytes, limit_text);
+  int device = -1;
+  for (const FieldView& b : blocks) {
+    cudaPointerAttributes attr{};
+    cuda_check(cudaPointerGetAttributes(&attr, b.data), "cudaPointerGetAttributes(block)");
+    if (attr.type != cudaMemoryTypeDevice || (device >= 0 && attr.device != device))
+      throw std::invalid_argument("cuda_assemble_on_device: the blocks are not all device memory of one device");
+    device = attr.device;
+  }
+  const cuda::DeviceGuard guard(device);
+  const auto s = static_cast<cudaStream_t>(stream);
+  if (s) cuda_check(cudaStreamSynchronize(s), "cudaStreamSynchronize(the simulation's stream)");
+  else cuda_check(cudaDeviceSynchronize(), "cudaDeviceSynchronize");
+  void* raw = nullptr;
+  cuda_check(cudaMalloc(&raw, bytes), "cudaMalloc(" + std::to_string(bytes) + " bytes: the field assembled on the device)");
+  std::shared_ptr<const void> memory(raw, [device](const void* p) {
+    int prev = 0;
+    if (cudaGetDevice(&prev) != cudaSuccess) prev = device;
+    cudaSetDevice(device);
+    cudaFree(const_cast<void*>(p));  // nothing to do about a failure here
+    cudaSetDevice(prev);
+  });
+  const FieldView dst = cuda::dense_view(raw, global, dtype);
+  const auto e = static_cast<std::int64_t>(dtype_size(dtype));
+  for (std::size_t n = 0; n < blocks.size(); ++n) {
+    const FieldView& b = blocks[n];
+    const std::int64_t count = b.vertex_count();
+    auto* to = static_cast<unsigned char*>(raw) + offsets[n][0] * dst.byte_strides[0] +
+               offsets[n][1] * dst.byte_strides[1] + offsets[n][2] * dst.byte_strides[2];
+    const auto grid = static_cast<unsigned>(std::clamp<std::int64_t>((count + 255) / 256, 1, 65535));
+    cuda::place_box<<<grid, 256>>>(static_cast<const unsigned char*>(b.data), b.dims[0], b.dims[1], count,
+                                   b.byte_strides[0], b.byte_strides[1], b.byte_strides[2], e, to,
+                                   dst.byte_strides[0], dst.byte_strides[1], dst.byte_strides[2]);
+    cuda_check(cudaGetLastError(), "launch of place_box (" + std::to_string(count) + " elements)");
+  }
+  cuda_check(cudaDeviceSynchronize(), "place_box (the field assembled on the device)");
+  return DeviceReplica{std::move(memory), dst};
 }
 
 }  // namespace tessera

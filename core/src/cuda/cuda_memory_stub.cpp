@@ -5,6 +5,7 @@
 #include "cuda/box_gather.h"
 #include "cuda/emulated_device.h"
 #include "cuda/gpu_emulation.h"
+#include "cuda/replica_host.h"
 
 #include <cstring>
 #include <stdexcept>
@@ -24,6 +25,19 @@ void cuda_copy_box_to_host(void* dst, const FieldView& box, void*) {
   box.validate("box");
   if (const auto e = cuda::gpu_emulation()) cuda::emulated_copy_out(*e, box.data, "cuda_copy_box_to_host");
   cuda::gather_box(dst, box);
+}
+
+}  // namespace tessera
+
+namespace tessera {
+
+DeviceReplica cuda_assemble_on_device(std::span<const FieldView> blocks,
+                                      std::span<const std::array<std::int64_t, 3>> offsets,
+                                      const std::int64_t global[3], DType dtype, void*, std::uint64_t limit_bytes,
+                                      const std::string& limit_text) {
+  if (const auto e = cuda::gpu_emulation())
+    return cuda::assemble_emulated(e, blocks, offsets, global, dtype, limit_bytes, limit_text);
+  throw std::runtime_error("cuda_assemble_on_device: Tessera was built without CUDA");
 }
 
 }  // namespace tessera

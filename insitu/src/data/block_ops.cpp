@@ -116,6 +116,10 @@ bool check_one_rank(std::span<const FieldBlock> blocks, const std::int64_t globa
 
 }  // namespace
 
+void check_blocks_one_rank(std::span<const FieldBlock> blocks, const std::int64_t global[3]) {
+  check_one_rank(blocks, global);
+}
+
 FieldView assemble_one_rank(std::span<const FieldBlock> blocks, const std::int64_t global[3], DType dtype,
                             std::vector<unsigned char>& replica) {
   if (check_one_rank(blocks, global)) return blocks[0].view;  // zero copy

@@ -28,6 +28,11 @@ FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const 
 void accumulate_blocks(FieldSummary::Parts& parts, std::span<const FieldBlock> blocks, const std::int64_t global[3],
                        int edge);
 
+/// One rank's blocks checked as assemble_one_rank checks them (each view valid; the blocks
+/// tile the grid, or tessera_execute's one block covers it), reading no value: LayoutError
+/// naming the fault.
+void check_blocks_one_rank(std::span<const FieldBlock> blocks, const std::int64_t global[3]);
+
 /// Finite min/max over the blocks' values (field_range of each); nullopt when none is finite.
 std::optional<std::pair<double, double>> blocks_range(std::span<const FieldBlock> blocks);
 

@@ -63,6 +63,17 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
     field.device.in_place = sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
                             !field.magnitude && field.staged.empty() && where.gpu_readable;
     if (field.device.in_place || !where.on_device()) return;
+    // One rank, several blocks all in device memory: assembled on the device, not staged
+    field.device.assemble_on_device =
+        sel.device == Device::Cuda && pass.ctx.size() == 1 && !field.amr && !field.magnitude && field.staged.empty() &&
+        std::all_of(where.device.begin(), where.device.end(), [](char d) { return d != 0; });
+    if (field.device.assemble_on_device) {
+      for (FieldBlock& blk : b.blocks) {
+        blk.on_device = true;
+        blk.cuda_stream = pass.call.cuda_stream;
+      }
+      return;
+    }
     // Several ranks on the GPU over a plain field: a distributed render reads the device
     // blocks where they are (summaries, other ranks' bricks and the cache's fills copied from
     // the device as they are asked for), so the staging waits for the plan

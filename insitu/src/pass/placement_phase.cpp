@@ -2,8 +2,14 @@
 #include "pass/placement_phase.h"
 
 #include "data/amr_layout.h"
+#include "data/block_ops.h"
 #include "outputs/error_policy.h"
 
+#include <tessera/config/render_memory.h>
+#include <tessera/cuda_memory.h>
+
+#include <array>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -76,7 +82,25 @@ std::optional<PlacedField> assemble_phase(PhaseGate& gate, const PassContext& pa
           // A vector's magnitude on one rank holding the grid whole: read in place
         } else if (call.assembled_key != key) {
           call.assembled_key.reset();
-          call.assembled = ctx.assemble_blocks(b.blocks, b.placement.global_dims, b.local.dtype);
+          call.assembled_device.reset();
+          if (field.device.assemble_on_device) {
+            // One rank's device blocks: checked as the host's assembly checks them, then
+            // placed into one array on their device (nothing copied to the host)
+            check_blocks_one_rank(b.blocks, b.placement.global_dims);
+            std::vector<FieldView> views;
+            std::vector<std::array<std::int64_t, 3>> offsets;
+            for (const FieldBlock& blk : b.blocks) {
+              views.push_back(blk.view);
+              offsets.push_back({blk.offset[0], blk.offset[1], blk.offset[2]});
+            }
+            const config::MemoryLimit limit = config::memory_limit(pass.cfg.global, 1);
+            DeviceReplica r = cuda_assemble_on_device(views, offsets, b.placement.global_dims, b.local.dtype,
+                                                      call.cuda_stream, limit.bytes, limit.text);
+            call.assembled = r.view;
+            call.assembled_device = std::move(r.memory);
+          } else {
+            call.assembled = ctx.assemble_blocks(b.blocks, b.placement.global_dims, b.local.dtype);
+          }
           call.assembled_key = key;
         }
       }))

@@ -74,11 +74,13 @@ PreparedScene prepare_scene(const PassContext& pass, const BoundField& field, Pl
       // A vector's magnitude read in place: its summary (range phase) at the scene's edge
       const FieldView& first = field.magnitude->components[0];
       prepared = prepare(*field.magnitude, scene, entry.find(majorant_edge(first, scene.integrator)));
-    } else if (field.device.in_place) {
-      // Device memory read in place: its summary made on the GPU (prepare never reads it)
+    } else if (field.device.in_place || field.device.assemble_on_device) {
+      // Device memory read in place (the simulation's array, or one rank's device blocks
+      // assembled on the device): its summary made on the GPU, so that prepare never reads it;
+      // a kept summary of another array (a replica assembled again) is made anew
       const int edge = majorant_edge(call.assembled, scene.integrator);
       std::shared_ptr<const FieldSummary> summary = entry.find(edge);
-      if (!summary) {
+      if (!summary || !summary->matches(call.assembled, edge)) {
         summary = cuda_field_summary(call.assembled, edge, call.cuda_stream);
         ++result.field_passes;
         entry.keep(summary);

@@ -81,6 +81,9 @@ struct CallData {
   /// The last assembled field (valid until the next assemble).
   std::optional<std::string> assembled_key;
   FieldView assembled;
+  /// The owner of `assembled` when it was assembled in device memory (one rank's device
+  /// blocks, FieldDevice::assemble_on_device); freed with the call or the next assemble.
+  std::shared_ptr<const void> assembled_device;
   /// Refinement levels: the last assembled hierarchy's patches (ParallelContext::assemble_amr;
   /// assembled_key names its field).
   std::vector<AmrPatch> assembled_patches;

@@ -1,0 +1,75 @@
+#pragma once
+/// The host half of cuda_assemble_on_device (cuda_memory.h) for an emulated GPU (tests): the
+/// checks, the replica in host memory declared the emulation's device memory (forgotten and
+/// freed with its last owner), and the blocks placed on the host.
+#include <tessera/cuda_memory.h>
+#include <tessera/memory_estimate.h>
+
+#include "cuda/device_backend.h"
+#include "cuda/emulated_device.h"
+
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace tessera::cuda {
+
+/// The replica's bytes, checked: `blocks` and `offsets` alike in number, the limit.
+inline std::size_t replica_bytes(std::size_t blocks, std::size_t offsets, const std::int64_t global[3], DType dtype,
+                                 std::uint64_t limit_bytes, const std::string& limit_text) {
+  if (blocks != offsets || blocks == 0)
+    throw std::invalid_argument("cuda_assemble_on_device: " + std::to_string(blocks) + " blocks, " +
+                                std::to_string(offsets) + " offsets");
+  const auto bytes = static_cast<std::uint64_t>(global[0] * global[1] * global[2]) * dtype_size(dtype);
+  if (bytes > limit_bytes)
+    throw std::runtime_error("assembling the field's device blocks on the device needs " + format_bytes(bytes) +
+                             ", more than " + limit_text);
+  return static_cast<std::size_t>(bytes);
+}
+
+/// The dense view of `global` elements of `dtype` at `data`.
+inline FieldView dense_view(const void* data, const std::int64_t global[3], DType dtype) {
+  FieldView v;
+  v.data = data;
+  v.dtype = dtype;
+  for (int a = 0; a < 3; ++a) v.dims[a] = global[a];
+  v.byte_strides[0] = static_cast<std::int64_t>(dtype_size(dtype));
+  v.byte_strides[1] = v.byte_strides[0] * global[0];
+  v.byte_strides[2] = v.byte_strides[1] * global[1];
+  return v;
+}
+
+inline DeviceReplica assemble_emulated(const std::shared_ptr<DeviceBackend>& e, std::span<const FieldView> blocks,
+                                       std::span<const std::array<std::int64_t, 3>> offsets,
+                                       const std::int64_t global[3], DType dtype, std::uint64_t limit_bytes,
+                                       const std::string& limit_text) {
+  const std::size_t bytes = replica_bytes(blocks.size(), offsets.size(), global, dtype, limit_bytes, limit_text);
+  for (const FieldView& b : blocks) {
+    if (e->memory_kind(b.data) != MemoryKind::Device)
+      throw std::invalid_argument("cuda_assemble_on_device: a block is not device memory");
+    emulated_copy_out(*e, b.data, "cuda_assemble_on_device");
+  }
+  auto* raw = static_cast<unsigned char*>(::operator new(bytes));
+  emulated_declare_device_memory(*e, raw, bytes);
+  std::shared_ptr<const void> memory(raw, [e](const void* p) {
+    emulated_forget_device_memory(*e, p);
+    ::operator delete(const_cast<void*>(p));
+  });
+  const FieldView dst = dense_view(raw, global, dtype);
+  const auto es = static_cast<std::int64_t>(dtype_size(dtype));
+  for (std::size_t n = 0; n < blocks.size(); ++n) {
+    const FieldView& b = blocks[n];
+    const auto* src = static_cast<const unsigned char*>(b.data);
+    for (std::int64_t k = 0; k < b.dims[2]; ++k)
+      for (std::int64_t j = 0; j < b.dims[1]; ++j)
+        for (std::int64_t i = 0; i < b.dims[0]; ++i)
+          std::memcpy(raw + (offsets[n][0] + i) * dst.byte_strides[0] + (offsets[n][1] + j) * dst.byte_strides[1] +
+                          (offsets[n][2] + k) * dst.byte_strides[2],
+                      src + i * b.byte_strides[0] + j * b.byte_strides[1] + k * b.byte_strides[2],
+                      static_cast<std::size_t>(es));
+  }
+  return DeviceReplica{std::move(memory), dst};
+}
+
+}  // namespace tessera::cuda
