@@ -311,6 +311,7 @@ void Adapter::Impl::end_call() {
   m_call.pub = Publication{};
   m_call.assembled_key.reset();
   m_call.assembled = FieldView{};
+  m_call.assembled_device.reset();  // a replica on the device: its memory back to the simulation
   m_call.assembled_patches.clear();
   for (std::vector<double>& axis : m_axes) axis.clear();
 }

@@ -118,6 +118,13 @@ std::optional<config::DeviceSelection> mesh_device_phase(PhaseGate& gate, const 
 
 void set_device_options(const PassContext& pass, const BoundField& field, RenderOptions& options) {
   set_device_options(pass, field.device.selection, options);
+  // A replica assembled on the device is Tessera's memory too: the render gets what is left
+  // (at least one byte: 0 would mean no limit)
+  if (field.device.assemble_on_device && pass.call.assembled_device) {
+    const FieldView& r = pass.call.assembled;
+    const std::uint64_t replica = static_cast<std::uint64_t>(r.vertex_count()) * dtype_size(r.dtype);
+    options.device_memory_limit = options.device_memory_limit > replica ? options.device_memory_limit - replica : 1;
+  }
 }
 
 void set_device_options(const PassContext& pass, const config::DeviceSelection& sel, RenderOptions& options) {
