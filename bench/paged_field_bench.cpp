@@ -92,6 +92,7 @@ struct Row {
   tessera::BrickCacheStats cache;
   std::uint64_t to_device = 0;  ///< bytes copied to the GPU in the best rep (--device cuda)
   bool same = true;
+  std::string refused;  ///< the render's error, when it refused the mode (e.g. a pool too small)
 };
 
 }  // namespace
@@ -163,26 +164,30 @@ int run(const Args& a) {
     r.capacity = m.capacity;
     r.seconds = 1e300;
     tessera_test::FakeBrickService service(cache, whole);
-    auto ps = std::make_unique<tessera::PreparedScene>(tessera::prepare(f, scene, summary));
-    if (m.warm) tessera_test::render_film(*ps);  // first touch of every brick, not timed
-    for (int rep = 0; rep < a.reps; ++rep) {
-      if (!m.warm) {
-        cache.reset();
-        // On the GPU the pool lives with the prepared scene: a fresh one starts it empty
-        if (a.device == tessera::Device::Cuda && rep > 0)
-          ps = std::make_unique<tessera::PreparedScene>(tessera::prepare(f, scene, summary));
+    try {
+      auto ps = std::make_unique<tessera::PreparedScene>(tessera::prepare(f, scene, summary));
+      if (m.warm) tessera_test::render_film(*ps);  // first touch of every brick, not timed
+      for (int rep = 0; rep < a.reps; ++rep) {
+        if (!m.warm) {
+          cache.reset();
+          // On the GPU the pool lives with the prepared scene: a fresh one starts it empty
+          if (a.device == tessera::Device::Cuda && rep > 0)
+            ps = std::make_unique<tessera::PreparedScene>(tessera::prepare(f, scene, summary));
+        }
+        tessera::RenderStats st;
+        const auto t0 = Clock::now();
+        const tessera::Film film = tessera_test::render_film(*ps, &st);
+        const double t = std::chrono::duration<double>(Clock::now() - t0).count();
+        if (t < r.seconds) r.to_device = st.bytes_to_device;
+        r.seconds = std::min(r.seconds, t);
+        r.same = r.same && film.pixels().size() == reference.size() &&
+                 std::memcmp(film.pixels().data(), reference.data(), reference.size() * sizeof(reference[0])) == 0;
+        if (!m.warm) r.cache = cache.stats();
       }
-      tessera::RenderStats st;
-      const auto t0 = Clock::now();
-      const tessera::Film film = tessera_test::render_film(*ps, &st);
-      const double t = std::chrono::duration<double>(Clock::now() - t0).count();
-      if (t < r.seconds) r.to_device = st.bytes_to_device;
-      r.seconds = std::min(r.seconds, t);
-      r.same = r.same && film.pixels().size() == reference.size() &&
-               std::memcmp(film.pixels().data(), reference.data(), reference.size() * sizeof(reference[0])) == 0;
-      if (!m.warm) r.cache = cache.stats();
+      if (m.warm) r.cache = cache.stats();
+    } catch (const std::exception& e) {  // this mode refused (e.g. a path needs more bricks than the pool holds)
+      r.refused = e.what();
     }
-    if (m.warm) r.cache = cache.stats();
     rows.push_back(r);
   }
 
@@ -194,6 +199,12 @@ int run(const Args& a) {
   csv << "mode,device,grid,width,height,spp,threads,brick_edge,bricks,capacity,seconds,ratio_to_plain,misses,flushes,"
          "fetched,bytes_to_device,identical\n";
   for (const Row& r : rows) {
+    if (!r.refused.empty()) {
+      std::printf("  %-36s refused: %s\n", r.mode.c_str(), r.refused.c_str());
+      csv << '"' << r.mode << "\"," << (gpu ? "cuda" : "cpu") << ',' << a.grid << ',' << a.width << ',' << a.height
+          << ',' << a.spp << ',' << a.threads << ',' << grid.edge() << ',' << all << ',' << r.capacity << ",,,,,,,\n";
+      continue;
+    }
     std::printf("  %-36s %8.3f s  x%.3f  misses %llu  flushes %llu  fetched %llu  to device %llu  %s\n", r.mode.c_str(),
                 r.seconds, r.seconds / rows[0].seconds, static_cast<unsigned long long>(r.cache.misses),
                 static_cast<unsigned long long>(r.cache.flushes), static_cast<unsigned long long>(r.cache.fetched),

@@ -78,7 +78,10 @@ void compare(const heat::Index3& grid, int steps, const heat::CudaDeviceChoice& 
   const auto [dlo, dhi] = dev.local_range();
   check(std::abs(dlo - clo) <= 1e-12 * std::abs(clo) && std::abs(dhi - chi) <= 1e-12 * std::abs(chi),
         where + ": local_range differs");
-  check(chi > params.initial_value + 1e-3, where + ": the sources heated nothing (the test compares too little)");
+  // Somewhere, not on every rank: a rank far from the sources stays cold for a few steps
+  double hottest = chi;
+  MPI_Allreduce(MPI_IN_PLACE, &hottest, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  check(hottest > params.initial_value + 1e-3, where + ": the sources heated nothing (the test compares too little)");
   const std::vector<double> owned = dev.owned_values(), owned_cpu = cpu.owned_values();
   check(owned.size() == owned_cpu.size(), where + ": owned_values sizes differ");
 }

@@ -157,6 +157,28 @@ struct SamplePass {
   }
 };
 
+/// The adaptive preview's pass (adaptive_sampling.h): the middle pixel of every block of the
+/// image (preview_pixel), its pilot samples from index kPreviewIndexBase, in one lane (its sums
+/// added in index order, as the host's preview adds them); neighbours' jobs, whose samples are
+/// not the image's.
+SamplePass preview_pass(const KernelScene& ks, int pilot) {
+  SamplePass p;
+  const int rows = (ks.height + kAdaptiveBlock - 1) / kAdaptiveBlock;
+  const int cols = (ks.width + kAdaptiveBlock - 1) / kAdaptiveBlock;
+  for (int by = 0; by < rows; ++by)
+    for (int bx = 0; bx < cols; ++bx) {
+      int x = 0, y = 0;
+      preview_pixel(bx, by, ks.width, ks.height, &x, &y);
+      p.jobs.push_back({x, y, kJobNeighbour});
+    }
+  PixelSums start;
+  start.drawn = kPreviewIndexBase;
+  p.px.assign(p.jobs.size(), start);
+  p.lanes = 1;
+  p.ranges = {{pilot, static_cast<std::int64_t>(p.jobs.size())}};
+  return p;
+}
+
 /// Runs `p` in bounded slices (the deadline checked between them), merges its lanes and
 /// copies its sums back into p.px / p.aux (also when stopped: they hold the samples drawn)
 /// and its counters into `t`. True when the deadline stopped it.
@@ -310,10 +332,30 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
     first.aux.resize(with_aux ? first.jobs.size() : 0);
     first.lanes = 1;
     first.ranges = {{pilot, static_cast<std::int64_t>(first.jobs.size())}};
+    // A GPU render's preview (PreparedSceneImpl::preview_on_device) first, over the whole
+    // image, as prepare makes it on the host; its counters are not the render's (nor are the
+    // host preview's), its copies and launches are
+    SamplePass preview;
+    if (s.preview_on_device) preview = preview_pass(s.kernel, pilot);
     // The second pass's buffers are at most the first's with `lanes` lanes (>= 1)
-    dev = device_scene(backend, s, launch, first.device_bytes(lanes, paged), &totals.to_device, &device_bytes, &reused);
+    dev = device_scene(backend, s, launch, std::max(first.device_bytes(lanes, paged), preview.device_bytes(1, paged)),
+                       &totals.to_device, &device_bytes, &reused);
     const BrickLock bricks(*dev, totals);
-    stopped = run_pass(b, *dev, s.kernel, first, launch, stop, totals);
+    double scale = s.kernel.adaptive_scale;
+    if (s.preview_on_device) {
+      CallTotals uncounted;
+      stopped = run_pass(b, *dev, s.kernel, preview, launch, stop, uncounted);
+      totals.to_device += uncounted.to_device;
+      totals.to_host += uncounted.to_host;
+      totals.launches += uncounted.launches;
+      totals.replays += uncounted.replays;
+      std::vector<PilotSums> blocks(preview.px.size());
+      for (std::size_t j = 0; j < blocks.size(); ++j)
+        blocks[j] = {preview.px[j].lum, preview.px[j].lum2, preview.px[j].n};
+      preview = {};
+      scale = preview_scale(blocks, (s.kernel.width + kAdaptiveBlock - 1) / kAdaptiveBlock, s.kernel.target_error);
+    }
+    if (!stopped) stopped = run_pass(b, *dev, s.kernel, first, launch, stop, totals);
     // The own pixels with their pilot sums: after a deadline in the pilot, what it drew; else
     // most samples first, so that samples [m_i-1, m_i) of the call's sample indices past the
     // pilot are drawn by the pixels with m >= m_i, a prefix
@@ -322,7 +364,7 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
       if (first.jobs[j].culled != kJobNeighbour) order.push_back(j);
     std::vector<int> n;
     if (!stopped) {
-      n = adaptive_counts(plan.block_start, first.jobs, first.px, pilot, spp, s.kernel.adaptive_scale);
+      n = adaptive_counts(plan.block_start, first.jobs, first.px, pilot, spp, scale);
       std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) { return n[a] > n[c]; });
     }
     plan = {};

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 
 namespace tessera {
 
@@ -55,6 +56,37 @@ struct PilotSums {
 /// Sample index of the preview's i-th sample of a pixel: far above any count a film reaches,
 /// so preview streams are never the image's.
 inline constexpr std::uint64_t kPreviewIndexBase = std::uint64_t{1} << 62;
+
+/// The preview's pixel of block (bx, by): the block's middle, inside a width x height image.
+inline void preview_pixel(int bx, int by, int width, int height, int* x, int* y) {
+  *x = std::min(bx * kAdaptiveBlock + kAdaptiveBlock / 2, width - 1);
+  *y = std::min(by * kAdaptiveBlock + kAdaptiveBlock / 2, height - 1);
+}
+
+/// The preview's scale S / (target^2 M^2) from its blocks' pilot sums (row-major, rows of
+/// `cols` blocks), added block by block within a row and then row by row, so that the host's
+/// preview (scene/adaptive_preview.cpp) and the device's (cuda/device_render.cpp) reach the
+/// same bits from the same sums. 0 for a black preview (every pixel then takes the pilot).
+inline double preview_scale(std::span<const PilotSums> blocks, int cols, double target_error) {
+  const std::size_t c = static_cast<std::size_t>(cols);
+  const std::size_t rows = c > 0 ? blocks.size() / c : 0;
+  double sigma_sum = 0.0, lum_sum = 0.0;
+  std::uint64_t n = 0;
+  for (std::size_t r = 0; r < rows; ++r) {
+    double sigma = 0.0, lum = 0.0;
+    std::uint64_t count = 0;
+    for (std::size_t b = r * c; b < (r + 1) * c; ++b) {
+      sigma += blocks[b].sigma();
+      lum += blocks[b].lum;
+      count += blocks[b].n;
+    }
+    sigma_sum += sigma, lum_sum += lum, n += count;
+  }
+  if (n == 0 || !(lum_sum > 0.0)) return 0.0;
+  const double S_mean = sigma_sum / (static_cast<double>(rows) * cols);
+  const double M = lum_sum / static_cast<double>(n);
+  return S_mean / (target_error * target_error * M * M);
+}
 
 /// Samples for a pixel given the summed pilots of the other pixels of its block and the
 /// preview's scale (KernelScene::adaptive_scale).

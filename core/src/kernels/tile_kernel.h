@@ -8,6 +8,7 @@
 #include <tessera/stats.h>
 #include <tessera/tiles.h>
 
+#include "kernel/adaptive_sampling.h"
 #include "kernel/kernel_scene.h"
 #include "kernel/stop_check.h"
 
@@ -22,11 +23,10 @@ using TileKernel = void (*)(const KernelScene& ks, const Tile& rect, bool culled
                             StopCheck& stop);
 TileKernel tile_kernel(const KernelScene& ks);
 
-/// The adaptive-sampling preview (adaptive_sampling.h) of block row `by`: per block, sigma of
-/// the luminance of the pilot samples of its middle pixel, summed into *sigma_sum, and those
-/// samples' luminance sum and count.
-using PreviewKernel = void (*)(const KernelScene& ks, int by, double* sigma_sum, double* lum_sum, std::uint64_t* count,
-                               StopCheck& stop);
+/// The adaptive-sampling preview (adaptive_sampling.h) of block row `by`: per block, the
+/// pilot samples of its middle pixel (preview_pixel) into row[bx], for every block of the row.
+/// Stops early, leaving later blocks empty, once `stop` says so.
+using PreviewKernel = void (*)(const KernelScene& ks, int by, PilotSums* row, StopCheck& stop);
 PreviewKernel preview_kernel(const KernelScene& ks);
 
 }  // namespace tessera

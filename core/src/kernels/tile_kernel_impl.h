@@ -114,28 +114,23 @@ void render_tile(const KernelScene& s, const Tile& tile, bool culled, Film& film
   ts.flush(st);
 }
 
-/// The adaptive-sampling preview (adaptive_sampling.h) of one block row: per block, sigma of
-/// the luminance of `pilot` samples of its middle pixel, and those samples' luminance sum.
+/// The adaptive-sampling preview (adaptive_sampling.h) of one block row: per block, the
+/// pilot samples' luminance sums of its middle pixel.
 template <class V>
-void preview_row(const KernelScene& s, int by, double* sigma_sum, double* lum_sum, std::uint64_t* count,
-                 StopCheck& stop) {
+void preview_row(const KernelScene& s, int by, PilotSums* row, StopCheck& stop) {
   constexpr int B = kAdaptiveBlock;
-  const int width = s.width, height = s.height;
   const int pilot = adaptive_pilot(s.spp);
   const GridMedium<V> medium = make_medium<V>(s);
   TileSampler<V> ts(s, medium, false, &stop);
-  const int y = std::min(by * B + B / 2, height - 1);
-  for (int bx = 0; bx * B < width; ++bx) {
-    const int x = std::min(bx * B + B / 2, width - 1);
-    PilotSums p;
+  for (int bx = 0; bx * B < s.width; ++bx) {
+    int x = 0, y = 0;
+    preview_pixel(bx, by, s.width, s.height, &x, &y);
+    PilotSums& p = row[bx];
     const bool go_on = for_samples(0, pilot, stop, [&](int i) {
       SampleResult r;
       if (ts.draw(x, y, kPreviewIndexBase + static_cast<std::uint64_t>(i), r, false)) p.add(luminance(r.L));
     });
     if (!go_on) return;
-    *sigma_sum += p.sigma();
-    *lum_sum += p.lum;
-    *count += p.n;
   }
 }
 

@@ -24,9 +24,16 @@ struct Distribution1DView {
   TESSERA_HOST_DEVICE double pdf(std::size_t i) const { return integral > 0.0 ? f[i] / integral : 1.0; }
   /// Continuous sample in [0,1); *bin receives the bin index.
   TESSERA_HOST_DEVICE double sample(double u, std::size_t* bin) const {
-    // Last i with cdf[i] <= u.
-    std::size_t i = static_cast<std::size_t>(std::upper_bound(cdf, cdf + n + 1, u) - cdf);
-    i = std::min(n - 1, i > 0 ? i - 1 : 0);
+    // Last i with cdf[i] <= u, from the first of cdf[0..n] above u (std::upper_bound's
+    // answer, written out: the library's algorithm compiled for the device picked other bins
+    // on an H200, tests/gpu/test_gpu_environment.cpp)
+    std::size_t lo = 0, hi = n + 1;
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (u < cdf[mid]) hi = mid;
+      else lo = mid + 1;
+    }
+    std::size_t i = std::min(n - 1, lo > 0 ? lo - 1 : 0);
     while (i + 1 < n && cdf[i + 1] - cdf[i] <= 0.0) ++i;  // never land on an empty bin
     const double width = cdf[i + 1] - cdf[i];
     double du = width > 0.0 ? (u - cdf[i]) / width : 0.5;

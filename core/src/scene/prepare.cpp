@@ -349,7 +349,9 @@ void prepare_from(PreparedSceneImpl& p, const FieldView& field, const SceneDesc&
   if (paged) p.kernel.paged = *paged;
   if (amr) p.kernel.amr = p.amr.view();
   if (magnitude) p.kernel.magnitude = MagnitudeFieldView::of(*magnitude);
-  p.kernel.adaptive_scale = adaptive_preview_scale(p.kernel, scene.options);  // renders with the above
+  // The preview renders with the above: on the host here, or on the device by every GPU render
+  p.preview_on_device = scene.options.device == Device::Cuda && scene.image.target_error > 0.0;
+  if (!p.preview_on_device) p.kernel.adaptive_scale = adaptive_preview_scale(p.kernel, scene.options);
 }
 
 }  // namespace

@@ -40,6 +40,11 @@ struct PreparedSceneImpl {
   bool has_emission = false;
   bool has_specular = false;
   bool summary_reused = false;  ///< the grid's FieldSummary came from the caller
+  /// Adaptive sampling on the GPU (options.device Cuda): the preview's scale is not made by
+  /// prepare (kernel.adaptive_scale stays 0) but by every render call on the device, which
+  /// reads the field where it lives (a device array the host cannot read); the same samples,
+  /// hence the host's scale to rounding (cuda/device_render.cpp)
+  bool preview_on_device = false;
   /// The kernels' view of all of the above (kernel_scene.h), made last by prepare().
   KernelScene kernel;
   /// A paged field's own block in GPU memory (PagedField::local_device), or null.
