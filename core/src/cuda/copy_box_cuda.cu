@@ -1,6 +1,6 @@
-/// cuda_copy_box_to_host and cuda_assemble_on_device (cuda_memory.h) in a CUDA build: a device
-/// box is packed on the device that holds it (one thread per element, any byte strides) and
-/// only its elements are copied; blocks are placed into a device replica the same way.
+/// cuda_copy_box_to_host and cuda_assemble_on_device (cuda_memory.h) in a CUDA build: one
+/// kernel places a strided device box into another (one thread per element, any byte
+/// strides): into a dense box to copy only its elements to the host, or into a replica.
 #include <tessera/cuda_memory.h>
 #include <tessera/cuda_render.h>
 
@@ -20,16 +20,6 @@
 
 namespace tessera::cuda {
 namespace {
-
-__global__ void pack_box(const unsigned char* src, std::int64_t nx, std::int64_t ny, std::int64_t n, std::int64_t sx,
-                         std::int64_t sy, std::int64_t sz, std::int64_t e, unsigned char* dst) {
-  for (std::int64_t q = blockIdx.x * static_cast<std::int64_t>(blockDim.x) + threadIdx.x; q < n;
-       q += static_cast<std::int64_t>(gridDim.x) * blockDim.x) {
-    const std::int64_t i = q % nx, j = (q / nx) % ny, k = q / (nx * ny);
-    const unsigned char* from = src + i * sx + j * sy + k * sz;
-    for (std::int64_t b = 0; b < e; ++b) dst[q * e + b] = from[b];
-  }
-}
 
 /// Element q of a box of nx x ny x (n / nx / ny) elements at src (strides sx, sy, sz) to the
 /// same element of the box at dst (strides dx, dy, dz), e bytes each.
@@ -73,11 +63,12 @@ void cuda_copy_box_to_host(void* dst, const FieldView& box, void* stream) {
   cuda::BackendBuffer packed(*cuda::cuda_backend(attr.device >= 0 ? attr.device : 0));
   packed.allocate(bytes, "a device box packed for the host");
   const auto blocks = static_cast<unsigned>(std::clamp<std::int64_t>((n + 255) / 256, 1, 65535));
-  cuda::pack_box<<<blocks, 256>>>(static_cast<const unsigned char*>(box.data), box.dims[0], box.dims[1], n,
-                                  box.byte_strides[0], box.byte_strides[1], box.byte_strides[2], e,
-                                  packed.as<unsigned char>());
-  cuda_check(cudaGetLastError(), "launch of pack_box (" + std::to_string(n) + " elements)");
-  cuda_check(cudaDeviceSynchronize(), "pack_box (a device box packed for the host)");
+  // Packed: placed into a dense box of the same dims
+  cuda::place_box<<<blocks, 256>>>(static_cast<const unsigned char*>(box.data), box.dims[0], box.dims[1], n,
+                                   box.byte_strides[0], box.byte_strides[1], box.byte_strides[2], e,
+                                   packed.as<unsigned char>(), e, e * box.dims[0], e * box.dims[0] * box.dims[1]);
+  cuda_check(cudaGetLastError(), "launch of place_box (" + std::to_string(n) + " elements packed)");
+  cuda_check(cudaDeviceSynchronize(), "place_box (a device box packed for the host)");
   cuda_check(cudaMemcpy(dst, packed.get(), bytes, cudaMemcpyDeviceToHost),
              "cudaMemcpy(" + std::to_string(bytes) + " bytes of a device box to the host)");
 }

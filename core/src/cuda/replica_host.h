@@ -2,13 +2,13 @@
 /// The host half of cuda_assemble_on_device (cuda_memory.h) for an emulated GPU (tests): the
 /// checks, the replica in host memory declared the emulation's device memory (forgotten and
 /// freed with its last owner), and the blocks placed on the host.
+#include <tessera/copy_box.h>
 #include <tessera/cuda_memory.h>
 #include <tessera/memory_estimate.h>
 
 #include "cuda/device_backend.h"
 #include "cuda/emulated_device.h"
 
-#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -57,18 +57,11 @@ inline DeviceReplica assemble_emulated(const std::shared_ptr<DeviceBackend>& e, 
     ::operator delete(const_cast<void*>(p));
   });
   const FieldView dst = dense_view(raw, global, dtype);
-  const auto es = static_cast<std::int64_t>(dtype_size(dtype));
-  for (std::size_t n = 0; n < blocks.size(); ++n) {
-    const FieldView& b = blocks[n];
-    const auto* src = static_cast<const unsigned char*>(b.data);
-    for (std::int64_t k = 0; k < b.dims[2]; ++k)
-      for (std::int64_t j = 0; j < b.dims[1]; ++j)
-        for (std::int64_t i = 0; i < b.dims[0]; ++i)
-          std::memcpy(raw + (offsets[n][0] + i) * dst.byte_strides[0] + (offsets[n][1] + j) * dst.byte_strides[1] +
-                          (offsets[n][2] + k) * dst.byte_strides[2],
-                      src + i * b.byte_strides[0] + j * b.byte_strides[1] + k * b.byte_strides[2],
-                      static_cast<std::size_t>(es));
-  }
+  for (std::size_t n = 0; n < blocks.size(); ++n)
+    copy_box(blocks[n],
+             raw + offsets[n][0] * dst.byte_strides[0] + offsets[n][1] * dst.byte_strides[1] +
+                 offsets[n][2] * dst.byte_strides[2],
+             dst.byte_strides);
   return DeviceReplica{std::move(memory), dst};
 }
 

@@ -3,11 +3,11 @@
 
 #include "data/block_layout.h"
 
+#include <tessera/copy_box.h>
 #include <tessera/cuda_render.h>
 #include <tessera/render.h>
 
 #include <algorithm>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -16,22 +16,6 @@
 
 namespace tessera::insitu {
 namespace {
-
-template <std::size_t E>
-void copy_typed(const FieldView& v, unsigned char* dst0, const std::int64_t dims[3], const std::int64_t offset[3]) {
-  const auto* src0 = static_cast<const unsigned char*>(v.data);
-  const std::int64_t s0 = v.byte_strides[0];
-  for (std::int64_t k = 0; k < v.dims[2]; ++k)
-    for (std::int64_t j = 0; j < v.dims[1]; ++j) {
-      const unsigned char* src = src0 + j * v.byte_strides[1] + k * v.byte_strides[2];
-      unsigned char* dst = dst0 + E * (((offset[2] + k) * dims[1] + offset[1] + j) * dims[0] + offset[0]);
-      if (s0 == static_cast<std::int64_t>(E)) {
-        std::memcpy(dst, src, E * static_cast<std::size_t>(v.dims[0]));
-      } else {
-        for (std::int64_t i = 0; i < v.dims[0]; ++i) std::memcpy(dst + E * i, src + i * s0, E);
-      }
-    }
-}
 
 /// field_range of a block in device memory, computed on its device (a summary of one
 /// macrocell: only its range comes back).
@@ -46,13 +30,10 @@ std::optional<std::pair<double, double>> device_block_range(const FieldBlock& b)
 }  // namespace
 
 void copy_block(const FieldView& v, void* dst, const std::int64_t dims[3], const std::int64_t offset[3]) {
-  auto* d = static_cast<unsigned char*>(dst);
-  switch (dtype_size(v.dtype)) {
-    case 1: copy_typed<1>(v, d, dims, offset); break;
-    case 2: copy_typed<2>(v, d, dims, offset); break;
-    case 4: copy_typed<4>(v, d, dims, offset); break;
-    default: copy_typed<8>(v, d, dims, offset); break;
-  }
+  const auto e = static_cast<std::int64_t>(dtype_size(v.dtype));
+  const std::int64_t dense[3] = {e, e * dims[0], e * dims[0] * dims[1]};
+  copy_box(v, static_cast<unsigned char*>(dst) + offset[0] * dense[0] + offset[1] * dense[1] + offset[2] * dense[2],
+           dense);
 }
 
 FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3], int edge) {
