@@ -58,28 +58,20 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
   return gate.run(TESSERA_ERROR_RENDER, [&] {
     FieldBinding& b = field.binding;
     const config::DeviceSelection& sel = field.device.selection;
-    // In place: one rank holding the field whole, on the GPU, as a plain (single-level,
-    // scalar) field; staged magnitudes are host memory already
-    field.device.in_place = sel.device == Device::Cuda && pass.ctx.size() == 1 && b.whole() && !field.amr &&
-                            !field.magnitude && field.staged.empty() && where.gpu_readable;
+    // A plain (single-level, scalar) field rendered on the GPU; staged magnitudes are host
+    // memory already. In place: one rank holding it whole
+    const bool plain = sel.device == Device::Cuda && !field.amr && !field.magnitude && field.staged.empty();
+    field.device.in_place = plain && pass.ctx.size() == 1 && b.whole() && where.gpu_readable;
     if (field.device.in_place || !where.on_device()) return;
     // One rank, several blocks all in device memory: assembled on the device, not staged
     field.device.assemble_on_device =
-        sel.device == Device::Cuda && pass.ctx.size() == 1 && !field.amr && !field.magnitude && field.staged.empty() &&
+        plain && pass.ctx.size() == 1 &&
         std::all_of(where.device.begin(), where.device.end(), [](char d) { return d != 0; });
-    if (field.device.assemble_on_device) {
-      for (FieldBlock& blk : b.blocks) {
-        blk.on_device = true;
-        blk.cuda_stream = pass.call.cuda_stream;
-      }
-      return;
-    }
     // Several ranks on the GPU over a plain field: a distributed render reads the device
     // blocks where they are (summaries, other ranks' bricks and the cache's fills copied from
     // the device as they are asked for), so the staging waits for the plan
-    field.device.deferred =
-        sel.device == Device::Cuda && pass.ctx.size() > 1 && !field.amr && !field.magnitude && field.staged.empty();
-    if (field.device.deferred) {
+    field.device.deferred = plain && pass.ctx.size() > 1;
+    if (field.device.assemble_on_device || field.device.deferred) {
       field.device.where = where;
       for (std::size_t i = 0; i < b.blocks.size(); ++i) {
         b.blocks[i].on_device = where.device[i] != 0;
