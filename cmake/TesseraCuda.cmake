@@ -51,6 +51,20 @@ endif()
 # -Xptxas -v for the kernels' registers and spills (docs/BENCHMARKS.md, "GPU kernel build")
 option(TESSERA_CUDA_PTXAS_VERBOSE "Print the CUDA kernels' register and spill counts while compiling" OFF)
 
+# nvcc's flags for every file with the core's device code (core/CMakeLists.txt, tests/gpu):
+# --expt-relaxed-constexpr: device code calls the standard library's constexpr functions
+# (std::min, std::clamp); 20012: glm's defaulted members. --fmad=false, as the host's
+# -ffp-contract=off: a multiply and an add fused or not is the compiler's choice, made per
+# kernel after inlining, so the same arithmetic could round differently in two kernels (a
+# distributed field's kernel and the whole field's, a lane loop and another) and their images
+# differ in the last bits. Unfused, each operation rounds as written: the image does not depend
+# on which kernel drew it (docs/gpu.md, "Determinism").
+option(TESSERA_CUDA_FMA "GPU kernels: let nvcc fuse multiplies and adds (images then depend on the kernel's inlining)" OFF)
+set(TESSERA_CUDA_DEVICE_FLAGS --expt-relaxed-constexpr -diag-suppress=20012)
+if(NOT TESSERA_CUDA_FMA)
+  list(APPEND TESSERA_CUDA_DEVICE_FLAGS --fmad=false)
+endif()
+
 # Path regeneration in the pixel kernel (kernels/lane_loop.h, docs/gpu.md): the same image bit
 # for bit; off until it is measured faster on a GPU. The host emulation follows it, so a CPU
 # build with it on tests the loop the kernel would run.
@@ -64,6 +78,11 @@ option(TESSERA_CUDA_STEP_DEFER "GPU kernel: the step-level loop, the code betwee
 # levels by name, until its first GPU run (more samples than the image has, different from run
 # to run) is understood; on, the GPU tests render them against the CPU (docs/gpu.md).
 option(TESSERA_CUDA_AMR "GPU kernel for refinement levels (under test: see docs/gpu.md)" OFF)
+# The kernel for float32 fields read as they are (pixel_kernel_float32.cu): off, so a float32
+# field is widened to a float64 copy on the device (8 bytes a value, widen_field.h), until the
+# float32 kernel, which traced other paths than the CPU on an H200 when built with fused
+# multiply-adds, passes the GPU tests. The host emulation follows it, as for the lane loops.
+option(TESSERA_CUDA_FLOAT32 "GPU kernel for float32 fields read in place, not widened (under test: see docs/gpu.md)" OFF)
 set(_tessera_lane_loops 0)
 foreach(_opt TESSERA_CUDA_PATH_REGEN TESSERA_CUDA_STEP_LOOP TESSERA_CUDA_STEP_DEFER)
   if(${_opt})

@@ -27,9 +27,9 @@
 #                      efficiency ratio, with less of the per-render fixed cost)
 #   REPS=3 WARMUP=1 THREADS=2 ONLY=<cases, comma-separated; default all six>
 #   DEVICE=cuda        (cpu: the same steps on the CPU, to check the script where there is no GPU)
-#   FIELD_DTYPE=float32  the GPU renders float32 copies of the int16 CT and uint8 MRI (the same
-#                      values; docs/gpu.md: the backend refuses integer fields for now); native
-#                      once it takes them
+#   FIELD_DTYPE=native the GPU renders the int16 CT and uint8 MRI in their own dtypes, as the
+#                      CPU does (every table in docs/BENCHMARKS.md); float32: widened float32
+#                      copies (the same values), to compare the integer kernels with the float one
 #   MESH_LIMIT=30      seconds for bench/mesh_bench on the device (0: skipped), before the cases
 #   PAGED_LIMIT=30     seconds for bench/paged_field_bench on the device (0: skipped), likewise
 #   MESH_CALL_LIMIT=40 seconds for each of bench/mesh_insitu_bench's two runs (the adapter's call
@@ -53,7 +53,7 @@ reps=${REPS:-3}
 warmup=${WARMUP:-1}
 threads=${THREADS:-2}
 device=${DEVICE:-cuda}
-field_dtype=${FIELD_DTYPE:-float32}
+field_dtype=${FIELD_DTYPE:-native}
 case_limit=${CASE_LIMIT:-60}
 lookup_limit=${LOOKUP_LIMIT:-60}
 mesh_limit=${MESH_LIMIT:-30}

@@ -7,6 +7,7 @@
 
 #include <cuda_runtime.h>
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -28,13 +29,20 @@ void check(cudaError_t e, const char* what) {
   if (e != cudaSuccess) throw std::runtime_error(std::string("probe_environment_on_device: ") + what + ": " + cudaGetErrorString(e));
 }
 
+/// Device memory freed when the probe returns or throws.
+struct DeviceFree {
+  void operator()(void* p) const { cudaFree(p); }
+};
+using DeviceBytes = std::unique_ptr<void, DeviceFree>;
+
 /// A device copy of `bytes` at `src` (null for none).
-void* to_device(const void* src, std::size_t bytes, const char* what) {
+DeviceBytes to_device(const void* src, std::size_t bytes, const char* what) {
   if (bytes == 0) return nullptr;
   void* d = nullptr;
   check(cudaMalloc(&d, bytes), what);
+  DeviceBytes owned(d);
   check(cudaMemcpy(d, src, bytes, cudaMemcpyHostToDevice), what);
-  return d;
+  return owned;
 }
 
 }  // namespace
@@ -42,31 +50,31 @@ void* to_device(const void* src, std::size_t bytes, const char* what) {
 std::vector<EnvProbe> probe_environment_on_device(const tessera::Environment& env, std::span<const EnvProbe> in) {
   const auto texels = env.texels();
   const auto table = env.distribution_table();
-  void* d_tex = to_device(texels.data(), texels.size_bytes(), "texels");
-  void* d_tab = to_device(table.data(), table.size_bytes(), "table");
+  const DeviceBytes d_tex = to_device(texels.data(), texels.size_bytes(), "texels");
+  const DeviceBytes d_tab = to_device(table.data(), table.size_bytes(), "table");
   const tessera::Environment moved =
-      env.relocated(static_cast<const tessera::Color*>(d_tex), static_cast<const double*>(d_tab));
-  void* d_env = to_device(&moved, sizeof(moved), "environment");
-  void* d_p = to_device(in.data(), in.size_bytes(), "probes");
+      env.relocated(static_cast<const tessera::Color*>(d_tex.get()), static_cast<const double*>(d_tab.get()));
+  const DeviceBytes d_env = to_device(&moved, sizeof(moved), "environment");
+  const DeviceBytes d_p = to_device(in.data(), in.size_bytes(), "probes");
   const int n = static_cast<int>(in.size());
-  probe_kernel<<<(n + 127) / 128, 128>>>(static_cast<const tessera::Environment*>(d_env), static_cast<EnvProbe*>(d_p), n);
+  probe_kernel<<<(n + 127) / 128, 128>>>(static_cast<const tessera::Environment*>(d_env.get()),
+                                         static_cast<EnvProbe*>(d_p.get()), n);
   check(cudaGetLastError(), "launch");
   std::vector<EnvProbe> out(in.size());
-  check(cudaMemcpy(out.data(), d_p, in.size_bytes(), cudaMemcpyDeviceToHost), "results");
-  for (void* p : {d_tex, d_tab, d_env, d_p}) cudaFree(p);
+  check(cudaMemcpy(out.data(), d_p.get(), in.size_bytes(), cudaMemcpyDeviceToHost), "results");
   return out;
 }
 
 std::vector<DistProbe> probe_distribution_on_device(std::span<const double> table, std::size_t bins,
                                                     std::span<const DistProbe> in) {
-  void* d_tab = to_device(table.data(), table.size_bytes(), "table");
-  void* d_p = to_device(in.data(), in.size_bytes(), "probes");
+  const DeviceBytes d_tab = to_device(table.data(), table.size_bytes(), "table");
+  const DeviceBytes d_p = to_device(in.data(), in.size_bytes(), "probes");
   const int n = static_cast<int>(in.size());
-  dist_kernel<<<(n + 127) / 128, 128>>>(static_cast<const double*>(d_tab), bins, static_cast<DistProbe*>(d_p), n);
+  dist_kernel<<<(n + 127) / 128, 128>>>(static_cast<const double*>(d_tab.get()), bins, static_cast<DistProbe*>(d_p.get()),
+                                        n);
   check(cudaGetLastError(), "launch");
   std::vector<DistProbe> out(in.size());
-  check(cudaMemcpy(out.data(), d_p, in.size_bytes(), cudaMemcpyDeviceToHost), "results");
-  for (void* p : {d_tab, d_p}) cudaFree(p);
+  check(cudaMemcpy(out.data(), d_p.get(), in.size_bytes(), cudaMemcpyDeviceToHost), "results");
   return out;
 }
 

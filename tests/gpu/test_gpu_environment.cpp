@@ -92,12 +92,9 @@ TEST_CASE("GPU: a 1D distribution's samples are the host's", "[gpu]") {
   std::vector<double> f(37);
   for (std::size_t i = 0; i < f.size(); ++i) f[i] = (i % 5 == 2) ? 0.0 : 1.0 + std::sin(0.7 * i);
   f[11] = 60.0;
-  const tessera::Distribution1D dist(f.data(), f.size());
-  std::vector<double> table(2 * f.size() + 2);
-  const tessera::Distribution1DView v = dist.view();
-  std::copy(v.f, v.f + f.size(), table.begin());
-  std::copy(v.cdf, v.cdf + f.size() + 1, table.begin() + f.size());
-  table.back() = v.integral;
+  std::vector<double> table(2 * f.size() + 2);  // Distribution1D's layout
+  tessera::detail::build_distribution(f.data(), f.size(), table.data());
+  const tessera::Distribution1DView v = tessera::detail::distribution_at(table.data(), f.size());
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<gpu_test::DistProbe> in(4096);

@@ -21,7 +21,7 @@ struct BlockMarks {
 
 AdaptivePilot adaptive_pilot_jobs(const PreparedSceneImpl& s, std::span<const int> tile_indices) {
   const int width = s.kernel.width, height = s.kernel.height;
-  const std::int64_t cols = (width + B - 1) / B;
+  const std::int64_t cols = adaptive_blocks(width);
   std::vector<BlockMarks> marks;
   for (const int ti : tile_indices) {
     const Tile& t = s.tiles[static_cast<std::size_t>(ti)];

@@ -8,9 +8,7 @@
 namespace tessera::cuda {
 
 inline void gather_box(void* dst, const FieldView& box) {
-  const auto e = static_cast<std::int64_t>(dtype_size(box.dtype));
-  const std::int64_t dense[3] = {e, e * box.dims[0], e * box.dims[0] * box.dims[1]};
-  copy_box(box, dst, dense);
+  copy_box(box, dst, FieldView::contiguous(dst, box.dtype, box.dims[0], box.dims[1], box.dims[2]).byte_strides);
 }
 
 }  // namespace tessera::cuda

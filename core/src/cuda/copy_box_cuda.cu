@@ -103,7 +103,7 @@ DeviceReplica cuda_assemble_on_device(std::span<const FieldView> blocks,
     cudaFree(const_cast<void*>(p));  // nothing to do about a failure here
     cudaSetDevice(prev);
   });
-  const FieldView dst = cuda::dense_view(raw, global, dtype);
+  const FieldView dst = FieldView::contiguous(raw, dtype, global[0], global[1], global[2]);
   const auto e = static_cast<std::int64_t>(dtype_size(dtype));
   for (std::size_t n = 0; n < blocks.size(); ++n) {
     const FieldView& b = blocks[n];

@@ -163,8 +163,8 @@ struct SamplePass {
 /// not the image's.
 SamplePass preview_pass(const KernelScene& ks, int pilot) {
   SamplePass p;
-  const int rows = (ks.height + kAdaptiveBlock - 1) / kAdaptiveBlock;
-  const int cols = (ks.width + kAdaptiveBlock - 1) / kAdaptiveBlock;
+  const int rows = adaptive_blocks(ks.height);
+  const int cols = adaptive_blocks(ks.width);
   for (int by = 0; by < rows; ++by)
     for (int bx = 0; bx < cols; ++bx) {
       int x = 0, y = 0;
@@ -353,7 +353,7 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
       for (std::size_t j = 0; j < blocks.size(); ++j)
         blocks[j] = {preview.px[j].lum, preview.px[j].lum2, preview.px[j].n};
       preview = {};
-      scale = preview_scale(blocks, (s.kernel.width + kAdaptiveBlock - 1) / kAdaptiveBlock, s.kernel.target_error);
+      scale = preview_scale(blocks, adaptive_blocks(s.kernel.width), s.kernel.target_error);
     }
     if (!stopped) stopped = run_pass(b, *dev, s.kernel, first, launch, stop, totals);
     // The own pixels with their pilot sums: after a deadline in the pilot, what it drew; else

@@ -5,6 +5,7 @@
 #include <tessera/byte_span.h>
 
 #include "cuda/device_mesh_tables.h"
+#include "cuda/device_value_dispatch.h"
 #include "cuda/pixel_kernel.h"
 #include "mesh/mesh_layout.h"
 #include "scene/prepared_scene_impl.h"
@@ -138,7 +139,7 @@ DeviceScene::DeviceScene(const PreparedSceneImpl& s, std::shared_ptr<DeviceBacke
   // A plain float32 field: widened to a float64 copy on the device (widen_field.h says why)
   m_dispatch = std::make_shared<KernelScene>(ks);
   if (ks.mesh.element == nullptr && ks.amr.nlevels == 0 && !ks.magnitude.active() && ks.paged.cache == nullptr &&
-      ks.field.dtype == DType::Float32) {
+      ks.field.dtype == DType::Float32 && !kFloat32Kernel) {
     const auto n = static_cast<std::size_t>(ks.field.dims[0] * ks.field.dims[1] * ks.field.dims[2]);
     m_off_widened = reserve(n * sizeof(double));
     m_dispatch->field.dtype = DType::Float64;

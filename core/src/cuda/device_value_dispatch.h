@@ -8,12 +8,19 @@
 
 namespace tessera::cuda {
 
+/// Whether float32 fields have their own device kernel (read as they are) or are widened.
+#if defined(TESSERA_CUDA_FLOAT32)
+inline constexpr bool kFloat32Kernel = true;
+#else
+inline constexpr bool kFloat32Kernel = false;
+#endif
+
 /// fn(TypeTag<V>{}) for the device kernels' Value of `ks`, and true; false (fn not called) for
 /// what they cannot run: hierarchies of refinement levels with remote patches. A distributed
 /// (paged) field's Value is PagedValue (its dtype read per load), every vertex but the own
 /// block's read through the device's bricks (device_bricks.h). A float32 field's Value is
-/// double: the device renders the float64 copy it widens (widen_field.h), so no float kernel
-/// exists. A mesh's values are read per load in their dtype (mesh/domain_access.h): one
+/// double: the device renders the float64 copy it widens (widen_field.h), unless the build has
+/// the float32 kernel (kFloat32Kernel, -DTESSERA_CUDA_FLOAT32=ON, under test). A mesh's values are read per load in their dtype (mesh/domain_access.h): one
 /// MeshValue kernel for every dtype.
 template <class Fn>
 bool with_device_value(const KernelScene& ks, Fn&& fn) {
@@ -37,7 +44,7 @@ bool with_device_value(const KernelScene& ks, Fn&& fn) {
   }
   dispatch_dtype(ks.field, [&](auto view) {
     using T0 = typename decltype(view)::value_type;
-    using T = std::conditional_t<std::is_same_v<T0, float>, double, T0>;
+    using T = std::conditional_t<std::is_same_v<T0, float> && !kFloat32Kernel, double, T0>;
     rect ? fn(TypeTag<Rectilinear<T>>{}) : fn(TypeTag<T>{});
   });
   return true;

@@ -26,6 +26,10 @@ extern template void emulate_slice<std::uint8_t>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<std::int16_t>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<std::uint16_t>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<double>(const SliceArgs&, LaneLoop);
+#if defined(TESSERA_CUDA_FLOAT32)
+extern template void emulate_slice<float>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<Rectilinear<float>>(const SliceArgs&, LaneLoop);
+#endif
 extern template void emulate_slice<Rectilinear<std::uint8_t>>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<Rectilinear<std::int16_t>>(const SliceArgs&, LaneLoop);
 extern template void emulate_slice<Rectilinear<std::uint16_t>>(const SliceArgs&, LaneLoop);

@@ -28,18 +28,6 @@ inline std::size_t replica_bytes(std::size_t blocks, std::size_t offsets, const 
   return static_cast<std::size_t>(bytes);
 }
 
-/// The dense view of `global` elements of `dtype` at `data`.
-inline FieldView dense_view(const void* data, const std::int64_t global[3], DType dtype) {
-  FieldView v;
-  v.data = data;
-  v.dtype = dtype;
-  for (int a = 0; a < 3; ++a) v.dims[a] = global[a];
-  v.byte_strides[0] = static_cast<std::int64_t>(dtype_size(dtype));
-  v.byte_strides[1] = v.byte_strides[0] * global[0];
-  v.byte_strides[2] = v.byte_strides[1] * global[1];
-  return v;
-}
-
 inline DeviceReplica assemble_emulated(const std::shared_ptr<DeviceBackend>& e, std::span<const FieldView> blocks,
                                        std::span<const std::array<std::int64_t, 3>> offsets,
                                        const std::int64_t global[3], DType dtype, std::uint64_t limit_bytes,
@@ -56,7 +44,7 @@ inline DeviceReplica assemble_emulated(const std::shared_ptr<DeviceBackend>& e, 
     emulated_forget_device_memory(*e, p);
     ::operator delete(const_cast<void*>(p));
   });
-  const FieldView dst = dense_view(raw, global, dtype);
+  const FieldView dst = FieldView::contiguous(raw, dtype, global[0], global[1], global[2]);
   for (std::size_t n = 0; n < blocks.size(); ++n)
     copy_box(blocks[n],
              raw + offsets[n][0] * dst.byte_strides[0] + offsets[n][1] * dst.byte_strides[1] +

@@ -1,4 +1,4 @@
-// copy_box (field_view.h): a strided box's elements into another strided box.
+// copy_box (copy_box.h): a strided box's elements into another strided box.
 #include <tessera/copy_box.h>
 
 #include <cstring>

@@ -27,6 +27,9 @@ namespace tessera {
 
 inline constexpr int kAdaptiveBlock = 8;
 
+/// Blocks along an image axis of `pixels` pixels (the last one may be partial).
+constexpr int adaptive_blocks(int pixels) { return (pixels + kAdaptiveBlock - 1) / kAdaptiveBlock; }
+
 /// Pilot samples per pixel for a render of `spp` samples.
 inline int adaptive_pilot(int spp) { return std::min(spp, std::max(8, spp / 16)); }
 

@@ -20,8 +20,8 @@ namespace tessera {
 double adaptive_preview_scale(const KernelScene& s, const RenderOptions& options) {
   if (!(s.target_error > 0.0)) return 0.0;
   const PreviewKernel preview_row = preview_kernel(s);
-  const int rows = (s.height + kAdaptiveBlock - 1) / kAdaptiveBlock;
-  const int cols = (s.width + kAdaptiveBlock - 1) / kAdaptiveBlock;
+  const int rows = adaptive_blocks(s.height);
+  const int cols = adaptive_blocks(s.width);
   std::vector<PilotSums> blocks(static_cast<std::size_t>(rows) * cols);
   StopCheck stop(options.deadline);
   within_render_threads(options, [&] {

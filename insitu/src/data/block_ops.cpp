@@ -30,10 +30,9 @@ std::optional<std::pair<double, double>> device_block_range(const FieldBlock& b)
 }  // namespace
 
 void copy_block(const FieldView& v, void* dst, const std::int64_t dims[3], const std::int64_t offset[3]) {
-  const auto e = static_cast<std::int64_t>(dtype_size(v.dtype));
-  const std::int64_t dense[3] = {e, e * dims[0], e * dims[0] * dims[1]};
-  copy_box(v, static_cast<unsigned char*>(dst) + offset[0] * dense[0] + offset[1] * dense[1] + offset[2] * dense[2],
-           dense);
+  const FieldView whole = FieldView::contiguous(dst, v.dtype, dims[0], dims[1], dims[2]);
+  const std::int64_t* s = whole.byte_strides;
+  copy_box(v, static_cast<unsigned char*>(dst) + offset[0] * s[0] + offset[1] * s[1] + offset[2] * s[2], s);
 }
 
 FieldSummary::Parts partial_of_blocks(std::span<const FieldBlock> blocks, const std::int64_t global[3], int edge) {
