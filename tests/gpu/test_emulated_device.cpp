@@ -417,6 +417,68 @@ TEST_CASE("Emulated device: a deadline in the adaptive pilot keeps the pilot sam
   CHECK(two_each);
 }
 
+TEST_CASE("Emulated device: a GPU render's preview, made on the device, gives the host preview's image", "[emulated]") {
+  // prepare makes the adaptive preview on the host for a CPU render and leaves it to the
+  // device for a GPU render (which may not read the field on the host): the two scales, and so
+  // every pixel's count and sums, are the same bits; the device's preview draws its samples
+  // (launches) without counting them, as the host's are not counted
+  const std::vector<double> field = heat_field<double>(kN);
+  tessera::SceneDesc s = heat_scene(kN, 8);
+  s.image.spp = 64;
+  s.image.target_error = 0.05;
+  const FieldView view = FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN);
+  const tessera::PreparedScene on_host = tessera::prepare(view, s);
+  s.options.device = tessera::Device::Cuda;
+  const tessera::PreparedScene on_device = tessera::prepare(view, s);
+  const auto b = tessera::cuda::emulated_backend();
+  tessera::CudaTransfer tr_host, tr_device;
+  tessera::RenderStats st_host, st_device;
+  const tessera::Film a = render_on(b, on_host, &tr_host, &st_host);
+  const tessera::Film c = render_on(b, on_device, &tr_device, &st_device);
+  CHECK(same_bits(a, c));
+  check_same_paths(st_host, st_device);
+  CHECK(tr_device.launches > tr_host.launches);  // the preview's own launches
+  // Some pixels took more than the pilot, some fewer than spp: the counts were decided
+  std::uint64_t least = UINT64_MAX, most = 0;
+  for (const tessera::PixelSums& p : c.pixels()) {
+    least = std::min(least, p.n);
+    most = std::max(most, p.n);
+  }
+  CHECK(least < most);
+}
+
+TEST_CASE("Emulated device: a deadline in the device's preview stops the render before any sample", "[emulated]") {
+  // One preview sample per slice; after the first slice the test waits the deadline out: the
+  // call says the deadline passed, and the image holds nothing (the preview's samples are not
+  // the image's, and the pilot never ran)
+  const std::vector<double> field = heat_field<double>(kN);
+  tessera::SceneDesc s = heat_scene(kN, 9);
+  s.image.spp = 64;  // a pilot of 8: eight preview slices of one sample
+  s.image.target_error = 0.05;
+  s.options.device = tessera::Device::Cuda;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+  s.options.deadline = deadline;
+  const tessera::PreparedScene ps =
+      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
+  EmulatedDevice d;
+  d.after_slice = [&](std::int64_t slices) {
+    if (slices == 1) std::this_thread::sleep_until(deadline + std::chrono::milliseconds(10));
+  };
+  const auto b = tessera::cuda::emulated_backend(d);
+  tessera::Film film(48, 48);
+  tessera::RenderStats st;
+  tessera::CudaTransfer tr;
+  tessera::CudaLaunch one;
+  one.samples_per_launch = 1;
+  REQUIRE(std::chrono::steady_clock::now() < deadline);
+  CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, one, &tr), tessera::DeadlineExceeded);
+  CHECK(tr.launches == 1);
+  CHECK(st.samples == 0);
+  bool empty = true;
+  for (const tessera::PixelSums& p : film.pixels()) empty &= p.n == 0 && p.drawn == 0 && p.lum == 0.0;
+  CHECK(empty);
+}
+
 namespace {
 
 /// A film and counters rendered from device copies whose prepared scene is gone.
