@@ -455,7 +455,7 @@ TEST_CASE("a device mesh promised unchanged is read where it is: nothing copied 
   CHECK(ad.last_results().at(0).stats.bytes_to_host == resident.stats.bytes_to_host + staged);
 }
 
-TEST_CASE("one rank's domains all in device memory are assembled on the device: nothing staged, the host's bits",
+TEST_CASE("one rank's domains in device memory are assembled on the device: nothing staged, the host's bits",
           "[gpu][insitu][domains]") {
   // The field cut into four slabs along k, each its own device array: with device auto the
   // adapter assembles them on the GPU (cuda_assemble_on_device) instead of staging them, so
@@ -510,10 +510,21 @@ TEST_CASE("one rank's domains all in device memory are assembled on the device: 
   };
   const std::vector<Rendered> on_host = run(host_domains, "cuda");
   const std::vector<Rendered> on_device = run(dev_domains, "auto");
+  // Slabs 0 and 2 on the host, 1 and 3 on the device: assembled on the device too, the host
+  // slabs' elements (and nothing else more) copied there
+  std::vector<tessera_domain> mixed = dev_domains;
+  mixed[0] = host_domains[0];
+  mixed[2] = host_domains[2];
+  const std::uint64_t host_slabs = (slabs[0].size() + slabs[2].size()) * sizeof(float);
+  const std::vector<Rendered> on_both = run(mixed, "auto");
   for (int c = 0; c < 2; ++c) {
     CHECK_THAT(on_device[c].result.device, Contains("cuda:0"));
     CHECK(on_device[c].result.stats.bytes_to_host == on_host[c].result.stats.bytes_to_host);
     CHECK(on_device[c].result.stats.bytes_to_device < on_host[c].result.stats.bytes_to_device);
     CHECK(same_pixels(on_host[c].image, on_device[c].image));
+    CHECK_THAT(on_both[c].result.device, Contains("cuda:0"));
+    CHECK(on_both[c].result.stats.bytes_to_host == on_host[c].result.stats.bytes_to_host);
+    CHECK(on_both[c].result.stats.bytes_to_device == on_device[c].result.stats.bytes_to_device + host_slabs);
+    CHECK(same_pixels(on_host[c].image, on_both[c].image));
   }
 }

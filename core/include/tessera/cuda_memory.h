@@ -29,20 +29,24 @@ void cuda_copy_to_host(void* dst, const void* src, std::size_t bytes, void* stre
 void cuda_copy_box_to_host(void* dst, const FieldView& box, void* stream = nullptr);
 
 /// A field assembled in device memory (cuda_assemble_on_device): `view` is the dense global
-/// field (x fastest) on the device, alive while `memory` (its owner) is.
+/// field (x fastest) on the device, alive while `memory` (its owner) is; `bytes_to_device`:
+/// what its host blocks' elements took from the host.
 struct DeviceReplica {
   std::shared_ptr<const void> memory;
   FieldView view;
+  std::uint64_t bytes_to_device = 0;
 };
 
-/// Assembles blocks that are all device memory of one device (`blocks[n]` placed at global
+/// Assembles blocks of which at least one is device memory (`blocks[n]` placed at global
 /// element `offsets[n]` of a field of `global` elements of `dtype`; the caller has checked
-/// that they tile it) into one dense array on that device, device to device (each block
-/// packed into place by a kernel, any byte strides), after the work queued on `stream`: what a
-/// render on the GPU reads in place, with nothing copied to the host. The array's bytes are
-/// checked against `limit_bytes` first (over it: std::runtime_error naming the bytes and
-/// `limit_text`). Throws std::invalid_argument for a block that is not device memory or on
-/// another device, CudaError on a CUDA failure, std::runtime_error without CUDA.
+/// that they tile it) into one dense array on that device, after the work queued on `stream`:
+/// what a render on the GPU reads in place, with nothing copied to the host. Device and
+/// managed blocks are placed device to device (a kernel, any byte strides); host blocks are
+/// copied to the host's place in the array (their elements only: x-contiguous rows straight
+/// from the block, other layouts packed on the host first, one block at a time). The array's
+/// bytes are checked against `limit_bytes` first (over it: std::runtime_error naming the
+/// bytes and `limit_text`). Throws std::invalid_argument when no block is device memory or
+/// blocks are on two devices, CudaError on a CUDA failure, std::runtime_error without CUDA.
 DeviceReplica cuda_assemble_on_device(std::span<const FieldView> blocks,
                                       std::span<const std::array<std::int64_t, 3>> offsets,
                                       const std::int64_t global[3], DType dtype, void* stream,

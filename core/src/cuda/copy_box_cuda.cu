@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace tessera::cuda {
 namespace {
@@ -82,14 +83,21 @@ DeviceReplica cuda_assemble_on_device(std::span<const FieldView> blocks,
     return cuda::assemble_emulated(e, blocks, offsets, global, dtype, limit_bytes, limit_text);
   cuda::throw_if_disabled();
   const std::size_t bytes = cuda::replica_bytes(blocks.size(), offsets.size(), global, dtype, limit_bytes, limit_text);
+  // Where each block is: device memory of one device (the replica's), managed (read there as
+  // it is), or the host's
   int device = -1;
-  for (const FieldView& b : blocks) {
+  std::vector<char> on_host(blocks.size(), 0);
+  for (std::size_t n = 0; n < blocks.size(); ++n) {
     cudaPointerAttributes attr{};
-    cuda_check(cudaPointerGetAttributes(&attr, b.data), "cudaPointerGetAttributes(block)");
-    if (attr.type != cudaMemoryTypeDevice || (device >= 0 && attr.device != device))
-      throw std::invalid_argument("cuda_assemble_on_device: the blocks are not all device memory of one device");
-    device = attr.device;
+    cuda_check(cudaPointerGetAttributes(&attr, blocks[n].data), "cudaPointerGetAttributes(block)");
+    if (attr.type == cudaMemoryTypeDevice) {
+      if (device >= 0 && attr.device != device)
+        throw std::invalid_argument("cuda_assemble_on_device: the blocks are device memory of two devices");
+      device = attr.device;
+    }
+    on_host[n] = attr.type != cudaMemoryTypeDevice && attr.type != cudaMemoryTypeManaged;
   }
+  if (device < 0) throw std::invalid_argument("cuda_assemble_on_device: no block is device memory");
   const cuda::DeviceGuard guard(device);
   const auto s = static_cast<cudaStream_t>(stream);
   if (s) cuda_check(cudaStreamSynchronize(s), "cudaStreamSynchronize(the simulation's stream)");
@@ -105,11 +113,41 @@ DeviceReplica cuda_assemble_on_device(std::span<const FieldView> blocks,
   });
   const FieldView dst = FieldView::contiguous(raw, dtype, global[0], global[1], global[2]);
   const auto e = static_cast<std::int64_t>(dtype_size(dtype));
+  std::uint64_t from_host = 0;
+  std::vector<unsigned char> packed;  // a host block whose rows are not x-contiguous, packed
   for (std::size_t n = 0; n < blocks.size(); ++n) {
     const FieldView& b = blocks[n];
     const std::int64_t count = b.vertex_count();
     auto* to = static_cast<unsigned char*>(raw) + offsets[n][0] * dst.byte_strides[0] +
                offsets[n][1] * dst.byte_strides[1] + offsets[n][2] * dst.byte_strides[2];
+    if (on_host[n]) {
+      // Its rows to their places: straight from the block when its rows are x-contiguous and
+      // its planes a whole number of rows apart (a dense or ghosted array), else packed first
+      const std::int64_t* bs = b.byte_strides;
+      const bool pitched = bs[0] == e && bs[1] >= e * b.dims[0] && bs[2] > 0 && bs[2] % bs[1] == 0 &&
+                           bs[2] / bs[1] >= b.dims[1];
+      cudaMemcpy3DParms p{};
+      if (pitched) {
+        p.srcPtr = make_cudaPitchedPtr(const_cast<void*>(b.data), static_cast<std::size_t>(bs[1]),
+                                       static_cast<std::size_t>(e * b.dims[0]), static_cast<std::size_t>(bs[2] / bs[1]));
+      } else {
+        packed.resize(static_cast<std::size_t>(count * e));
+        copy_box(b, packed.data(), FieldView::contiguous(packed.data(), dtype, b.dims[0], b.dims[1], b.dims[2]).byte_strides);
+        p.srcPtr = make_cudaPitchedPtr(packed.data(), static_cast<std::size_t>(e * b.dims[0]),
+                                       static_cast<std::size_t>(e * b.dims[0]), static_cast<std::size_t>(b.dims[1]));
+      }
+      p.dstPtr = make_cudaPitchedPtr(raw, static_cast<std::size_t>(dst.byte_strides[1]),
+                                     static_cast<std::size_t>(dst.byte_strides[1]), static_cast<std::size_t>(global[1]));
+      p.dstPos = make_cudaPos(static_cast<std::size_t>(offsets[n][0] * e), static_cast<std::size_t>(offsets[n][1]),
+                              static_cast<std::size_t>(offsets[n][2]));
+      p.extent = make_cudaExtent(static_cast<std::size_t>(e * b.dims[0]), static_cast<std::size_t>(b.dims[1]),
+                                 static_cast<std::size_t>(b.dims[2]));
+      p.kind = cudaMemcpyHostToDevice;
+      cuda_check(cudaMemcpy3D(&p), "cudaMemcpy3D(a host block of " + std::to_string(count) +
+                                       " elements into the field assembled on the device)");
+      from_host += static_cast<std::uint64_t>(count * e);
+      continue;
+    }
     const auto grid = static_cast<unsigned>(std::clamp<std::int64_t>((count + 255) / 256, 1, 65535));
     cuda::place_box<<<grid, 256>>>(static_cast<const unsigned char*>(b.data), b.dims[0], b.dims[1], count,
                                    b.byte_strides[0], b.byte_strides[1], b.byte_strides[2], e, to,
@@ -117,7 +155,7 @@ DeviceReplica cuda_assemble_on_device(std::span<const FieldView> blocks,
     cuda_check(cudaGetLastError(), "launch of place_box (" + std::to_string(count) + " elements)");
   }
   cuda_check(cudaDeviceSynchronize(), "place_box (the field assembled on the device)");
-  return DeviceReplica{std::move(memory), dst};
+  return DeviceReplica{std::move(memory), dst, from_host};
 }
 
 }  // namespace tessera

@@ -1,7 +1,8 @@
 #pragma once
 /// The host half of cuda_assemble_on_device (cuda_memory.h) for an emulated GPU (tests): the
 /// checks, the replica in host memory declared the emulation's device memory (forgotten and
-/// freed with its last owner), and the blocks placed on the host.
+/// freed with its last owner), and the blocks placed on the host (a host block's bytes
+/// counted as the GPU's copy would count them).
 #include <tessera/copy_box.h>
 #include <tessera/cuda_memory.h>
 #include <tessera/memory_estimate.h>
@@ -33,11 +34,17 @@ inline DeviceReplica assemble_emulated(const std::shared_ptr<DeviceBackend>& e, 
                                        const std::int64_t global[3], DType dtype, std::uint64_t limit_bytes,
                                        const std::string& limit_text) {
   const std::size_t bytes = replica_bytes(blocks.size(), offsets.size(), global, dtype, limit_bytes, limit_text);
+  bool any_device = false;
+  std::uint64_t from_host = 0;
   for (const FieldView& b : blocks) {
-    if (e->memory_kind(b.data) != MemoryKind::Device)
-      throw std::invalid_argument("cuda_assemble_on_device: a block is not device memory");
+    if (e->memory_kind(b.data) == MemoryKind::Host) {
+      from_host += static_cast<std::uint64_t>(b.vertex_count()) * dtype_size(b.dtype);
+      continue;
+    }
+    any_device = true;
     emulated_copy_out(*e, b.data, "cuda_assemble_on_device");
   }
+  if (!any_device) throw std::invalid_argument("cuda_assemble_on_device: no block is device memory");
   auto* raw = static_cast<unsigned char*>(::operator new(bytes));
   emulated_declare_device_memory(*e, raw, bytes);
   std::shared_ptr<const void> memory(raw, [e](const void* p) {
@@ -50,7 +57,7 @@ inline DeviceReplica assemble_emulated(const std::shared_ptr<DeviceBackend>& e, 
              raw + offsets[n][0] * dst.byte_strides[0] + offsets[n][1] * dst.byte_strides[1] +
                  offsets[n][2] * dst.byte_strides[2],
              dst.byte_strides);
-  return DeviceReplica{std::move(memory), dst};
+  return DeviceReplica{std::move(memory), dst, from_host};
 }
 
 }  // namespace tessera::cuda

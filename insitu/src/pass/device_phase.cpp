@@ -63,10 +63,9 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
     const bool plain = sel.device == Device::Cuda && !field.amr && !field.magnitude && field.staged.empty();
     field.device.in_place = plain && pass.ctx.size() == 1 && b.whole() && where.gpu_readable;
     if (field.device.in_place || !where.on_device()) return;
-    // One rank, several blocks all in device memory: assembled on the device, not staged
-    field.device.assemble_on_device =
-        plain && pass.ctx.size() == 1 &&
-        std::all_of(where.device.begin(), where.device.end(), [](char d) { return d != 0; });
+    // One rank, several blocks, some in device memory: assembled on the device (the host
+    // blocks copied to their places), not staged
+    field.device.assemble_on_device = plain && pass.ctx.size() == 1;
     // Several ranks on the GPU over a plain field: a distributed render reads the device
     // blocks where they are (summaries, other ranks' bricks and the cache's fills copied from
     // the device as they are asked for), so the staging waits for the plan

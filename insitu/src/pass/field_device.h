@@ -15,9 +15,10 @@ struct FieldDevice {
   /// plan (stage_deferred): a distributed render reads those blocks where they are
   /// (FieldBlock::on_device), a replicated one stages them then.
   bool deferred = false;
-  /// One rank on the GPU over a plain field cut into blocks that are all device memory: the
-  /// blocks are assembled on the device (cuda_assemble_on_device), never staged, and the GPU
-  /// reads that replica in place (FieldBlock::on_device for the range before it).
+  /// One rank on the GPU over a plain field cut into blocks of which some are device memory:
+  /// the blocks are assembled on the device (cuda_assemble_on_device: the host blocks copied
+  /// to their places), never staged, and the GPU reads that replica in place
+  /// (FieldBlock::on_device for the range before it).
   bool assemble_on_device = false;
   BlocksMemory where;  ///< the blocks' memory, asked in the device phase (deferred: for the staging)
 };

@@ -84,8 +84,9 @@ std::optional<PlacedField> assemble_phase(PhaseGate& gate, const PassContext& pa
           call.assembled_key.reset();
           call.assembled_device.reset();
           if (field.device.assemble_on_device) {
-            // One rank's device blocks: checked as the host's assembly checks them, then
-            // placed into one array on their device (nothing copied to the host)
+            // One rank's blocks, some on the device: checked as the host's assembly checks
+            // them, then placed into one array on that device (nothing copied to the host;
+            // the host blocks' elements copied over)
             check_blocks_one_rank(b.blocks, b.placement.global_dims);
             std::vector<FieldView> views;
             std::vector<std::array<std::int64_t, 3>> offsets;
@@ -98,6 +99,7 @@ std::optional<PlacedField> assemble_phase(PhaseGate& gate, const PassContext& pa
                                                       call.cuda_stream, limit.bytes, limit.text);
             call.assembled = r.view;
             call.assembled_device = std::move(r.memory);
+            placed.assembled_to_device = r.bytes_to_device;
           } else {
             call.assembled = ctx.assemble_blocks(b.blocks, b.placement.global_dims, b.local.dtype);
           }

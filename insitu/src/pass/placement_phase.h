@@ -13,6 +13,7 @@
 #include <tessera/amr.h>
 #include <tessera/brick_cache.h>
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 
@@ -26,6 +27,9 @@ struct PlacedField {
   /// Distributed mode, one level: the global summary (kept, or reduced from every rank's
   /// blocks in a phase of its own, before the prepare that serves bricks)
   std::shared_ptr<const FieldSummary> summary;
+  /// Replicated on the device (FieldDevice::assemble_on_device): the host blocks' bytes the
+  /// assembly copied to the device; 0 when the call's replica was reused
+  std::uint64_t assembled_to_device = 0;
 };
 
 /// The plan phase (rank 0 logs the mode when it changes, unless `quiet`). Nothing when the

@@ -71,6 +71,7 @@ PassOutcome run(const PassContext& pass, bool check_when, bool quiet) {
   if (!plan->distributed && !stage_deferred(gate, pass, *field, out.result)) return out;
   std::optional<PlacedField> placed = assemble_phase(gate, pass, *field, std::move(*plan));
   if (!placed) return out;
+  out.result.stats.bytes_to_device += placed->assembled_to_device;
   const std::optional<SceneSetup> setup = scene_phase(gate, pass, *field, range);
   if (!setup) return out;
   const std::optional<PreparedScene> prepared = prepare_phase(gate, pass, *field, *placed, setup->scene, out.result);
