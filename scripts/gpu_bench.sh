@@ -35,6 +35,8 @@
 #   MESH_CALL_LIMIT=40 seconds for each of bench/mesh_insitu_bench's two runs (the adapter's call
 #                      over a 96^3 hex mesh: moved, same, promised; on the device, then on the
 #                      CPU with THREADS; 0: skipped)
+#   NCU=0              1: Nsight Compute on one kernel launch of each NCU_CASES case
+#                      (default ct_single,ct_multiple) after the benchmark, NCU_LIMIT=120 s each
 #   CASE_LIMIT=60 LOOKUP_LIMIT=60 TOTAL_LIMIT=200 (seconds: a case, the lookup ceiling, and
 #                      the whole script: the cases left when it runs out are skipped), WORK=/tmp/tessera-gpu-bench (the unpacked data,
 #                      the float32 copies, all images: not under OUT_DIR, which travels back)
@@ -182,6 +184,24 @@ done
 if [[ -f $pack/ete_cpu.csv ]] && ((${#csvs[@]})); then
   python3 bench/perf/ete_compare.py "$pack/ete_cpu.csv" "${csvs[@]}" --out "$out/ete_compare.md" \
     --cpu-name "the 2-core development VM"
+fi
+mark compare
+
+# 6. Nsight Compute on one launch of each NCU_CASES case (NCU=1 and ncu on PATH): threads active
+# per warp instruction, the warps' stall reasons (instruction fetch: "no_instruction"),
+# occupancy, registers; one CSV per case (ncu_<case>.csv), NCU_LIMIT seconds each
+if [[ ${NCU:-0} == 1 ]] && command -v ncu > /dev/null; then
+  for c in ${NCU_CASES:-ct_single,ct_multiple}; do
+    c=${c//[^a-z_]/}
+    scene=$(ls "$work/ete_gpu_spp256/$c"/scenes/*.yaml 2>/dev/null | head -1)
+    [[ -n $scene ]] || { say "ncu $c: no 256 spp scene (the case did not run)"; continue; }
+    say "ncu $c (limit ${NCU_LIMIT:-120} s)"
+    timeout "${NCU_LIMIT:-120}" ncu --kernel-name regex:pixel_samples --launch-count 1 --csv --page details \
+      --section SpeedOfLight --section Occupancy --section LaunchStats --section WarpStateStats \
+      --section SchedulerStats --metrics smsp__thread_inst_executed_per_inst_executed.ratio \
+      "$build/bin/tessera-render" "$scene" --render run0 --quiet > "$out/ncu_$c.csv" 2> "$out/ncu_$c.err"
+    say "ncu $c: exit $?"
+  done
 fi
 mark done
 say "done in $(($(date +%s) - t_begin)) s; results in $out"
