@@ -58,7 +58,7 @@ option(TESSERA_CUDA_PTXAS_VERBOSE "Print the CUDA kernels' register and spill co
 # kernel after inlining, so the same arithmetic could round differently in two kernels (a
 # distributed field's kernel and the whole field's, a lane loop and another) and their images
 # differ in the last bits. Unfused, each operation rounds as written: the image does not depend
-# on which kernel drew it (docs/gpu.md, "Determinism").
+# on which kernel drew it (docs/gpu.md, "One kernel source for both").
 option(TESSERA_CUDA_FMA "GPU kernels: let nvcc fuse multiplies and adds (images then depend on the kernel's inlining)" OFF)
 set(TESSERA_CUDA_DEVICE_FLAGS --expt-relaxed-constexpr -diag-suppress=20012)
 if(NOT TESSERA_CUDA_FMA)

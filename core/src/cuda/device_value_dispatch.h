@@ -20,8 +20,9 @@ inline constexpr bool kFloat32Kernel = false;
 /// (paged) field's Value is PagedValue (its dtype read per load), every vertex but the own
 /// block's read through the device's bricks (device_bricks.h). A float32 field's Value is
 /// double: the device renders the float64 copy it widens (widen_field.h), unless the build has
-/// the float32 kernel (kFloat32Kernel, -DTESSERA_CUDA_FLOAT32=ON, under test). A mesh's values are read per load in their dtype (mesh/domain_access.h): one
-/// MeshValue kernel for every dtype.
+/// the float32 kernel (kFloat32Kernel, -DTESSERA_CUDA_FLOAT32=ON, under test). A mesh's
+/// values are read per load in their dtype (mesh/domain_access.h): one MeshValue kernel for
+/// every dtype.
 template <class Fn>
 bool with_device_value(const KernelScene& ks, Fn&& fn) {
   if (ks.amr.nlevels > 0) {

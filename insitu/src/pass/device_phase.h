@@ -3,11 +3,11 @@
 /// the field lives and what the GPU covers; then the field made readable there. On the GPU a
 /// field in device (or managed) memory that one rank holds whole is read in place, with no
 /// copy; one rank's blocks of which some are device memory are assembled on the device, its
-/// host blocks copied there (FieldDevice::assemble_on_device); on several ranks the staging waits for the plan
-/// (stage_deferred: a distributed render leaves device blocks where they are). Every other case
-/// that holds device memory (a replica of several ranks' blocks, refinement levels, a vector's
-/// magnitude, a render on the CPU) stages those blocks to the host, within the memory limit,
-/// and counts the bytes.
+/// host blocks copied there (FieldDevice::assemble_on_device); on several ranks the staging
+/// waits for the plan (stage_deferred: a distributed render leaves device blocks where they
+/// are). Every other case that holds device memory (a replica of several ranks' blocks,
+/// refinement levels, a vector's magnitude, a render on the CPU) stages those blocks to the
+/// host, within the memory limit, and counts the bytes.
 #include "pass/bind_phase.h"
 #include "pass/pass_context.h"
 
