@@ -16,6 +16,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -413,4 +414,64 @@ TEST_CASE("GPU: a device block's summary at an offset and a box copied from it a
   tessera::cuda_copy_box_to_host(from_host.data(), hs);
   CHECK(std::memcmp(from_device.data(), from_host.data(), from_host.size() * sizeof(double)) == 0);
   CHECK(std::memcmp(&from_host[0], static_cast<const double*>(hs.data), sizeof(double)) == 0);
+}
+
+TEST_CASE("GPU: one rank's host and device blocks assembled on the device are the host's field bit for bit",
+          "[gpu][memory]") {
+  // A 12x10x9 float32 field in three slabs along z: a dense device block, a host block inside
+  // a ghosted array (its rows x-contiguous: copied straight from it), and a host block stored
+  // y-backwards (packed on the host first); the replica copied back equals the field, and the
+  // host blocks' bytes are what crossed
+  const std::int64_t g[3] = {12, 10, 9}, nx = g[0], ny = g[1];
+  std::vector<float> whole(static_cast<std::size_t>(g[0] * g[1] * g[2]));
+  for (std::size_t q = 0; q < whole.size(); ++q) whole[q] = static_cast<float>(std::sin(0.11 * static_cast<double>(q)));
+  const auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return whole[static_cast<std::size_t>((k * ny + j) * nx + i)];
+  };
+  const std::int64_t slab = 3, e = sizeof(float);
+  // Slab 0: device, dense
+  const DeviceArray dev(whole.data(), static_cast<std::size_t>(nx * ny * slab * e));
+  FieldView a = FieldView::contiguous(dev.p, DType::Float32, nx, ny, slab);
+  // Slab 1: host, one ghost layer on every side of a (nx+2) x (ny+2) x (slab+2) array
+  std::vector<float> ghosted(static_cast<std::size_t>((nx + 2) * (ny + 2) * (slab + 2)), -1.0f);
+  for (std::int64_t k = 0; k < slab; ++k)
+    for (std::int64_t j = 0; j < ny; ++j)
+      for (std::int64_t i = 0; i < nx; ++i)
+        ghosted[static_cast<std::size_t>(((k + 1) * (ny + 2) + j + 1) * (nx + 2) + i + 1)] = at(i, j, slab + k);
+  FieldView b;
+  b.dtype = DType::Float32;
+  b.dims[0] = nx;
+  b.dims[1] = ny;
+  b.dims[2] = slab;
+  b.byte_strides[0] = e;
+  b.byte_strides[1] = e * (nx + 2);
+  b.byte_strides[2] = e * (nx + 2) * (ny + 2);
+  b.data = ghosted.data() + ((ny + 2) + 1) * (nx + 2) + 1;
+  // Slab 2: host, y stored backwards
+  std::vector<float> backwards(static_cast<std::size_t>(nx * ny * slab));
+  for (std::int64_t k = 0; k < slab; ++k)
+    for (std::int64_t j = 0; j < ny; ++j)
+      for (std::int64_t i = 0; i < nx; ++i)
+        backwards[static_cast<std::size_t>((k * ny + (ny - 1 - j)) * nx + i)] = at(i, j, 2 * slab + k);
+  FieldView c = b;
+  c.byte_strides[1] = -e * nx;
+  c.byte_strides[2] = e * nx * ny;
+  c.data = backwards.data() + (ny - 1) * nx;
+  for (const FieldView* v : {&a, &b, &c}) v->validate("block");
+  const std::vector<FieldView> blocks = {a, b, c};
+  const std::vector<std::array<std::int64_t, 3>> offsets = {{0, 0, 0}, {0, 0, slab}, {0, 0, 2 * slab}};
+  const tessera::DeviceReplica r = tessera::cuda_assemble_on_device(blocks, offsets, g, DType::Float32, nullptr,
+                                                                    std::uint64_t{1} << 30, "a test's limit");
+  CHECK(r.bytes_to_device == static_cast<std::uint64_t>(2 * nx * ny * slab * e));
+  CHECK(tessera::cuda_memory_kind(r.view.data) == MemoryKind::Device);
+  std::vector<float> back(whole.size());
+  tessera::cuda_copy_to_host(back.data(), r.view.data, back.size() * sizeof(float));
+  CHECK(std::memcmp(back.data(), whole.data(), whole.size() * sizeof(float)) == 0);
+  // No device block: refused by name (the host assembles such a field)
+  const std::vector<FieldView> host_only = {b, c};
+  const std::vector<std::array<std::int64_t, 3>> two = {{0, 0, 0}, {0, 0, slab}};
+  const std::int64_t g2[3] = {nx, ny, 2 * slab};
+  CHECK_THROWS_WITH(
+      tessera::cuda_assemble_on_device(host_only, two, g2, DType::Float32, nullptr, std::uint64_t{1} << 30, "a limit"),
+      Catch::Contains("no block is device memory"));
 }
