@@ -20,11 +20,14 @@
 #include "block_z_test.h"
 #include "same_paths.h"
 
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <numeric>
 #include <span>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -121,6 +124,38 @@ inline std::vector<int> all_tiles(const tessera::PreparedScene& ps) {
 inline const std::shared_ptr<tessera::cuda::DeviceBackend>& emulated_gpu() {
   static const std::shared_ptr<tessera::cuda::DeviceBackend> b = tessera::cuda::emulated_backend();
   return b;
+}
+
+/// A render's deadline for the tests that cut one short: far enough that prepare leaves the
+/// render its time on a slow machine (the tests REQUIRE it).
+inline std::chrono::steady_clock::time_point test_deadline() {
+  return std::chrono::steady_clock::now() + std::chrono::seconds(4);
+}
+
+/// What a render cut short by its deadline left.
+struct CutRender {
+  tessera::Film film;
+  tessera::RenderStats stats;
+  tessera::CudaTransfer transfer;
+};
+
+/// Renders `ps` (prepared with options.deadline = `deadline`) on a fresh emulated device, one
+/// sample per launch, that waits the deadline out after launch `cut_after`: the render must
+/// stop there with DeadlineExceeded (checked); what it left is returned for the caller's checks.
+inline CutRender render_cut_by_deadline(const tessera::PreparedScene& ps,
+                                        std::chrono::steady_clock::time_point deadline, std::int64_t cut_after) {
+  tessera::cuda::EmulatedDevice d;
+  d.after_slice = [&](std::int64_t slices) {
+    if (slices == cut_after) std::this_thread::sleep_until(deadline + std::chrono::milliseconds(10));
+  };
+  const auto b = tessera::cuda::emulated_backend(d);
+  CutRender r{tessera::Film(ps.desc().image.width, ps.desc().image.height), {}, {}};
+  tessera::CudaLaunch one;
+  one.samples_per_launch = 1;
+  REQUIRE(std::chrono::steady_clock::now() < deadline);  // prepare left the render its time
+  CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), r.film, r.stats, one, &r.transfer),
+                  tessera::DeadlineExceeded);
+  return r;
 }
 #endif
 

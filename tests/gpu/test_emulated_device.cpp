@@ -394,22 +394,11 @@ TEST_CASE("Emulated device: a deadline in the adaptive pilot keeps the pilot sam
   tessera::SceneDesc s = heat_scene(kN, 7);
   s.image.spp = 64;  // a pilot of 8
   s.image.target_error = 0.05;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+  const auto deadline = test_deadline();
   s.options.deadline = deadline;
   const tessera::PreparedScene ps =
       tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
-  EmulatedDevice d;
-  d.after_slice = [&](std::int64_t slices) {
-    if (slices == 2) std::this_thread::sleep_until(deadline + std::chrono::milliseconds(10));
-  };
-  const auto b = tessera::cuda::emulated_backend(d);
-  tessera::Film film(48, 48);
-  tessera::RenderStats st;
-  tessera::CudaTransfer tr;
-  tessera::CudaLaunch one;
-  one.samples_per_launch = 1;
-  REQUIRE(std::chrono::steady_clock::now() < deadline);  // prepare left the render its time
-  CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, one, &tr), tessera::DeadlineExceeded);
+  const auto [film, st, tr] = render_cut_by_deadline(ps, deadline, 2);
   CHECK(tr.launches == 2);
   CHECK(st.samples == std::uint64_t{48 * 48 * 2});
   bool two_each = true;
@@ -456,22 +445,11 @@ TEST_CASE("Emulated device: a deadline in the device's preview stops the render 
   s.image.spp = 64;  // a pilot of 8: eight preview slices of one sample
   s.image.target_error = 0.05;
   s.options.device = tessera::Device::Cuda;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+  const auto deadline = test_deadline();
   s.options.deadline = deadline;
   const tessera::PreparedScene ps =
       tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
-  EmulatedDevice d;
-  d.after_slice = [&](std::int64_t slices) {
-    if (slices == 1) std::this_thread::sleep_until(deadline + std::chrono::milliseconds(10));
-  };
-  const auto b = tessera::cuda::emulated_backend(d);
-  tessera::Film film(48, 48);
-  tessera::RenderStats st;
-  tessera::CudaTransfer tr;
-  tessera::CudaLaunch one;
-  one.samples_per_launch = 1;
-  REQUIRE(std::chrono::steady_clock::now() < deadline);
-  CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, one, &tr), tessera::DeadlineExceeded);
+  const auto [film, st, tr] = render_cut_by_deadline(ps, deadline, 1);
   CHECK(tr.launches == 1);
   CHECK(st.samples == 0);
   bool empty = true;

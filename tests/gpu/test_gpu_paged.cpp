@@ -297,23 +297,12 @@ TEST_CASE("Emulated device: a deadline between replays keeps only whole launches
   const std::vector<unsigned char> bytes = heat_bytes(tessera::DType::Float64, kN);
   const FieldView whole = FieldView::contiguous(bytes.data(), tessera::DType::Float64, kN, kN, kN);
   tessera::SceneDesc s = scene_for(tessera::DType::Float64, 6);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+  const auto deadline = test_deadline();
   s.options.deadline = deadline;
   Distributed d(whole, 2, 125, 0);
   tessera_test::FakeBrickService service(d.cache, whole);
   const tessera::PreparedScene ps = tessera::prepare(d.field, s, summary_of(whole, s));
-  tessera::cuda::EmulatedDevice e;
-  e.after_slice = [&](std::int64_t slices) {
-    if (slices == 4) std::this_thread::sleep_until(deadline + std::chrono::milliseconds(10));
-  };
-  const auto b = tessera::cuda::emulated_backend(e);
-  tessera::Film film(s.image.width, s.image.height);
-  tessera::RenderStats st;
-  tessera::CudaTransfer tr;
-  tessera::CudaLaunch one;
-  one.samples_per_launch = 1;
-  REQUIRE(std::chrono::steady_clock::now() < deadline);
-  CHECK_THROWS_AS(tessera::cuda::render_on_device(b, ps, all_tiles(ps), film, st, one, &tr), tessera::DeadlineExceeded);
+  const auto [film, st, tr] = render_cut_by_deadline(ps, deadline, 4);
   CHECK(tr.launches == 4);
   CHECK(tr.replays >= 1);
   const std::uint64_t kept = film.pixels()[0].drawn;
