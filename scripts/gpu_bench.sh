@@ -191,7 +191,8 @@ mark compare
 # per warp instruction, the warps' stall reasons (instruction fetch: "no_instruction"),
 # occupancy, registers; one CSV per case (ncu_<case>.csv), NCU_LIMIT seconds each
 if [[ ${NCU:-0} == 1 ]] && command -v ncu > /dev/null; then
-  for c in ${NCU_CASES:-ct_single,ct_multiple}; do
+  ncu_cases=${NCU_CASES:-ct_single,ct_multiple}
+  for c in ${ncu_cases//,/ }; do
     c=${c//[^a-z_]/}
     scene=$(ls "$work/ete_gpu_spp256/$c"/scenes/*.yaml 2>/dev/null | head -1)
     [[ -n $scene ]] || { say "ncu $c: no 256 spp scene (the case did not run)"; continue; }
