@@ -324,7 +324,7 @@ TEST_CASE("GPU: a launch failure disables the GPU for the process (child process
 TEST_CASE("GPU child: an illegal address in the kernel", "[.sticky_child]") {
   // A device field whose z stride reaches a terabyte past its allocation; a summary made up
   // for its layout, so that prepare reads nothing; the device loads fault (the float32
-  // widening kernel reads the field first; the pixel kernel with -DTESSERA_CUDA_FLOAT32=ON)
+  // pixel kernel reads it in place; with -DTESSERA_CUDA_FLOAT32=OFF the widening kernel first)
 #if defined(TESSERA_CUDA_FLOAT32)
   const std::string faulting = "pixel_samples<float32>";
 #else

@@ -19,8 +19,8 @@ inline constexpr bool kFloat32Kernel = false;
 /// what they cannot run: hierarchies of refinement levels with remote patches. A distributed
 /// (paged) field's Value is PagedValue (its dtype read per load), every vertex but the own
 /// block's read through the device's bricks (device_bricks.h). A float32 field's Value is
-/// double: the device renders the float64 copy it widens (widen_field.h), unless the build has
-/// the float32 kernel (kFloat32Kernel, -DTESSERA_CUDA_FLOAT32=ON, under test). A mesh's
+/// float, read in place (kFloat32Kernel, TESSERA_CUDA_FLOAT32, on by default); a build with
+/// -DTESSERA_CUDA_FLOAT32=OFF renders the float64 copy it widens (widen_field.h). A mesh's
 /// values are read per load in their dtype (mesh/domain_access.h): one MeshValue kernel for
 /// every dtype.
 template <class Fn>

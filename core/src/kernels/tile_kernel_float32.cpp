@@ -11,7 +11,7 @@ TESSERA_INSTANTIATE_TILE_KERNELS(Rectilinear<float>);
 }  // namespace tessera
 
 #if defined(TESSERA_CUDA_FLOAT32)
-// The host emulation of the float32 kernel (-DTESSERA_CUDA_FLOAT32=ON; else float32 fields are
+// The host emulation of the float32 kernel (TESSERA_CUDA_FLOAT32, the default; else float32 fields are
 // widened and drawn by the float64 slices)
 TESSERA_INSTANTIATE_EMULATED_SLICE(float);
 TESSERA_INSTANTIATE_EMULATED_SLICE(tessera::Rectilinear<float>);

@@ -83,7 +83,10 @@ class TileSampler {
     SobolSampler ld{0, 0, 0, 0};
     bool has_ld = false;
     bool live = false;  ///< false: the path's out is the sample's value
-    Path path{};
+    /// Set by start() before any read. Not value-initialised (`{}`): nvcc 13 then builds the
+    /// empty path as a constant in global memory and copies it through a generic pointer,
+    /// which its code generator reports as an invalid bitcast at every kernel it compiles.
+    Path path;
   };
   using Flight = FlightOf<typename PathTracer<V>::PathState>;
   using StepFlight = FlightOf<typename PathSteps<V>::State>;
