@@ -75,10 +75,11 @@ option(TESSERA_CUDA_PATH_REGEN "GPU kernel: one bounce per loop iteration, a lan
 option(TESSERA_CUDA_STEP_LOOP "GPU kernel: one tracking step per loop iteration (free flight and shadow rays as phases)" OFF)
 # The step-level loop with the code between walks deferred to a warp vote (LaneLoop::StepDefer).
 option(TESSERA_CUDA_STEP_DEFER "GPU kernel: the step-level loop, the code between walks run when half the warp waits for it" OFF)
-# The kernel for refinement levels (pixel_kernel_amr.cu): off, so the GPU refuses refinement
-# levels by name, until its first GPU run (more samples than the image has, different from run
-# to run) is understood; on, the GPU tests render them against the CPU (docs/gpu.md).
-option(TESSERA_CUDA_AMR "GPU kernel for refinement levels (under test: see docs/gpu.md)" OFF)
+# The kernel for refinement levels (pixel_kernel_amr.cu): on by default since it passes the GPU
+# tests (H200, 2026-11-30: the two-level scene against the CPU three times, compute-sanitizer's
+# memcheck and initcheck clean; its first run, 2026-11-27, drew more samples than the image has,
+# a fault not seen since and not explained); OFF refuses refinement levels on the GPU by name.
+option(TESSERA_CUDA_AMR "GPU kernel for refinement levels" ON)
 # The kernel for float32 fields read as they are (pixel_kernel_float32.cu): on by default since
 # it passes the GPU tests (H200, with --fmad=false) and renders a float32 field 17% faster
 # (H200) than the float64 copy it replaces (8 bytes a value on the device); OFF widens float32

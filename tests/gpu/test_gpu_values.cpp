@@ -137,9 +137,9 @@ TEST_CASE("GPU against CPU: rectilinear axes", "[gpu][values]") {
   });
 }
 
-// Two refinement levels: not on a CUDA device yet, refused by name (the CPU renders them);
-// the host emulation runs their device copies and kernel code against the CPU's
-TEST_CASE("GPU: two refinement levels (refused on a CUDA device, checked in emulation)", "[gpu][values]") {
+// Two refinement levels against the CPU, on the device and in the host emulation; a CUDA build
+// without their kernel (-DTESSERA_CUDA_AMR=OFF) refuses them by name (the CPU renders them)
+TEST_CASE("GPU against CPU: two refinement levels (refused by a build without their kernel)", "[gpu][values]") {
   // Cell data: level 0 of 16^3 cells over the unit cube, level 1 (ratio 2) over the hot centre
   constexpr std::int64_t n0 = 16;
   const auto heat = [](const Vec3& p) {
@@ -159,7 +159,7 @@ TEST_CASE("GPU: two refinement levels (refused on a CUDA device, checked in emul
     return tessera::prepare(amr, s, nullptr);
   };
 #if defined(TESSERA_GPU_TESTS_EMULATED) || defined(TESSERA_CUDA_AMR)
-  check_value("two refinement levels", prepare);  // the kernel under test (-DTESSERA_CUDA_AMR=ON)
+  check_value("two refinement levels", prepare);
 #else
   const tessera::PreparedScene ps = prepare(1);
   tessera::Film f(ps.desc().image.width, ps.desc().image.height);

@@ -6,6 +6,7 @@
 // elements; a mesh's arrays in device memory are copied to the host (where its tables are
 // built) and read in place by the GPU render with `device: auto`; a host mesh renders on the
 // GPU with `device: cuda`.
+#include "amr_patches.h"
 #include "device_memory.h"
 #include "insitu_test_support.h"
 #include "mesh_blocks.h"
@@ -198,6 +199,38 @@ TEST_CASE("a strided device view with ghost layers and the simulation's stream",
   device_test::destroy_stream(stream);
   device_test::release(dev);
 }
+
+#if defined(TESSERA_CUDA_AMR)
+TEST_CASE("refinement levels through the adapter on the GPU: the CPU's image within MC error, the same bits each run",
+          "[gpu][insitu][amr]") {
+  // Three levels of cell data (ratios 2 and 4) in host patches, each level cut into slabs and
+  // the patches listed out of order (tests/common/amr_patches.h): device cuda copies the
+  // levels' replica and tables to the GPU and renders them there
+  const tessera_test::Hierarchy h = tessera_test::hierarchy(3, TESSERA_CELL);
+  const tessera_test::HeldPatches held(h.spec, h.many, tessera_test::blobs, 2);
+  const std::vector<tessera_domain> domains = held.all(h.many_order);
+  const tessera_mesh mesh = h.spec.mesh();
+  const auto run = [&](const std::string& device) {
+    TempDir dir;
+    Adapter adapter;
+    adapter.set_quiet(true);
+    REQUIRE(adapter.open(dir.write(
+                "a.yaml", config_yaml(dir.file("out"), renders(64), "  device: " + device + "\n"))) == TESSERA_OK);
+    const tessera_status s = adapter.execute_domains(2, 0.0, mesh, domains);
+    INFO(adapter.last_error());
+    REQUIRE(s == TESSERA_OK);
+    return Rendered{*adapter.last_image("main"), adapter.last_results().at(0)};
+  };
+  const Rendered cpu = run("cpu");
+  const Rendered gpu = run("cuda");
+  CHECK(cpu.result.device == "cpu");
+  CHECK_THAT(gpu.result.device, Contains("cuda:0"));
+  CHECK(gpu.result.stats.samples == cpu.result.stats.samples);
+  CHECK(gpu.result.stats.bytes_to_device > 0);  // the levels' replica and tables
+  CHECK(max_block_z(cpu.image, gpu.image) < 4.2);
+  CHECK(same_pixels(gpu.image, run("cuda").image));
+}
+#endif
 
 namespace {
 

@@ -11,10 +11,8 @@
 namespace tessera::cuda {
 
 bool device_value_supported(const KernelScene& ks, std::string* why) {
-  // Refinement levels: not on a CUDA device yet (their first GPU run drew more samples than
-  // the image has and differed from run to run; refused until that is understood) unless the
-  // build says so (-DTESSERA_CUDA_AMR=ON, to test their kernel). The host emulation runs them
-  // (emulated_device.h).
+  // Refinement levels: refused on a CUDA device by a build without their kernel
+  // (-DTESSERA_CUDA_AMR=OFF; on by default). The host emulation runs them (emulated_device.h).
 #if !defined(TESSERA_CUDA_AMR)
   if (ks.amr.nlevels > 0 && ks.amr.paged.cache == nullptr) {
     if (why) *why = "refinement levels";

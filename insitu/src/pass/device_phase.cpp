@@ -14,12 +14,19 @@ namespace tessera::insitu {
 namespace {
 
 /// What the render asks for that the GPU does not cover yet ("" when nothing): refinement
-/// levels, whose kernel is built on request only (-DTESSERA_CUDA_AMR=ON, docs/gpu.md).
-std::string gpu_gap([[maybe_unused]] const BoundField& field) {
-#if !defined(TESSERA_CUDA_AMR)
-  if (field.amr) return "refinement levels";
-#endif
+/// levels in a build without their kernel (-DTESSERA_CUDA_AMR=OFF), and refinement levels that
+/// may be rendered distributed (several ranks, tessera.distribution not `replicated`): the GPU
+/// has no distributed kernel for them. Decided before the plan, from the config alone, so that
+/// every rank gives the same answer.
+std::string gpu_gap([[maybe_unused]] const PassContext& pass, [[maybe_unused]] const BoundField& field) {
+  if (!field.amr) return {};
+#if defined(TESSERA_CUDA_AMR)
+  if (pass.ctx.size() > 1 && pass.cfg.global.distribution != config::Distribution::Replicated)
+    return "refinement levels on several ranks without tessera.distribution: replicated";
   return {};
+#else
+  return "refinement levels";
+#endif
 }
 
 /// This rank's device from `tessera.device` for data that is (or is not) GPU memory, with
@@ -51,7 +58,7 @@ bool device_phase(PhaseGate& gate, const PassContext& pass, BoundField& field) {
   const bool chosen = gate.run(TESSERA_ERROR_RENDER, [&] {
     where = blocks_memory(field.binding.blocks);
     // auto with a gap: the CPU, the field staged below
-    field.device.selection = select_device(pass, where.gpu_readable, gpu_gap(field));
+    field.device.selection = select_device(pass, where.gpu_readable, gpu_gap(pass, field));
   });
   if (!chosen) return false;
   agree_device_kind(pass, field.device.selection);
