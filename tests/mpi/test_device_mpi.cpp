@@ -6,6 +6,7 @@
 // large chunks of tiles and the gathered image is the one-rank GPU image bit for bit; mesh
 // domains spread over the ranks render on every rank's GPU with device: cuda.
 #include "../gpu/gpu_test_util.h"
+#include "amr_patches.h"
 #include "blob_slab.h"
 #include "mesh_blocks.h"
 #include "mpi_test_support.h"
@@ -309,6 +310,57 @@ TEST_CASE("device: cuda on every rank's GPU renders the CPU's image", "[mpi][gpu
     // The same samples summed in another order: equal to float rounding
     CHECK(max_difference(*cpu.image, *dev.image) < 1e-5);
   }
+}
+
+TEST_CASE("refinement levels over the ranks: on every rank's GPU when replicated, never distributed",
+          "[mpi][gpu][amr]") {
+  // A 3-level hierarchy of cell data, its patches dealt round robin over the ranks. With their
+  // kernel (-DTESSERA_CUDA_AMR, the default of CUDA builds): replicated, device cuda renders
+  // the CPU's image on every rank's GPU; on several ranks without `distribution: replicated`
+  // (distributed mode may be chosen, and has no GPU kernel for them) device cuda fails on every
+  // rank by name. Without it, device cuda refuses refinement levels by name.
+  SharedTempDir dir("tessera_device_");
+  const tessera_test::Hierarchy h = tessera_test::hierarchy(3, TESSERA_CELL);
+  const tessera_test::HeldPatches held(h.spec, h.many, tessera_test::blobs, 2);
+  const tessera_mesh mesh = h.spec.mesh();
+  const auto call = [&](const std::string& tag, const std::string& device, const std::string& distribution) {
+    Adapter a;
+    a.set_quiet(true);
+    std::string text = config(dir.file(tag), device);
+    text.replace(text.find("  threads: 1\n"), 13, "  threads: 1\n  distribution: " + distribution + "\n");
+    REQUIRE(all_ranks(a.open(dir.write(tag + ".yaml", text), MPI_Comm_c2f(MPI_COMM_WORLD)) == TESSERA_OK));
+    const std::vector<tessera_domain> mine = held.of_rank(
+        world_rank(), [](std::size_t p) { return static_cast<int>(p % static_cast<std::size_t>(world_size())); });
+    Run r;
+    r.status = a.execute_domains(1, 0.0, mesh, mine);
+    r.error = a.last_error();
+    if (!a.last_results().empty()) r.device = a.last_results()[0].device;
+    if (const tessera::Image* im = a.last_image("view")) r.image = *im;
+    return r;
+  };
+  const Run cpu = call("amr_cpu", "cpu", "replicated");
+  REQUIRE(all_ranks(cpu.status == TESSERA_OK));
+  const tessera::cuda::ScopedGpuEmulation gpu(tessera::cuda::emulated_backend());
+  const Run replicated = call("amr_cuda", "cuda", "replicated");
+  INFO(replicated.error);
+#if defined(TESSERA_CUDA_AMR)
+  CHECK(all_ranks(replicated.status == TESSERA_OK));
+  CHECK(all_ranks(replicated.device == "cuda:0"));
+  if (world_rank() == 0) {
+    REQUIRE(cpu.image);
+    REQUIRE(replicated.image);
+    CHECK(max_difference(*cpu.image, *replicated.image) < 1e-5);
+  }
+  if (world_size() > 1) {
+    const Run maybe_distributed = call("amr_cuda_auto", "cuda", "auto");
+    INFO(maybe_distributed.error);
+    CHECK(all_ranks(maybe_distributed.status == TESSERA_ERROR_RENDER));
+    CHECK(all_ranks(maybe_distributed.error.find("refinement levels on several ranks") != std::string::npos));
+  }
+#else
+  CHECK(all_ranks(replicated.status == TESSERA_ERROR_RENDER));
+  CHECK(all_ranks(replicated.error.find("refinement levels") != std::string::npos));
+#endif
 }
 
 TEST_CASE("device: cuda with a rank that has no GPU fails on every rank, and the next call renders", "[mpi][gpu]") {
