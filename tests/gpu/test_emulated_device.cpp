@@ -386,18 +386,29 @@ TEST_CASE("Emulated device: the deadline stops the render between slices", "[emu
   CHECK(st.samples == 0);
 }
 
+namespace {
+
+/// The heat scene at `seed`, adaptive (64 spp, a pilot of 8, target error 0.05), over `field`
+/// (kN^3 float64), for `device`, with `deadline`.
+tessera::PreparedScene adaptive_heat(const std::vector<double>& field, std::uint64_t seed, tessera::Device device,
+                                     std::chrono::steady_clock::time_point deadline) {
+  tessera::SceneDesc s = heat_scene(kN, seed);
+  s.image.spp = 64;
+  s.image.target_error = 0.05;
+  s.options.device = device;
+  s.options.deadline = deadline;
+  return tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
+}
+
+}  // namespace
+
 TEST_CASE("Emulated device: a deadline in the adaptive pilot keeps the pilot samples drawn", "[emulated]") {
   // One pilot sample per slice; after the second slice the test waits the deadline out, so
   // the render stops inside the pilot: every pixel keeps its two samples, the counts are
   // never decided, and the call says the deadline passed
   const std::vector<double> field = heat_field<double>(kN);
-  tessera::SceneDesc s = heat_scene(kN, 7);
-  s.image.spp = 64;  // a pilot of 8
-  s.image.target_error = 0.05;
   const auto deadline = test_deadline();
-  s.options.deadline = deadline;
-  const tessera::PreparedScene ps =
-      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
+  const tessera::PreparedScene ps = adaptive_heat(field, 7, tessera::Device::Cpu, deadline);
   const auto [film, st, tr] = render_cut_by_deadline(ps, deadline, 2);
   CHECK(tr.launches == 2);
   CHECK(st.samples == std::uint64_t{48 * 48 * 2});
@@ -441,14 +452,9 @@ TEST_CASE("Emulated device: a deadline in the device's preview stops the render 
   // call says the deadline passed, and the image holds nothing (the preview's samples are not
   // the image's, and the pilot never ran)
   const std::vector<double> field = heat_field<double>(kN);
-  tessera::SceneDesc s = heat_scene(kN, 9);
-  s.image.spp = 64;  // a pilot of 8: eight preview slices of one sample
-  s.image.target_error = 0.05;
-  s.options.device = tessera::Device::Cuda;
   const auto deadline = test_deadline();
-  s.options.deadline = deadline;
-  const tessera::PreparedScene ps =
-      tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN), s);
+  // (on the device, prepare leaves the preview to the render: eight slices of one sample)
+  const tessera::PreparedScene ps = adaptive_heat(field, 9, tessera::Device::Cuda, deadline);
   const auto [film, st, tr] = render_cut_by_deadline(ps, deadline, 1);
   CHECK(tr.launches == 1);
   CHECK(st.samples == 0);
