@@ -188,8 +188,10 @@ fi
 mark compare
 
 # 6. Nsight Compute on one launch of each NCU_CASES case (NCU=1 and ncu on PATH): threads active
-# per warp instruction, the warps' stall reasons (instruction fetch: "no_instruction"),
-# occupancy, registers; one CSV per case (ncu_<case>.csv), NCU_LIMIT seconds each
+# per warp instruction, occupancy, registers (ncu_<case>.csv), then, in a run of its own so that
+# a metric this ncu lacks costs only that file, the warps' stall reasons per issued
+# instruction (instruction fetch: "no_instruction"; ncu_<case>_stalls.csv); NCU_LIMIT seconds
+# each
 if [[ ${NCU:-0} == 1 ]] && command -v ncu > /dev/null; then
   ncu_cases=${NCU_CASES:-ct_single,ct_multiple}
   for c in ${ncu_cases//,/ }; do
@@ -202,6 +204,10 @@ if [[ ${NCU:-0} == 1 ]] && command -v ncu > /dev/null; then
       --section SchedulerStats --metrics smsp__thread_inst_executed_per_inst_executed.ratio \
       "$build/bin/tessera-render" "$scene" --render run0 --quiet > "$out/ncu_$c.csv" 2> "$out/ncu_$c.err"
     say "ncu $c: exit $?"
+    timeout "${NCU_LIMIT:-120}" ncu --kernel-name regex:pixel_samples --launch-count 1 --csv --page raw \
+      --metrics 'regex:^smsp__average_warps_issue_stalled_.*_per_issue_active\.ratio$' \
+      "$build/bin/tessera-render" "$scene" --render run0 --quiet > "$out/ncu_${c}_stalls.csv" 2>> "$out/ncu_$c.err"
+    say "ncu $c, stall reasons: exit $?"
   done
 fi
 mark done
