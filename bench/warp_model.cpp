@@ -6,7 +6,7 @@
 // sample of a scene's render with the kernel's own code (TileSampler::start/step, one bounce at
 // a time), records each bounce's tracking steps (free-flight and transmittance lookups), runs
 // them again on the step-level loop (PathSteps) recording each iteration's lookups, and
-// replays the pixel's lanes as a warp under five loop designs:
+// replays the pixel's lanes as a warp under six loop designs:
 //   per-sample  : each lane traces one sample's whole path, then the next (the default kernel);
 //                 a bounce's free-flight loop runs as long as its longest lane, then its
 //                 shadow loop, and a sample as long as its longest path.
@@ -22,12 +22,18 @@
 //                 lanes wait for it (or none can step), then run by those lanes together
 //                 (the warp vote of -DTESSERA_CUDA_STEP_DEFER=ON): a tracking step costs 1,
 //                 that code the overhead.
+//   wavefront   : the lanes' paths in `--slots N` path slots, rounds of two kernels over
+//                 compacted queues (-DTESSERA_CUDA_WAVEFRONT=ON): the code between walks of the
+//                 slots whose walk ended, then at most `--wave-steps S` tracking steps of every
+//                 walk (wavefront_steps; N and S default to the kernel's). Its warps hold any
+//                 lanes of the image, the other designs' one pixel's lanes.
 // "Active lanes" is the lanes' useful steps over the warp's steps: the figure Nsight Compute
 // reports as active threads per warp instruction. Each bounce also costs `--overhead K` steps
 // (the collision's shading and sampling, the same for every lane). The model ignores the
 // divergence inside a bounce's non-tracking code and memory latency.
 //
-//   warp_model SCENE.yaml [--render NAME] [--image W H] [--spp S] [--overhead K] [--csv FILE]
+//   warp_model SCENE.yaml [--render NAME] [--image W H] [--spp S] [--overhead K] [--slots N] [--wave-steps S]
+//              [--csv FILE]
 #include <tessera/config/config.h>
 #include <tessera/config/raw_volume.h>
 #include <tessera/job/args.h>
@@ -37,6 +43,7 @@
 #include "cuda/pixel_kernel.h"
 #include "kernel/kernel_dispatch.h"
 #include "kernels/tile_sampler.h"
+#include "kernels/wave_scratch.h"
 #include "scene/prepared_scene_impl.h"
 
 #include <tbb/parallel_for.h>
@@ -251,12 +258,93 @@ std::vector<std::vector<StepCall>> trace_pixel_steps(const KernelScene& ks, cons
   return out;
 }
 
+/// A lane's walks in order: each bounce's free flight, then its shadow rays (0: no walk, the
+/// code between walks goes on), for the wavefront's replay.
+std::vector<std::uint32_t> lane_walks(const Lane& l) {
+  std::vector<std::uint32_t> w;
+  for (const auto& sample : l)
+    for (const Bounce& b : sample) {
+      w.push_back(b.flight);
+      w.push_back(b.shadow);
+    }
+  return w;
+}
+
+/// The wavefront (-DTESSERA_CUDA_WAVEFRONT=ON, kernels/wave_kernel.h) replayed over all the
+/// image's lanes: `slots` path slots, each taking the next lane when its lane's walks are done,
+/// and rounds of two kernels: the code between walks of the slots whose walk has ended,
+/// compacted in slot order into warps of 32 (a slot's piece of code, `overhead`/2, before each
+/// walk; a warp runs as long as its busiest slot), then up to `steps`
+/// tracking steps of every walk, compacted in slot order into warps of 32 (a warp runs as long
+/// as its longest walk, or `steps`; a walk without lookups, through empty cells, costs one); a
+/// walk not ended goes on in the next round.
+double wavefront_steps(const std::vector<std::vector<std::uint32_t>>& lanes, std::size_t slots, double overhead,
+                       std::uint32_t steps, std::size_t* rounds) {
+  *rounds = 0;
+  struct Slot {
+    std::size_t lane = 0, item = 0;
+    std::uint32_t left = 0;  ///< steps left of the current walk
+    bool has = false, done = false;
+  };
+  std::vector<Slot> s(std::max<std::size_t>(1, std::min(slots, lanes.size())));
+  std::size_t next = 0;
+  double w = 0;
+  std::vector<Slot*> queue;
+  for (;;) {
+    queue.clear();
+    std::uint32_t warp_pieces = 0;
+    int in_warp = 0;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      Slot& x = s[i];
+      std::uint32_t pieces = 0;
+      while (!x.done && x.left == 0) {
+        if (!x.has) {
+          if (next >= lanes.size()) {
+            x.done = true;
+            break;
+          }
+          x = {next++, 0, 0, true, false};
+        }
+        const auto& items = lanes[x.lane];
+        if (x.item >= items.size()) {
+          x.has = false;
+          continue;
+        }
+        ++pieces;
+        x.left = std::max<std::uint32_t>(1, items[x.item++]);  // (a walk without lookups still steps)
+      }
+      if (x.left > 0) queue.push_back(&x);
+      if (pieces == 0) continue;  // (a slot in a walk, or done: not in the between queue)
+      warp_pieces = std::max(warp_pieces, pieces);
+      if (++in_warp == 32) {
+        w += 0.5 * overhead * warp_pieces;
+        warp_pieces = 0;
+        in_warp = 0;
+      }
+    }
+    w += 0.5 * overhead * warp_pieces;
+    if (queue.empty()) return w;
+    ++*rounds;
+    for (std::size_t q = 0; q < queue.size(); q += 32) {
+      std::uint32_t most = 0;
+      for (std::size_t r = q; r < std::min(queue.size(), q + 32); ++r) {
+        const std::uint32_t take = std::min(steps, queue[r]->left);
+        queue[r]->left -= take;
+        most = std::max(most, take);
+      }
+      w += most;
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
   std::string scene, render, csv;
   int width = 0, height = 0, spp = 0;
   double overhead = 0.0;
+  std::size_t slots = static_cast<std::size_t>(tessera::cuda::kWaveSlots);
+  auto wave_steps = static_cast<std::uint32_t>(tessera::cuda::kWaveSteps);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto next = [&]() -> std::string {
@@ -275,13 +363,16 @@ int main(int argc, char** argv) try {
     } else if (a == "--spp") spp = positive();
     else if (a == "--overhead") overhead = std::stod(next());
     else if (a == "--csv") csv = next();
+    else if (a == "--slots") slots = static_cast<std::size_t>(positive());
+    else if (a == "--wave-steps") wave_steps = static_cast<std::uint32_t>(positive());
     else if (scene.empty() && a.rfind("--", 0) != 0) scene = a;
     else throw std::invalid_argument("unknown argument " + a);
   }
   if (!(overhead >= 0.0 && overhead < 1e9)) throw std::invalid_argument("--overhead takes a number in [0, 1e9)");
   if (scene.empty())
     throw std::invalid_argument(
-        "usage: warp_model SCENE.yaml [--render NAME] [--image W H] [--spp S] [--overhead K] [--csv FILE]");
+        "usage: warp_model SCENE.yaml [--render NAME] [--image W H] [--spp S] [--overhead K] [--slots N] "
+        "[--wave-steps S] [--csv FILE]");
   const tessera::config::Config cfg = tessera::config::load_config(scene);
   if (!cfg.volume) throw std::invalid_argument(scene + ": no volume block");
   const tessera::config::RenderSpec* spec = render.empty() ? &cfg.renders.back() : cfg.find_render(render);
@@ -304,6 +395,8 @@ int main(int argc, char** argv) try {
       for (int x = impl.tiles[t].x0; x < impl.tiles[t].x1; ++x)
         culled[static_cast<std::size_t>(y) * ks.width + x] = impl.tile_culled[t];
   std::vector<WarpSteps> rows(static_cast<std::size_t>(ks.height));
+  // Every lane's walks, in the kernel's thread order (pixel by pixel, its lanes side by side)
+  std::vector<std::vector<std::uint32_t>> walks(static_cast<std::size_t>(ks.width) * ks.height * lanes);
   tessera::with_value(ks, [&](auto tag) {
     using V = typename decltype(tag)::type;
     using Base = typename tessera::ValueTraits<V>::base;
@@ -314,7 +407,10 @@ int main(int argc, char** argv) try {
       tbb::parallel_for(0, ks.height, [&](int y) {
         for (int x = 0; x < ks.width; ++x) {
           const bool c = culled[static_cast<std::size_t>(y) * ks.width + x] != 0;
-          WarpSteps w = replay(trace_pixel<V>(ks, medium, c, x, y, lanes), overhead);
+          const std::vector<Lane> traced = trace_pixel<V>(ks, medium, c, x, y, lanes);
+          for (int l = 0; l < lanes; ++l)
+            walks[(static_cast<std::size_t>(y) * ks.width + x) * lanes + l] = lane_walks(traced[l]);
+          WarpSteps w = replay(traced, overhead);
           const auto calls = trace_pixel_steps<V>(ks, medium, c, x, y, lanes);
           w.built = built_steps(calls, overhead);
           w.deferred = deferred_steps(calls, overhead, 0.5);
@@ -325,16 +421,19 @@ int main(int argc, char** argv) try {
   });
   WarpSteps t;
   for (const WarpSteps& r : rows) t.add(r);
+  // (the other designs' warps are a pixel's lanes; the wavefront's, 32 slots of the image's)
+  std::size_t rounds = 0;
+  const double wave = wavefront_steps(walks, slots, overhead, wave_steps, &rounds);
   const auto active = [&](double steps) { return steps > 0 ? t.work / steps : 0.0; };
   std::printf("%s, render '%s': %dx%d, %d spp, %d lanes per pixel, overhead %g steps per bounce\n", scene.c_str(),
               spec->name.c_str(), ks.width, ks.height, ks.spp, lanes, overhead);
   std::printf("  %-11s %14s %13s\n", "loop", "warp steps", "active lanes");
-  const std::pair<const char*, double> loops[] = {{"per-sample", t.per_sample},
-                                                  {"regenerate", t.regenerate},
-                                                  {"step", t.step},
-                                                  {"step-built", t.built},
-                                                  {"step-defer", t.deferred}};
+  const std::pair<const char*, double> loops[] = {
+      {"per-sample", t.per_sample}, {"regenerate", t.regenerate}, {"step", t.step},
+      {"step-built", t.built},      {"step-defer", t.deferred},   {"wavefront", wave}};
   for (const auto& [name, steps] : loops) std::printf("  %-11s %14.4g %8.2f / %d\n", name, steps, active(steps), lanes);
+  std::printf("  (wavefront: %zu slots, at most %u tracking steps a walk per round, %zu rounds)\n",
+              std::min(slots, walks.size()), wave_steps, rounds);
   if (!csv.empty()) {
     FILE* f = std::fopen(csv.c_str(), "w");
     if (!f) throw std::runtime_error("cannot write " + csv);

@@ -75,6 +75,11 @@ option(TESSERA_CUDA_PATH_REGEN "GPU kernel: one bounce per loop iteration, a lan
 option(TESSERA_CUDA_STEP_LOOP "GPU kernel: one tracking step per loop iteration (free flight and shadow rays as phases)" OFF)
 # The step-level loop with the code between walks deferred to a warp vote (LaneLoop::StepDefer).
 option(TESSERA_CUDA_STEP_DEFER "GPU kernel: the step-level loop, the code between walks run when half the warp waits for it" OFF)
+# The wavefront loop (kernels/wave_kernel.h, docs/gpu.md): the lanes' paths kept in device
+# memory and advanced by two kernels in turn, the code between walks and the walks themselves,
+# so a warp runs one small loop together. The same image bit for bit (the host emulation's
+# tests); off until measured on a GPU. Takes the place of the other loops when on.
+option(TESSERA_CUDA_WAVEFRONT "GPU kernel: the wavefront loop (code between walks and walks as separate kernels)" OFF)
 # The kernel for refinement levels (pixel_kernel_amr.cu): on by default since it passes the GPU
 # tests (H200, 2026-11-30: the two-level scene against the CPU three times, compute-sanitizer's
 # memcheck and initcheck clean; its first run, 2026-11-27, drew more samples than the image has,

@@ -9,7 +9,9 @@
 # Settings: BUILD (default build-gpu, as packed), BENCH=1 (gpu_bench.sh into OUT_DIR/bench.tgz
 # when PACK/data exists; its own settings pass through), MEMCHECK=0 (1: memcheck over the
 # adapter's GPU tests and the core's memory, paged, background and mesh cases, last;
-# MEMCHECK_LIMIT=90 seconds each), TEST_LIMIT=150
+# MEMCHECK_LIMIT=90 seconds each; a wavefront variant's value tests too), WAVE_STEPS (with
+# BENCH: the benchmark of a wavefront variant again at each of these steps per round),
+# TEST_LIMIT=150
 # (seconds for ctest). Logs in OUT_DIR (at most 8 files: what this workplace's machine sends
 # back), progress on stdout.
 set -uo pipefail
@@ -55,6 +57,9 @@ for t in build-gpu-*/tests/gpu/tessera_gpu_tests; do
   [[ -x $t ]] || continue
   say "variant ${t%%/*}: its GPU tests"
   timeout 60 "$t" 2>&1 | tail -3
+  [[ $t == *wave* ]] || continue  # the wavefront again with few slots (many lanes each), 1 step a round
+  say "variant ${t%%/*}: its GPU tests, 1000 slots, 1 step a round"
+  TESSERA_CUDA_WAVE_SLOTS=1000 TESSERA_CUDA_WAVE_STEPS=1 timeout 120 "$t" 2>&1 | tail -3
 done > "$out/variants.log" 2>&1
 cat "$out/variants.log"
 if [[ ${BENCH:-1} == 1 && -d $pack/data ]]; then
@@ -70,6 +75,16 @@ if [[ ${BENCH:-1} == 1 && -d $pack/data ]]; then
     BUILD=$v RMSE=$build/bench/perf/tessera-rmse LOOKUP=/nonexistent PACK=$pack/data GPU_SPP=256 MESH_LIMIT=0 \
       PAGED_LIMIT=0 MESH_CALL_LIMIT=0 TOTAL_LIMIT=60 bash scripts/gpu_bench.sh "/tmp/tessera-bench/$v" >> "$out/bench.log" 2>&1
     grep "^|" "/tmp/tessera-bench/$v/ete_compare.md" 2>/dev/null
+    # The wavefront's steps per round (TESSERA_CUDA_WAVE_STEPS; WAVE_STEPS="1 2 8"): the same
+    # image, another speed
+    [[ $v == *wave* ]] || continue
+    for st in ${WAVE_STEPS:-}; do
+      say "gpu_bench.sh, variant $v, $st tracking steps a round"
+      TESSERA_CUDA_WAVE_STEPS=$st BUILD=$v RMSE=$build/bench/perf/tessera-rmse LOOKUP=/nonexistent PACK=$pack/data \
+        GPU_SPP=256 MESH_LIMIT=0 PAGED_LIMIT=0 MESH_CALL_LIMIT=0 TOTAL_LIMIT=60 \
+        bash scripts/gpu_bench.sh "/tmp/tessera-bench/$v-steps$st" >> "$out/bench.log" 2>&1
+      grep "^|" "/tmp/tessera-bench/$v-steps$st/ete_compare.md" 2>/dev/null
+    done
   done
   tar czf "$out/bench.tgz" -C /tmp tessera-bench
 fi
@@ -78,6 +93,12 @@ if [[ ${MEMCHECK:-0} == 1 ]] && command -v compute-sanitizer > /dev/null; then
   { timeout "${MEMCHECK_LIMIT:-90}" compute-sanitizer --tool memcheck --leak-check no --print-limit 20 "$insitu" 2>&1 | tail -15
     timeout "${MEMCHECK_LIMIT:-90}" compute-sanitizer --tool memcheck --leak-check no --print-limit 20 "$build/tests/gpu/tessera_gpu_tests" \
       "[memory]~[sticky],[paged],GPU: the background*,GPU: a 1D*,GPU: a mesh in device memory*" 2>&1 | tail -15
+    for t in build-gpu-*wave*/tests/gpu/tessera_gpu_tests; do  # the wavefront's queues and slots
+      [[ -x $t ]] || continue
+      echo "memcheck: ${t%%/*}"
+      timeout "${MEMCHECK_LIMIT:-90}" compute-sanitizer --tool memcheck --leak-check no --print-limit 20 "$t" \
+        "GPU against CPU: heat-like*,GPU: the same bits*,[values]~[mesh]" 2>&1 | tail -15
+    done
   } > "$out/memcheck.log"
   cat "$out/memcheck.log"
 fi

@@ -14,6 +14,7 @@
 #include "cuda/device_scene.h"
 #include "cuda/emulated_device.h"
 #include "cuda/pixel_kernel.h"
+#include "kernels/wave_scratch.h"
 #include "mesh/mesh_layout.h"
 #include "scene/prepared_scene_impl.h"
 
@@ -185,6 +186,42 @@ TEST_CASE("Emulated device: memory limits refuse by name before allocating", "[e
   CHECK(st.samples == 0);
 }
 
+TEST_CASE("Emulated device: the wavefront's path slots count in the memory limit and go with the call", "[emulated]") {
+  const std::vector<double> field = heat_field<double>(kN);
+  const auto backend = [](tessera::cuda::LaneLoop loop) {
+    EmulatedDevice d;
+    d.lane_loop = loop;
+    d.wave.slots = 64;
+    return tessera::cuda::emulated_backend(d);
+  };
+  const auto regen = backend(tessera::cuda::LaneLoop::Regenerate);
+  const auto wave = backend(tessera::cuda::LaneLoop::Wavefront);
+  const std::size_t slots = tessera::cuda::wave_scratch_bytes(1 << 20, 64);  // 64 slots: fewer than the lanes
+  CHECK(slots == 256 + 4 * 256 + 64 * tessera::cuda::kWaveSlotBytes);
+  const auto prepared = [&] {
+    return tessera::prepare(FieldView::contiguous(field.data(), tessera::DType::Float64, kN, kN, kN),
+                            heat_scene(kN, 2));
+  };
+  const tessera::PreparedScene pr = prepared(), pw = prepared();
+  tessera::CudaTransfer tr, tw;
+  const tessera::Film a = render_on(regen, pr, &tr);
+  const tessera::Film b = render_on(wave, pw, &tw);
+  CHECK(same_bits(a, b));
+  CHECK(tw.device_bytes == tr.device_bytes + slots);
+  CHECK(tessera::cuda::emulated_bytes_held(*wave) == tessera::cuda::emulated_bytes_held(*regen));
+  // A limit the other loop keeps refuses the wavefront by name, before anything is drawn
+  tessera::CudaLaunch limited;
+  limited.memory_limit_bytes = tr.device_bytes + slots / 2;
+  tessera::Film film(48, 48);
+  tessera::RenderStats st;
+  const tessera::PreparedScene pr2 = prepared(), pw2 = prepared();
+  CHECK_NOTHROW(tessera::cuda::render_on_device(regen, pr2, all_tiles(pr2), film, st, limited, nullptr));
+  tessera::RenderStats sw;
+  CHECK_THROWS_WITH(tessera::cuda::render_on_device(wave, pw2, all_tiles(pw2), film, sw, limited, nullptr),
+                    Catch::Contains("over the memory limit of " + std::to_string(limited.memory_limit_bytes)));
+  CHECK(sw.samples == 0);
+}
+
 TEST_CASE("Emulated device: any split of the tiles and a second call give the CPU's sums", "[emulated]") {
   const std::vector<std::uint16_t> field = [] {
     const std::vector<double> h = heat_field<double>(kN);
@@ -321,7 +358,8 @@ tessera::SceneDesc loop_scene(int variant) {
 
 }  // namespace
 
-TEST_CASE("Emulated device: path regeneration and the step-level loops give the per-sample loop's sums bit for bit",
+TEST_CASE("Emulated device: path regeneration, the step-level loops and the wavefront give the per-sample loop's sums "
+          "bit for bit",
           "[emulated]") {
   // The lane loops (kernels/lane_loop.h) on scenes that exercise every way a path ends:
   // multiple scattering with Russian roulette and the last bounce, single scattering, both
@@ -336,6 +374,11 @@ TEST_CASE("Emulated device: path regeneration and the step-level loops give the 
   const auto regenerate = loop_backend(tessera::cuda::LaneLoop::Regenerate);
   const auto steps = loop_backend(tessera::cuda::LaneLoop::Step);
   const auto deferred = loop_backend(tessera::cuda::LaneLoop::StepDefer);
+  const auto wavefront = loop_backend(tessera::cuda::LaneLoop::Wavefront);
+  EmulatedDevice few;  // the wavefront with 7 path slots (each takes many lanes) and 1 step a round
+  few.lane_loop = tessera::cuda::LaneLoop::Wavefront;
+  few.wave = {7, 1};
+  const auto wave_few = tessera::cuda::emulated_backend(few);
   const std::vector<std::int16_t> field = heat_field<std::int16_t>(kN);
   for (int variant = 0; variant < 3; ++variant)
     for (const auto scattering : {tessera::Scattering::Multiple, tessera::Scattering::Single})
@@ -355,14 +398,16 @@ TEST_CASE("Emulated device: path regeneration and the step-level loops give the 
         const tessera::Film a = render_on(per_sample, ps, nullptr, &a_st, odd, true);
         CHECK(a_st.tiles_skipped > 0);
         CHECK(a_st.transmittance_lookups > 0);
-        for (const auto& other : {regenerate, steps, deferred}) {
+        for (const auto& other : {regenerate, steps, deferred, wavefront, wave_few}) {
           tessera::RenderStats b_st;
           const tessera::Film b = render_on(other, ps, nullptr, &b_st, odd, true);
           INFO("variant " << variant << ", scattering " << static_cast<int>(scattering) << ", sampler "
                           << static_cast<int>(sampler) << ", loop "
-                          << (other == steps      ? "step"
-                              : other == deferred ? "step-defer"
-                                                  : "regenerate"));
+                          << (other == steps       ? "step"
+                              : other == deferred  ? "step-defer"
+                              : other == wavefront ? "wavefront"
+                              : other == wave_few  ? "wavefront, 7 slots, 1 step a round"
+                                                   : "regenerate"));
           check_same_paths(a_st, b_st);
           CHECK(same_bits(a, b));
           REQUIRE(a.aux().size() == b.aux().size());
@@ -499,6 +544,9 @@ Detached render_detached(std::unique_ptr<tessera::PreparedScene> ps, const std::
   d_lanes.allocate(jobs.size() * lanes * sizeof(tessera::PixelSums), "lanes");
   b->zero(d_lanes.get(), d_lanes.bytes(), "lanes");
   const auto n = static_cast<std::int64_t>(jobs.size());
+  BackendBuffer d_scratch(*b);  // the wavefront's path slots, when the backend's loop is the wavefront
+  if (const std::size_t bytes = b->slice_scratch_bytes(ds->dispatch_scene(), n * lanes); bytes > 0)
+    d_scratch.allocate(bytes, "path slots");
   const SliceArgs a{ds->kernel(),
                     ds->medium(),
                     d_jobs.as<PixelJob>(),
@@ -510,7 +558,10 @@ Detached render_detached(std::unique_ptr<tessera::PreparedScene> ps, const std::
                     n,
                     0,
                     spp,
-                    lanes};
+                    lanes,
+                    nullptr,
+                    nullptr,
+                    d_scratch.get()};
   b->run_slice(ds->dispatch_scene(), a, 128, "detached slice");
   b->merge_lanes(d_px.as<tessera::PixelSums>(), nullptr, d_lanes.as<tessera::PixelSums>(), nullptr, n, lanes);
   Detached out{tessera::Film(w, h), {}};

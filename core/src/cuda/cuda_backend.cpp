@@ -6,11 +6,16 @@
 #include "cuda/device_value_dispatch.h"
 #include "cuda/pixel_kernel.h"
 #include "cuda/widen_field.h"
+#include "kernels/lane_loop.h"
+#include "kernels/wave_scratch.h"
 
 #include <cuda_runtime_api.h>
 
+#include <cerrno>
+#include <cstdlib>
 #include <map>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -70,6 +75,11 @@ class CudaBackend final : public DeviceBackend {
     launch_pixel_slice(ks, a, block_threads);
     cuda_check(cudaDeviceSynchronize(), what);
   }
+  std::size_t slice_scratch_bytes(const KernelScene& ks, std::int64_t threads) const override {
+    return kDeviceLaneLoop == LaneLoop::Wavefront && wave_applies(ks)
+               ? wave_scratch_bytes(threads, cuda_wave_tuning().slots)
+               : 0;
+  }
   void merge_lanes(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const AuxSums* lane_aux, std::int64_t njobs,
                    int lanes) override {
     cuda::merge_lanes(px, aux, lane_px, lane_aux, njobs, lanes);
@@ -92,11 +102,44 @@ std::shared_ptr<DeviceBackend> cuda_backend(int device) {
   return b;
 }
 
+WaveTuning cuda_wave_tuning() {
+  static const WaveTuning tuning = [] {
+    const auto read = [](const char* name, long long lo, long long hi, long long fallback) {
+      const char* v = std::getenv(name);
+      if (!v || !*v) return fallback;
+      char* end = nullptr;
+      errno = 0;
+      const long long x = std::strtoll(v, &end, 10);
+      return errno == 0 && end && *end == '\0' && x >= lo && x <= hi ? x : fallback;
+    };
+    WaveTuning t;
+    t.slots = read("TESSERA_CUDA_WAVE_SLOTS", 1, 1LL << 22, kWaveSlots);
+    t.steps = static_cast<int>(read("TESSERA_CUDA_WAVE_STEPS", 1, 4096, kWaveSteps));
+    return t;
+  }();
+  return tuning;
+}
+
 void launch_pixel_slice(const KernelScene& ks, const SliceArgs& a, int block_threads) {
   const std::int64_t n = (a.j1 - a.j0) * a.lanes;
   if (n <= 0 || a.k1 <= a.k0) return;
   if (block_threads < 32 || block_threads > kMaxBlockThreads) block_threads = 128;
   const auto blocks = static_cast<unsigned>((n + block_threads - 1) / block_threads);
+#if defined(TESSERA_CUDA_WAVEFRONT)
+  if (wave_applies(ks)) {
+    if (!a.scratch) throw std::logic_error("wavefront slice without its path slots (SliceArgs::scratch)");
+    with_device_value(ks, [&](auto tag) {
+      using V = typename decltype(tag)::type;
+#if defined(TESSERA_CUDA_AMR)
+      launch_wave_slice<V>(a, static_cast<unsigned>(block_threads), cuda_wave_tuning());
+#else
+      if constexpr (!std::is_same_v<V, AmrValue>)
+        launch_wave_slice<V>(a, static_cast<unsigned>(block_threads), cuda_wave_tuning());
+#endif
+    });
+    return;
+  }
+#endif
   with_device_value(ks, [&](auto tag) {
     using V = typename decltype(tag)::type;
     // A CUDA kernel for refinement levels only with TESSERA_CUDA_AMR (device_value_supported

@@ -53,6 +53,9 @@ class DeviceBackend {
   /// One slice of the pixel kernel for `ks`'s Value (launch_pixel_slice, pixel_kernel.h);
   /// returns when it is done, throwing naming `what` when it failed.
   virtual void run_slice(const KernelScene& ks, const SliceArgs& a, int block_threads, const std::string& what) = 0;
+  /// Device bytes run_slice needs in SliceArgs::scratch for slices of up to `threads` lanes of
+  /// ks's Value (the wavefront loop's path slots, wave_scratch.h); 0: none.
+  virtual std::size_t slice_scratch_bytes(const KernelScene& ks, std::int64_t threads) const = 0;
   /// merge_lanes (pixel_kernel.h) on this device; returns when done.
   virtual void merge_lanes(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const AuxSums* lane_aux,
                            std::int64_t njobs, int lanes) = 0;

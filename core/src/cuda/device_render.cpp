@@ -208,6 +208,11 @@ bool run_pass(DeviceBackend& b, const DeviceScene& dev, const KernelScene& ks, S
     keep_counters.allocate(sizeof(counters), "counters (kept for a replay)");
   }
 
+  // The lanes' path slots when the backend's loop keeps them in device memory (the wavefront)
+  BackendBuffer scratch(b);
+  if (const std::size_t bytes = b.slice_scratch_bytes(ks, njobs * lanes); bytes > 0)
+    scratch.allocate(bytes, "path slots of the wavefront loop");
+
   // Bounded slices: the jobs' next few samples at a time; each lane's samples are drawn and
   // added in index order whatever the slicing
   bool stopped = false;
@@ -237,7 +242,10 @@ bool run_pass(DeviceBackend& b, const DeviceScene& dev, const KernelScene& ks, S
                           std::min(count, j0 + per_launch_px),
                           s0,
                           std::min(k_end, s0 + per_launch_spp),
-                          lanes};
+                          lanes,
+                          nullptr,
+                          nullptr,
+                          scratch.get()};
         const std::string name = pixel_kernel_name(ks) + " slice (samples " + std::to_string(s0) + "+, pixels " +
                                  std::to_string(j0) + "+ of " + std::to_string(count) + ")";
         if (!bricks) {
@@ -312,7 +320,9 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
     }
     pass.lanes = lanes;
     pass.ranges = {{spp, static_cast<std::int64_t>(pass.jobs.size())}};
-    dev = device_scene(backend, s, launch, pass.device_bytes(0, paged), &totals.to_device, &device_bytes, &reused);
+    const std::uint64_t bytes = pass.device_bytes(0, paged) +
+                                b.slice_scratch_bytes(s.kernel, static_cast<std::int64_t>(pass.jobs.size()) * lanes);
+    dev = device_scene(backend, s, launch, bytes, &totals.to_device, &device_bytes, &reused);
     const BrickLock bricks(*dev, totals);
     stopped = run_pass(b, *dev, s.kernel, pass, launch, stop, totals);
     for (std::size_t j = 0; j < pass.jobs.size(); ++j) {
@@ -338,8 +348,11 @@ void render_on_device(const std::shared_ptr<DeviceBackend>& backend, const Prepa
     SamplePass preview;
     if (s.preview_on_device) preview = preview_pass(s.kernel, pilot);
     // The second pass's buffers are at most the first's with `lanes` lanes (>= 1)
-    dev = device_scene(backend, s, launch, std::max(first.device_bytes(lanes, paged), preview.device_bytes(1, paged)),
-                       &totals.to_device, &device_bytes, &reused);
+    const std::int64_t threads =
+        std::max(static_cast<std::int64_t>(first.jobs.size()) * lanes, static_cast<std::int64_t>(preview.jobs.size()));
+    const std::uint64_t bytes = std::max(first.device_bytes(lanes, paged), preview.device_bytes(1, paged)) +
+                                b.slice_scratch_bytes(s.kernel, threads);
+    dev = device_scene(backend, s, launch, bytes, &totals.to_device, &device_bytes, &reused);
     const BrickLock bricks(*dev, totals);
     double scale = s.kernel.adaptive_scale;
     if (s.preview_on_device) {

@@ -5,6 +5,7 @@
 #include "cuda/pixel_kernel.h"
 #include "kernels/emulated_slice.h"
 #include "kernels/lane_kernel.h"
+#include "kernels/wave_scratch.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -22,24 +23,24 @@
 namespace tessera::cuda {
 
 // Instantiated beside the CPU's kernels (kernels/tile_kernel_<value>.cpp)
-extern template void emulate_slice<std::uint8_t>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<std::int16_t>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<std::uint16_t>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<double>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<std::uint8_t>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<std::int16_t>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<std::uint16_t>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<double>(const SliceArgs&, LaneLoop, const WaveTuning&);
 #if defined(TESSERA_CUDA_FLOAT32)
-extern template void emulate_slice<float>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<Rectilinear<float>>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<float>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<Rectilinear<float>>(const SliceArgs&, LaneLoop, const WaveTuning&);
 #endif
-extern template void emulate_slice<Rectilinear<std::uint8_t>>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<Rectilinear<std::int16_t>>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<Rectilinear<std::uint16_t>>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<Rectilinear<double>>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<MagnitudeValue>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<Rectilinear<MagnitudeValue>>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<AmrValue>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<MeshValue>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<PagedValue>(const SliceArgs&, LaneLoop);
-extern template void emulate_slice<Rectilinear<PagedValue>>(const SliceArgs&, LaneLoop);
+extern template void emulate_slice<Rectilinear<std::uint8_t>>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<Rectilinear<std::int16_t>>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<Rectilinear<std::uint16_t>>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<Rectilinear<double>>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<MagnitudeValue>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<Rectilinear<MagnitudeValue>>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<AmrValue>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<MeshValue>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<PagedValue>(const SliceArgs&, LaneLoop, const WaveTuning&);
+extern template void emulate_slice<Rectilinear<PagedValue>>(const SliceArgs&, LaneLoop, const WaveTuning&);
 
 namespace {
 
@@ -122,9 +123,13 @@ class EmulatedBackend final : public DeviceBackend {
         }
   }
   void run_slice(const KernelScene& ks, const SliceArgs& a, int, const std::string& what) override {
-    if (!with_device_value(ks, [&](auto tag) { emulate_slice<typename decltype(tag)::type>(a, m_d.lane_loop); }))
+    if (!with_device_value(ks,
+                           [&](auto tag) { emulate_slice<typename decltype(tag)::type>(a, m_d.lane_loop, m_d.wave); }))
       throw std::invalid_argument("emulated device: no kernel for " + what);
     if (m_d.after_slice) m_d.after_slice(++m_slices);
+  }
+  std::size_t slice_scratch_bytes(const KernelScene& ks, std::int64_t threads) const override {
+    return m_d.lane_loop == LaneLoop::Wavefront && wave_applies(ks) ? wave_scratch_bytes(threads, m_d.wave.slots) : 0;
   }
   void merge_lanes(PixelSums* px, AuxSums* aux, const PixelSums* lane_px, const AuxSums* lane_aux, std::int64_t njobs,
                    int lanes) override {

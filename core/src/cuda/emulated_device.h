@@ -13,6 +13,7 @@
 /// yet hold: refinement levels.
 #include "cuda/device_backend.h"
 #include "kernels/lane_loop.h"
+#include "kernels/wave_scratch.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -32,6 +33,9 @@ struct EmulatedDevice {
   std::vector<std::pair<const void*, std::size_t>> device_ranges;
   /// The lanes' loop the emulated kernel runs: by default the CUDA kernel's.
   LaneLoop lane_loop = kDeviceLaneLoop;
+  /// The wavefront loop's sizes (wave_scratch.h; by default a GPU's): a test takes fewer
+  /// slots than a slice's lanes, so that each slot draws several lanes, and few steps per round.
+  WaveTuning wave;
   /// Called after each slice the backend runs, with the count of slices so far (a test's hook:
   /// e.g. to wait out a deadline at a chosen point of a render). Null: nothing.
   std::function<void(std::int64_t slices)> after_slice;

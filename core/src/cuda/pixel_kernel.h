@@ -10,6 +10,7 @@
 
 #include "kernel/kernel_scene.h"
 #include "kernels/slice_args.h"
+#include "kernels/wave_scratch.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -54,6 +55,19 @@ void launch_pixel_slice(const KernelScene& ks, const SliceArgs& a, int block_thr
 /// the pixel_kernel_*.cu files: `blocks` blocks of `threads` threads on stream 0.
 template <class V>
 void launch_pixel_samples(const SliceArgs& a, unsigned blocks, unsigned threads);
+
+/// One slice by the wavefront loop (kernels/wave_kernel.h) on stream 0, in a build with
+/// TESSERA_CUDA_WAVEFRONT: its rounds' kernels in blocks of `threads`, over a.scratch
+/// (wave_scratch_bytes with tuning.slots); returns when the slice is done (the queues' counts
+/// are read every kWaveRoundsPerCheck rounds). A distributed field's Value (not kWaveCapable):
+/// nothing (launch_pixel_slice never asks).
+template <class V>
+void launch_wave_slice(const SliceArgs& a, unsigned threads, const WaveTuning& tuning);
+
+/// The wavefront's sizes on a GPU: kWaveSlots and kWaveSteps, or for tuning runs the
+/// environment's TESSERA_CUDA_WAVE_SLOTS (1 to 2^22) and TESSERA_CUDA_WAVE_STEPS (1 to 4096),
+/// read once; a value out of range or not a number is ignored (the default kept).
+WaveTuning cuda_wave_tuning();
 
 /// Threads per block the kernel is compiled for at most (__launch_bounds__).
 inline constexpr int kMaxBlockThreads = 256;

@@ -7,6 +7,7 @@
 /// files that compile in parallel.
 #include "cuda/cuda_check.h"
 #include "kernels/lane_kernel.h"
+#include "kernels/wave_kernel.h"
 #include "cuda/pixel_kernel.h"
 #include "kernel/kernel_dispatch.h"
 
@@ -19,6 +20,8 @@
 #endif
 
 #include <cuda_runtime.h>
+
+#include <string>
 
 namespace tessera::cuda {
 
@@ -35,8 +38,76 @@ void launch_pixel_samples(const SliceArgs& a, unsigned blocks, unsigned threads)
   pixel_samples<V><<<blocks, threads>>>(a);
 }
 
+#if defined(TESSERA_CUDA_WAVEFRONT)
+// The wavefront loop's kernels (kernels/wave_kernel.h): one thread per slot or queue entry (a
+// queue's kernel covers every slot; the entries past its count, read on the device, return)
+template <class V>
+__global__ void __launch_bounds__(kMaxBlockThreads) wave_begin_slots(WaveArgs w) {
+  const std::int64_t i = static_cast<std::int64_t>(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (i < w.nslots) wave_begin<V>(w, i);
+}
+template <class V>
+__global__ void __launch_bounds__(kMaxBlockThreads) wave_between_slots(WaveArgs w, int p) {
+  wave_between<V>(w, p, static_cast<std::int64_t>(blockIdx.x) * blockDim.x + threadIdx.x);
+}
+template <class V>
+__global__ void __launch_bounds__(kMaxBlockThreads) wave_walks(WaveArgs w, int p) {
+  wave_walk<V>(w, p, static_cast<std::int64_t>(blockIdx.x) * blockDim.x + threadIdx.x);
+}
+
+template <class V>
+void launch_wave_slice(const SliceArgs& a, unsigned threads, const WaveTuning& tuning) {
+  if constexpr (kWaveCapable<V>) {
+    const WaveArgs w = wave_args(a, tuning);
+    const auto blocks = static_cast<unsigned>((w.nslots + threads - 1) / threads);
+    const auto checked = [&](const char* what) {
+      cuda_check(cudaGetLastError(), std::string("launch of the wavefront's ") + what + " (" + std::to_string(blocks) +
+                                         " blocks of " + std::to_string(threads) + " threads)");
+    };
+    struct Ops {
+      const WaveArgs& w;
+      decltype(checked)& check;
+      unsigned blocks, threads;
+      void begin(std::int64_t) {
+        wave_begin_slots<V><<<blocks, threads>>>(w);
+        check("path slots' start");
+      }
+      void round(int p) {
+        cuda_check(cudaMemsetAsync(&w.header->q[1 - p], 0, sizeof(WaveCounts)),
+                   "cudaMemsetAsync(the wavefront's queue counts)");
+        wave_between_slots<V><<<blocks, threads>>>(w, p);
+        check("code between walks");
+        wave_walks<V><<<blocks, threads>>>(w, p);
+        check("walks");
+      }
+      unsigned long long pending(int q) const {
+        WaveCounts c{};
+        cuda_check(cudaMemcpy(&c, &w.header->q[q], sizeof c, cudaMemcpyDeviceToHost),
+                   "the wavefront's rounds (their queue counts to the host)");
+        return c.walks + c.betweens;
+      }
+    };
+    drive_wave(w, Ops{w, checked, blocks, threads});
+  } else {
+    (void)a;
+    (void)threads;
+    (void)tuning;
+  }
+}
+#endif
+
 }  // namespace tessera::cuda
 
-/// Instantiates the kernel and its launch for Value V (at namespace scope of a .cu file).
+#if defined(TESSERA_CUDA_WAVEFRONT)
+#define TESSERA_WAVE_SLICE(V) \
+  template void tessera::cuda::launch_wave_slice<V>(const tessera::cuda::SliceArgs&, unsigned, \
+                                                    const tessera::cuda::WaveTuning&);
+#else
+#define TESSERA_WAVE_SLICE(V)
+#endif
+
+/// Instantiates the kernel and its launch for Value V (at namespace scope of a .cu file), and
+/// the wavefront loop's in a build with it.
 #define TESSERA_PIXEL_KERNEL(V) \
+  TESSERA_WAVE_SLICE(V)         \
   template void tessera::cuda::launch_pixel_samples<V>(const tessera::cuda::SliceArgs&, unsigned, unsigned)

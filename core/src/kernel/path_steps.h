@@ -36,36 +36,44 @@ class PathSteps {
     Ended,        ///< path.out is the sample
   };
 
+  /// The part of a path a tracking step reads and writes (step()): its walk, where it is, and
+  /// what the walk has found so far, so that a caller that runs walks apart (the wavefront,
+  /// kernels/wave_kernel.h) moves only this. Trivially copyable.
+  struct Walk {
+    MajorantSteps<V> steps;
+    double t_hit = INFINITY;  ///< free flight's real collision
+    double T = 1.0;           ///< the current shadow walk's estimate
+    bool hit = false;
+    Phase phase = Phase::Ended;
+  };
+
   /// A path between calls. Trivially copyable.
   struct State {
     typename Tracer::PathState path = Tracer::begin(Ray{Vec3(0.0), Vec3(0.0, 0.0, 1.0)});
     typename Tracer::Scatter scatter;
     typename Tracer::LightPending light;
-    MajorantSteps<V> steps;
+    Walk w;
     Ray last_ray{Vec3(0.0), Vec3(0.0, 0.0, 1.0)};  ///< the last bounce's sampled direction
     double last_pdf = 0.0;                         ///< its solid-angle pdf
-    double t_hit = INFINITY;                       ///< free flight's real collision
-    double T = 1.0;                                ///< the current shadow walk's estimate
     double T_last = 1.0;                           ///< the last bounce's transmittance up to t_prev
     double t_prev = 0.0;                           ///< the last bounce's emitter reached so far
     int last = -1;                                 ///< ... and its index (-1: none yet)
     int target = -1;  ///< the area light the last bounce's walk goes to (-1: the infinite lights)
-    bool hit = false;
-    Phase phase = Phase::Ended;
   };
 
   /// The path of a camera ray, before its first free flight.
   TESSERA_HOST_DEVICE static State begin(const Ray& ray) {
     State s;
     s.path = Tracer::begin(ray);
-    s.phase = Phase::StartFlight;
+    s.w.phase = Phase::StartFlight;
     return s;
   }
 
   /// True while path s is in a walk: its next piece is a tracking step (step()); else the
   /// code between walks (between()), or nothing once it has ended.
-  TESSERA_HOST_DEVICE static bool walking(const State& s) {
-    return s.phase == Phase::Flight || s.phase == Phase::Shadow || s.phase == Phase::LastShadow;
+  TESSERA_HOST_DEVICE static bool walking(const State& s) { return walking(s.w); }
+  TESSERA_HOST_DEVICE static bool walking(const Walk& w) {
+    return w.phase == Phase::Flight || w.phase == Phase::Shadow || w.phase == Phase::LastShadow;
   }
 
   /// Advances path s by one tracking step (see above); false once it has ended (s.path.out is
@@ -79,34 +87,34 @@ class PathSteps {
       if (walking(s)) {
         if (stepped) return true;
         stepped = true;
-        if (step(t, s, rng, k)) return true;
+        if (step(t, s.w, rng, k)) return true;
       }
       if (!between(t, s, rng, k, ld)) return false;
     }
   }
 
-  /// One tracking step of s's walk (walking(s)); true while the walk goes on. When it ends, s
-  /// is between walks (between() next).
-  TESSERA_HOST_DEVICE static bool step(const Tracer& t, State& s, Rng& rng, KernelCounters& k) {
-    const TrackStep r = s.steps.next(rng);
-    if (s.phase == Phase::Flight) {
-      s.phase = Phase::Collide;
+  /// One tracking step of a path's walk w (walking(w)); true while the walk goes on. When it
+  /// ends, the path is between walks (between() next). Reads and writes w and rng only.
+  TESSERA_HOST_DEVICE static bool step(const Tracer& t, Walk& w, Rng& rng, KernelCounters& k) {
+    const TrackStep r = w.steps.next(rng);
+    if (w.phase == Phase::Flight) {
+      w.phase = Phase::Collide;
       if (r == TrackStep::Collision) {
-        if (!t.flight_step(s.steps.position(), s.steps.majorant(), rng, k)) {
-          s.phase = Phase::Flight;  // a null collision: the walk goes on
+        if (!t.flight_step(w.steps.position(), w.steps.majorant(), rng, k)) {
+          w.phase = Phase::Flight;  // a null collision: the walk goes on
           return true;
         }
-        s.hit = true;
-        s.t_hit = s.steps.t();
+        w.hit = true;
+        w.t_hit = w.steps.t();
       } else if (r == TrackStep::Stalled) {
         ++k.stalled_paths;  // a loop guard ended the path: nothing more from it
-        s.phase = Phase::Ended;
+        w.phase = Phase::Ended;
       }
       return false;
     }
-    if (r == TrackStep::Collision && t.shadow_update(s.steps.position(), s.steps.majorant(), rng, k, s.T)) return true;
-    s.T = Tracer::shadow_end(r == TrackStep::Stalled, s.T, k);
-    s.phase = s.phase == Phase::Shadow ? Phase::Lit : Phase::LastLit;
+    if (r == TrackStep::Collision && t.shadow_update(w.steps.position(), w.steps.majorant(), rng, k, w.T)) return true;
+    w.T = Tracer::shadow_end(r == TrackStep::Stalled, w.T, k);
+    w.phase = w.phase == Phase::Shadow ? Phase::Lit : Phase::LastLit;
     return false;
   }
 
@@ -118,31 +126,31 @@ class PathSteps {
     using Span = typename Tracer::Span;
     const LightSet& L = t.lights();
     for (;;) {
-      switch (s.phase) {
+      switch (s.w.phase) {
         case Phase::Flight:
         case Phase::Shadow:
         case Phase::LastShadow: return true;
         case Phase::Ended: return false;
         case Phase::StartFlight: {
           Span sp;
-          s.t_hit = INFINITY;
-          s.hit = false;
-          s.phase = Phase::Collide;
-          switch (t.flight_begin(s.path.ray, rng, k, &sp, &s.t_hit)) {
+          s.w.t_hit = INFINITY;
+          s.w.hit = false;
+          s.w.phase = Phase::Collide;
+          switch (t.flight_begin(s.path.ray, rng, k, &sp, &s.w.t_hit)) {
             case Tracer::FlightStart::Miss: break;
-            case Tracer::FlightStart::Hit: s.hit = true; break;
-            case Tracer::FlightStart::Stalled: s.phase = Phase::Ended; break;
+            case Tracer::FlightStart::Hit: s.w.hit = true; break;
+            case Tracer::FlightStart::Stalled: s.w.phase = Phase::Ended; break;
             case Tracer::FlightStart::Walk:
-              s.steps = t.walk(sp);
-              s.phase = Phase::Flight;
+              s.w.steps = t.walk(sp);
+              s.w.phase = Phase::Flight;
               break;
           }
           break;
         }
         case Phase::Collide: {
-          s.phase = Phase::Ended;
-          if (!t.collide(s.path, s.hit, s.t_hit, rng, k, ld, s.scatter)) break;
-          s.phase = Phase::Scatter;
+          s.w.phase = Phase::Ended;
+          if (!t.collide(s.path, s.w.hit, s.w.t_hit, rng, k, ld, s.scatter)) break;
+          s.w.phase = Phase::Scatter;
           if (L.count() == 0) break;
           if (!t.sample_light(s.scatter, s.path.ray.d, s.scatter.first ? ld : nullptr, rng, s.light)) {
             s.path.out.L += s.path.beta * Color(0.0);  // as bounce adds a light sample that adds nothing
@@ -152,18 +160,18 @@ class PathSteps {
           break;
         }
         case Phase::Lit:
-          s.path.out.L += s.path.beta * Tracer::light_arrived(s.light, s.T);
-          s.phase = Phase::Scatter;
+          s.path.out.L += s.path.beta * Tracer::light_arrived(s.light, s.w.T);
+          s.w.phase = Phase::Scatter;
           break;
         case Phase::Scatter: {
           const Next r = t.scatter(s.path, s.scatter, ld, rng, &s.last_ray, &s.last_pdf);
-          s.phase = Phase::Ended;
-          if (r == Next::Continue) s.phase = Phase::StartFlight;
+          s.w.phase = Phase::Ended;
+          if (r == Next::Continue) s.w.phase = Phase::StartFlight;
           else if (r == Next::Last && L.count() > 0) {
             s.T_last = 1.0;
             s.t_prev = 0.0;
             s.last = -1;
-            s.phase = Phase::Gather;
+            s.w.phase = Phase::Gather;
           }
           break;
         }
@@ -175,24 +183,24 @@ class PathSteps {
           double tb = INFINITY;
           if (s.target >= 0) tb = L[s.target].intersect(ray);
           else if (!(L.area_count() < L.count() && s.T_last > 0.0)) {
-            s.phase = Phase::Ended;
+            s.w.phase = Phase::Ended;
             break;
           }
           shadow_walk_to(t, s, ray, s.t_prev, tb, k, Phase::LastShadow, Phase::LastLit);
           break;
         }
         case Phase::LastLit: {
-          s.T_last *= s.T;
+          s.T_last *= s.w.T;
           if (s.target < 0) {
             if (s.T_last > 0.0) t.add_infinite_lights(s.last_ray, s.T_last, s.last_pdf, s.path.beta, s.path.out.L);
-            s.phase = Phase::Ended;
+            s.w.phase = Phase::Ended;
             break;
           }
           s.t_prev = L[s.target].intersect(s.last_ray);
           s.last = s.target;
           if (s.T_last > 0.0)
             t.add_area_light(s.target, s.last_ray, s.t_prev, s.T_last, s.last_pdf, s.path.beta, s.path.out.L);
-          s.phase = Phase::Gather;
+          s.w.phase = Phase::Gather;
           break;
         }
       }
@@ -207,13 +215,13 @@ class PathSteps {
     typename Tracer::Span sp;
     const double v = t.shadow_begin(ray, ta, tb, k, &sp);
     if (v >= 0.0) {
-      s.T = v;
-      s.phase = known;
+      s.w.T = v;
+      s.w.phase = known;
       return;
     }
-    s.T = 1.0;
-    s.steps = t.walk(sp);
-    s.phase = walk_phase;
+    s.w.T = 1.0;
+    s.w.steps = t.walk(sp);
+    s.w.phase = walk_phase;
   }
 };
 

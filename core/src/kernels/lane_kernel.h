@@ -16,6 +16,26 @@
 
 namespace tessera::cuda {
 
+/// The first of lane `lane`'s samples in slice `a`: the least k in [k0, ...) with k = lane
+/// (mod lanes); the lane's samples are then k, k + lanes, ... below k1.
+TESSERA_HOST_DEVICE inline int first_sample(const SliceArgs& a, int lane) {
+  return a.k0 + ((lane - a.k0 % a.lanes) % a.lanes + a.lanes) % a.lanes;
+}
+
+/// Adds a tracer's counts `k` and the samples of `st` to the launch counters' order in c
+/// (`counted` false: a neighbour's pilot, whose samples are not the image's; its lookups count).
+TESSERA_HOST_DEVICE inline void add_lane_counts(unsigned long long c[kCounterCount], const KernelCounters& k,
+                                                const RenderStats& st, bool counted) {
+  c[kSamples] += counted ? st.samples : 0;
+  c[kDiscardedSamples] += counted ? st.discarded_samples : 0;
+  c[kFreeFlightLookups] += k.free_flight_lookups;
+  c[kTransmittanceLookups] += k.transmittance_lookups;
+  c[kGradientLookups] += k.gradient_lookups;
+  c[kRealCollisions] += k.real_collisions;
+  c[kNullCollisions] += k.null_collisions;
+  c[kStalledPaths] += k.stalled_paths;
+}
+
 /// Thread t of slice `a` (pixel_kernel.h): lane t % lanes of job j0 + t / lanes (a pixel's
 /// lanes side by side, so their rays run together) draws its samples of [k0, k1) in index
 /// order into its own sums. Its counters go to c[kCounterCount] (the caller adds them to the
@@ -35,7 +55,7 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   RenderStats st;
   // The CPU's estimator (sample_uniform, tile_kernel_impl.h) for this lane's samples, in index
   // order: k = lane (mod lanes) within [k0, k1)
-  const int first = a.k0 + ((lane - a.k0 % a.lanes) % a.lanes + a.lanes) % a.lanes;
+  const int first = first_sample(a, lane);
   AuxSums* const aux_p = a.lane_aux ? &aux : nullptr;
   if constexpr (L == LaneLoop::PerSample) {
     // (a launch that missed a brick is run again: each lane ends it after its sample, so that
@@ -76,16 +96,8 @@ TESSERA_HOST_DEVICE inline bool draw_lane(const SliceArgs& a, std::int64_t t, un
   }
   a.lane_px[q] = px;
   if (a.lane_aux) a.lane_aux[q] = aux;
-  const KernelCounters& k = ts.counters();
-  const bool counted = job.culled != kJobNeighbour;  // a neighbour's pilot: only its lookups count
-  c[kSamples] = counted ? st.samples : 0;
-  c[kDiscardedSamples] = counted ? st.discarded_samples : 0;
-  c[kFreeFlightLookups] = k.free_flight_lookups;
-  c[kTransmittanceLookups] = k.transmittance_lookups;
-  c[kGradientLookups] = k.gradient_lookups;
-  c[kRealCollisions] = k.real_collisions;
-  c[kNullCollisions] = k.null_collisions;
-  c[kStalledPaths] = k.stalled_paths;
+  for (int i = 0; i < kCounterCount; ++i) c[i] = 0;
+  add_lane_counts(c, ts.counters(), st, job.culled != kJobNeighbour);
   return true;
 }
 

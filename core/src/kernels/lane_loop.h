@@ -19,12 +19,19 @@ namespace tessera::cuda {
 /// - StepDefer: like Step, but a lane whose walk has ended runs the code between walks only
 ///   when at least half of its warp's active threads wait for it (a warp vote, lane_quorum),
 ///   so that this code, far longer than a tracking step, runs for many lanes at once.
-enum class LaneLoop : int { PerSample, Regenerate, Step, StepDefer };
+/// - Wavefront: the step-level loop's pieces as two kernels in turn over lanes kept in device
+///   memory (kernels/wave_kernel.h): one runs every lane's code between walks up to its next
+///   walk and queues the lane, the other runs each queued lane's walk to its end, so a warp's
+///   threads run one small loop together. Not for distributed (paged) fields, whose brick
+///   misses are noted per thread of a launch: they keep Regenerate.
+enum class LaneLoop : int { PerSample, Regenerate, Step, StepDefer, Wavefront };
 
 /// The loop the CUDA kernel is compiled with (CMake: TESSERA_CUDA_PATH_REGEN,
-/// TESSERA_CUDA_STEP_LOOP or TESSERA_CUDA_STEP_DEFER; none: PerSample); the host
-/// emulation runs this one unless told otherwise (EmulatedDevice::lane_loop).
-#if defined(TESSERA_CUDA_STEP_DEFER)
+/// TESSERA_CUDA_STEP_LOOP, TESSERA_CUDA_STEP_DEFER or TESSERA_CUDA_WAVEFRONT; none:
+/// PerSample); the host emulation runs this one unless told otherwise (EmulatedDevice::lane_loop).
+#if defined(TESSERA_CUDA_WAVEFRONT)
+inline constexpr LaneLoop kDeviceLaneLoop = LaneLoop::Wavefront;
+#elif defined(TESSERA_CUDA_STEP_DEFER)
 inline constexpr LaneLoop kDeviceLaneLoop = LaneLoop::StepDefer;
 #elif defined(TESSERA_CUDA_STEP_LOOP)
 inline constexpr LaneLoop kDeviceLaneLoop = LaneLoop::Step;

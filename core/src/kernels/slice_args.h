@@ -58,6 +58,9 @@ struct SliceArgs {
   const unsigned long long* missed = nullptr;
   /// Per thread: its sample has missed a brick (DeviceBrickTable::path_missed), or null
   unsigned char* path_missed = nullptr;
+  /// The wavefront loop's path slots and queue (kernels/wave_kernel.h: wave_scratch_bytes of
+  /// the slice's threads), or null when the backend's loop needs none
+  void* scratch = nullptr;
 };
 
 /// True once a lookup of this launch missed a brick (a.missed set and nonzero). Any thread.

@@ -129,7 +129,11 @@ class TileSampler {
   /// (true while the walk goes on); the code between walks (false once the path has ended:
   /// then finish()).
   TESSERA_HOST_DEVICE static bool walking(const StepFlight& f) { return PathSteps<V>::walking(f.path); }
-  TESSERA_HOST_DEVICE bool take_step(StepFlight& f) { return PathSteps<V>::step(m_tracer, f.path, f.rng, m_k); }
+  TESSERA_HOST_DEVICE bool take_step(StepFlight& f) { return PathSteps<V>::step(m_tracer, f.path.w, f.rng, m_k); }
+  /// take_step on a path's walk and stream alone (PathSteps::Walk: what a step reads and writes)
+  TESSERA_HOST_DEVICE bool take_step(typename PathSteps<V>::Walk& w, Rng& rng) {
+    return PathSteps<V>::step(m_tracer, w, rng, m_k);
+  }
   TESSERA_HOST_DEVICE bool between(StepFlight& f) {
     f.live = PathSteps<V>::between(m_tracer, f.path, f.rng, m_k, f.has_ld ? &f.ld : nullptr);
     return f.live;
